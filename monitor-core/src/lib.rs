@@ -1,0 +1,84 @@
+//! # monitor-core
+//!
+//! A `#![no_std]`, allocation-free streaming monitor for the **SafeDriving Score** (SDS) of the
+//! Safe2Drive paper, exactly as `SDS-SPEC.md` v1.1 defines it. It consumes one telemetry frame at
+//! a time in fixed memory and bounded time, so the same code runs next to a vehicle stack on a
+//! Cortex-M microcontroller and inside the host replay tool.
+//!
+//! Data flows one way:
+//!
+//! ```text
+//! Frame ──> Monitor::push ──> Events (collision verdict, chunk comfort, lateral band)
+//!                │
+//!                └──> Monitor::finish ──> RouteSummary ──> score::ds_safe ──> SafeScore
+//! ```
+//!
+//! | spec section | module |
+//! |---|---|
+//! | 2 per-frame signals | [`signal`], [`frame`] |
+//! | 3 chunks | [`monitor`] |
+//! | 4 comfort | [`sg`], [`comfort`] |
+//! | 5 pre-collision deceleration | [`decel`] |
+//! | 6 lateral excess | [`lateral`] |
+//! | 7-8 work zone, scores | [`score`] |
+//! | defaults and [decision]s | [`config`] |
+//!
+//! ```
+//! use monitor_core::{score, Config, Frame, Monitor};
+//!
+//! let mut monitor: Monitor = Monitor::new(Config::DEFAULT)?;
+//! for i in 0..40 {
+//!     let f = Frame { a_lon: 0.1, speed: 10.0, lat_err: Some(0.2), ..Frame::default() };
+//!     for event in &monitor.push(&f)? {
+//!         // act on events here (a vehicle-side monitor raises a pin)
+//!         let _ = (i, event);
+//!     }
+//! }
+//! let summary = monitor.finish()?.summary;
+//! assert_eq!(summary.comfort_score(), Some(1.0));
+//! let record = score::RecordScores { score_route: 100.0, score_penalty: 1.0, workzone: 0 };
+//! let safe = score::ds_safe(&summary, &record, &monitor.config().factors);
+//! assert_eq!(safe.ds_safe, 100.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Floats: every per-frame computation is f32, calls micromath as a function
+//! (`F32Ext::sqrt(x)`) and sums in a fixed order, so host and firmware agree to the bit.
+//! Scores are f64, as the evaluator's are.
+//!
+//! Feature `defmt` derives `defmt::Format` on the public types.
+#![no_std]
+#![deny(missing_docs)]
+#![forbid(unsafe_code)]
+
+pub mod comfort;
+pub mod config;
+pub mod decel;
+pub mod error;
+pub mod event;
+pub mod frame;
+pub mod json;
+pub mod lateral;
+pub mod monitor;
+pub mod score;
+pub mod sg;
+pub mod signal;
+pub mod summary;
+
+pub use comfort::Failures;
+pub use config::{Bounds, Config, Factors, Profile};
+pub use error::{ConfigError, Field, FrameError, MonitorError};
+pub use event::{CollisionVerdict, ComfortVerdict, Event, Events, LateralVerdict};
+pub use frame::{Collisions, Frame};
+pub use lateral::Band;
+pub use monitor::{Finished, Monitor};
+pub use score::{RecordScores, SafeScore};
+pub use summary::{CollisionSummary, ComfortSummary, FailureCounts, LateralSummary, RouteSummary};
+
+/// Frames per chunk and in the deceleration window that [`Monitor`] holds by default (the spec's
+/// 20 for both).
+pub const DEFAULT_CAPACITY: usize = 20;
+
+/// Bytes of the default monitor's state (checked at compile time: at most 1 KiB).
+pub const MONITOR_SIZE: usize = core::mem::size_of::<Monitor>();
+const _: () = assert!(MONITOR_SIZE <= 1024, "the monitor must fit in 1 KiB");

@@ -1,0 +1,276 @@
+//! The streaming state machine: `push` one frame at a time, `finish` the route.
+
+use crate::comfort::ChunkBuffer;
+use crate::config::{Config, Profile};
+use crate::decel::DecelWindow;
+use crate::error::{ConfigError, MonitorError};
+use crate::event::{CollisionVerdict, ComfortVerdict, Event, Events, LateralVerdict};
+use crate::frame::Frame;
+use crate::lateral::{Band, LateralChunk};
+use crate::signal;
+use crate::summary::RouteSummary;
+
+/// The SDS monitor of one route, holding at most `N` frames per chunk and in the deceleration
+/// window (default 20, the spec's values). Fixed size, no allocation, buildable in a `const`.
+///
+/// ```
+/// use monitor_core::{Collisions, Config, Event, Frame, Monitor};
+///
+/// let mut monitor: Monitor = Monitor::new(Config::DEFAULT).unwrap();
+/// let cruise = Frame { speed: 8.0, lat_err: Some(0.1), ..Frame::default() };
+/// for _ in 0..30 {
+///     monitor.push(&cruise).unwrap();
+/// }
+/// // A hit at speed, without braking in the 20 frames before.
+/// let hit = Frame { collisions: Collisions { vehicle: 1, ..Collisions::NONE }, ..cruise };
+/// let events = monitor.push(&hit).unwrap();
+/// assert!(matches!(events.as_slice()[0], Event::Collision(v) if v.nodecel()));
+///
+/// let done = monitor.finish().unwrap();
+/// assert_eq!(done.summary.frames, 31);
+/// assert_eq!(done.summary.collisions.nodecel, 1);
+/// assert_eq!(done.summary.comfort.chunks, 1);      // the trailing 11 frames are dropped
+/// assert_eq!(done.summary.lateral.chunks, 2);      // ... but count for lateral excess
+/// ```
+#[derive(Clone, Debug)]
+pub struct Monitor<const N: usize = { crate::DEFAULT_CAPACITY }> {
+    config: Config,
+    finished: bool,
+    /// The current chunk's comfort signals; its length is the frame count of the chunk.
+    chunk: ChunkBuffer<N>,
+    lateral: LateralChunk,
+    decel: DecelWindow<N>,
+    summary: RouteSummary,
+}
+
+/// What [`Monitor::finish`] returns: the events of the last (partial) chunk and the summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Finished {
+    /// Events of the route's end: the short route's comfort chunk, the trailing lateral chunk.
+    pub events: Events,
+    /// The route summary.
+    pub summary: RouteSummary,
+}
+
+impl<const N: usize> Monitor<N> {
+    /// A monitor for one route, after checking `config` against the capacity `N`.
+    ///
+    /// ```
+    /// use monitor_core::{Config, ConfigError, Monitor};
+    /// let bad = Config { decel_window: 21, ..Config::DEFAULT };
+    /// assert_eq!(Monitor::<20>::new(bad).err(), Some(ConfigError::DecelWindow));
+    /// ```
+    pub const fn new(config: Config) -> Result<Self, ConfigError> {
+        match config.validate(N) {
+            Ok(()) => Ok(Self::fresh(config)),
+            Err(e) => Err(e),
+        }
+    }
+
+    /// [`Monitor::new`] for a `static` or `const`: an invalid `config` is a compile-time error
+    /// there. At run time use [`Monitor::new`], which returns the error instead of panicking.
+    ///
+    /// ```
+    /// use monitor_core::{Config, Monitor};
+    /// static MONITOR: Monitor = Monitor::new_static(Config::DEFAULT);
+    /// assert_eq!(MONITOR.frames(), 0);
+    /// ```
+    pub const fn new_static(config: Config) -> Self {
+        if config.validate(N).is_err() {
+            panic!("invalid monitor configuration");
+        }
+        Self::fresh(config)
+    }
+
+    const fn fresh(config: Config) -> Self {
+        Monitor {
+            config,
+            finished: false,
+            chunk: ChunkBuffer::new(),
+            lateral: LateralChunk::new(),
+            decel: DecelWindow::new(),
+            summary: RouteSummary::ZERO,
+        }
+    }
+
+    /// The configuration in use.
+    pub const fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// Frames pushed so far.
+    pub const fn frames(&self) -> u32 {
+        self.summary.frames
+    }
+
+    /// The counts so far (final after [`Monitor::finish`]).
+    pub const fn summary(&self) -> &RouteSummary {
+        &self.summary
+    }
+
+    /// True once [`Monitor::finish`] has run.
+    pub const fn is_finished(&self) -> bool {
+        self.finished
+    }
+
+    /// Starts a new route with the same configuration.
+    pub fn reset(&mut self) {
+        self.finished = false;
+        self.chunk.clear();
+        self.lateral = LateralChunk::new();
+        self.decel.clear();
+        self.summary = RouteSummary::default();
+    }
+
+    /// Consumes one frame. O(1) except at a chunk's end, where the chunk is filtered.
+    ///
+    /// On error nothing changes: a bad frame can be skipped or the route ended.
+    ///
+    /// ```
+    /// use monitor_core::{Config, Frame, Monitor, MonitorError};
+    /// let mut m: Monitor = Monitor::new(Config::DEFAULT).unwrap();
+    /// let bad = Frame { a_lon: f32::INFINITY, ..Frame::default() };
+    /// assert!(matches!(m.push(&bad), Err(MonitorError::Frame(_))));
+    /// assert_eq!(m.frames(), 0);
+    /// ```
+    pub fn push(&mut self, frame: &Frame) -> Result<Events, MonitorError> {
+        if self.finished {
+            return Err(MonitorError::Finished);
+        }
+        frame.validate()?;
+        let index = self.summary.frames;
+        let Some(next) = index.checked_add(1) else {
+            return Err(MonitorError::TooManyFrames);
+        };
+        let c = &self.config;
+        let mut events = Events::new();
+
+        // Deceleration: the window holds the frames *before* this one.
+        let hits = frame.collisions.total();
+        if hits > 0 {
+            let decelerated = self
+                .decel
+                .decelerated(c.decel_window as usize, c.decel_threshold);
+            let exempt = index == 0 || frame.speed < c.stationary_speed;
+            let verdict = CollisionVerdict {
+                frame: index,
+                collisions: frame.collisions,
+                speed: frame.speed,
+                decelerated,
+                exempt,
+            };
+            let s = &mut self.summary.collisions;
+            s.aligned = s.aligned.saturating_add(hits);
+            if exempt {
+                s.exempt = s.exempt.saturating_add(hits);
+            } else if !decelerated {
+                s.nodecel = s.nodecel.saturating_add(hits);
+            }
+            events.add(Event::Collision(verdict));
+        }
+        self.decel.push(frame.a_lon);
+
+        // Comfort signals: only the first chunk_len frames of each chunk are buffered.
+        let yaw = match c.profile {
+            Profile::Physical => frame.yaw_rate * signal::DEG_TO_RAD,
+            Profile::B2dLegacy => frame.yaw_rate,
+        };
+        self.chunk.push(frame.a_lon, frame.a_lat, frame.a_mag, yaw);
+
+        if let Some(lat_err) = frame.lat_err {
+            self.lateral.add(signal::excess(lat_err, c.slack));
+        }
+
+        self.summary.frames = next;
+        if self.chunk.len() >= usize::from(c.chunk_len) {
+            self.close_comfort(&mut events);
+            self.close_lateral(&mut events);
+            self.chunk.clear();
+        }
+        Ok(events)
+    }
+
+    /// Ends the route: scores the short route's comfort chunk (`min_chunk <= frames <
+    /// chunk_len`) and the trailing partial lateral chunk, and returns the summary.
+    /// A second call returns [`MonitorError::Finished`].
+    ///
+    /// ```
+    /// use monitor_core::{Config, Frame, Monitor};
+    /// let mut m: Monitor = Monitor::new(Config::DEFAULT).unwrap();
+    /// for _ in 0..6 {
+    ///     m.push(&Frame::default()).unwrap();
+    /// }
+    /// let done = m.finish().unwrap();
+    /// assert_eq!(done.summary.comfort_score(), None); // 6 frames: comfort undefined
+    /// assert_eq!(done.summary.lateral.chunks, 1);
+    /// ```
+    pub fn finish(&mut self) -> Result<Finished, MonitorError> {
+        if self.finished {
+            return Err(MonitorError::Finished);
+        }
+        let mut events = Events::new();
+        let frames = self.summary.frames;
+        let partial = !self.chunk.is_empty();
+        if frames < u32::from(self.config.chunk_len) && frames >= u32::from(self.config.min_chunk)
+        {
+            self.close_comfort(&mut events);
+        }
+        if partial {
+            self.close_lateral(&mut events);
+        }
+        self.chunk.clear();
+        self.finished = true;
+        Ok(Finished {
+            events,
+            summary: self.summary,
+        })
+    }
+
+    fn close_comfort(&mut self, events: &mut Events) {
+        let frames = self.chunk.len() as u16;
+        if let Some(failed) = self.chunk.evaluate(&self.config) {
+            let s = &mut self.summary.comfort;
+            let chunk = s.chunks;
+            s.chunks = s.chunks.saturating_add(1);
+            if failed.comfortable() {
+                s.comfortable = s.comfortable.saturating_add(1);
+            }
+            s.failed.add(&failed);
+            events.add(Event::Comfort(ComfortVerdict {
+                chunk,
+                frames,
+                failed,
+            }));
+        }
+    }
+
+    fn close_lateral(&mut self, events: &mut Events) {
+        let s = &mut self.summary.lateral;
+        let chunk = s.chunks;
+        s.chunks = s.chunks.saturating_add(1);
+        if let Some(m) = self.lateral.max() {
+            s.scored_chunks = s.scored_chunks.saturating_add(1);
+            let band = Band::of(m, &self.config);
+            match band {
+                Band::Normal => {}
+                Band::Anomalous => s.anomalous = s.anomalous.saturating_add(1),
+                Band::Critical => s.critical = s.critical.saturating_add(1),
+            }
+            if band != Band::Normal {
+                events.add(Event::Lateral(LateralVerdict {
+                    chunk,
+                    max_excess: m,
+                    band,
+                }));
+            }
+        }
+        self.lateral = LateralChunk::new();
+    }
+}
+
+impl Default for Monitor {
+    fn default() -> Self {
+        // The defaults are checked valid for the default capacity at compile time (`config`).
+        Monitor::fresh(Config::DEFAULT)
+    }
+}

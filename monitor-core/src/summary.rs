@@ -1,0 +1,138 @@
+//! The route summary: every count the score and the report need.
+
+use crate::comfort::Failures;
+
+/// Chunks that failed each bound (spec section 10, `comfort.failed`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct FailureCounts {
+    /// Chunks failing the longitudinal-acceleration bounds.
+    pub lon_acc: u32,
+    /// Chunks failing the lateral-acceleration bound.
+    pub lat_acc: u32,
+    /// Chunks failing the jerk-magnitude bound.
+    pub mag_jerk: u32,
+    /// Chunks failing the longitudinal-jerk bound.
+    pub lon_jerk: u32,
+    /// Chunks failing the yaw-acceleration bound.
+    pub yaw_acc: u32,
+    /// Chunks failing the yaw-rate bound.
+    pub yaw_rate: u32,
+}
+
+impl FailureCounts {
+    /// Counts one chunk's failures.
+    ///
+    /// ```
+    /// use monitor_core::{FailureCounts, Failures};
+    /// let mut c = FailureCounts::default();
+    /// c.add(&Failures { yaw_rate: true, ..Default::default() });
+    /// assert_eq!(c.yaw_rate, 1);
+    /// ```
+    pub fn add(&mut self, f: &Failures) {
+        let inc = |n: &mut u32, b: bool| *n = n.saturating_add(b as u32);
+        inc(&mut self.lon_acc, f.lon_acc);
+        inc(&mut self.lat_acc, f.lat_acc);
+        inc(&mut self.mag_jerk, f.mag_jerk);
+        inc(&mut self.lon_jerk, f.lon_jerk);
+        inc(&mut self.yaw_acc, f.yaw_acc);
+        inc(&mut self.yaw_rate, f.yaw_rate);
+    }
+}
+
+/// Comfort counts (spec section 4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ComfortSummary {
+    /// Comfort chunks (full chunks, or one short chunk).
+    pub chunks: u32,
+    /// Chunks within all six bounds.
+    pub comfortable: u32,
+    /// Chunks failing each bound.
+    pub failed: FailureCounts,
+}
+
+/// Lateral counts (spec section 6).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LateralSummary {
+    /// Chunks including the trailing partial one: `ceil(frames / chunk_len)`.
+    pub chunks: u32,
+    /// Chunks with at least one frame of known excess.
+    pub scored_chunks: u32,
+    /// `N_anom`.
+    pub anomalous: u32,
+    /// `N_crit`.
+    pub critical: u32,
+}
+
+/// Collision counts over aligned collisions (spec section 5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct CollisionSummary {
+    /// Collisions the monitor saw (aligned to a frame).
+    pub aligned: u32,
+    /// Of those, exempt (standing ego or first frame).
+    pub exempt: u32,
+    /// `N_nodecel`: aligned, not exempt, no deceleration before.
+    pub nodecel: u32,
+}
+
+/// Everything the monitor learned about one route.
+///
+/// ```
+/// let s = monitor_core::RouteSummary::default();
+/// assert_eq!(s.comfort_score(), None); // no chunk: comfort undefined
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct RouteSummary {
+    /// Frames pushed.
+    pub frames: u32,
+    /// Comfort counts.
+    pub comfort: ComfortSummary,
+    /// Lateral counts.
+    pub lateral: LateralSummary,
+    /// Collision counts.
+    pub collisions: CollisionSummary,
+}
+
+impl RouteSummary {
+    /// All counts zero.
+    pub const ZERO: RouteSummary = RouteSummary {
+        frames: 0,
+        comfort: ComfortSummary {
+            chunks: 0,
+            comfortable: 0,
+            failed: FailureCounts {
+                lon_acc: 0,
+                lat_acc: 0,
+                mag_jerk: 0,
+                lon_jerk: 0,
+                yaw_acc: 0,
+                yaw_rate: 0,
+            },
+        },
+        lateral: LateralSummary {
+            chunks: 0,
+            scored_chunks: 0,
+            anomalous: 0,
+            critical: 0,
+        },
+        collisions: CollisionSummary {
+            aligned: 0,
+            exempt: 0,
+            nodecel: 0,
+        },
+    };
+
+    /// `C_route = comfortable / chunks`; `None` when the route has no comfort chunk
+    /// (fewer than `min_chunk` frames).
+    pub fn comfort_score(&self) -> Option<f64> {
+        if self.comfort.chunks == 0 {
+            None
+        } else {
+            Some(self.comfort.comfortable as f64 / self.comfort.chunks as f64)
+        }
+    }
+}

@@ -1,0 +1,2 @@
+//! `sds`: the SafeDriving Score tool.
+fn main() {}

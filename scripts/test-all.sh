@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Every test of the project: formatting, lints, unit/property/end-to-end tests, docs, the
+# no_std build of the core, and the firmware under QEMU. This is the README's test command and
+# what CI runs.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+step() { printf '\n=== %s\n' "$*"; }
+
+step "setup"
+bash scripts/setup.sh
+
+step "cargo fmt --check"
+cargo fmt --all --check
+
+step "cargo clippy"
+cargo clippy --workspace --all-targets -- -D warnings
+
+step "cargo test"
+cargo test --workspace --release
+
+step "cargo doc (warnings denied)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
+
+step "monitor-core for Cortex-M (no std, no alloc)"
+bash scripts/core-nostd.sh
+
+if [ -x firmware-example/run-tests.sh ]; then
+  step "firmware under QEMU"
+  bash firmware-example/run-tests.sh
+fi
+echo
+echo "all checks passed"

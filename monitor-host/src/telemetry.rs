@@ -1,1 +1,1124 @@
-//! (being written)
+//! Bench2Drive per-step telemetry (`metric_info.json`, `SDS-SPEC.md` §1.2) and LEAD's step-exact
+//! collision file (`infractions.json`).
+//!
+//! `metric_info.json` is a JSON object whose keys are decimal step numbers and whose values hold
+//! the ego's `acceleration`, `angular_velocity`, `forward_vector`, `right_vector` and `location`
+//! (3-vectors; `rotation` and any other key are ignored). Real files are ~1 KB of indented JSON per
+//! frame and thousands of frames per route, so the parser streams over the bytes with a serde
+//! visitor: no JSON DOM, no allocation per frame or per key. Each frame is reduced to the 2-D
+//! parts the monitor needs ([`TelemetryFrame`]).
+//!
+//! ```
+//! use monitor_host::telemetry::{parse_metric_info, speeds};
+//!
+//! let json = br#"{
+//!   "12": {"acceleration": [0.5, 0.0, 0.0], "angular_velocity": [0, 0, 3.0],
+//!          "forward_vector": [1, 0, 0], "right_vector": [0, 1, 0],
+//!          "location": [10.0, 5.0, 0.2], "rotation": [0, 0, 0]},
+//!   "11": {"acceleration": [0.0, 0.0, 0.0], "angular_velocity": [0, 0, 0],
+//!          "forward_vector": [1, 0, 0], "right_vector": [0, 1, 0],
+//!          "location": [9.5, 5.0, 0.2]}
+//! }"#;
+//! let t = parse_metric_info(json)?;
+//! assert_eq!(t.frames.len(), 2);
+//! assert_eq!((t.frames[0].step, t.frames[1].step), (11, 12)); // sorted by step
+//! assert_eq!(t.gaps, 0);
+//! assert_eq!(t.frames[1].yaw_rate_deg, 3.0);
+//! assert_eq!(speeds(&t.frames, 0.05), vec![0.0, 10.0]); // 0.5 m in one 0.05 s step
+//!
+//! let bad = parse_metric_info(br#"{"7": {"acceleration": [1, 2]}}"#).unwrap_err();
+//! assert_eq!(bad.to_string(), "step 7: field acceleration: fewer than 3 numbers");
+//! # Ok::<(), monitor_host::telemetry::TelemetryError>(())
+//! ```
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+
+/// One telemetry frame, reduced to what the monitor and the host geometry need.
+///
+/// World-frame 2-D parts only (index 0 and 1 of each vector, `SDS-SPEC.md` §2). Positions stay
+/// f64 (maps reach ~10 km); the per-frame signal inputs are rounded to f32 once, here.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct TelemetryFrame {
+    /// The step number (the JSON key).
+    pub step: u64,
+    /// `location` x, y in metres.
+    pub location: [f64; 2],
+    /// `acceleration` x, y in m/s².
+    pub acc: [f32; 2],
+    /// `forward_vector` x, y.
+    pub fwd: [f32; 2],
+    /// `right_vector` x, y.
+    pub right: [f32; 2],
+    /// `angular_velocity[2]` in deg/s (CARLA's unit).
+    pub yaw_rate_deg: f32,
+}
+
+/// A route's telemetry: frames sorted by step, and the number of missing step numbers.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Telemetry {
+    /// Frames in increasing step order (steps are unique).
+    pub frames: Vec<TelemetryFrame>,
+    /// `last_step - first_step + 1 - frames.len()` (`SDS-SPEC.md` §1.2).
+    pub gaps: u64,
+}
+
+impl Telemetry {
+    /// The step numbers, in frame order (for [`crate::align::align_events`]).
+    pub fn steps(&self) -> Vec<u64> {
+        self.frames.iter().map(|f| f.step).collect()
+    }
+
+    /// The 2-D locations, in frame order (for [`crate::align::nearest_frame`]).
+    pub fn locations(&self) -> Vec<[f64; 2]> {
+        self.frames.iter().map(|f| f.location).collect()
+    }
+}
+
+/// What is wrong with one required field of one frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldProblem {
+    /// The field is absent.
+    Missing,
+    /// The field is given twice in the same frame.
+    Duplicate,
+    /// The field is not an array.
+    NotAnArray,
+    /// The array has fewer than 3 elements.
+    TooShort,
+    /// One of the first 3 elements is not a number.
+    NonNumeric,
+    /// A NaN or infinite value (including literals such as `1e999` that overflow).
+    NonFinite,
+    /// A finite value too large to be represented as f32 (the monitor's float type).
+    OutOfF32Range,
+}
+
+impl fmt::Display for FieldProblem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            FieldProblem::Missing => "missing",
+            FieldProblem::Duplicate => "appears twice",
+            FieldProblem::NotAnArray => "not an array of numbers",
+            FieldProblem::TooShort => "fewer than 3 numbers",
+            FieldProblem::NonNumeric => "non-numeric value",
+            FieldProblem::NonFinite => "NaN or infinite value",
+            FieldProblem::OutOfF32Range => "value too large for f32",
+        })
+    }
+}
+
+/// Why a telemetry file (or an `infractions.json`) is invalid. The `Display` text is the reason
+/// reported as `invalid: <reason>` (`SDS-SPEC.md` §1.2): it names the step and the field.
+#[derive(Debug, thiserror::Error)]
+pub enum TelemetryError {
+    /// The file cannot be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Not syntactically valid JSON (other than a NaN / infinite token, see [`Self::NonFinite`]).
+    #[error("not valid JSON at line {line} column {column}: {message}")]
+    Json {
+        /// 1-based line.
+        line: usize,
+        /// Column (bytes into the line).
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// The JSON top level is not an object.
+    #[error("top level is not an object")]
+    NotObject,
+    /// The top-level object is empty.
+    #[error("no frames")]
+    NoFrames,
+    /// A key that is not decimal digits.
+    #[error("step key {key:?} is not decimal digits")]
+    BadStepKey {
+        /// The key (truncated to 40 characters).
+        key: String,
+    },
+    /// A decimal key too large for u64.
+    #[error("step key {key:?} is out of range")]
+    StepOutOfRange {
+        /// The key (truncated to 40 characters).
+        key: String,
+    },
+    /// Two keys with the same integer value (e.g. `"007"` and `"7"`).
+    #[error("step {step} appears twice")]
+    DuplicateStep {
+        /// The step.
+        step: u64,
+    },
+    /// A frame value that is not an object.
+    #[error("step {step}: frame is not an object")]
+    FrameNotObject {
+        /// The step.
+        step: u64,
+    },
+    /// A required field is missing or malformed.
+    #[error("step {step}: field {field}: {problem}")]
+    Field {
+        /// The step.
+        step: u64,
+        /// The field name (`acceleration`, `angular_velocity`, `forward_vector`,
+        /// `right_vector`, `location`).
+        field: &'static str,
+        /// What is wrong.
+        problem: FieldProblem,
+    },
+    /// A bare `NaN` / `Infinity` / `-Infinity` token (as Python's `json` writes them) or a number
+    /// literal that overflows to infinity, outside a required field (or before any step).
+    #[error("{}NaN or infinite value at line {line} column {column}", step_prefix(*.step))]
+    NonFinite {
+        /// The step whose value holds the token, if known.
+        step: Option<u64>,
+        /// 1-based line.
+        line: usize,
+        /// Column (bytes into the line).
+        column: usize,
+    },
+    /// `infractions.json` does not have the expected shape.
+    #[error("invalid infractions.json: {0}")]
+    Infractions(String),
+}
+
+fn step_prefix(step: Option<u64>) -> String {
+    match step {
+        Some(s) => format!("step {s}: "),
+        None => String::new(),
+    }
+}
+
+/// Reads and parses a `metric_info.json` file (see [`parse_metric_info`]).
+///
+/// # Errors
+/// [`TelemetryError::Io`] if the file cannot be read, otherwise as [`parse_metric_info`].
+pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
+    let bytes = std::fs::read(path).map_err(|source| TelemetryError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_metric_info(&bytes)
+}
+
+/// Parses the bytes of a `metric_info.json` file: validates every frame (`SDS-SPEC.md` §1.2),
+/// sorts the frames by step (stable) and counts the gaps.
+///
+/// Never panics, on any input. Keys other than the five required vectors (`rotation`,
+/// `velocity`, ...) are skipped after a syntax check only: a bare `NaN` / `Infinity` token there
+/// still makes the file invalid (it is not JSON), but an overflowing literal such as `1e999`
+/// there is not evaluated.
+///
+/// # Errors
+/// Every invalid-telemetry case of the spec, as a [`TelemetryError`] whose `Display` names the
+/// step and the field.
+pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
+    let first = bytes
+        .iter()
+        .position(|b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r'));
+    if first.map(|i| bytes[i]) != Some(b'{') {
+        // Not an object: tell "valid JSON of another kind" from "not JSON at all".
+        return match serde_json::from_slice::<IgnoredAny>(bytes) {
+            Ok(_) => Err(TelemetryError::NotObject),
+            Err(e) => Err(json_error(bytes, &e, None)),
+        };
+    }
+    let mut ctx = Ctx {
+        step: None,
+        field: None,
+        in_array: false,
+        error: None,
+    };
+    // About 1 KB per frame in real files; the estimate only avoids regrowth.
+    let mut frames = Vec::with_capacity((bytes.len() / 700).min(1 << 20));
+    let mut sorted = true;
+    let mut de = serde_json::Deserializer::from_slice(bytes);
+    let parsed = de
+        .deserialize_map(TopVisitor {
+            ctx: &mut ctx,
+            frames: &mut frames,
+            sorted: &mut sorted,
+        })
+        .and_then(|()| de.end());
+    if let Err(e) = parsed {
+        if let Some(err) = ctx.error.take() {
+            return Err(err);
+        }
+        return Err(match e.classify() {
+            serde_json::error::Category::Data => match (ctx.step, ctx.field) {
+                (Some(step), Some(field)) => TelemetryError::Field {
+                    step,
+                    field,
+                    problem: if ctx.in_array {
+                        FieldProblem::NonNumeric
+                    } else {
+                        FieldProblem::NotAnArray
+                    },
+                },
+                (Some(step), None) => TelemetryError::FrameNotObject { step },
+                _ => json_error(bytes, &e, ctx.step),
+            },
+            _ => match (ctx.step, ctx.field) {
+                (Some(step), Some(field)) if is_non_finite(bytes, &e) => TelemetryError::Field {
+                    step,
+                    field,
+                    problem: FieldProblem::NonFinite,
+                },
+                _ => json_error(bytes, &e, ctx.step),
+            },
+        });
+    }
+    if frames.is_empty() {
+        return Err(TelemetryError::NoFrames);
+    }
+    if !sorted {
+        frames.sort_by_key(|f: &TelemetryFrame| f.step);
+    }
+    if let Some(w) = frames.windows(2).find(|w| w[0].step == w[1].step) {
+        return Err(TelemetryError::DuplicateStep { step: w[0].step });
+    }
+    let n = frames.len() as u64;
+    let gaps = frames[frames.len() - 1].step - frames[0].step + 1 - n;
+    Ok(Telemetry { frames, gaps })
+}
+
+/// Per-frame speed (`SDS-SPEC.md` §2): `speed_0 = 0`,
+/// `speed_i = |loc_i - loc_{i-1}| / (dt * (step_i - step_{i-1}))`, 2-D, in f64.
+///
+/// The distance is `sqrt(dx² + dy²)` (IEEE-exact operations, so every platform agrees). Frames
+/// must be sorted by strictly increasing step, as [`parse_metric_info`] returns them.
+///
+/// ```
+/// use monitor_host::telemetry::{speeds, TelemetryFrame};
+/// let f = |step, x| TelemetryFrame { step, location: [x, 0.0], ..Default::default() };
+/// assert_eq!(speeds(&[f(1, 0.0), f(2, 1.0), f(4, 3.0)], 0.05), vec![0.0, 20.0, 20.0]);
+/// ```
+pub fn speeds(frames: &[TelemetryFrame], dt: f64) -> Vec<f64> {
+    let mut out = Vec::with_capacity(frames.len());
+    if frames.is_empty() {
+        return out;
+    }
+    out.push(0.0);
+    for w in frames.windows(2) {
+        let dx = w[1].location[0] - w[0].location[0];
+        let dy = w[1].location[1] - w[0].location[1];
+        let steps = w[1].step.saturating_sub(w[0].step) as f64;
+        out.push((dx * dx + dy * dy).sqrt() / (dt * steps));
+    }
+    out
+}
+
+/// One entry of LEAD's `infractions.json`: the metric_info step of an infraction and its message
+/// (the same text as the evaluator's infraction string).
+#[derive(Debug, Clone, PartialEq, Eq, serde::Deserialize)]
+pub struct StepInfraction {
+    /// The step, in `metric_info.json`'s numbering.
+    pub step: u64,
+    /// The infraction message.
+    pub message: String,
+}
+
+#[derive(serde::Deserialize)]
+struct InfractionsFile {
+    infractions: Vec<StepInfraction>,
+}
+
+/// Reads LEAD's `infractions.json` (`{"infractions": [{"step", "message", ...}], ...}`); other
+/// keys of the file and of each entry are ignored.
+///
+/// # Errors
+/// [`TelemetryError::Io`] if unreadable; [`TelemetryError::Infractions`] (with line and column)
+/// if the shape is wrong (e.g. an entry without an integer `step` or a string `message`).
+pub fn read_infractions(path: &Path) -> Result<Vec<StepInfraction>, TelemetryError> {
+    let bytes = std::fs::read(path).map_err(|source| TelemetryError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_infractions(&bytes)
+}
+
+/// [`read_infractions`] from memory.
+///
+/// ```
+/// use monitor_host::telemetry::parse_infractions;
+/// let v = parse_infractions(br#"{"infractions": [{"step": 813, "frame": 1626,
+///     "message": "Agent collided against object with type=static.prop.constructioncone and id=7 at (x=1.0, y=2.0, z=0.0)",
+///     "event_type": "COLLISION_STATIC"}], "other": 1}"#)?;
+/// assert_eq!(v[0].step, 813);
+/// # Ok::<(), monitor_host::telemetry::TelemetryError>(())
+/// ```
+///
+/// # Errors
+/// As [`read_infractions`].
+pub fn parse_infractions(bytes: &[u8]) -> Result<Vec<StepInfraction>, TelemetryError> {
+    serde_json::from_slice::<InfractionsFile>(bytes)
+        .map(|f| f.infractions)
+        .map_err(|e| TelemetryError::Infractions(e.to_string()))
+}
+
+/// Locates a record's `metric_info.json` (`SDS-SPEC.md` §1.2): first
+/// `<telemetry_root>/<save_name>/metric_info.json`, then `metric_info.json` in the folder of the
+/// result file if that file holds this one record. Returns the first that is a file.
+///
+/// A `save_name` that is empty, `.`/`..` or contains a path separator is not used as a folder
+/// name.
+pub fn locate(
+    telemetry_root: Option<&Path>,
+    save_name: &str,
+    result_file: &Path,
+    file_holds_one_record: bool,
+) -> Option<PathBuf> {
+    let safe_name = !save_name.is_empty()
+        && save_name != "."
+        && save_name != ".."
+        && !save_name.contains(['/', '\\']);
+    if let Some(root) = telemetry_root {
+        if safe_name {
+            let p = root.join(save_name).join("metric_info.json");
+            if p.is_file() {
+                return Some(p);
+            }
+        }
+    }
+    if file_holds_one_record {
+        let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
+        let p = dir.join("metric_info.json");
+        if p.is_file() {
+            return Some(p);
+        }
+    }
+    None
+}
+
+/// The `infractions.json` beside a located `metric_info.json`, if it exists.
+pub fn infractions_beside(metric_info: &Path) -> Option<PathBuf> {
+    let p = metric_info
+        .parent()
+        .unwrap_or_else(|| Path::new(""))
+        .join("infractions.json");
+    p.is_file().then_some(p)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Streaming parser internals.
+
+/// Parser context: where we are (for error messages) and the precise error, if a visitor of ours
+/// rejected the input (serde's error type cannot carry it).
+struct Ctx {
+    step: Option<u64>,
+    field: Option<&'static str>,
+    in_array: bool,
+    error: Option<TelemetryError>,
+}
+
+impl Ctx {
+    fn fail<E: de::Error>(&mut self, err: TelemetryError) -> E {
+        self.error = Some(err);
+        E::custom("invalid telemetry")
+    }
+}
+
+fn truncate_key(key: &str) -> String {
+    key.chars().take(40).collect()
+}
+
+/// The line-and-column part of serde_json's message stripped off.
+fn bare_message(e: &serde_json::Error) -> String {
+    let s = e.to_string();
+    let suffix = format!(" at line {} column {}", e.line(), e.column());
+    match s.strip_suffix(&suffix) {
+        Some(m) => m.to_string(),
+        None => s,
+    }
+}
+
+/// Is this syntax error a Python `NaN` / `Infinity` / `-Infinity` token or an overflowing number?
+fn is_non_finite(bytes: &[u8], e: &serde_json::Error) -> bool {
+    if bare_message(e) == "number out of range" {
+        return true;
+    }
+    // Byte offset of the error: start of line `line` plus `column`.
+    let mut start = 0usize;
+    let mut line = 1usize;
+    while line < e.line() {
+        match bytes[start..].iter().position(|&b| b == b'\n') {
+            Some(p) => {
+                start += p + 1;
+                line += 1;
+            }
+            None => return false,
+        }
+    }
+    let at = start.saturating_add(e.column()).min(bytes.len());
+    let lo = at.saturating_sub(9);
+    let hi = at.saturating_add(9).min(bytes.len());
+    let window = &bytes[lo..hi];
+    [&b"NaN"[..], b"Infinity"]
+        .iter()
+        .any(|tok| window.windows(tok.len()).any(|w| w == *tok))
+}
+
+fn json_error(bytes: &[u8], e: &serde_json::Error, step: Option<u64>) -> TelemetryError {
+    if e.is_syntax() && is_non_finite(bytes, e) {
+        return TelemetryError::NonFinite {
+            step,
+            line: e.line(),
+            column: e.column(),
+        };
+    }
+    TelemetryError::Json {
+        line: e.line(),
+        column: e.column(),
+        message: bare_message(e),
+    }
+}
+
+struct TopVisitor<'c> {
+    ctx: &'c mut Ctx,
+    frames: &'c mut Vec<TelemetryFrame>,
+    sorted: &'c mut bool,
+}
+
+impl<'de> Visitor<'de> for TopVisitor<'_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an object of frames keyed by step")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let ctx = self.ctx;
+        let mut last: Option<u64> = None;
+        loop {
+            ctx.step = None;
+            ctx.field = None;
+            let Some(step) = map.next_key_seed(StepKey { ctx: &mut *ctx })? else {
+                return Ok(());
+            };
+            ctx.step = Some(step);
+            let frame = map.next_value_seed(FrameSeed {
+                ctx: &mut *ctx,
+                step,
+            })?;
+            if let Some(prev) = last {
+                if step <= prev {
+                    *self.sorted = false;
+                }
+            }
+            last = Some(step);
+            self.frames.push(frame);
+        }
+    }
+}
+
+/// A step key: decimal digits, parsed without allocating.
+struct StepKey<'c> {
+    ctx: &'c mut Ctx,
+}
+
+impl<'de> DeserializeSeed<'de> for StepKey<'_> {
+    type Value = u64;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<u64, D::Error> {
+        d.deserialize_str(self)
+    }
+}
+
+impl<'de> Visitor<'de> for StepKey<'_> {
+    type Value = u64;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a decimal step number")
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<u64, E> {
+        if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(self.ctx.fail(TelemetryError::BadStepKey {
+                key: truncate_key(v),
+            }));
+        }
+        let mut n: u64 = 0;
+        for b in v.bytes() {
+            match n
+                .checked_mul(10)
+                .and_then(|n| n.checked_add(u64::from(b - b'0')))
+            {
+                Some(m) => n = m,
+                None => {
+                    return Err(self.ctx.fail(TelemetryError::StepOutOfRange {
+                        key: truncate_key(v),
+                    }))
+                }
+            }
+        }
+        Ok(n)
+    }
+}
+
+/// Which frame field a key names.
+#[derive(Clone, Copy)]
+enum Field {
+    Acc,
+    AngVel,
+    Fwd,
+    Right,
+    Loc,
+    Other,
+}
+
+const FIELD_NAMES: [&str; 5] = [
+    "acceleration",
+    "angular_velocity",
+    "forward_vector",
+    "right_vector",
+    "location",
+];
+
+struct FieldKey;
+
+impl<'de> DeserializeSeed<'de> for FieldKey {
+    type Value = Field;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Field, D::Error> {
+        d.deserialize_str(self)
+    }
+}
+
+impl<'de> Visitor<'de> for FieldKey {
+    type Value = Field;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a field name")
+    }
+
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Field, E> {
+        Ok(match v {
+            "acceleration" => Field::Acc,
+            "angular_velocity" => Field::AngVel,
+            "forward_vector" => Field::Fwd,
+            "right_vector" => Field::Right,
+            "location" => Field::Loc,
+            _ => Field::Other,
+        })
+    }
+}
+
+struct FrameSeed<'c> {
+    ctx: &'c mut Ctx,
+    step: u64,
+}
+
+impl<'de> DeserializeSeed<'de> for FrameSeed<'_> {
+    type Value = TelemetryFrame;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<TelemetryFrame, D::Error> {
+        d.deserialize_map(self)
+    }
+}
+
+impl<'de> Visitor<'de> for FrameSeed<'_> {
+    type Value = TelemetryFrame;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("a frame object")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<TelemetryFrame, A::Error> {
+        let ctx = self.ctx;
+        let step = self.step;
+        let mut vals: [Option<[f64; 3]>; 5] = [None; 5];
+        while let Some(field) = map.next_key_seed(FieldKey)? {
+            let idx = match field {
+                Field::Acc => 0,
+                Field::AngVel => 1,
+                Field::Fwd => 2,
+                Field::Right => 3,
+                Field::Loc => 4,
+                Field::Other => {
+                    map.next_value::<IgnoredAny>()?;
+                    continue;
+                }
+            };
+            let name = FIELD_NAMES[idx];
+            if vals[idx].is_some() {
+                return Err(ctx.fail(TelemetryError::Field {
+                    step,
+                    field: name,
+                    problem: FieldProblem::Duplicate,
+                }));
+            }
+            ctx.field = Some(name);
+            ctx.in_array = false;
+            let v = map.next_value_seed(Vec3 {
+                ctx: &mut *ctx,
+                step,
+                field: name,
+            })?;
+            ctx.field = None;
+            vals[idx] = Some(v);
+        }
+        let mut out = [[0.0f64; 3]; 5];
+        for (i, (slot, name)) in vals.iter().zip(FIELD_NAMES).enumerate() {
+            match slot {
+                Some(v) => out[i] = *v,
+                None => {
+                    return Err(ctx.fail(TelemetryError::Field {
+                        step,
+                        field: name,
+                        problem: FieldProblem::Missing,
+                    }))
+                }
+            }
+        }
+        let [acc, angvel, fwd, right, loc] = out;
+        // Values stored as f32 must stay finite after rounding.
+        let f32_checks: [(usize, &[f64]); 4] = [
+            (0, &acc[..2]),
+            (1, &angvel[2..]),
+            (2, &fwd[..2]),
+            (3, &right[..2]),
+        ];
+        for (i, vs) in f32_checks {
+            if vs.iter().any(|&v| !(v as f32).is_finite()) {
+                return Err(ctx.fail(TelemetryError::Field {
+                    step,
+                    field: FIELD_NAMES[i],
+                    problem: FieldProblem::OutOfF32Range,
+                }));
+            }
+        }
+        Ok(TelemetryFrame {
+            step,
+            location: [loc[0], loc[1]],
+            acc: [acc[0] as f32, acc[1] as f32],
+            fwd: [fwd[0] as f32, fwd[1] as f32],
+            right: [right[0] as f32, right[1] as f32],
+            yaw_rate_deg: angvel[2] as f32,
+        })
+    }
+}
+
+/// A required 3-vector: an array of at least 3 finite numbers; extra elements are ignored.
+struct Vec3<'c> {
+    ctx: &'c mut Ctx,
+    step: u64,
+    field: &'static str,
+}
+
+impl<'de> DeserializeSeed<'de> for Vec3<'_> {
+    type Value = [f64; 3];
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<[f64; 3], D::Error> {
+        d.deserialize_seq(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Vec3<'_> {
+    type Value = [f64; 3];
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str("an array of 3 numbers")
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[f64; 3], A::Error> {
+        self.ctx.in_array = true;
+        let mut v = [0.0f64; 3];
+        for slot in &mut v {
+            match seq.next_element::<f64>()? {
+                Some(x) if x.is_finite() => *slot = x,
+                Some(_) => {
+                    return Err(self.ctx.fail(TelemetryError::Field {
+                        step: self.step,
+                        field: self.field,
+                        problem: FieldProblem::NonFinite,
+                    }))
+                }
+                None => {
+                    return Err(self.ctx.fail(TelemetryError::Field {
+                        step: self.step,
+                        field: self.field,
+                        problem: FieldProblem::TooShort,
+                    }))
+                }
+            }
+        }
+        while seq.next_element::<IgnoredAny>()?.is_some() {}
+        self.ctx.in_array = false;
+        Ok(v)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A valid frame body with location (x, y).
+    fn body(x: f64, y: f64) -> String {
+        format!(
+            r#"{{"acceleration": [1.5, -2.0, 9.8], "angular_velocity": [0.1, 0.2, 12.5],
+                "forward_vector": [0.6, 0.8, 0.0], "right_vector": [-0.8, 0.6, 0.0],
+                "location": [{x}, {y}, 0.3], "rotation": [0.0, 0.0, 53.1], "velocity": [1, 2, 3]}}"#
+        )
+    }
+
+    fn file(entries: &[(&str, String)]) -> Vec<u8> {
+        let parts: Vec<String> = entries
+            .iter()
+            .map(|(k, v)| format!("  \"{k}\": {v}"))
+            .collect();
+        format!("{{\n{}\n}}\n", parts.join(",\n")).into_bytes()
+    }
+
+    fn err(bytes: &[u8]) -> String {
+        parse_metric_info(bytes).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn parses_fields_and_ignores_extras() {
+        let t = parse_metric_info(&file(&[("1", body(100.25, -3.5))])).unwrap();
+        assert_eq!(t.gaps, 0);
+        assert_eq!(
+            t.frames,
+            vec![TelemetryFrame {
+                step: 1,
+                location: [100.25, -3.5],
+                acc: [1.5, -2.0],
+                fwd: [0.6, 0.8],
+                right: [-0.8, 0.6],
+                yaw_rate_deg: 12.5,
+            }]
+        );
+    }
+
+    #[test]
+    fn longer_vectors_take_first_three() {
+        let b = br#"{"3": {"acceleration": [1, 2, 3, "x", [4]], "angular_velocity": [0, 0, 7, 8],
+            "forward_vector": [1, 0, 0], "right_vector": [0, 1, 0], "location": [5, 6, 7, 8]}}"#;
+        let t = parse_metric_info(b).unwrap();
+        assert_eq!(t.frames[0].acc, [1.0, 2.0]);
+        assert_eq!(t.frames[0].yaw_rate_deg, 7.0);
+        assert_eq!(t.frames[0].location, [5.0, 6.0]);
+    }
+
+    #[test]
+    fn shuffled_keys_are_sorted_by_numeric_step() {
+        let b = file(&[
+            ("10", body(10.0, 0.0)),
+            ("9", body(9.0, 0.0)),
+            ("11", body(11.0, 0.0)),
+            ("2", body(2.0, 0.0)),
+        ]);
+        let t = parse_metric_info(&b).unwrap();
+        let steps: Vec<u64> = t.frames.iter().map(|f| f.step).collect();
+        assert_eq!(steps, vec![2, 9, 10, 11]);
+        // Each frame keeps its own payload.
+        let xs: Vec<f64> = t.frames.iter().map(|f| f.location[0]).collect();
+        assert_eq!(xs, vec![2.0, 9.0, 10.0, 11.0]);
+        // 2..=11 is 10 step numbers, 4 present.
+        assert_eq!(t.gaps, 6);
+    }
+
+    #[test]
+    fn steps_starting_at_500_with_gaps() {
+        let b = file(&[
+            ("500", body(0.0, 0.0)),
+            ("501", body(0.0, 0.0)),
+            ("503", body(0.0, 0.0)),
+            ("507", body(0.0, 0.0)),
+        ]);
+        let t = parse_metric_info(&b).unwrap();
+        assert_eq!(t.frames[0].step, 500);
+        assert_eq!(t.gaps, 507 - 500 + 1 - 4);
+        assert_eq!(t.gaps, 4);
+        assert_eq!(t.steps(), vec![500, 501, 503, 507]);
+    }
+
+    #[test]
+    fn leading_zero_key_is_its_integer_value() {
+        let t = parse_metric_info(&file(&[("007", body(0.0, 0.0))])).unwrap();
+        assert_eq!(t.frames[0].step, 7);
+    }
+
+    #[test]
+    fn unreadable_file() {
+        let e = read_metric_info(Path::new("/nonexistent/dir/metric_info.json")).unwrap_err();
+        let s = e.to_string();
+        assert!(
+            s.starts_with("cannot read /nonexistent/dir/metric_info.json: "),
+            "{s}"
+        );
+    }
+
+    #[test]
+    fn read_from_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("metric_info.json");
+        std::fs::write(&p, file(&[("4", body(1.0, 2.0))])).unwrap();
+        assert_eq!(read_metric_info(&p).unwrap().frames[0].location, [1.0, 2.0]);
+    }
+
+    #[test]
+    fn not_json() {
+        assert_eq!(
+            err(b"{\"1\": {\"acceleration\": [1, 2, 3]"),
+            "not valid JSON at line 1 column 32: EOF while parsing an object"
+        );
+        assert!(err(b"hello").starts_with("not valid JSON at line 1 column 1: "));
+        assert!(err(b"").starts_with("not valid JSON at line 1 column 0: "));
+        assert!(err(b"{} trailing").starts_with("not valid JSON at line 1 column 4: "));
+    }
+
+    #[test]
+    fn top_level_not_object() {
+        assert_eq!(err(b"[1, 2]"), "top level is not an object");
+        assert_eq!(err(b"  42 "), "top level is not an object");
+        assert_eq!(err(b"null"), "top level is not an object");
+    }
+
+    #[test]
+    fn empty_object_has_no_frames() {
+        assert_eq!(err(b"{}"), "no frames");
+        assert_eq!(err(b" {\n } \n"), "no frames");
+    }
+
+    #[test]
+    fn non_decimal_step_key() {
+        assert_eq!(
+            err(&file(&[("12a", body(0.0, 0.0))])),
+            r#"step key "12a" is not decimal digits"#
+        );
+        assert_eq!(
+            err(&file(&[("-1", body(0.0, 0.0))])),
+            r#"step key "-1" is not decimal digits"#
+        );
+        assert_eq!(
+            err(&file(&[("", body(0.0, 0.0))])),
+            r#"step key "" is not decimal digits"#
+        );
+        assert_eq!(
+            err(&file(&[("99999999999999999999", body(0.0, 0.0))])),
+            r#"step key "99999999999999999999" is out of range"#
+        );
+    }
+
+    #[test]
+    fn duplicate_integer_steps() {
+        assert_eq!(
+            err(&file(&[
+                ("6", body(0.0, 0.0)),
+                ("7", body(0.0, 0.0)),
+                ("8", body(0.0, 0.0)),
+                ("007", body(0.0, 0.0)),
+            ])),
+            "step 7 appears twice"
+        );
+        assert_eq!(
+            err(&file(&[("12", body(0.0, 0.0)), ("12", body(0.0, 0.0))])),
+            "step 12 appears twice"
+        );
+    }
+
+    #[test]
+    fn missing_required_vector() {
+        for name in FIELD_NAMES {
+            let b = body(0.0, 0.0);
+            let start = b.find(&format!("\"{name}\"")).unwrap();
+            let end = start + b[start..].find(']').unwrap() + 2; // past "],"
+            let without = format!("{}{}", &b[..start], &b[end..]);
+            let got = err(&file(&[("39", body(0.0, 0.0)), ("40", without)]));
+            assert_eq!(got, format!("step 40: field {name}: missing"));
+        }
+    }
+
+    #[test]
+    fn rotation_is_not_required() {
+        let b = br#"{"1": {"acceleration": [0,0,0], "angular_velocity": [0,0,0],
+            "forward_vector": [1,0,0], "right_vector": [0,1,0], "location": [0,0,0]}}"#;
+        assert!(parse_metric_info(b).is_ok());
+    }
+
+    #[test]
+    fn short_vector() {
+        let b = body(0.0, 0.0).replace("[0, 0, 0.3]", "[0, 1]");
+        assert!(b.contains(r#""location": [0, 1]"#), "{b}");
+        assert_eq!(
+            err(&file(&[("40", b)])),
+            "step 40: field location: fewer than 3 numbers"
+        );
+        assert_eq!(
+            err(&file(&[(
+                "3",
+                body(0.0, 0.0).replace("[0.1, 0.2, 12.5]", "[]")
+            )])),
+            "step 3: field angular_velocity: fewer than 3 numbers"
+        );
+    }
+
+    #[test]
+    fn non_numeric_vector() {
+        assert_eq!(
+            err(&file(&[(
+                "5",
+                body(0.0, 0.0).replace("[0.6, 0.8, 0.0]", r#"[0.6, "0.8", 0.0]"#)
+            )])),
+            "step 5: field forward_vector: non-numeric value"
+        );
+        assert_eq!(
+            err(&file(&[(
+                "5",
+                body(0.0, 0.0).replace("[-0.8, 0.6, 0.0]", "[-0.8, null, 0.0]")
+            )])),
+            "step 5: field right_vector: non-numeric value"
+        );
+        assert_eq!(
+            err(&file(&[(
+                "5",
+                body(0.0, 0.0).replace("[-0.8, 0.6, 0.0]", r#""east""#)
+            )])),
+            "step 5: field right_vector: not an array of numbers"
+        );
+        assert_eq!(
+            err(&file(&[("5", "[1, 2]".to_string())])),
+            "step 5: frame is not an object"
+        );
+    }
+
+    #[test]
+    fn nan_and_infinity_tokens() {
+        for tok in ["NaN", "Infinity", "-Infinity"] {
+            let b = body(0.0, 0.0).replace("[1.5, -2.0, 9.8]", &format!("[1.5, {tok}, 9.8]"));
+            assert_eq!(
+                err(&file(&[("6", body(0.0, 0.0)), ("7", b)])),
+                "step 7: field acceleration: NaN or infinite value",
+                "{tok}"
+            );
+        }
+        // In an ignored field: still invalid, named by step and position.
+        let b = body(0.0, 0.0).replace("[0.0, 0.0, 53.1]", "[0.0, NaN, 53.1]");
+        let got = err(&file(&[("9", b)]));
+        assert!(
+            got.starts_with("step 9: NaN or infinite value at line "),
+            "{got}"
+        );
+    }
+
+    #[test]
+    fn overflowing_literal() {
+        let b = body(0.0, 0.0).replace("[1.5, -2.0, 9.8]", "[1e999, -2.0, 9.8]");
+        assert_eq!(
+            err(&file(&[("7", b)])),
+            "step 7: field acceleration: NaN or infinite value"
+        );
+        // An ignored key's numbers are skipped, not evaluated (documented on parse_metric_info).
+        let b = body(0.0, 0.0).replace("[0.0, 0.0, 53.1]", "[0.0, -1e999, 53.1]");
+        assert!(parse_metric_info(&file(&[("8", b)])).is_ok());
+        // Finite in f64 but not in f32.
+        let b = body(0.0, 0.0).replace("[1.5, -2.0, 9.8]", "[1e300, -2.0, 9.8]");
+        assert_eq!(
+            err(&file(&[("7", b)])),
+            "step 7: field acceleration: value too large for f32"
+        );
+    }
+
+    #[test]
+    fn duplicate_field_in_frame() {
+        let b = body(0.0, 0.0).replace(r#""rotation""#, r#""location""#);
+        assert_eq!(
+            err(&file(&[("2", b)])),
+            "step 2: field location: appears twice"
+        );
+    }
+
+    #[test]
+    fn escaped_keys_are_handled() {
+        // "\u0031" is "1": serde_json hands an unescaped temporary to the key visitor.
+        let b = format!("{{\"\\u0031\": {}}}", body(0.0, 0.0));
+        assert_eq!(parse_metric_info(b.as_bytes()).unwrap().frames[0].step, 1);
+    }
+
+    #[test]
+    fn speeds_from_displacement() {
+        let f = |step, x: f64, y: f64| TelemetryFrame {
+            step,
+            location: [x, y],
+            ..Default::default()
+        };
+        // 3-4-5 triangle: 5 m in one step of 0.05 s = 100 m/s; then 5 m over 2 steps = 50 m/s.
+        let v = speeds(&[f(10, 0.0, 0.0), f(11, 3.0, 4.0), f(13, 6.0, 8.0)], 0.05);
+        assert_eq!(v[0], 0.0);
+        assert!((v[1] - 100.0).abs() < 1e-9, "{v:?}");
+        assert!((v[2] - 50.0).abs() < 1e-9, "{v:?}");
+        assert!(speeds(&[], 0.05).is_empty());
+        assert_eq!(speeds(&[f(1, 5.0, 5.0)], 0.05), vec![0.0]);
+    }
+
+    #[test]
+    fn infractions_file() {
+        let v = parse_infractions(
+            br#"{"infractions": [
+                {"step": 10, "infraction": "COLLISION_VEHICLE", "frame": 20, "message": "a", "event_type": 1, "meters_travelled": 3.5},
+                {"step": 12, "message": "b"}], "extra": {}}"#,
+        )
+        .unwrap();
+        assert_eq!(
+            v,
+            vec![
+                StepInfraction {
+                    step: 10,
+                    message: "a".into()
+                },
+                StepInfraction {
+                    step: 12,
+                    message: "b".into()
+                }
+            ]
+        );
+        let e = parse_infractions(br#"{"infractions": [{"message": "a"}]}"#).unwrap_err();
+        assert!(e.to_string().contains("missing field `step`"), "{e}");
+        assert!(parse_infractions(b"[]").is_err());
+        let e = read_infractions(Path::new("/nonexistent/infractions.json")).unwrap_err();
+        assert!(e.to_string().starts_with("cannot read "), "{e}");
+    }
+
+    #[test]
+    fn locate_prefers_root_then_result_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().join("telemetry");
+        let save = "RouteScenario_1_rep0_Town01_X_1_1_01_01_00_00_00";
+        std::fs::create_dir_all(root.join(save)).unwrap();
+        let results = dir.path().join("res");
+        std::fs::create_dir_all(&results).unwrap();
+        let result_file = results.join("r.json");
+        std::fs::write(&result_file, "{}").unwrap();
+
+        assert_eq!(locate(Some(&root), save, &result_file, true), None);
+        std::fs::write(results.join("metric_info.json"), "{}").unwrap();
+        assert_eq!(
+            locate(Some(&root), save, &result_file, true),
+            Some(results.join("metric_info.json"))
+        );
+        // A merged file (many records) never uses its folder.
+        assert_eq!(locate(Some(&root), save, &result_file, false), None);
+        let mi = root.join(save).join("metric_info.json");
+        std::fs::write(&mi, "{}").unwrap();
+        assert_eq!(
+            locate(Some(&root), save, &result_file, true),
+            Some(mi.clone())
+        );
+        assert_eq!(locate(None, save, &result_file, false), None);
+        assert_eq!(
+            locate(Some(&root), "../telemetry", &result_file, false),
+            None
+        );
+        assert_eq!(infractions_beside(&mi), None);
+        std::fs::write(root.join(save).join("infractions.json"), "{}").unwrap();
+        assert_eq!(
+            infractions_beside(&mi),
+            Some(root.join(save).join("infractions.json"))
+        );
+    }
+}

@@ -37,7 +37,7 @@ pub enum AlignedBy {
 
 impl AlignedBy {
     /// The report's string for this method.
-    pub fn as_str(self) -> &'static str {
+    pub fn name(self) -> &'static str {
         match self {
             AlignedBy::Nearest => "nearest",
             AlignedBy::InfractionsJson => "infractions.json",
@@ -295,6 +295,6 @@ mod tests {
             serde_json::to_string(&[AlignedBy::Nearest, AlignedBy::InfractionsJson]).unwrap(),
             r#"["nearest","infractions.json"]"#
         );
-        assert_eq!(AlignedBy::InfractionsJson.as_str(), "infractions.json");
+        assert_eq!(AlignedBy::InfractionsJson.name(), "infractions.json");
     }
 }

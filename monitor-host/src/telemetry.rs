@@ -285,8 +285,9 @@ pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
     if let Some(w) = frames.windows(2).find(|w| w[0].step == w[1].step) {
         return Err(TelemetryError::DuplicateStep { step: w[0].step });
     }
+    // Steps are unique and sorted, so last - first >= n - 1 (written to never overflow).
     let n = frames.len() as u64;
-    let gaps = frames[frames.len() - 1].step - frames[0].step + 1 - n;
+    let gaps = (frames[frames.len() - 1].step - frames[0].step) - (n - 1);
     Ok(Telemetry { frames, gaps })
 }
 
@@ -835,6 +836,17 @@ mod tests {
         assert_eq!(t.gaps, 507 - 500 + 1 - 4);
         assert_eq!(t.gaps, 4);
         assert_eq!(t.steps(), vec![500, 501, 503, 507]);
+    }
+
+    #[test]
+    fn extreme_steps_do_not_overflow_the_gap_count() {
+        let b = file(&[
+            ("0", body(0.0, 0.0)),
+            ("18446744073709551615", body(0.0, 0.0)),
+        ]);
+        let t = parse_metric_info(&b).unwrap();
+        assert_eq!(t.frames[1].step, u64::MAX);
+        assert_eq!(t.gaps, u64::MAX - 1);
     }
 
     #[test]

@@ -10,7 +10,9 @@ use crate::sg::{self, DERIVATIVE, VALUE};
 use crate::signal;
 
 /// Which of the six strict bounds a chunk violated (in report order).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Failures {
     /// Longitudinal acceleration left `(lon_acc_min, lon_acc_max)`.
@@ -34,7 +36,12 @@ impl Failures {
     /// assert!(monitor_core::Failures::default().comfortable());
     /// ```
     pub const fn comfortable(&self) -> bool {
-        !(self.lon_acc || self.lat_acc || self.mag_jerk || self.lon_jerk || self.yaw_acc || self.yaw_rate)
+        !(self.lon_acc
+            || self.lat_acc
+            || self.mag_jerk
+            || self.lon_jerk
+            || self.yaw_acc
+            || self.yaw_rate)
     }
 }
 

@@ -1,6 +1,6 @@
 //! Every bound, threshold, window, period, slack and factor of the SDS definition.
 //!
-//! Defaults equal `SDS-SPEC.md` v1.1. Fields marked **[decision]** are the spec's own
+//! Defaults equal `SDS-SPEC.md` v1.1. Fields marked **\[decision\]** are the spec's own
 //! decisions: the default is the spec's, and a user may override it.
 
 use crate::error::ConfigError;
@@ -73,7 +73,7 @@ impl Bounds {
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Factors {
-    /// Factor of a work-zone contact (default 0.5) **[decision]**.
+    /// Factor of a work-zone contact (default 0.5) **\[decision\]**.
     pub workzone: f64,
     /// Bench2Drive's layout-collision factor that a work-zone contact replaces (default 0.65).
     pub layout: f64,
@@ -115,22 +115,22 @@ pub struct Config {
     /// Frames per chunk (spec section 3; default 20). At most the monitor's capacity.
     pub chunk_len: u16,
     /// Fewest frames of a route that still has one (short) comfort chunk
-    /// (default 7 = the filter window) **[decision]**. At least 7.
+    /// (default 7 = the filter window) **\[decision\]**. At least 7.
     pub min_chunk: u16,
     /// Comfort bounds.
     pub bounds: Bounds,
-    /// Lateral slack `lane_half_width - ego_half_width` = 1.75 - 0.93 = 0.82 m **[decision]**.
+    /// Lateral slack `lane_half_width - ego_half_width` = 1.75 - 0.93 = 0.82 m **\[decision\]**.
     pub slack: f32,
     /// A chunk is anomalous iff `anomalous_excess < max excess <= critical_excess` (0.25 m)
-    /// **[decision]**.
+    /// **\[decision\]**.
     pub anomalous_excess: f32,
-    /// A chunk is critical iff `max excess > critical_excess` (0.65 m) **[decision]**.
+    /// A chunk is critical iff `max excess > critical_excess` (0.65 m) **\[decision\]**.
     pub critical_excess: f32,
-    /// `a_lon` at or below this counts as deceleration (-0.5 m/s²) **[decision]**.
+    /// `a_lon` at or below this counts as deceleration (-0.5 m/s²) **\[decision\]**.
     pub decel_threshold: f32,
     /// Frames before a collision searched for deceleration (20). At most the capacity.
     pub decel_window: u16,
-    /// A collision below this speed is exempt (0.5 m/s: the ego was standing) **[decision]**.
+    /// A collision below this speed is exempt (0.5 m/s: the ego was standing) **\[decision\]**.
     pub stationary_speed: f32,
     /// Penalty factors.
     pub factors: Factors,
@@ -179,7 +179,9 @@ impl Config {
             return Err(ConfigError::DecelWindow);
         }
         let b = &c.bounds;
-        if !(b.lon_acc_min.is_finite() && b.lon_acc_max.is_finite() && b.lon_acc_min < b.lon_acc_max)
+        if !(b.lon_acc_min.is_finite()
+            && b.lon_acc_max.is_finite()
+            && b.lon_acc_min < b.lon_acc_max)
         {
             return Err(ConfigError::Bounds);
         }

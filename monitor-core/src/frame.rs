@@ -7,7 +7,9 @@ use crate::signal;
 ///
 /// `layout` counts layout collisions that are *not* work-zone contacts; `workzone` counts those
 /// that are. All four kinds are collisions for the deceleration check.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Collisions {
     /// Entries of `collisions_pedestrian` aligned to this frame.

@@ -40,8 +40,7 @@ impl core::error::Error for JsonError {}
 /// assert_eq!(f.collisions.vehicle, 1);
 /// ```
 pub fn decode_frame(bytes: &[u8]) -> Result<Frame, JsonError> {
-    let (frame, _) =
-        serde_json_core::from_slice::<Frame>(bytes).map_err(|_| JsonError::Syntax)?;
+    let (frame, _) = serde_json_core::from_slice::<Frame>(bytes).map_err(|_| JsonError::Syntax)?;
     frame.validate().map_err(JsonError::Frame)?;
     Ok(frame)
 }

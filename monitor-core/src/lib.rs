@@ -21,7 +21,7 @@
 //! | 5 pre-collision deceleration | [`decel`] |
 //! | 6 lateral excess | [`lateral`] |
 //! | 7-8 work zone, scores | [`score`] |
-//! | defaults and [decision]s | [`config`] |
+//! | defaults and \[decision\]s | [`config`] |
 //!
 //! ```
 //! use monitor_core::{score, Config, Frame, Monitor};

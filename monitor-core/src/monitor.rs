@@ -211,8 +211,7 @@ impl<const N: usize> Monitor<N> {
         let mut events = Events::new();
         let frames = self.summary.frames;
         let partial = !self.chunk.is_empty();
-        if frames < u32::from(self.config.chunk_len) && frames >= u32::from(self.config.min_chunk)
-        {
+        if frames < u32::from(self.config.chunk_len) && frames >= u32::from(self.config.min_chunk) {
             self.close_comfort(&mut events);
         }
         if partial {

@@ -107,7 +107,7 @@ pub fn excess(lat_err: f32, slack: f32) -> f32 {
 #[inline]
 pub fn round_half_even(x: f32) -> f32 {
     const MAGIC: f32 = 8_388_608.0; // 2^23
-    if x >= 0.0 && x < MAGIC {
+    if (0.0..MAGIC).contains(&x) {
         (x + MAGIC) - MAGIC
     } else if x < 0.0 && x > -MAGIC {
         (x - MAGIC) + MAGIC

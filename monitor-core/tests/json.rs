@@ -142,8 +142,10 @@ fn encode_events_byte_exact() {
 
 #[test]
 fn encode_a_summary_byte_exact() {
-    let mut s = RouteSummary::default();
-    s.frames = 41;
+    let mut s = RouteSummary {
+        frames: 41,
+        ..RouteSummary::default()
+    };
     s.comfort.chunks = 2;
     s.comfort.comfortable = 1;
     s.comfort.failed.mag_jerk = 1;

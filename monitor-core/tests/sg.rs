@@ -104,8 +104,9 @@ fn solve3(mut m: [[f64; 3]; 3], mut r: [f64; 3]) -> [f64; 3] {
         r.swap(col, piv);
         for row in col + 1..3 {
             let f = m[row][col] / m[col][col];
-            for j in col..3 {
-                m[row][j] -= f * m[col][j];
+            let pivot = m[col];
+            for (mj, pj) in m[row].iter_mut().zip(pivot).skip(col) {
+                *mj -= f * pj;
             }
             r[row] -= f * r[col];
         }

@@ -15,7 +15,11 @@
 
 pub mod align;
 pub mod batch;
+pub mod cli;
+pub mod demo;
 pub mod infraction;
+pub mod replay;
+pub mod report;
 pub mod results;
 pub mod route;
 pub mod telemetry;

@@ -1,0 +1,388 @@
+//! `sds demo`: a small synthetic Bench2Drive run of the project's own making.
+//!
+//! It writes what a real run leaves behind: a raw evaluator results file, one Bench2Drive
+//! `metric_info.json` per route under `telemetry/<save_name>/`, and a route XML. The routes are
+//! straight roads driven with simple kinematics, chosen so that every SDS term shows up once:
+//! cruising, hard braking, a lane change, a cone contact, collisions with and without braking,
+//! and a hit while standing still. `--large` writes a benchmark-sized run (220 routes x 4,000
+//! frames) of cruising routes for performance measurements.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+
+/// Step period of the simulator (20 Hz).
+const DT: f64 = 0.05;
+/// World origin of every demo road: large coordinates, as on real CARLA maps.
+const ORIGIN: [f64; 2] = [1520.0, -3310.0];
+
+/// What happens in one demo route.
+#[derive(Clone, Debug)]
+struct Script {
+    name: &'static str,
+    xml_id: u32,
+    frames: usize,
+    v0: f64,
+    /// Longitudinal acceleration command at frame i.
+    accel: fn(usize) -> f64,
+    /// Lateral offset from the reference line at time t (s), and its second derivative.
+    lateral: fn(f64) -> (f64, f64),
+    /// Collisions: (frame, list, type_id).
+    collisions: &'static [(usize, &'static str, &'static str)],
+    status: &'static str,
+    score_route: f64,
+}
+
+fn straight(_: f64) -> (f64, f64) {
+    (0.0, 0.0)
+}
+
+/// A 3.5 m minimum-jerk lane change to the right between t = 2 s and t = 6 s:
+/// `y = w (10s³ - 15s⁴ + 6s⁵)`, `s = (t - 2) / 4`; lateral acceleration at most 1.26 m/s²,
+/// lateral jerk at most 3.28 m/s³.
+fn lane_change(t: f64) -> (f64, f64) {
+    let (t0, dur, width) = (2.0, 4.0, 3.5);
+    let s = (t - t0) / dur;
+    if s <= 0.0 {
+        return (0.0, 0.0);
+    }
+    if s >= 1.0 {
+        return (width, 0.0);
+    }
+    let (s2, s3) = (s * s, s * s * s);
+    (
+        width * (10.0 * s3 - 15.0 * s2 * s2 + 6.0 * s3 * s2),
+        width * (60.0 * s - 180.0 * s2 + 120.0 * s3) / (dur * dur),
+    )
+}
+
+fn scripts() -> Vec<Script> {
+    vec![
+        Script {
+            name: "DemoCruising_1",
+            xml_id: 900001,
+            frames: 200,
+            v0: 10.0,
+            accel: |_| 0.0,
+            lateral: straight,
+            collisions: &[],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "DemoHardBraking_1",
+            xml_id: 900002,
+            frames: 200,
+            v0: 12.0,
+            // Full braking at -6 m/s² from frame 60 until standstill.
+            accel: |i| if (60..100).contains(&i) { -6.0 } else { 0.0 },
+            lateral: straight,
+            collisions: &[],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "DemoLaneChange_1",
+            xml_id: 900003,
+            frames: 200,
+            v0: 10.0,
+            accel: |_| 0.0,
+            lateral: lane_change,
+            collisions: &[],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "DemoConeContact_1",
+            xml_id: 900004,
+            frames: 160,
+            v0: 3.0,
+            accel: |_| 0.0,
+            lateral: straight,
+            collisions: &[(90, "collisions_layout", "static.prop.constructioncone")],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "DemoCrashNoBrake_1",
+            xml_id: 900005,
+            frames: 160,
+            v0: 8.0,
+            // The impact stops the car within 0.4 s.
+            accel: |i| if (120..128).contains(&i) { -20.0 } else { 0.0 },
+            lateral: straight,
+            collisions: &[(120, "collisions_vehicle", "vehicle.lincoln.mkz_2020")],
+            status: "Failed - Agent got blocked",
+            score_route: 62.5,
+        },
+        Script {
+            name: "DemoCrashBraking_1",
+            xml_id: 900006,
+            frames: 160,
+            v0: 8.0,
+            // Brakes at -3 m/s² from frame 100, too late: hits a pedestrian at frame 110.
+            accel: |i| if (100..125).contains(&i) { -3.0 } else { 0.0 },
+            lateral: straight,
+            collisions: &[(110, "collisions_pedestrian", "walker.pedestrian.0012")],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "DemoStandingHit_1",
+            xml_id: 900007,
+            frames: 160,
+            v0: 5.0,
+            // Stops by frame 45 (-2.5 m/s² for 2 s) and is hit from behind while standing.
+            accel: |i| if (5..45).contains(&i) { -2.5 } else { 0.0 },
+            lateral: straight,
+            collisions: &[(130, "collisions_vehicle", "vehicle.audi.tt")],
+            status: "Completed",
+            score_route: 100.0,
+        },
+    ]
+}
+
+/// One simulated frame in world coordinates.
+struct SimFrame {
+    loc: [f64; 2],
+    acc: [f64; 2],
+    speed: f64,
+}
+
+fn simulate(s: &Script) -> Vec<SimFrame> {
+    let mut out = Vec::with_capacity(s.frames);
+    let (mut x, mut v) = (0.0f64, s.v0);
+    for i in 0..s.frames {
+        let t = i as f64 * DT;
+        let a_cmd = (s.accel)(i);
+        // The car cannot reverse: braking stops at standstill.
+        let a = if v <= 0.0 && a_cmd < 0.0 { 0.0 } else { a_cmd };
+        let (y, ay) = (s.lateral)(t);
+        out.push(SimFrame {
+            loc: [ORIGIN[0] + x, ORIGIN[1] + y],
+            acc: [a, ay],
+            speed: v,
+        });
+        v = (v + a * DT).max(0.0);
+        x += v * DT;
+    }
+    out
+}
+
+/// Bench2Drive's penalty factor of one infraction list.
+fn factor(list: &str) -> f64 {
+    match list {
+        "collisions_pedestrian" => 0.5,
+        "collisions_vehicle" => 0.6,
+        "collisions_layout" => 0.65,
+        _ => 1.0,
+    }
+}
+
+/// Python's `round(x, 6)` for the values used here (no ties occur).
+fn round6(x: f64) -> f64 {
+    (x * 1e6).round() / 1e6
+}
+
+/// A Python-style float repr with 3 decimals at most (as CARLA's collision strings).
+fn py3(x: f64) -> String {
+    let r = (x * 1000.0).round() / 1000.0;
+    let s = format!("{r}");
+    if s.contains('.') {
+        s
+    } else {
+        format!("{s}.0")
+    }
+}
+
+const LISTS: [&str; 12] = [
+    "collisions_layout",
+    "collisions_pedestrian",
+    "collisions_vehicle",
+    "red_light",
+    "stop_infraction",
+    "outside_route_lanes",
+    "min_speed_infractions",
+    "yield_emergency_vehicle_infractions",
+    "scenario_timeouts",
+    "route_dev",
+    "vehicle_blocked",
+    "route_timeout",
+];
+
+/// Writes the demo run into `dir` and returns the paths it wrote.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let run = monitor_host::demo::write(dir.path()).unwrap();
+/// assert!(run.results.exists() && run.routes.exists());
+/// assert_eq!(run.route_ids.len(), 7);
+/// ```
+pub fn write(dir: &Path) -> Result<DemoRun> {
+    write_scripts(dir, &scripts())
+}
+
+/// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each.
+pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> {
+    let list: Vec<Script> = (0..routes)
+        .map(|i| Script {
+            name: "DemoLargeCruising_1",
+            xml_id: 910_000 + i as u32,
+            frames,
+            v0: 8.0 + (i % 7) as f64,
+            accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
+            lateral: straight,
+            collisions: &[],
+            status: "Completed",
+            score_route: 100.0,
+        })
+        .collect();
+    write_scripts(dir, &list)
+}
+
+/// The files of a demo run.
+#[derive(Clone, Debug)]
+pub struct DemoRun {
+    /// The raw evaluator results file.
+    pub results: PathBuf,
+    /// The telemetry root (`<save_name>/metric_info.json` below it).
+    pub telemetry: PathBuf,
+    /// The route XML.
+    pub routes: PathBuf,
+    /// Route ids, in order.
+    pub route_ids: Vec<String>,
+}
+
+fn write_scripts(dir: &Path, scripts: &[Script]) -> Result<DemoRun> {
+    let telemetry = dir.join("telemetry");
+    fs::create_dir_all(&telemetry)
+        .with_context(|| format!("cannot create {}", telemetry.display()))?;
+    let mut records = Vec::new();
+    let mut xml = String::from("<?xml version='1.0' encoding='utf-8'?>\n<routes>\n");
+    let mut route_ids = Vec::new();
+    for (index, s) in scripts.iter().enumerate() {
+        let route_id = format!("RouteScenario_{}_rep0", s.xml_id);
+        let save_name = format!("{route_id}_Town01_{}_1_11_22_06_00_00", s.name);
+        let sim = simulate(s);
+
+        // Telemetry, in Bench2Drive's indented metric_info layout (steps start at 1).
+        let folder = telemetry.join(&save_name);
+        fs::create_dir_all(&folder)?;
+        write_metric_info(&folder.join("metric_info.json"), &sim)
+            .with_context(|| format!("cannot write telemetry of {route_id}"))?;
+
+        // Route XML: a waypoint every 2 m along the road, from 10 m before the start.
+        let length = sim.last().map_or(0.0, |f| f.loc[0] - ORIGIN[0]) + 20.0;
+        let _ = writeln!(
+            xml,
+            "   <route id=\"{}\" town=\"Town01\">\n      <waypoints>",
+            s.xml_id
+        );
+        let mut x = -10.0;
+        while x <= length {
+            let _ = writeln!(
+                xml,
+                "         <position x=\"{:.1}\" y=\"{:.1}\" z=\"0.0\"/>",
+                ORIGIN[0] + x,
+                ORIGIN[1]
+            );
+            x += 2.0;
+        }
+        let _ = writeln!(xml, "      </waypoints>\n   </route>");
+
+        // The evaluator's record.
+        let mut infractions = serde_json::Map::new();
+        for l in LISTS {
+            infractions.insert(l.into(), serde_json::Value::Array(vec![]));
+        }
+        let mut penalty = 1.0;
+        for (n, &(frame, list, type_id)) in s.collisions.iter().enumerate() {
+            let f = &sim[frame];
+            let msg = format!(
+                "Agent collided against object with type={type_id} and id={} at (x={}, y={}, z=0.0)",
+                2000 + n,
+                py3(f.loc[0]),
+                py3(f.loc[1])
+            );
+            if let Some(serde_json::Value::Array(v)) = infractions.get_mut(list) {
+                v.push(msg.into());
+            }
+            penalty *= factor(list);
+        }
+        records.push(serde_json::json!({
+            "index": index,
+            "route_id": route_id,
+            "status": s.status,
+            "num_infractions": s.collisions.len(),
+            "infractions": infractions,
+            "scores": {
+                "score_route": s.score_route,
+                "score_penalty": penalty,
+                "score_composed": round6(s.score_route * penalty),
+            },
+            "meta": {
+                "route_length": length,
+                "duration_game": s.frames as f64 * DT,
+                "duration_system": s.frames as f64 * DT * 3.0,
+            },
+            "save_name": save_name,
+            "town_name": "Town01",
+            "scenario_name": s.name,
+            "weather_id": "1",
+        }));
+        route_ids.push(route_id);
+    }
+    xml.push_str("</routes>\n");
+    let routes = dir.join("routes.xml");
+    fs::write(&routes, xml)?;
+    let results = dir.join("results.json");
+    let doc = serde_json::json!({
+        "_checkpoint": {
+            "global_record": {},
+            "progress": [scripts.len(), scripts.len()],
+            "records": records,
+        },
+        "entry_status": "Finished",
+        "eligible": true,
+        "sensors": [],
+        "values": [],
+        "labels": [],
+    });
+    fs::write(&results, serde_json::to_string_pretty(&doc)?)?;
+    Ok(DemoRun {
+        results,
+        telemetry,
+        routes,
+        route_ids,
+    })
+}
+
+fn write_metric_info(path: &Path, sim: &[SimFrame]) -> Result<()> {
+    let mut w = BufWriter::new(fs::File::create(path)?);
+    w.write_all(b"{")?;
+    for (i, f) in sim.iter().enumerate() {
+        let sep = if i == 0 { "" } else { "," };
+        // Heading is +x: forward (1, 0), right (0, 1) in CARLA's left-handed frame.
+        write!(
+            w,
+            "{sep}\n    \"{step}\": {{\n        \"acceleration\": [\n            {ax},\n            {ay},\n            0.0\n        ],\n        \"angular_velocity\": [\n            0.0,\n            0.0,\n            0.0\n        ],\n        \"forward_vector\": [\n            1.0,\n            0.0,\n            0.0\n        ],\n        \"right_vector\": [\n            0.0,\n            1.0,\n            0.0\n        ],\n        \"location\": [\n            {x},\n            {y},\n            0.0\n        ],\n        \"rotation\": [\n            0.0,\n            0.0,\n            0.0\n        ],\n        \"velocity\": [\n            {v},\n            0.0,\n            0.0\n        ]\n    }}",
+            step = i + 1,
+            ax = fmt_f(f.acc[0]),
+            ay = fmt_f(f.acc[1]),
+            x = fmt_f(f.loc[0]),
+            y = fmt_f(f.loc[1]),
+            v = fmt_f(f.speed),
+        )?;
+    }
+    w.write_all(b"\n}\n")?;
+    w.flush()?;
+    Ok(())
+}
+
+/// A float as JSON (always with a decimal point, as Python writes floats).
+fn fmt_f(x: f64) -> String {
+    format!("{x:?}")
+}

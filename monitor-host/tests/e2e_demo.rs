@@ -1,0 +1,244 @@
+//! End to end: `sds demo DIR`, then `sds score` on it, checked against figures worked out by hand
+//! from the demo's scripts (monitor-host/src/demo.rs).
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+fn sds(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(args)
+        .output()
+        .expect("run sds")
+}
+
+fn demo(dir: &Path) {
+    let out = sds(&["demo", dir.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "sds demo failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn score_json(dir: &Path, extra: &[&str]) -> (i32, Value) {
+    let report = dir.join("report.json");
+    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
+    let mut args = vec![
+        "score".to_string(),
+        "--results".into(),
+        d("results.json"),
+        "--telemetry".into(),
+        d("telemetry"),
+        "--routes".into(),
+        d("routes.xml"),
+        "-o".into(),
+        report.to_str().unwrap().into(),
+    ];
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = sds(&argv);
+    let text = std::fs::read_to_string(&report).expect("report written");
+    (
+        out.status.code().unwrap_or(-1),
+        serde_json::from_str(&text).expect("report is JSON"),
+    )
+}
+
+fn route<'a>(report: &'a Value, id: &str) -> &'a Value {
+    report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["route_id"] == id)
+        .unwrap_or_else(|| panic!("{id} missing from the report"))
+}
+
+fn close(a: &Value, b: f64) -> bool {
+    a.as_f64()
+        .is_some_and(|a| (a - b).abs() < 1e-9 * b.abs().max(1.0))
+}
+
+#[test]
+fn demo_scores_as_worked_out_by_hand() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let (code, r) = score_json(dir.path(), &[]);
+    assert_eq!(code, 0, "a clean demo exits 0");
+    assert_eq!(r["schema"], "sds-report/1");
+    assert_eq!(r["profile"], "physical");
+    assert_eq!(r["routes"].as_array().unwrap().len(), 7);
+
+    // Cruising: 200 frames on the reference line at 10 m/s: 10 comfortable chunks, no excess.
+    let cruise = route(&r, "RouteScenario_900001_rep0");
+    assert_eq!(cruise["frames"], 200);
+    assert_eq!(cruise["comfort"]["chunks"], 10);
+    assert_eq!(cruise["comfort"]["comfortable"], 10);
+    assert_eq!(cruise["lateral"]["chunks"], 10);
+    assert_eq!(cruise["lateral"]["scored_chunks"], 10);
+    assert!(close(&cruise["ds_safe"], 100.0));
+
+    // Hard braking: -6 m/s² over frames 60..100 = exactly chunks 3 and 4 (chunks are filtered
+    // independently, so the neighbours see no step): lon_acc fails twice, nothing else.
+    let brake = route(&r, "RouteScenario_900002_rep0");
+    assert_eq!(brake["comfort"]["comfortable"], 8);
+    assert_eq!(brake["comfort"]["failed"]["lon_acc"], 2);
+    assert_eq!(brake["comfort"]["failed"]["lon_jerk"], 0);
+    assert!(close(&brake["comfort"]["score"], 0.8));
+    assert!(close(&brake["ds_safe"], 100.0));
+
+    // Lane change: y = 3.5 (10s³ - 15s⁴ + 6s⁵), s = (t - 2) / 4. Chunk 2 (t <= 2.95) peaks at
+    // y(0.2375) = 0.318 m -> excess 0 (normal); chunk 3 (t <= 3.95) reaches y(0.4875) = 1.668
+    // -> excess 0.848 (critical), and chunks 4..9 lie beyond: N_crit = 7, DS_safe = 100 * 0.9^7.
+    let lane = route(&r, "RouteScenario_900003_rep0");
+    assert_eq!(lane["lateral"]["critical"], 7);
+    assert_eq!(lane["lateral"]["anomalous"], 0);
+    assert_eq!(
+        lane["comfort"]["comfortable"], 10,
+        "|a_lat| <= 1.26 m/s², jerk <= 3.28 m/s³: comfortable"
+    );
+    assert!(close(&lane["ds_safe"], 100.0 * 0.9f64.powi(7)));
+
+    // Cone contact at 3 m/s without braking: a work-zone contact (p_safe = 0.65 * 0.5/0.65)
+    // and a collision without deceleration (x 0.8): 100 * 0.5 * 0.8 = 40.
+    let cone = route(&r, "RouteScenario_900004_rep0");
+    assert_eq!(cone["collisions"]["workzone"], 1);
+    assert_eq!(cone["collisions"]["nodecel"], 1);
+    assert!(close(&cone["p_safe"], 0.5));
+    assert!(close(&cone["ds_safe"], 40.0));
+    let ev = &cone["collision_events"][0];
+    assert_eq!(ev["frame"], 90);
+    assert_eq!(ev["step"], 91, "steps start at 1");
+    assert_eq!(ev["aligned_by"], "nearest");
+    assert_eq!(ev["decelerated"], false);
+
+    // Crash without braking at 8 m/s (frame 120; the impact's -20 m/s² is in frame 120 itself,
+    // which the window excludes): 62.5 * 0.6 * 0.8 = 30. Comfort: chunk 6 holds the impact.
+    let crash = route(&r, "RouteScenario_900005_rep0");
+    assert_eq!(crash["collisions"]["nodecel"], 1);
+    assert!(close(&crash["ds_safe"], 30.0));
+    let speed = crash["collision_events"][0]["impact_speed"]
+        .as_f64()
+        .unwrap();
+    assert!((speed - 8.0).abs() < 1e-3);
+    assert!(close(&crash["comfort"]["score"], 7.0 / 8.0));
+
+    // Crash after braking: -3 m/s² from frame 100, pedestrian at frame 110: decelerated, so only
+    // the evaluator's 0.5: DS_safe = 50. Speed at impact 8 - 10 * 0.15 = 6.5 m/s.
+    let braked = route(&r, "RouteScenario_900006_rep0");
+    assert_eq!(braked["collisions"]["nodecel"], 0);
+    assert_eq!(braked["collision_events"][0]["decelerated"], true);
+    let speed = braked["collision_events"][0]["impact_speed"]
+        .as_f64()
+        .unwrap();
+    assert!((speed - 6.5).abs() < 1e-3);
+    assert!(close(&braked["ds_safe"], 50.0));
+
+    // Standing hit: stopped at frame 44 (v 0.125 m/s from frame 43 to 44, then 0); the hit's
+    // position ties with every frame from 44 on and goes to the earliest: frame 44, exempt.
+    let standing = route(&r, "RouteScenario_900007_rep0");
+    let ev = &standing["collision_events"][0];
+    assert_eq!(ev["frame"], 44);
+    assert_eq!(ev["exempt"], true);
+    assert_eq!(standing["collisions"]["exempt"], 1);
+    assert!(close(&standing["ds_safe"], 60.0));
+
+    // Aggregates over N = 7: DS = (100+100+100+65+37.5+50+60)/7, SR = 3/7 (routes 1-3),
+    // mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4) / 7 = 0.9, collision rate 4/7.
+    let s = &r["summary"];
+    assert_eq!(s["routes"], 7);
+    assert!(close(&s["driving_score"], 512.5 / 7.0));
+    assert!(close(&s["success_rate"], 300.0 / 7.0));
+    assert!(close(&s["mean_comfort"], 0.9));
+    assert!(close(&s["collision_rate"], 400.0 / 7.0));
+    let mean_safe = (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0) / 7.0;
+    assert!(close(&s["mean_ds_safe"], mean_safe));
+    assert!(close(&s["sds"], mean_safe * 0.9));
+    assert_eq!(s["penalty_mismatches"].as_array().unwrap().len(), 0);
+    assert!(s["batch_disagreements"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn missing_telemetry_exits_3_and_keeps_the_route() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let tel = dir.path().join("telemetry");
+    let gone = std::fs::read_dir(&tel)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.to_string_lossy().contains("900004"))
+        .unwrap();
+    std::fs::remove_dir_all(&gone).unwrap();
+    let (code, r) = score_json(dir.path(), &[]);
+    assert_eq!(code, 3);
+    let cone = route(&r, "RouteScenario_900004_rep0");
+    assert_eq!(cone["telemetry"], "missing");
+    assert!(cone["ds_safe"].is_null());
+    assert!(r["summary"]["mean_ds_safe"].is_null());
+
+    // Allowed: scored without telemetry terms: the work-zone factor still applies, the event is
+    // unaligned and not penalised: 100 * 0.5 = 50.
+    let (code, r) = score_json(dir.path(), &["--allow-missing-telemetry"]);
+    assert_eq!(code, 0);
+    let cone = route(&r, "RouteScenario_900004_rep0");
+    assert!(close(&cone["ds_safe"], 50.0));
+    assert_eq!(cone["collisions"]["unaligned"], 1);
+    assert!(cone["comfort"]["score"].is_null());
+}
+
+#[test]
+fn table_and_csv_formats() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    let out = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--telemetry",
+        &d("telemetry"),
+        "--routes",
+        &d("routes.xml"),
+        "--format",
+        "table",
+        "--group-by",
+        "town",
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("DS_safe") && text.contains("SDS"));
+    assert!(text.contains("Town01"), "{text}");
+    let out = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--telemetry",
+        &d("telemetry"),
+        "--format",
+        "csv",
+    ]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.lines().count(), 8, "header + 7 routes");
+    assert!(text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .starts_with("RouteScenario_900001_rep0,DemoCruising,"));
+}
+
+#[test]
+fn bad_setting_is_an_error_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    let out = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--set",
+        "chunk_len=99",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("chunk_len"));
+}

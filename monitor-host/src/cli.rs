@@ -377,6 +377,12 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for w in &report.warnings {
         eprintln!("sds: warning: {w}");
     }
+    for r in &report.routes {
+        for w in &r.warnings {
+            let id = r.route_id.as_deref().unwrap_or("<no route_id>");
+            eprintln!("sds: warning: {id}: {w}");
+        }
+    }
     let bytes = match args.format {
         Format::Json => {
             let mut v = serde_json::to_vec_pretty(&report)?;
@@ -403,6 +409,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 
     let s = &report.summary;
     let mut problems = false;
+    if report.routes.is_empty() {
+        problems = true;
+        eprintln!("sds: no route found in the results: nothing was scored");
+    }
     for r in &report.routes {
         if r.state != "ok" && !(opts.allow_missing_telemetry && r.penalty_check.is_some()) {
             problems = true;

@@ -3,7 +3,7 @@
 //! Geometry (speed, lateral error, collision alignment) is computed in f64 on the raw
 //! coordinates and rounded to f32 once, when the [`Frame`] is built (spec section 2).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use monitor_core::{
     score, Collisions, Config, Event, Frame, Monitor, RecordScores, RouteSummary, SafeScore,
@@ -121,6 +121,9 @@ pub struct RouteOutcome {
     pub penalty: Option<PenaltyCheck>,
     /// The batch reference gave the same summary (spec section 9); `None` when not replayed.
     pub batch_agrees: Option<bool>,
+    /// Problems that did not stop the route from being scored (unreadable `infractions.json`,
+    /// no reference route in the XML, unparseable collision strings).
+    pub warnings: Vec<String>,
 }
 
 impl RouteOutcome {
@@ -311,6 +314,7 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
         workzone: 0,
         penalty: None,
         batch_agrees: None,
+        warnings: Vec::new(),
     };
     let Ok(record) = &loaded.entry else {
         return out;
@@ -331,12 +335,25 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
     };
     let summary = match tel {
         Ok(tel) => {
-            let infractions = found
-                .as_deref()
-                .and_then(Path::parent)
-                .map(|d| d.join("infractions.json"))
-                .filter(|p| p.is_file())
-                .and_then(|p| telemetry::read_infractions(&p).ok());
+            let infractions = match found.as_deref().and_then(telemetry::infractions_beside) {
+                None => None,
+                Some(p) => match telemetry::read_infractions(&p) {
+                    Ok(list) => Some(list),
+                    Err(e) => {
+                        out.warnings.push(format!(
+                            "{}: {e}; collisions aligned by position instead",
+                            p.display()
+                        ));
+                        None
+                    }
+                },
+            };
+            if let (Some(set), Some(id)) = (routes, record.xml_id()) {
+                if let Err(e) = set.get_checked(id) {
+                    out.warnings
+                        .push(format!("{e}: lateral excess unknown for this route"));
+                }
+            }
             let mut prepared = prepare(record, &tel, routes, infractions.as_deref(), opts);
             out.frames = prepared.frames.len() as u32;
             out.gaps = tel.gaps;
@@ -370,6 +387,14 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
             .into_iter()
             .map(|(e, _, _)| e)
             .collect();
+    }
+    for e in &out.events {
+        if let Some(reason) = &e.parse_error {
+            out.warnings.push(format!(
+                "{}: unparseable collision string ({reason}): counted, not aligned",
+                e.list.name()
+            ));
+        }
     }
     out.workzone = out.events.iter().filter(|e| e.workzone).count() as u32;
     // Without telemetry the route is scored without telemetry terms only when allowed.

@@ -177,6 +177,9 @@ pub struct RouteReport {
     pub penalty_check: Option<PenaltyReport>,
     /// The batch reference agreed with the streaming monitor; null when not replayed.
     pub batch_agrees: Option<bool>,
+    /// Problems that did not stop the route from being scored.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// Benchmark aggregates (spec section 8).
@@ -282,6 +285,7 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             agrees: p.agrees,
         }),
         batch_agrees: o.batch_agrees,
+        warnings: o.warnings.clone(),
     }
 }
 

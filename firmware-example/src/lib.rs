@@ -38,29 +38,73 @@ pub enum TableError {
     BadTable,
 }
 
-/// A recorded route: the compact table of [`table`], typically `include_bytes!`'d into flash.
+/// The recorded routes: the compact table of [`table`], typically `include_bytes!`'d into flash.
+#[derive(Clone, Debug)]
+pub struct FlashRoutes<'a> {
+    rest: &'a [u8],
+    routes: u16,
+    frames: u32,
+}
+
+impl<'a> FlashRoutes<'a> {
+    /// Checks the header and that the routes fill the table exactly.
+    pub fn new(bytes: &'a [u8]) -> Result<Self, TableError> {
+        let (header, rest) = bytes
+            .split_first_chunk::<{ table::HEADER_LEN }>()
+            .ok_or(TableError::BadTable)?;
+        let (routes, frames) = table::parse_header(header).ok_or(TableError::BadTable)?;
+        let all = FlashRoutes {
+            rest,
+            routes,
+            frames,
+        };
+        let mut walk = all.clone();
+        let mut seen: u32 = 0;
+        for _ in 0..routes {
+            let route = walk.next_route().ok_or(TableError::BadTable)?;
+            if route.count() == 0 {
+                return Err(TableError::BadTable); // build.rs never writes an empty route
+            }
+            seen = seen
+                .checked_add(route.count())
+                .ok_or(TableError::BadTable)?;
+        }
+        if !walk.rest.is_empty() || seen != frames {
+            return Err(TableError::BadTable);
+        }
+        Ok(all)
+    }
+
+    /// Routes in the table.
+    pub fn routes(&self) -> u16 {
+        self.routes
+    }
+
+    /// Frames in all routes.
+    pub fn frames(&self) -> u32 {
+        self.frames
+    }
+
+    /// The next route, or `None` after the last one.
+    pub fn next_route(&mut self) -> Option<FlashFrames<'a>> {
+        let (count, rest) = self.rest.split_first_chunk::<4>()?;
+        let count = u32::from_le_bytes(*count);
+        let len = (count as usize).checked_mul(table::RECORD_LEN)?;
+        let records = rest.get(..len)?;
+        self.rest = rest.get(len..)?;
+        Some(FlashFrames { records, count })
+    }
+}
+
+/// One recorded route: a [`FrameSource`] over its records.
 #[derive(Clone, Debug)]
 pub struct FlashFrames<'a> {
     records: &'a [u8],
     count: u32,
 }
 
-impl<'a> FlashFrames<'a> {
-    /// Checks the header and the length of the table.
-    pub fn new(bytes: &'a [u8]) -> Result<Self, TableError> {
-        let (header, records) = bytes
-            .split_first_chunk::<{ table::HEADER_LEN }>()
-            .ok_or(TableError::BadTable)?;
-        let count = table::parse_header(header).ok_or(TableError::BadTable)?;
-        if records.len() / table::RECORD_LEN != count as usize
-            || records.len() % table::RECORD_LEN != 0
-        {
-            return Err(TableError::BadTable);
-        }
-        Ok(FlashFrames { records, count })
-    }
-
-    /// Frames in the table.
+impl FlashFrames<'_> {
+    /// Frames in the route.
     pub fn count(&self) -> u32 {
         self.count
     }
@@ -200,6 +244,18 @@ impl<A: OutputPin, C: OutputPin> MonitorTask<A, C> {
         Ok(done)
     }
 
+    /// Starts a new route: a fresh monitor (same configuration), both pins low.
+    pub fn reset<E>(&mut self) -> Result<(), TaskError<E>> {
+        self.monitor.reset();
+        self.pins = PinState::default();
+        self.alarm
+            .set_low()
+            .map_err(|e| TaskError::AlarmPin(e.kind()))?;
+        self.comfort
+            .set_low()
+            .map_err(|e| TaskError::ComfortPin(e.kind()))
+    }
+
     /// Clears the latched alarm (an operator acknowledged it).
     pub fn acknowledge<E>(&mut self) -> Result<(), TaskError<E>> {
         self.pins.alarm = false;
@@ -238,12 +294,7 @@ impl<A: OutputPin, C: OutputPin> MonitorTask<A, C> {
 }
 
 fn set<P: OutputPin>(pin: &mut P, high: bool) -> Result<(), ErrorKind> {
-    if high {
-        pin.set_high()
-    } else {
-        pin.set_low()
-    }
-    .map_err(|e| e.kind())
+    if high { pin.set_high() } else { pin.set_low() }.map_err(|e| e.kind())
 }
 
 /// Writes `n` in decimal into `buf`; returns the digits (no allocation, no formatting machinery).
@@ -324,10 +375,14 @@ mod tests {
         }
     }
 
-    fn table_of(frames: &[Frame]) -> std::vec::Vec<u8> {
-        let mut t = table::header(frames.len() as u32).to_vec();
-        for f in frames {
-            t.extend_from_slice(&table::encode_record(f));
+    fn table_of(routes: &[&[Frame]]) -> std::vec::Vec<u8> {
+        let total: usize = routes.iter().map(|r| r.len()).sum();
+        let mut t = table::header(routes.len() as u16, total as u32).to_vec();
+        for r in routes {
+            t.extend_from_slice(&(r.len() as u32).to_le_bytes());
+            for f in r.iter() {
+                t.extend_from_slice(&table::encode_record(f));
+            }
         }
         t
     }
@@ -352,10 +407,7 @@ mod tests {
         assert_eq!(g.a_lon.to_bits(), f.a_lon.to_bits());
         assert_eq!(g.a_lat.to_bits(), 1);
         assert_eq!(g, f);
-        let unknown = Frame {
-            lat_err: None,
-            ..f
-        };
+        let unknown = Frame { lat_err: None, ..f };
         assert_eq!(
             table::decode_record(&table::encode_record(&unknown)).lat_err,
             None
@@ -371,25 +423,50 @@ mod tests {
                 ..Frame::default()
             },
         ];
-        let bytes = table_of(&frames);
-        let mut src = FlashFrames::new(&bytes).unwrap();
+        let third = [Frame {
+            a_lon: -1.0,
+            ..Frame::default()
+        }];
+        let bytes = table_of(&[&frames, &third]);
+        let mut routes = FlashRoutes::new(&bytes).unwrap();
+        assert_eq!((routes.routes(), routes.frames()), (2, 3));
+        let mut src = routes.next_route().unwrap();
         assert_eq!(src.count(), 2);
         assert_eq!(src.next_frame(), Ok(Some(frames[0])));
         assert_eq!(src.next_frame(), Ok(Some(frames[1])));
         assert_eq!(src.next_frame(), Ok(None));
+        let mut src = routes.next_route().unwrap();
+        assert_eq!(src.next_frame(), Ok(Some(third[0])));
+        assert_eq!(src.next_frame(), Ok(None));
+        assert!(routes.next_route().is_none());
     }
 
     #[test]
     fn flash_frames_rejects_bad_tables() {
-        let bytes = table_of(&[Frame::default()]);
-        assert!(FlashFrames::new(&bytes[..bytes.len() - 1]).is_err());
-        assert!(FlashFrames::new(&bytes[..5]).is_err());
-        let mut wrong_count = bytes.clone();
-        wrong_count[8] = 2;
-        assert!(FlashFrames::new(&wrong_count).is_err());
+        let bytes = table_of(&[&[Frame::default()], &[Frame::default()]]);
+        assert!(FlashRoutes::new(&bytes).is_ok());
+        assert!(FlashRoutes::new(&bytes[..bytes.len() - 1]).is_err());
+        assert!(FlashRoutes::new(&bytes[..5]).is_err());
+        let mut extra = bytes.clone();
+        extra.push(0);
+        assert!(FlashRoutes::new(&extra).is_err());
+        let mut wrong_total = bytes.clone();
+        wrong_total[8] = 3;
+        assert!(FlashRoutes::new(&wrong_total).is_err());
+        let mut wrong_routes = bytes.clone();
+        wrong_routes[6] = 3;
+        assert!(FlashRoutes::new(&wrong_routes).is_err());
+        for n in [0, 2, 3] {
+            let mut wrong_route_len = bytes.clone();
+            wrong_route_len[12] = n;
+            assert!(
+                FlashRoutes::new(&wrong_route_len).is_err(),
+                "route of {n} frames"
+            );
+        }
         let mut magic = bytes;
         magic[0] = b'X';
-        assert!(FlashFrames::new(&magic).is_err());
+        assert!(FlashRoutes::new(&magic).is_err());
     }
 
     #[test]
@@ -407,8 +484,8 @@ mod tests {
             },
             ..cruise
         });
-        let bytes = table_of(&frames);
-        let mut src = FlashFrames::new(&bytes).unwrap();
+        let bytes = table_of(&[&frames]);
+        let mut src = FlashRoutes::new(&bytes).unwrap().next_route().unwrap();
         let mut task = MonitorTask::new(Pin::default(), Pin::default()).unwrap();
         let mut n = 0;
         while task.poll(&mut src, |_| ()).unwrap() {
@@ -420,8 +497,15 @@ mod tests {
         let done = task.finish::<TableError>().unwrap();
         assert_eq!(done.summary.collisions.nodecel, 1);
         let p = task.pins();
-        assert_eq!((p.alarm, p.alarm_rises, p.comfort, p.comfort_rises), (true, 1, false, 0));
+        assert_eq!(
+            (p.alarm, p.alarm_rises, p.comfort, p.comfort_rises),
+            (true, 1, false, 0)
+        );
         task.acknowledge::<TableError>().unwrap();
+        assert!(!task.pins().alarm);
+        task.reset::<TableError>().unwrap();
+        assert_eq!(task.monitor().frames(), 0);
+        assert_eq!(task.pins(), PinState::default());
         let (alarm, comfort) = task.release();
         assert!(!alarm.high);
         assert!(!comfort.high);

@@ -3,11 +3,12 @@
 //! firmware's own status (0 on success).
 //!
 //! Modes, from the semihosting command line (`-semihosting-config ...,arg=fw,arg=MODE`):
-//! * `run` (default): print `event {json}`, `summary {json}` and `pins {json}` lines exactly as
-//!   `monitor_replay` prints them on the host, then `stack`/`monitor` lines, then `done`;
-//! * `bench N`: push the first N frames (pins driven, nothing printed) and exit: the
+//! * `run` (default): for each route in flash, a `route I` line, then `event {json}`,
+//!   `summary {json}` and `pins {json}` lines exactly as `monitor_replay` prints them on the host;
+//!   then `stack`, `monitor_size`, `routes` lines and `done`;
+//! * `bench N`: push the first N frames of the first route (pins driven, nothing printed) and exit: the
 //!   instruction-count plugin's total for `bench N` minus `bench 0` is the monitor's share;
-//! * `ticks`: push every frame and print `ticks FRAME T` for each, T being the SysTick count of
+//! * `ticks`: push every frame of the first route and print `ticks FRAME T` for each, T being the SysTick count of
 //!   the push; under `-icount shift=0` it advances with the instructions executed.
 #![no_std]
 #![no_main]
@@ -19,10 +20,10 @@ use cortex_m_semihosting::{debug, hio, nr};
 use embedded_hal::digital::{ErrorType, OutputPin};
 #[cfg(feature = "json-report")]
 use firmware_example::Writer;
-use firmware_example::{decimal, pins_line, FlashFrames, MonitorTask};
+use firmware_example::{decimal, pins_line, FlashFrames, FlashRoutes, MonitorTask};
+use monitor_core::MONITOR_SIZE;
 #[cfg(feature = "json-report")]
 use monitor_core::{json, Event};
-use monitor_core::MONITOR_SIZE;
 
 include!(concat!(env!("OUT_DIR"), "/frames.rs"));
 
@@ -136,7 +137,9 @@ fn mode() -> Option<Mode> {
         return Some(Mode::Run); // no command line: the default mode
     }
     let line = buf.get(..block[1].min(buf.len())).unwrap_or(&[]);
-    let mut words = line.split(|&b| b == b' ' || b == 0).filter(|w| !w.is_empty());
+    let mut words = line
+        .split(|&b| b == b' ' || b == 0)
+        .filter(|w| !w.is_empty());
     let _program = words.next();
     match words.next() {
         None | Some(b"run") => Some(Mode::Run),
@@ -202,14 +205,19 @@ fn run(con: &mut Console) -> bool {
         con.write(b"error: unknown mode (use run, bench N or ticks)\n");
         return false;
     };
-    let Ok(mut source) = FlashFrames::new(&FRAME_TABLE) else {
+    let Ok(mut routes) = FlashRoutes::new(&FRAME_TABLE) else {
         con.write(b"error: bad frame table\n");
         return false;
     };
     let Ok(mut task) = MonitorTask::new(RamPin::new(), RamPin::new()) else {
         return false;
     };
+    // `bench` and `ticks` measure the first route.
+    let Some(mut source) = routes.clone().next_route() else {
+        return false;
+    };
     let total = source.count();
+    let routes_frames = routes.frames();
 
     match mode {
         Mode::Bench(n) => {
@@ -238,7 +246,10 @@ fn run(con: &mut Console) -> bool {
                 match r {
                     // SysTick counts down, modulo 2^24.
                     Ok(true) => con.parts(
-                        &[(b"ticks ", frame), (b" ", t0.wrapping_sub(t1) & 0x00FF_FFFF)],
+                        &[
+                            (b"ticks ", frame),
+                            (b" ", t0.wrapping_sub(t1) & 0x00FF_FFFF),
+                        ],
                         b"",
                     ),
                     Ok(false) => break,
@@ -250,45 +261,65 @@ fn run(con: &mut Console) -> bool {
             true
         }
         Mode::Run => {
-            loop {
-                #[cfg(feature = "json-report")]
-                let polled = task.poll(&mut source, |e| con.json(b"event ", e));
-                #[cfg(not(feature = "json-report"))]
-                let polled = task.poll(&mut source, |_| ());
-                match polled {
-                    Ok(true) => {}
-                    Ok(false) => break,
-                    Err(_) => {
-                        con.write(b"error: the monitor rejected a frame\n");
-                        return false;
-                    }
+            let mut index = 0u32;
+            while let Some(mut source) = routes.next_route() {
+                if task.reset::<Infallible>().is_err() {
+                    return false;
                 }
-            }
-            let Ok(_done) = task.finish::<Infallible>() else {
-                return false;
-            };
-            #[cfg(feature = "json-report")]
-            {
-                for e in &_done.events {
-                    con.json::<Event>(b"event ", e);
+                con.parts(&[(b"route ", index)], b"");
+                index += 1;
+                if !replay(con, &mut task, &mut source) {
+                    return false;
                 }
-                con.json(b"summary ", &_done.summary);
-            }
-            let mut line = [0u8; 128];
-            match pins_line(&task.pins(), &mut line) {
-                Some(n) => {
-                    con.write(line.get(..n).unwrap_or(&[]));
-                    con.write(b"\n");
-                }
-                None => return false,
             }
             let (used, size) = stack_used();
             con.parts(&[(b"stack {\"used\":", used), (b",\"size\":", size)], b"}");
             con.parts(&[(b"monitor_size ", MONITOR_SIZE as u32)], b"");
-            con.parts(&[(b"frames ", total)], b"");
+            con.parts(&[(b"routes ", index), (b" frames ", routes_frames)], b"");
             con.write(b"done\n");
             !con.failed
         }
+    }
+}
+
+/// One route through the task: event lines as they come, then the route's end.
+fn replay(
+    con: &mut Console,
+    task: &mut MonitorTask<RamPin, RamPin>,
+    source: &mut FlashFrames,
+) -> bool {
+    loop {
+        #[cfg(feature = "json-report")]
+        let polled = task.poll(source, |e| con.json(b"event ", e));
+        #[cfg(not(feature = "json-report"))]
+        let polled = task.poll(source, |_| ());
+        match polled {
+            Ok(true) => {}
+            Ok(false) => break,
+            Err(_) => {
+                con.write(b"error: the monitor rejected a frame\n");
+                return false;
+            }
+        }
+    }
+    let Ok(_done) = task.finish::<Infallible>() else {
+        return false;
+    };
+    #[cfg(feature = "json-report")]
+    {
+        for e in &_done.events {
+            con.json::<Event>(b"event ", e);
+        }
+        con.json(b"summary ", &_done.summary);
+    }
+    let mut line = [0u8; 128];
+    match pins_line(&task.pins(), &mut line) {
+        Some(n) => {
+            con.write(line.get(..n).unwrap_or(&[]));
+            con.write(b"\n");
+            true
+        }
+        None => false,
     }
 }
 

@@ -1,11 +1,13 @@
-//! `monitor_replay FRAMES.jsonl`: the host's side of the firmware comparison (proof 1 of
+//! `monitor_replay FRAMES.jsonl...`: the host's side of the firmware comparison (proof 1 of
 //! `firmware-example/run-tests.sh`).
 //!
 //! Reads the frames `sds frames` wrote (one `monitor_core::Frame` per line, decoded with
 //! `monitor_core::json::decode_frame`), runs them through `monitor_core::Monitor` with the
-//! default configuration, and prints, exactly as the firmware does over semihosting:
+//! default configuration, and prints, exactly as the firmware does over semihosting, for each
+//! file (one route each, a fresh monitor each):
 //!
 //! ```text
+//! route I           the route's index, from 0, in the order of the arguments
 //! event {json}      one line per event, in order (push events, then finish events)
 //! summary {json}    the route summary
 //! pins {json}       what the firmware's two output pins must have done
@@ -67,12 +69,11 @@ fn line(
         .map_err(|e| format!("stdout: {e}"))
 }
 
-fn run(path: &str) -> Result<(), String> {
+fn run(index: usize, path: &str, out: &mut impl Write) -> Result<(), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
     let mut monitor: Monitor = Monitor::default();
     let mut pins = Pins::default();
-    let stdout = io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
+    writeln!(out, "route {index}").map_err(|e| format!("stdout: {e}"))?;
     for (i, raw) in text.lines().enumerate() {
         let raw = raw.trim();
         if raw.is_empty() {
@@ -85,31 +86,37 @@ fn run(path: &str) -> Result<(), String> {
             .map_err(|e| format!("{path} line {}: {e}", i + 1))?;
         for e in &events {
             pins.see(e);
-            line(&mut out, "event", |b| json::encode(e, b))?;
+            line(out, "event", |b| json::encode(e, b))?;
         }
     }
     let done = monitor.finish().map_err(|e| format!("{path}: {e}"))?;
     for e in &done.events {
         pins.see(e);
-        line(&mut out, "event", |b| json::encode(e, b))?;
+        line(out, "event", |b| json::encode(e, b))?;
     }
-    line(&mut out, "summary", |b| json::encode(&done.summary, b))?;
+    line(out, "summary", |b| json::encode(&done.summary, b))?;
     writeln!(
         out,
         "pins {{\"alarm\":{},\"alarm_rises\":{},\"comfort\":{},\"comfort_rises\":{}}}",
         pins.alarm, pins.alarm_rises, pins.comfort, pins.comfort_rises
     )
-    .and_then(|()| out.flush())
     .map_err(|e| format!("stdout: {e}"))
 }
 
 fn main() -> ExitCode {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let [path] = args.as_slice() else {
-        eprintln!("usage: monitor_replay FRAMES.jsonl   (frames as `sds frames` writes them)");
+    let paths: Vec<String> = std::env::args().skip(1).collect();
+    if paths.is_empty() {
+        eprintln!("usage: monitor_replay FRAMES.jsonl...   (one route per file, as `sds frames` writes them)");
         return ExitCode::from(2);
-    };
-    match run(path) {
+    }
+    let stdout = io::stdout();
+    let mut out = BufWriter::new(stdout.lock());
+    let result = paths
+        .iter()
+        .enumerate()
+        .try_for_each(|(i, p)| run(i, p, &mut out))
+        .and_then(|()| out.flush().map_err(|e| format!("stdout: {e}")));
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("monitor_replay: {e}");

@@ -21,11 +21,11 @@ use crate::telemetry::{self, Telemetry};
 pub struct Options {
     /// The monitor's configuration.
     pub config: Config,
-    /// A reference segment strictly longer than this is a junction gap, m (8.0) **[decision]**.
+    /// A reference segment strictly longer than this is a junction gap, m (8.0) **\[decision\]**.
     pub gap_max: f64,
-    /// Forward-search window of the lateral error, m of route length (10.0) **[decision]**.
+    /// Forward-search window of the lateral error, m of route length (10.0) **\[decision\]**.
     pub lookahead: f64,
-    /// Farthest a collision may be from its frame to be aligned, m, inclusive (1.0) **[decision]**.
+    /// Farthest a collision may be from its frame to be aligned, m, inclusive (1.0) **\[decision\]**.
     pub align_max_dist: f64,
     /// Frames within this of the smallest distance tie; ties go to the earliest, m (1e-3).
     pub align_tie: f64,

@@ -242,3 +242,40 @@ fn bad_setting_is_an_error_naming_it() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("chunk_len"));
 }
+
+#[test]
+fn breakdown_by_family_uses_the_families_file() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
+    // Four collision scenarios in one family, two as a CSV file and two left unmapped.
+    std::fs::write(
+        dir.path().join("families.csv"),
+        "# type,label\nDemoCrashNoBrake,collisions\nDemoCrashBraking,collisions\n\
+         DemoStandingHit,collisions\nDemoConeContact,collisions\n",
+    )
+    .unwrap();
+    let out = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--telemetry",
+        &d("telemetry"),
+        "--format",
+        "table",
+        "--group-by",
+        "family",
+        "--families",
+        &d("families.csv"),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("collisions "))
+        .unwrap_or_else(|| panic!("no family row in\n{text}"));
+    // 4 routes, DS = (37.5 + 50 + 60 + 65) / 4 = 53.125, SR 0, collision rate 100.
+    let cols: Vec<&str> = row.split_whitespace().collect();
+    assert_eq!(cols, ["collisions", "4", "53.13", "0.00", "100.00"]);
+    assert!(text.lines().any(|l| l.starts_with("DemoCruising ")));
+}

@@ -1,0 +1,30 @@
+//! `monitor_host::results::load` on arbitrary bytes written to a file: never panics; an error
+//! names the file; a loaded set keeps every record of the file (none dropped).
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use monitor_host::results;
+
+fuzz_target!(|data: &[u8]| {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("endpoint.json");
+    std::fs::write(&path, data).expect("write");
+    match results::load(&path) {
+        Ok(set) => {
+            // Every element of `_checkpoint.records` is a route of the set, valid or not.
+            let value: serde_json::Value = serde_json::from_slice(data).expect("loaded => JSON");
+            let n = value["_checkpoint"]["records"].as_array().map_or(0, Vec::len);
+            assert_eq!(set.records.len(), n, "a record was lost");
+            for (i, r) in set.records.iter().enumerate() {
+                assert_eq!(r.index, i);
+                if let Err(e) = &r.entry {
+                    assert!(!e.reason.is_empty());
+                }
+            }
+        }
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(msg.contains("endpoint.json"), "error does not name the file: {msg}");
+        }
+    }
+});

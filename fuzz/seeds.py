@@ -1,0 +1,116 @@
+#!/usr/bin/env python3
+"""Writes the seed corpora of the fuzz targets (run once; the minimised corpus is committed).
+
+Seeds come from the real Bench2Drive fixtures in ../../shared/fixtures/b2d (small files and
+single strings only: nothing large is copied) and from hand-made inputs in the formats of the
+spec. Usage: python3 fuzz/seeds.py  (from the repository root).
+"""
+import hashlib
+import json
+import math
+import os
+import pathlib
+
+ROOT = pathlib.Path(__file__).resolve().parent
+FIX = ROOT.parent.parent / "shared" / "fixtures" / "b2d"
+
+
+def put(target, data):
+    if isinstance(data, str):
+        data = data.encode()
+    d = ROOT / "corpus" / target
+    d.mkdir(parents=True, exist_ok=True)
+    (d / hashlib.sha1(data).hexdigest()).write_bytes(data)
+
+
+def metric_info(frames, indent=4, start=1, extra=None):
+    out = {}
+    for i in range(frames):
+        t = i * 0.05
+        out[str(start + i)] = {
+            "acceleration": [0.5 * math.sin(t), 0.1, 0.0],
+            "angular_velocity": [0.0, 0.0, 3.0 * math.cos(t)],
+            "forward_vector": [1.0, 0.0, 0.0],
+            "right_vector": [0.0, 1.0, 0.0],
+            "location": [1520.0 + 0.5 * i, -3310.0, 0.2],
+            "rotation": [0.0, 0.0, 0.0],
+            "velocity": [10.0, 0.0, 0.0],
+        }
+    if extra:
+        out.update(extra)
+    return json.dumps(out, indent=indent)
+
+
+def main():
+    # --- collision strings: every distinct one of the fixtures, plus edge forms.
+    seen = set()
+    if FIX.is_dir():
+        for f in sorted(FIX.glob("*.json")):
+            try:
+                d = json.loads(f.read_text())
+            except Exception:
+                continue
+            for r in d.get("_checkpoint", {}).get("records", []):
+                for k in ("collisions_layout", "collisions_vehicle", "collisions_pedestrian"):
+                    for s in r.get("infractions", {}).get(k, []):
+                        seen.add(s)
+    for s in sorted(seen)[:40]:
+        put("collision", s)
+    for s in [
+        "Agent collided against object with type=static.prop.trafficwarning and id=122",
+        "Agent collided against object with type=static.prop.constructioncone",
+        "Agent collided against object with type=vehicle.audi.tt and id=1 at (x=1e-05, y=-0.0, z=nan)",
+        "Agent collided against object with type=walker and id=99999999999999999999 at (x=1, y=2, z=3)",
+        "Agent collided against object with type= and id=1",
+    ]:
+        put("collision", s)
+
+    # --- metric_info: the Bench2Drive layout, small.
+    put("metric_info", metric_info(3))
+    put("metric_info", metric_info(25, indent=None, start=100))
+    put("metric_info", metric_info(2).replace("0.1,", "NaN,", 1))
+    put("metric_info", metric_info(2).replace("3310.0", "Infinity", 1))
+    put("metric_info", metric_info(2, extra={"007": {}}))
+    put("metric_info", '{"7": {"acceleration": [1, 2]}}')
+    put("metric_info", "{}")
+    put("metric_info", "[1, 2]")
+    put("metric_info", metric_info(3)[:200])
+
+    # --- results: the small real single-route files, and hand-made variants.
+    for name in ("pdmlite_route3564_endpoint_tickruntime_mesh_collisions.json",
+                 "pdmlite_route24206_endpoint_crashed_empty.json"):
+        p = FIX / name
+        if p.is_file():
+            raw = p.read_bytes()
+            put("results", raw)
+            put("results", raw[: len(raw) // 2])
+    rec = {
+        "index": 0, "route_id": "RouteScenario_900001_rep0", "status": "Completed",
+        "infractions": {"collisions_layout": [], "min_speed_infractions": []},
+        "scores": {"score_route": 100, "score_penalty": 1.0, "score_composed": 100.0},
+        "meta": {"route_length": 120.0, "duration_game": 10.0, "duration_system": 30.0},
+        "save_name": "RouteScenario_900001_rep0_Town01_DemoCruising_1_1_11_22_06_00_00",
+        "town_name": "Town01", "scenario_name": "DemoCruising_1", "weather_id": "1",
+    }
+    bad = dict(rec, scores={"score_route": "100"})
+    put("results", json.dumps({"_checkpoint": {"progress": [2, 2], "records": [rec, bad]},
+                               "entry_status": "Finished"}))
+    put("results", json.dumps({"_checkpoint": {"records": [rec]}, "driving score": 100.0,
+                               "success rate": 1.0, "eval num": 1}))
+    put("results", json.dumps({"_checkpoint": {"records": {}}}))
+
+    # --- decode_frame: JSON lines as `sds frames` writes them.
+    frames = [
+        '{"a_lon":0.5,"a_lat":0.1,"a_mag":0.51,"yaw_rate":3.0,"speed":10.0,"lat_err":0.2,'
+        '"collisions":{"pedestrian":0,"vehicle":0,"layout":0,"workzone":0}}',
+        '{"a_lon":-6.0,"a_lat":0.0,"a_mag":6.0,"yaw_rate":0.0,"speed":8.0,"lat_err":null,'
+        '"collisions":{"vehicle":1}}',
+        '{"a_lon":1e-45,"a_lat":-0.0,"a_mag":3.4e38,"yaw_rate":-3.4e38,"speed":0.0}',
+    ]
+    put("decode_frame", "\n".join(frames * 8))
+    for f in frames:
+        put("decode_frame", f)
+
+
+if __name__ == "__main__":
+    main()

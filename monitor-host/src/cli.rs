@@ -339,6 +339,19 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         let set = results::load(path)?;
         warnings.extend(set.warnings);
         records.extend(set.records);
+        // A results file that cannot be read still appears, as an invalid entry: its routes
+        // are unknown, but nothing found is silently lost.
+        records.extend(set.broken_files.into_iter().map(|(source, reason)| {
+            results::LoadedRecord {
+                source,
+                index: 0,
+                records_in_file: 0,
+                entry: Err(results::InvalidRecord {
+                    route_id: None,
+                    reason,
+                }),
+            }
+        }));
     }
     let routes = match &args.routes {
         Some(p) => Some(route::load(p)?),

@@ -384,7 +384,9 @@ pub fn locate(
     if let Some(root) = telemetry_root {
         if safe_name {
             let p = root.join(save_name).join("metric_info.json");
-            if p.is_file() {
+            // `exists`, not `is_file`: a directory or an unreadable file in its place is found
+            // here and reported as invalid by the reader, not silently called missing.
+            if p.exists() {
                 return Some(p);
             }
         }
@@ -392,7 +394,7 @@ pub fn locate(
     if file_holds_one_record {
         let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
         let p = dir.join("metric_info.json");
-        if p.is_file() {
+        if p.exists() {
             return Some(p);
         }
     }

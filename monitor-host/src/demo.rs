@@ -222,10 +222,22 @@ const LISTS: [&str; 12] = [
 /// assert_eq!(run.route_ids.len(), 7);
 /// ```
 pub fn write(dir: &Path) -> Result<DemoRun> {
-    write_scripts(dir, &scripts())
+    write_scripts(dir, &scripts(), Layout::Demo)
 }
 
 /// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each.
+///
+/// Its `metric_info.json` files look like real Bench2Drive ones, so that a throughput in MB/s
+/// means what it would on a real run: `json.dump(indent=4)` layout, about 1.1 KB per frame, the
+/// 5 vectors the monitor needs plus `rotation`, `velocity`, `speed`, `throttle`, `steer`,
+/// `brake`, `gps` and `compass`, and CARLA's float32 values written as Python writes the
+/// widened float (`0.10000000149011612`), with a little deterministic sensor noise.
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let run = monitor_host::demo::write_large(dir.path(), 2, 50).unwrap();
+/// assert_eq!(run.route_ids.len(), 2);
+/// ```
 pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> {
     let list: Vec<Script> = (0..routes)
         .map(|i| Script {
@@ -240,7 +252,16 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
             score_route: 100.0,
         })
         .collect();
-    write_scripts(dir, &list)
+    write_scripts(dir, &list, Layout::Realistic)
+}
+
+/// How `metric_info.json` is written.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    /// The small demo: the required vectors, short decimal values.
+    Demo,
+    /// Like a real Bench2Drive file (see [`write_large`]).
+    Realistic,
 }
 
 /// The files of a demo run.
@@ -256,7 +277,7 @@ pub struct DemoRun {
     pub route_ids: Vec<String>,
 }
 
-fn write_scripts(dir: &Path, scripts: &[Script]) -> Result<DemoRun> {
+fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoRun> {
     let telemetry = dir.join("telemetry");
     fs::create_dir_all(&telemetry)
         .with_context(|| format!("cannot create {}", telemetry.display()))?;
@@ -271,8 +292,12 @@ fn write_scripts(dir: &Path, scripts: &[Script]) -> Result<DemoRun> {
         // Telemetry, in Bench2Drive's indented metric_info layout (steps start at 1).
         let folder = telemetry.join(&save_name);
         fs::create_dir_all(&folder)?;
-        write_metric_info(&folder.join("metric_info.json"), &sim)
-            .with_context(|| format!("cannot write telemetry of {route_id}"))?;
+        let path = folder.join("metric_info.json");
+        match layout {
+            Layout::Demo => write_metric_info(&path, &sim),
+            Layout::Realistic => write_metric_info_realistic(&path, &sim),
+        }
+        .with_context(|| format!("cannot write telemetry of {route_id}"))?;
 
         // Route XML: a waypoint every 2 m along the road, from 10 m before the start.
         let length = sim.last().map_or(0.0, |f| f.loc[0] - ORIGIN[0]) + 20.0;
@@ -378,6 +403,142 @@ fn write_metric_info(path: &Path, sim: &[SimFrame]) -> Result<()> {
         )?;
     }
     w.write_all(b"\n}\n")?;
+    w.flush()?;
+    Ok(())
+}
+
+/// A deterministic pseudo-random number in [-1, 1) for (frame, channel): sensor noise.
+fn noise(frame: usize, channel: u64) -> f64 {
+    // splitmix64 of the pair.
+    let mut z = (frame as u64)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(channel.wrapping_mul(0xBF58_476D_1CE4_E5B9));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+}
+
+/// A CARLA float32 as Python writes it after widening to float (`0.10000000149011612`).
+fn py_f32(x: f64) -> String {
+    // Python writes 1e-05 where Rust writes 1e-5: both are valid JSON numbers.
+    format!("{:?}", f64::from(x as f32))
+}
+
+/// A Python float (shortest round-trip repr, always with a decimal point or exponent).
+fn py_f64(x: f64) -> String {
+    format!("{x:?}")
+}
+
+/// One frame of a realistic `metric_info.json` (see [`write_large`]): `json.dump(indent=4)`.
+fn realistic_frame(out: &mut String, step: usize, f: &SimFrame) {
+    let n = |c: u64| noise(step, c);
+    // Small heading wobble (deg) and yaw rate noise around straight +x driving.
+    let yaw = 0.05 * n(1);
+    let (s, c) = yaw.to_radians().sin_cos();
+    let vec3 = |out: &mut String, key: &str, v: [String; 3], last: bool| {
+        let _ = write!(
+            out,
+            "        \"{key}\": [\n            {},\n            {},\n            {}\n        ]{}\n",
+            v[0],
+            v[1],
+            v[2],
+            if last { "" } else { "," }
+        );
+    };
+    let scalar = |out: &mut String, key: &str, v: String, last: bool| {
+        let _ = writeln!(out, "        \"{key}\": {v}{}", if last { "" } else { "," });
+    };
+    let _ = writeln!(out, "    \"{}\": {{", step + 1);
+    vec3(
+        out,
+        "acceleration",
+        [
+            py_f32(f.acc[0] + 0.002 * n(2)),
+            py_f32(f.acc[1] + 0.002 * n(3)),
+            py_f32(0.001 * n(4)),
+        ],
+        false,
+    );
+    vec3(
+        out,
+        "angular_velocity",
+        [
+            py_f32(0.01 * n(5)),
+            py_f32(0.01 * n(6)),
+            py_f32(0.02 * n(7)),
+        ],
+        false,
+    );
+    vec3(
+        out,
+        "forward_vector",
+        [py_f32(c), py_f32(s), py_f32(1e-4 * n(8))],
+        false,
+    );
+    vec3(
+        out,
+        "right_vector",
+        [py_f32(-s), py_f32(c), py_f32(1e-4 * n(9))],
+        false,
+    );
+    vec3(
+        out,
+        "location",
+        [
+            py_f32(f.loc[0]),
+            py_f32(f.loc[1]),
+            py_f32(0.0017 + 1e-4 * n(10)),
+        ],
+        false,
+    );
+    vec3(
+        out,
+        "rotation",
+        [py_f32(0.01 * n(11)), py_f32(yaw), py_f32(0.01 * n(12))],
+        false,
+    );
+    vec3(
+        out,
+        "velocity",
+        [
+            py_f32(f.speed * c),
+            py_f32(f.speed * s),
+            py_f32(1e-3 * n(13)),
+        ],
+        false,
+    );
+    scalar(out, "speed", py_f64(f.speed + 1e-3 * n(14)), false);
+    scalar(out, "throttle", py_f32(0.5 + 0.25 * n(15)), false);
+    scalar(out, "steer", py_f32(0.01 * n(16)), false);
+    scalar(out, "brake", "0.0".into(), false);
+    vec3(
+        out,
+        "gps",
+        [
+            py_f64(-0.002 - f.loc[1] * 9e-6 + 1e-9 * n(17)),
+            py_f64(0.001 + f.loc[0] * 9e-6 + 1e-9 * n(18)),
+            py_f32(0.0017 + 1e-4 * n(19)),
+        ],
+        false,
+    );
+    scalar(out, "compass", py_f64((90.0 + yaw).to_radians()), true);
+    out.push_str("    }");
+}
+
+fn write_metric_info_realistic(path: &Path, sim: &[SimFrame]) -> Result<()> {
+    let mut w = BufWriter::with_capacity(1 << 16, fs::File::create(path)?);
+    let mut buf = String::with_capacity(2048);
+    w.write_all(b"{\n")?;
+    for (i, f) in sim.iter().enumerate() {
+        buf.clear();
+        if i > 0 {
+            buf.push_str(",\n");
+        }
+        realistic_frame(&mut buf, i, f);
+        w.write_all(buf.as_bytes())?;
+    }
+    w.write_all(b"\n}")?;
     w.flush()?;
     Ok(())
 }

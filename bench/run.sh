@@ -1,0 +1,244 @@
+#!/usr/bin/env bash
+# Performance benchmarks of the SDS monitor: core (criterion + callgrind) and host replay
+# (end to end, stage by stage, scaling). Prints one table of every figure against its goal.
+# Not part of CI. Takes about 5 minutes on 2 cores; see docs/PERFORMANCE.md.
+#
+# Usage: bench/run.sh [--quick]
+#   --quick   a small large run (44 routes x 4,000 frames) and a short scaling series.
+# Environment:
+#   CARGO_TARGET_DIR  cargo's target dir (default: target/ in the repository)
+#   BENCH_DIR         where generated runs go (default: $CARGO_TARGET_DIR/bench-run); never committed
+#   LARGE_ROUTES, LARGE_FRAMES  size of the large run (default 220 x 4000)
+set -euo pipefail
+
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+TARGET=${CARGO_TARGET_DIR:-$ROOT/target}
+export CARGO_TARGET_DIR=$TARGET
+OUT=${BENCH_DIR:-$TARGET/bench-run}
+QUICK=0
+[[ "${1:-}" == "--quick" ]] && QUICK=1
+LARGE_ROUTES=${LARGE_ROUTES:-$([[ $QUICK == 1 ]] && echo 44 || echo 220)}
+LARGE_FRAMES=${LARGE_FRAMES:-4000}
+NPROC=$(nproc)
+mkdir -p "$OUT"
+LOG=$OUT/run.log
+: >"$LOG"
+say() { echo "bench: $*" >&2; }
+
+# ---------------------------------------------------------------------------------------------
+# Tools: GNU time (peak RSS) and valgrind (instruction counts), installed if missing.
+need_apt=()
+[[ -x /usr/bin/time ]] || need_apt+=(time)
+command -v valgrind >/dev/null || need_apt+=(valgrind)
+if ((${#need_apt[@]})); then
+    if [[ $(id -u) == 0 ]] && command -v apt-get >/dev/null; then
+        say "installing ${need_apt[*]}"
+        apt-get update -qq >>"$LOG" 2>&1 || true
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${need_apt[@]}" >>"$LOG" 2>&1 || true
+    else
+        say "missing ${need_apt[*]} (not root): those figures are n/a"
+    fi
+fi
+HAVE_TIME=0; [[ -x /usr/bin/time ]] && HAVE_TIME=1
+HAVE_VG=0; command -v valgrind >/dev/null && HAVE_VG=1
+
+# ---------------------------------------------------------------------------------------------
+say "building (release)"
+cargo build --release -p monitor-host --bin sds >>"$LOG" 2>&1
+cargo bench -p monitor-host --no-run >>"$LOG" 2>&1
+SDS=$TARGET/release/sds
+bench_exe() { # newest executable of a bench target
+    ls -t "$TARGET"/release/deps/"$1"-* 2>/dev/null | grep -v '\.d$' | head -n1
+}
+CORE_FRAMES=$(bench_exe core_frames)
+STAGES=$(bench_exe replay_stages)
+
+LOAD_START=$(cut -d' ' -f1-3 /proc/loadavg)
+CPU_MODEL=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//' || echo unknown)
+MEM=$(awk '/MemTotal/ {printf "%.0f GiB", $2/1048576}' /proc/meminfo)
+
+# Arithmetic helper: calc 'expr' -> number (awk, 1 decimal unless given a format).
+calc() { awk "BEGIN { printf \"${2:-%.1f}\", $1 }"; }
+# Status of a figure against a goal: ok 'measured <= goal' style conditions.
+status() { awk "BEGIN { print (($1) ? \"met\" : \"NOT met\") }"; }
+
+# ---------------------------------------------------------------------------------------------
+say "core: criterion (time per frame)"
+cargo bench -p monitor-host --bench core -- --warm-up-time 1 --measurement-time 4 >>"$LOG" 2>&1
+median_ns() { # criterion's median point estimate, ns per iteration
+    grep -o '"median":{"confidence_interval":{[^}]*},"point_estimate":[0-9.e+-]*' \
+        "$TARGET/criterion/core/$1/new/estimates.json" | sed 's/.*://'
+}
+NS_AMORT=$(calc "$(median_ns push_amortised) / 4000" %.2f)
+NS_END=$(calc "$(median_ns push_chunk_end)" %.1f)
+NS_MID=$(calc "$(median_ns push_mid_chunk)" %.1f)
+
+IR_AMORT=n/a; IR_END=n/a; IR_MID=n/a
+if [[ $HAVE_VG == 1 ]]; then
+    say "core: callgrind (instructions per frame)"
+    ir() {
+        valgrind --tool=callgrind --callgrind-out-file=/dev/null --toggle-collect='*push_frames*' \
+            "$CORE_FRAMES" "$1" 2>&1 | sed -n 's/.*Collected : *\([0-9]*\).*/\1/p'
+    }
+    I18=$(ir 18); I19=$(ir 19); I20=$(ir 20); I20K=$(ir 20000); I40K=$(ir 40000)
+    IR_AMORT=$(calc "($I40K - $I20K) / 20000" %.1f)
+    IR_END=$((I20 - I19))
+    IR_MID=$((I19 - I18))
+fi
+
+# ---------------------------------------------------------------------------------------------
+# A generated run, reused while its size matches.
+gen_run() { # dir routes frames
+    local dir=$1 routes=$2 frames=$3
+    if [[ -f $dir/.size && $(cat "$dir/.size") == "$routes x $frames" ]]; then
+        return
+    fi
+    rm -rf "$dir"
+    "$SDS" demo "$dir" --large --large-routes "$routes" --large-frames "$frames" >>"$LOG" 2>&1
+    echo "$routes x $frames" >"$dir/.size"
+}
+tel_bytes() { find "$1/telemetry" -name metric_info.json -printf '%s\n' | awk '{s += $1} END {print s}'; }
+warm() { find "$1/telemetry" -name metric_info.json -exec cat {} + >/dev/null; }
+# score DIR JOBS -> "wall user sys maxrss_kb" (best wall of 2 runs)
+score() {
+    local dir=$1 jobs=$2 best="" line
+    for _ in 1 2; do
+        if [[ $HAVE_TIME == 1 ]]; then
+            line=$(/usr/bin/time -f '%e %U %S %M' "$SDS" score --results "$dir/results.json" \
+                --telemetry "$dir/telemetry" --routes "$dir/routes.xml" -o "$dir/report.json" \
+                --jobs "$jobs" 2>&1 >/dev/null | tail -n1)
+        else
+            local t0 t1
+            t0=$(date +%s.%N)
+            "$SDS" score --results "$dir/results.json" --telemetry "$dir/telemetry" \
+                --routes "$dir/routes.xml" -o "$dir/report.json" --jobs "$jobs" >/dev/null 2>&1
+            t1=$(date +%s.%N)
+            line="$(calc "$t1 - $t0" %.2f) 0 0 0"
+        fi
+        if [[ -z $best ]] || awk "BEGIN { exit !(${line%% *} < ${best%% *}) }"; then
+            best=$line
+        fi
+    done
+    echo "$best"
+}
+
+LARGE=$OUT/large
+say "host: large run ${LARGE_ROUTES} x ${LARGE_FRAMES} in $LARGE"
+gen_run "$LARGE" "$LARGE_ROUTES" "$LARGE_FRAMES"
+warm "$LARGE"
+BYTES=$(tel_bytes "$LARGE")
+FRAMES=$((LARGE_ROUTES * LARGE_FRAMES))
+MB=$(calc "$BYTES / 1e6")
+BPF=$(calc "$BYTES / $FRAMES" %.0f)
+
+say "host: sds score --jobs 1 and --jobs $NPROC"
+read -r W1 U1 S1 R1 <<<"$(score "$LARGE" 1)"
+read -r WN UN SN RN <<<"$(score "$LARGE" "$NPROC")"
+C1=$(calc "$U1 + $S1" %.2f); CN=$(calc "$UN + $SN" %.2f)
+MBS_CPU1=$(calc "$MB / $C1" %.0f)
+MBS_W1=$(calc "$MB / $W1" %.0f)
+MBS_WN=$(calc "$MB / $WN" %.0f)
+FPS_W1=$(calc "$FRAMES / $W1 / 1e6" %.2f)
+FPS_WN=$(calc "$FRAMES / $WN / 1e6" %.2f)
+FPS_CPU1=$(calc "$FRAMES / $C1 / 1e6" %.2f)
+SPEEDUP=$(calc "$W1 / $WN" %.2f)
+CPU_RATIO=$(calc "$CN / $C1" %.2f)
+RSS1=$(calc "$R1 / 1024" %.1f); RSSN=$(calc "$RN / 1024" %.1f)
+
+say "host: stages (single thread)"
+"$STAGES" "$LARGE" >"$OUT/stages.txt"
+stage() { # name field
+    sed -n "s/^stage=$1 .*$2=\([0-9.]*\).*/\1/p" "$OUT/stages.txt"
+}
+stage_mbs() { calc "$(stage "$1" bytes) / 1e6 / $(stage "$1" cpu_s)" %.0f; }
+stage_nspf() { calc "$(stage "$1" cpu_s) * 1e9 / $(stage "$1" frames)" %.0f; }
+stage_share() { calc "100 * $(stage "$1" cpu_s) / $(stage replay cpu_s)" %.1f; }
+
+# ---------------------------------------------------------------------------------------------
+if [[ $QUICK == 1 ]]; then
+    SR=(11 22 44); SF=(1000 2000 4000); FR=11
+else
+    SR=(27 55 110 220); SF=(1000 2000 4000 8000); FR=27
+fi
+say "scaling: routes ${SR[*]} x 4000 frames; frames ${SF[*]} x $FR routes (--jobs 1)"
+SCALE=$OUT/scale
+mkdir -p "$SCALE"
+scale_row() { # label dir
+    local dir=$2 b f w u s r c
+    warm "$dir"
+    b=$(tel_bytes "$dir")
+    f=$(($(cat "$dir/.size" | cut -d' ' -f1) * $(cat "$dir/.size" | cut -d' ' -f3)))
+    read -r w u s r <<<"$(score "$dir" 1)"
+    c=$(calc "$u + $s" %.2f)
+    printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$1" "$(calc "$b / 1e6" %.0f)" "$w" "$c" \
+        "$(calc "$c * 1e9 / $f" %.0f)" "$(calc "$b / 1e6 / $c" %.0f)" "$(calc "$r / 1024" %.1f)"
+}
+ROWS_R=()
+for n in "${SR[@]}"; do
+    if [[ $n == "$LARGE_ROUTES" && $LARGE_FRAMES == 4000 ]]; then
+        d=$LARGE
+    else
+        d=$SCALE/r$n
+        gen_run "$d" "$n" 4000
+    fi
+    ROWS_R+=("$(scale_row "$n routes x 4000" "$d")")
+    [[ $d == "$LARGE" ]] || rm -rf "$d"
+done
+ROWS_F=()
+for f in "${SF[@]}"; do
+    d=$SCALE/f$f
+    gen_run "$d" "$FR" "$f"
+    ROWS_F+=("$(scale_row "$FR routes x $f" "$d")")
+    rm -rf "$d"
+done
+LOAD_END=$(cut -d' ' -f1-3 /proc/loadavg)
+
+# ---------------------------------------------------------------------------------------------
+cat <<EOF
+
+## SDS performance ($(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo '?'))
+machine: $CPU_MODEL, $NPROC cores, $MEM; load average at start $LOAD_START, at end $LOAD_END
+rustc: $(rustc --version); large run: $LARGE_ROUTES routes x $LARGE_FRAMES frames, $MB MB of metric_info.json ($BPF B/frame)
+MB/s per core = bytes / (user + sys CPU seconds): unaffected by other processes; wall figures are.
+
+| figure | measured | goal | status |
+|---|---|---|---|
+| core: time per frame, amortised (criterion median) | $NS_AMORT ns | <= 50 ns | $(status "$NS_AMORT <= 50") |
+| core: time of the chunk-end (worst) frame | $NS_END ns | (report) | - |
+| core: time of an ordinary frame | $NS_MID ns | (report) | - |
+| core: instructions per frame, amortised (callgrind) | $IR_AMORT | <= 300 | $([[ $IR_AMORT == n/a ]] && echo n/a || status "$IR_AMORT <= 300") |
+| core: instructions of the chunk-end frame | $IR_END | (report) | - |
+| core: instructions of an ordinary frame | $IR_MID | (report) | - |
+| host: MB/s per core, end to end (--jobs 1, CPU time) | $MBS_CPU1 MB/s | >= 300 MB/s | $(status "$MBS_CPU1 >= 300") |
+| host: MB/s wall, --jobs 1 | $MBS_W1 MB/s ($W1 s) | (report) | - |
+| host: MB/s wall, --jobs $NPROC | $MBS_WN MB/s ($WN s) | (report) | - |
+| host: frames/s, --jobs 1 (CPU time / wall) | $FPS_CPU1 M / $FPS_W1 M | (report) | - |
+| host: frames/s wall, --jobs $NPROC | $FPS_WN M | (report) | - |
+| host: speed-up --jobs $NPROC over --jobs 1 (wall) | ${SPEEDUP}x | near $NPROC | $(status "$SPEEDUP >= 0.8 * $NPROC") |
+| host: CPU seconds --jobs $NPROC / --jobs 1 (extra work of parallelism) | $CPU_RATIO | ~1.0 | $(status "$CPU_RATIO <= 1.15") |
+| host: peak RSS, large run, --jobs 1 / --jobs $NPROC | $RSS1 / $RSSN MB | < 64 MB | $(status "$RSSN < 64 && $RSS1 < 64") |
+| parser floor: serde_json IgnoredAny on the same bytes | $(stage_mbs skip) MB/s | (reference) | - |
+| parser: serde_json::Value DOM, first 20 routes | $(stage_mbs dom) MB/s | (reference) | - |
+| parser: ours (parse_metric_info) | $(stage_mbs parse) MB/s | (reference) | - |
+| replay pipeline, single thread (replay::replay) | $(stage_mbs replay) MB/s | >= 300 MB/s | $(status "$(stage_mbs replay) >= 300") |
+
+Stages of replay::replay, single thread, CPU time (large run):
+
+| stage | ns/frame | MB/s | share of replay |
+|---|---|---|---|
+| read (std::fs::read, first touch) | $(stage_nspf read) | $(stage_mbs read) | $(stage_share read)% |
+| skip (serde_json IgnoredAny: the parser floor) | $(stage_nspf skip) | $(stage_mbs skip) | $(stage_share skip)% |
+| parse (telemetry::parse_metric_info) | $(stage_nspf parse) | $(stage_mbs parse) | $(stage_share parse)% |
+| prepare (speeds, lateral error, alignment, Frames) | $(stage_nspf prepare) | - | $(stage_share prepare)% |
+| stream (Monitor::push over every frame) | $(stage_nspf stream) | - | $(stage_share stream)% |
+| batch (batch::summarize reference check) | $(stage_nspf batch) | - | $(stage_share batch)% |
+| replay (all of it, incl. locate + read) | $(stage_nspf replay) | $(stage_mbs replay) | 100% |
+
+Scaling (sds score --jobs 1; CPU = user + sys):
+
+| run | MB | wall s | CPU s | CPU ns/frame | MB/s per core | peak RSS MB |
+|---|---|---|---|---|---|---|
+$(printf '%s\n' "${ROWS_R[@]}")
+$(printf '%s\n' "${ROWS_F[@]}")
+EOF

@@ -1,0 +1,143 @@
+//! Where the host replay's time goes, stage by stage, single thread (`harness = false`).
+//!
+//! Usage: `replay_stages RUN_DIR [MAX_ROUTES]`, where `RUN_DIR` is what `sds demo --large`
+//! wrote (`results.json`, `telemetry/`, `routes.xml`). For every route, in turn:
+//!
+//! | stage     | what is timed                                                             |
+//! |-----------|---------------------------------------------------------------------------|
+//! | `read`    | `std::fs::read` of `metric_info.json` (page cache)                        |
+//! | `skip`    | `serde_json` over the same bytes into `IgnoredAny`: the parser's own floor |
+//! | `dom`     | `serde_json::Value` of the same bytes (first 20 routes only): a DOM's cost |
+//! | `parse`   | `telemetry::parse_metric_info` (our streaming visitor)                    |
+//! | `prepare` | `replay::prepare`: speeds, lateral error, alignment, `Frame`s              |
+//! | `stream`  | `replay::stream`: the monitor over every frame                            |
+//! | `batch`   | `batch::summarize`: the batch reference check on the same frames           |
+//! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
+//!
+//! Prints one line per stage: `stage=NAME routes=R frames=F bytes=B wall_s=W cpu_s=C`, where
+//! `cpu_s` is this thread's CPU time (from `/proc/thread-self/schedstat`; equal to `wall_s`
+//! where that file is missing), which other processes on a shared machine do not inflate.
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use monitor_host::replay::{self, Options};
+use monitor_host::{batch, results, route, telemetry};
+
+/// This thread's CPU time in seconds, if the kernel tells.
+fn thread_cpu() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
+#[derive(Default, Clone, Copy)]
+struct Acc {
+    routes: u64,
+    frames: u64,
+    bytes: u64,
+    wall: f64,
+    cpu: f64,
+}
+
+/// Times `f`, adding to `acc`.
+fn timed<T>(acc: &mut Acc, frames: usize, bytes: usize, f: impl FnOnce() -> T) -> T {
+    let c0 = thread_cpu();
+    let t0 = Instant::now();
+    let out = f();
+    let wall = t0.elapsed().as_secs_f64();
+    let cpu = match (c0, thread_cpu()) {
+        (Some(a), Some(b)) => b - a,
+        _ => wall,
+    };
+    acc.routes += 1;
+    acc.frames += frames as u64;
+    acc.bytes += bytes as u64;
+    acc.wall += wall;
+    acc.cpu += cpu;
+    out
+}
+
+fn main() -> anyhow::Result<()> {
+    // `cargo bench` passes `--bench`; the rest are ours.
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    let dir = PathBuf::from(
+        args.first()
+            .map_or("target/bench-run/large", String::as_str),
+    );
+    let max: usize = args
+        .get(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(usize::MAX);
+
+    let set = results::load(&dir.join("results.json"))?;
+    let routes = route::load(&dir.join("routes.xml"))?;
+    let opts = Options {
+        telemetry_root: Some(dir.join("telemetry")),
+        ..Options::default()
+    };
+    let names = [
+        "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay",
+    ];
+    let mut acc = [Acc::default(); 8];
+    let mut agree = true;
+    for (k, loaded) in set.records.iter().take(max).enumerate() {
+        let record = loaded.entry.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
+        let save = record.save_name.as_deref().unwrap_or_default();
+        let path: &Path = opts.telemetry_root.as_deref().unwrap_or(Path::new("."));
+        let file = path.join(save).join("metric_info.json");
+
+        let bytes = timed(&mut acc[0], 0, 0, || std::fs::read(&file))?;
+        let n = bytes.len();
+        timed(&mut acc[1], 0, n, || {
+            serde_json::from_slice::<serde::de::IgnoredAny>(black_box(&bytes))
+        })?;
+        if k < 20 {
+            let v = timed(&mut acc[2], 0, n, || {
+                serde_json::from_slice::<serde_json::Value>(black_box(&bytes))
+            })?;
+            drop(black_box(v));
+        }
+        let tel = timed(&mut acc[3], 0, n, || {
+            telemetry::parse_metric_info(black_box(&bytes))
+        })?;
+        let frames = tel.frames.len();
+        acc[0].frames += frames as u64;
+        acc[0].bytes += n as u64;
+        acc[1].frames += frames as u64;
+        if k < 20 {
+            acc[2].frames += frames as u64;
+        }
+        acc[3].frames += frames as u64;
+        let mut prepared = timed(&mut acc[4], frames, n, || {
+            replay::prepare(record, &tel, Some(&routes), None, &opts)
+        });
+        let summary = timed(&mut acc[5], frames, n, || {
+            replay::stream(&mut prepared, &opts.config)
+        })
+        .map_err(|(i, e)| anyhow::anyhow!("frame {i}: {e}"))?;
+        let reference = timed(&mut acc[6], frames, n, || {
+            batch::summarize(&prepared.frames, &opts.config)
+        });
+        agree &= reference.summary == summary;
+        let out = timed(&mut acc[7], frames, n, || {
+            replay::replay(loaded, Some(&routes), &opts)
+        });
+        agree &= out.batch_agrees == Some(true);
+        drop((bytes, tel, prepared));
+    }
+    for (name, a) in names.iter().zip(acc) {
+        println!(
+            "stage={name} routes={} frames={} bytes={} wall_s={:.6} cpu_s={:.6}",
+            a.routes, a.frames, a.bytes, a.wall, a.cpu
+        );
+    }
+    if !agree {
+        anyhow::bail!("the batch reference disagreed with the stream");
+    }
+    Ok(())
+}

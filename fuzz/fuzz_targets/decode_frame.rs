@@ -18,7 +18,11 @@ fuzz_target!(|data: &[u8]| {
         let before = *monitor.summary();
         match monitor.push(&frame) {
             Ok(_) => assert_eq!(monitor.frames(), before.frames + 1),
-            Err(_) => assert_eq!(*monitor.summary(), before, "a refused frame changed the state"),
+            Err(_) => assert_eq!(
+                *monitor.summary(),
+                before,
+                "a refused frame changed the state"
+            ),
         }
     }
     let done = monitor.finish().expect("first finish succeeds");

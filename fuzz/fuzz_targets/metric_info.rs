@@ -15,7 +15,12 @@ fuzz_target!(|data: &[u8]| {
             assert_eq!(t.gaps, last - first + 1 - t.frames.len() as u64);
             for f in &t.frames {
                 assert!(f.location.iter().all(|v| v.is_finite()));
-                assert!(f.acc.iter().chain(&f.fwd).chain(&f.right).all(|v| v.is_finite()));
+                assert!(f
+                    .acc
+                    .iter()
+                    .chain(&f.fwd)
+                    .chain(&f.right)
+                    .all(|v| v.is_finite()));
                 assert!(f.yaw_rate_deg.is_finite());
             }
             // Speeds of accepted telemetry are computed without panicking.

@@ -13,7 +13,9 @@ fuzz_target!(|data: &[u8]| {
         Ok(set) => {
             // Every element of `_checkpoint.records` is a route of the set, valid or not.
             let value: serde_json::Value = serde_json::from_slice(data).expect("loaded => JSON");
-            let n = value["_checkpoint"]["records"].as_array().map_or(0, Vec::len);
+            let n = value["_checkpoint"]["records"]
+                .as_array()
+                .map_or(0, Vec::len);
             assert_eq!(set.records.len(), n, "a record was lost");
             for (i, r) in set.records.iter().enumerate() {
                 assert_eq!(r.index, i);
@@ -24,7 +26,10 @@ fuzz_target!(|data: &[u8]| {
         }
         Err(e) => {
             let msg = e.to_string();
-            assert!(msg.contains("endpoint.json"), "error does not name the file: {msg}");
+            assert!(
+                msg.contains("endpoint.json"),
+                "error does not name the file: {msg}"
+            );
         }
     }
 });

@@ -15,6 +15,12 @@ if command -v rustup >/dev/null 2>&1; then
   done
 fi
 
+# cargo-fuzz for the fuzz smoke run (needs the nightly toolchain; skipped without it).
+if cargo +nightly --version >/dev/null 2>&1 && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+  log "installing cargo-fuzz"
+  cargo install cargo-fuzz --locked >/dev/null 2>&1 || log "WARNING: cargo install cargo-fuzz failed"
+fi
+
 # apt packages: qemu-system-arm from bookworm-backports (bookworm's 7.2 would remove the
 # preinstalled qemu-utils), binutils-arm-none-eabi for section sizes.
 need_apt=()

@@ -29,5 +29,8 @@ if [ -x firmware-example/run-tests.sh ]; then
   step "firmware under QEMU"
   bash firmware-example/run-tests.sh
 fi
+step "fuzz smoke (each target briefly, from the committed corpus)"
+FUZZ_SECONDS="${FUZZ_SECONDS:-10}" bash scripts/fuzz-smoke.sh
+
 echo
 echo "all checks passed"

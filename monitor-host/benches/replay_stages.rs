@@ -7,6 +7,8 @@
 //! |-----------|---------------------------------------------------------------------------|
 //! | `read`    | `std::fs::read` of `metric_info.json` (page cache)                        |
 //! | `skip`    | `serde_json` over the same bytes into `IgnoredAny`: the parser's own floor |
+//! | `reader`  | `serde_json::from_reader` (64 KB `BufReader`) into `IgnoredAny`: the     |
+//! |           | floor of a parse that never holds the whole file                          |
 //! | `dom`     | `serde_json::Value` of the same bytes (first 20 routes only): a DOM's cost |
 //! | `parse`   | `telemetry::parse_metric_info` (our streaming visitor)                    |
 //! | `prepare` | `replay::prepare`: speeds, lateral error, alignment, `Frame`s              |
@@ -15,8 +17,8 @@
 //! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
 //!
 //! Prints one line per stage: `stage=NAME routes=R frames=F bytes=B wall_s=W cpu_s=C`, where
-//! `cpu_s` is this thread's CPU time (from `/proc/thread-self/schedstat`; equal to `wall_s`
-//! where that file is missing), which other processes on a shared machine do not inflate.
+//! `cpu_s` is this thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`; equal to `wall_s` where that
+//! clock is missing), which other processes on a shared machine do not inflate.
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -25,11 +27,12 @@ use std::time::Instant;
 use monitor_host::replay::{self, Options};
 use monitor_host::{batch, results, route, telemetry};
 
+#[path = "common/cpu.rs"]
+mod cpu;
+
 /// This thread's CPU time in seconds, if the kernel tells.
 fn thread_cpu() -> Option<f64> {
-    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = s.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
+    cpu::thread_cpu_ns().map(|ns| ns as f64 * 1e-9)
 }
 
 #[derive(Default, Clone, Copy)]
@@ -81,9 +84,9 @@ fn main() -> anyhow::Result<()> {
         ..Options::default()
     };
     let names = [
-        "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay",
+        "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay", "reader",
     ];
-    let mut acc = [Acc::default(); 8];
+    let mut acc = [Acc::default(); 9];
     let mut agree = true;
     for (k, loaded) in set.records.iter().take(max).enumerate() {
         let record = loaded.entry.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -95,6 +98,10 @@ fn main() -> anyhow::Result<()> {
         let n = bytes.len();
         timed(&mut acc[1], 0, n, || {
             serde_json::from_slice::<serde::de::IgnoredAny>(black_box(&bytes))
+        })?;
+        timed(&mut acc[8], 0, n, || {
+            let f = std::io::BufReader::with_capacity(1 << 16, std::fs::File::open(&file)?);
+            serde_json::from_reader::<_, serde::de::IgnoredAny>(f).map_err(anyhow::Error::from)
         })?;
         if k < 20 {
             let v = timed(&mut acc[2], 0, n, || {
@@ -113,6 +120,7 @@ fn main() -> anyhow::Result<()> {
             acc[2].frames += frames as u64;
         }
         acc[3].frames += frames as u64;
+        acc[8].frames += frames as u64;
         let mut prepared = timed(&mut acc[4], frames, n, || {
             replay::prepare(record, &tel, Some(&routes), None, &opts)
         });

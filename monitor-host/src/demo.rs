@@ -198,20 +198,6 @@ fn py3(x: f64) -> String {
     }
 }
 
-const LISTS: [&str; 12] = [
-    "collisions_layout",
-    "collisions_pedestrian",
-    "collisions_vehicle",
-    "red_light",
-    "stop_infraction",
-    "outside_route_lanes",
-    "min_speed_infractions",
-    "yield_emergency_vehicle_infractions",
-    "scenario_timeouts",
-    "route_dev",
-    "vehicle_blocked",
-    "route_timeout",
-];
 
 /// Writes the demo run into `dir` and returns the paths it wrote.
 ///
@@ -325,7 +311,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
 
         // The evaluator's record.
         let mut infractions = serde_json::Map::new();
-        for l in LISTS {
+        for l in crate::results::KNOWN_LISTS {
             infractions.insert(l.into(), serde_json::Value::Array(vec![]));
         }
         let mut penalty = 1.0;

@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 use crate::replay::{self, Options};
 use crate::report::{self, GroupBy};
-use crate::{demo, results, route, telemetry};
+use crate::{demo, results, route};
 
 /// Exit code: the report was written, but some route has a problem.
 pub const EXIT_ROUTE_PROBLEMS: i32 = 3;
@@ -471,24 +471,17 @@ fn frames(
     let Ok(record) = &loaded.entry else {
         bail!("{route_id}: invalid record");
     };
-    let save = record
-        .save_name
-        .as_deref()
-        .with_context(|| format!("{route_id}: record has no save_name"))?;
-    let path = telemetry::locate(
-        tel_root.as_deref(),
-        save,
-        &loaded.source,
-        loaded.records_in_file == 1,
-    )
-    .with_context(|| format!("{route_id}: telemetry not found"))?;
-    let tel = telemetry::read_metric_info(&path)
-        .with_context(|| format!("{}: invalid telemetry", path.display()))?;
     let opts = Options {
         telemetry_root: tel_root,
         ..Options::default()
     };
-    let prepared = replay::prepare(record, &tel, routes.as_ref(), None, &opts);
+    let mut warnings = Vec::new();
+    let prepared = replay::load(loaded, record, routes.as_ref(), &opts, &mut warnings)
+        .map_err(|state| anyhow::anyhow!("{route_id}: telemetry {state}"))?
+        .prepared;
+    for w in warnings {
+        eprintln!("sds: warning: {route_id}: {w}");
+    }
     let mut out = Vec::new();
     let mut buf = [0u8; 512];
     for f in &prepared.frames {

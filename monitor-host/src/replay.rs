@@ -300,6 +300,66 @@ pub fn stream(
     Ok(done.summary)
 }
 
+/// A route's telemetry, read and turned into frames.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    /// The frames and aligned events.
+    pub prepared: PreparedRoute,
+    /// Missing step numbers.
+    pub gaps: u64,
+    /// The `metric_info.json` read.
+    pub path: PathBuf,
+}
+
+/// Locates and reads a record's telemetry (and `infractions.json` beside it) and prepares its
+/// frames. Problems that do not stop the route are pushed to `warnings`.
+pub fn load(
+    loaded: &LoadedRecord,
+    record: &Record,
+    routes: Option<&RouteSet>,
+    opts: &Options,
+    warnings: &mut Vec<String>,
+) -> Result<Loaded, TelemetryState> {
+    let path = record
+        .save_name
+        .as_deref()
+        .and_then(|save| {
+            telemetry::locate(
+                opts.telemetry_root.as_deref(),
+                save,
+                &loaded.source,
+                loaded.records_in_file == 1,
+            )
+        })
+        .ok_or(TelemetryState::Missing)?;
+    let tel = telemetry::read_metric_info(&path)
+        .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
+    let infractions = match telemetry::infractions_beside(&path) {
+        None => None,
+        Some(p) => match telemetry::read_infractions(&p) {
+            Ok(list) => Some(list),
+            Err(e) => {
+                warnings.push(format!(
+                    "{}: {e}; collisions aligned by position instead",
+                    p.display()
+                ));
+                None
+            }
+        },
+    };
+    if let (Some(set), Some(id)) = (routes, record.xml_id()) {
+        if let Err(e) = set.get_checked(id) {
+            warnings.push(format!("{e}: lateral excess unknown for this route"));
+        }
+    }
+    let prepared = prepare(record, &tel, routes, infractions.as_deref(), opts);
+    Ok(Loaded {
+        prepared,
+        gaps: tel.gaps,
+        path,
+    })
+}
+
 /// Replays one loaded record: locate and read telemetry, prepare frames, stream, score, and
 /// check the batch reference.
 pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) -> RouteOutcome {
@@ -320,43 +380,14 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
         return out;
     };
     out.penalty = Some(infraction::check_penalty(record, opts.penalty_flavour));
-    let found = record.save_name.as_deref().and_then(|save| {
-        telemetry::locate(
-            opts.telemetry_root.as_deref(),
-            save,
-            &loaded.source,
-            loaded.records_in_file == 1,
-        )
-    });
-    let tel = match &found {
-        None => Err(TelemetryState::Missing),
-        Some(path) => telemetry::read_metric_info(path)
-            .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display()))),
-    };
-    let summary = match tel {
-        Ok(tel) => {
-            let infractions = match found.as_deref().and_then(telemetry::infractions_beside) {
-                None => None,
-                Some(p) => match telemetry::read_infractions(&p) {
-                    Ok(list) => Some(list),
-                    Err(e) => {
-                        out.warnings.push(format!(
-                            "{}: {e}; collisions aligned by position instead",
-                            p.display()
-                        ));
-                        None
-                    }
-                },
-            };
-            if let (Some(set), Some(id)) = (routes, record.xml_id()) {
-                if let Err(e) = set.get_checked(id) {
-                    out.warnings
-                        .push(format!("{e}: lateral excess unknown for this route"));
-                }
-            }
-            let mut prepared = prepare(record, &tel, routes, infractions.as_deref(), opts);
+    let summary = match load(loaded, record, routes, opts, &mut out.warnings) {
+        Ok(Loaded {
+            mut prepared,
+            gaps,
+            path,
+        }) => {
             out.frames = prepared.frames.len() as u32;
-            out.gaps = tel.gaps;
+            out.gaps = gaps;
             match stream(&mut prepared, &opts.config) {
                 Ok(summary) => {
                     let reference = batch::summarize(&prepared.frames, &opts.config);
@@ -368,9 +399,7 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
                 Err((i, reason)) => {
                     out.telemetry = TelemetryState::Invalid(format!(
                         "{}: step {}: {reason}",
-                        found
-                            .as_deref()
-                            .map_or(String::new(), |p| p.display().to_string()),
+                        path.display(),
                         prepared.steps.get(i).copied().unwrap_or_default()
                     ));
                     None

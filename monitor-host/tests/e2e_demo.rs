@@ -280,3 +280,41 @@ fn breakdown_by_family_uses_the_families_file() {
     assert!(text.lines().any(|l| l.starts_with("DemoConeContact ")));
     assert!(text.lines().any(|l| l.starts_with("DemoCruising ")));
 }
+
+#[test]
+fn infractions_json_gives_the_step_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let results: Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap()).unwrap();
+    let cone = results["_checkpoint"]["records"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["route_id"] == "RouteScenario_900004_rep0")
+        .unwrap();
+    let message = cone["infractions"]["collisions_layout"][0]
+        .as_str()
+        .unwrap();
+    let save = cone["save_name"].as_str().unwrap();
+    // LEAD's step-exact log says the contact happened at step 96 (frame 95), not at the frame
+    // nearest to the logged position (frame 90, step 91).
+    let log = serde_json::json!({ "infractions": [
+        { "step": 96, "infraction": "collisions_layout", "frame": 0, "message": message,
+          "event_type": "COLLISION_STATIC", "meters_travelled": 14.0 }
+    ]});
+    std::fs::write(
+        dir.path()
+            .join("telemetry")
+            .join(save)
+            .join("infractions.json"),
+        log.to_string(),
+    )
+    .unwrap();
+    let (code, r) = score_json(dir.path(), &[]);
+    assert_eq!(code, 0);
+    let ev = &route(&r, "RouteScenario_900004_rep0")["collision_events"][0];
+    assert_eq!(ev["aligned_by"], "infractions.json");
+    assert_eq!(ev["step"], 96);
+    assert_eq!(ev["frame"], 95);
+}

@@ -198,7 +198,6 @@ fn py3(x: f64) -> String {
     }
 }
 
-
 /// Writes the demo run into `dir` and returns the paths it wrote.
 ///
 /// ```

@@ -202,8 +202,8 @@ pub fn prepare(
     opts: &Options,
 ) -> PreparedRoute {
     let n = tel.frames.len();
-    let steps: Vec<u64> = tel.frames.iter().map(|f| f.step).collect();
-    let locations: Vec<[f64; 2]> = tel.frames.iter().map(|f| f.location).collect();
+    let steps = tel.steps();
+    let locations = tel.locations();
     let speeds = telemetry::speeds(&tel.frames, f64::from(opts.config.dt));
 
     let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
@@ -411,7 +411,8 @@ pub fn replay(loaded: &LoadedRecord, routes: Option<&RouteSet>, opts: &Options) 
             None
         }
     };
-    if out.events.is_empty() {
+    // A route not replayed keeps its collisions, unaligned (spec section 10).
+    if out.telemetry != TelemetryState::Ok {
         out.events = collision_events(record)
             .into_iter()
             .map(|(e, _, _)| e)

@@ -273,6 +273,20 @@ struct Open {
     waypoints_depth: Option<usize>,
 }
 
+impl Open {
+    /// Records waypoint `index` as bad; the first problem of a route is the one reported.
+    fn bad_waypoint(&mut self, file: &str, index: usize, problem: String) {
+        if self.error.is_none() {
+            self.error = Some(RouteError::BadWaypoint {
+                file: file.to_string(),
+                route: self.route.id.clone(),
+                index,
+                problem,
+            });
+        }
+    }
+}
+
 fn parse_named(xml: &str, file: &str) -> Result<RouteSet, RouteError> {
     let mut reader = Reader::from_str(xml);
     reader.config_mut().check_end_names = true;
@@ -471,18 +485,12 @@ fn read_position(
         match text.trim().parse::<f64>() {
             Ok(v) if v.is_finite() => xy[slot] = Some(v),
             _ => {
-                if o.error.is_none() {
-                    o.error = Some(RouteError::BadWaypoint {
-                        file: file.to_string(),
-                        route: o.route.id.clone(),
-                        index,
-                        problem: format!(
-                            "{} = {:?} is not a finite number",
-                            if slot == 0 { "x" } else { "y" },
-                            text.chars().take(40).collect::<String>()
-                        ),
-                    });
-                }
+                let problem = format!(
+                    "{} = {:?} is not a finite number",
+                    if slot == 0 { "x" } else { "y" },
+                    text.chars().take(40).collect::<String>()
+                );
+                o.bad_waypoint(file, index, problem);
                 return Ok(());
             }
         }
@@ -490,17 +498,8 @@ fn read_position(
     match xy {
         [Some(x), Some(y)] => o.route.waypoints.push([x, y]),
         _ => {
-            if o.error.is_none() {
-                o.error = Some(RouteError::BadWaypoint {
-                    file: file.to_string(),
-                    route: o.route.id.clone(),
-                    index,
-                    problem: format!(
-                        "attribute {} missing",
-                        if xy[0].is_none() { "x" } else { "y" }
-                    ),
-                });
-            }
+            let missing = if xy[0].is_none() { "x" } else { "y" };
+            o.bad_waypoint(file, index, format!("attribute {missing} missing"));
         }
     }
     Ok(())

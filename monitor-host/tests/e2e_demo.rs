@@ -22,23 +22,29 @@ fn demo(dir: &Path) {
     );
 }
 
+/// `sds score` on the demo in `dir` (results, telemetry, routes), with `extra` arguments.
+fn run_score(dir: &Path, extra: &[&str]) -> std::process::Output {
+    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
+    let (results, telemetry, routes) = (d("results.json"), d("telemetry"), d("routes.xml"));
+    let mut args = vec![
+        "score",
+        "--results",
+        &results,
+        "--telemetry",
+        &telemetry,
+        "--routes",
+        &routes,
+    ];
+    args.extend_from_slice(extra);
+    sds(&args)
+}
+
+/// `sds score ... -o report.json`: the exit code and the report.
 fn score_json(dir: &Path, extra: &[&str]) -> (i32, Value) {
     let report = dir.join("report.json");
-    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
-    let mut args = vec![
-        "score".to_string(),
-        "--results".into(),
-        d("results.json"),
-        "--telemetry".into(),
-        d("telemetry"),
-        "--routes".into(),
-        d("routes.xml"),
-        "-o".into(),
-        report.to_str().unwrap().into(),
-    ];
-    args.extend(extra.iter().map(|s| s.to_string()));
-    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
-    let out = sds(&argv);
+    let mut args = vec!["-o", report.to_str().unwrap()];
+    args.extend_from_slice(extra);
+    let out = run_score(dir, &args);
     let text = std::fs::read_to_string(&report).expect("report written");
     (
         out.status.code().unwrap_or(-1),
@@ -191,33 +197,12 @@ fn missing_telemetry_exits_3_and_keeps_the_route() {
 fn table_and_csv_formats() {
     let dir = tempfile::tempdir().unwrap();
     demo(dir.path());
-    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
-    let out = sds(&[
-        "score",
-        "--results",
-        &d("results.json"),
-        "--telemetry",
-        &d("telemetry"),
-        "--routes",
-        &d("routes.xml"),
-        "--format",
-        "table",
-        "--group-by",
-        "town",
-    ]);
+    let out = run_score(dir.path(), &["--format", "table", "--group-by", "town"]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("DS_safe") && text.contains("SDS"));
     assert!(text.contains("Town01"), "{text}");
-    let out = sds(&[
-        "score",
-        "--results",
-        &d("results.json"),
-        "--telemetry",
-        &d("telemetry"),
-        "--format",
-        "csv",
-    ]);
+    let out = run_score(dir.path(), &["--format", "csv"]);
     let text = String::from_utf8(out.stdout).unwrap();
     assert_eq!(text.lines().count(), 8, "header + 7 routes");
     assert!(text
@@ -247,7 +232,6 @@ fn bad_setting_is_an_error_naming_it() {
 fn breakdown_by_family_uses_the_families_file() {
     let dir = tempfile::tempdir().unwrap();
     demo(dir.path());
-    let d = |p: &str| dir.path().join(p).to_str().unwrap().to_string();
     // Three collision scenarios in one family; the others are left unmapped.
     std::fs::write(
         dir.path().join("families.csv"),
@@ -255,19 +239,18 @@ fn breakdown_by_family_uses_the_families_file() {
          DemoStandingHit,collisions\n",
     )
     .unwrap();
-    let out = sds(&[
-        "score",
-        "--results",
-        &d("results.json"),
-        "--telemetry",
-        &d("telemetry"),
-        "--format",
-        "table",
-        "--group-by",
-        "family",
-        "--families",
-        &d("families.csv"),
-    ]);
+    let families = dir.path().join("families.csv");
+    let out = run_score(
+        dir.path(),
+        &[
+            "--format",
+            "table",
+            "--group-by",
+            "family",
+            "--families",
+            families.to_str().unwrap(),
+        ],
+    );
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     let row = text

@@ -1,9 +1,9 @@
-//! `monitor_host::infraction::parse_collision` on arbitrary strings: never panics; an accepted
+//! `monitor_host::input::collision::parse_collision` on arbitrary strings: never panics; an accepted
 //! string has a non-empty type and finite coordinates; an error quotes the input.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use monitor_host::infraction::{is_workzone, parse_collision};
+use monitor_host::input::collision::{is_workzone, parse_collision};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(s) = std::str::from_utf8(data) else {

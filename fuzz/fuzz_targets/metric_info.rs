@@ -1,9 +1,10 @@
-//! `monitor_host::telemetry::parse_metric_info` on arbitrary bytes: never panics, and what it
+//! `monitor_host::input::metric_info::parse_metric_info` on arbitrary bytes: never panics, and what it
 //! accepts satisfies the spec's invariants (sorted unique steps, finite values, gap count).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use monitor_host::telemetry::{parse_metric_info, speeds};
+use monitor_host::geometry::kinematics::speeds;
+use monitor_host::input::metric_info::parse_metric_info;
 
 fuzz_target!(|data: &[u8]| {
     match parse_metric_info(data) {

@@ -1,15 +1,15 @@
-//! `monitor_host::results::load` on arbitrary bytes written to a file: never panics; an error
+//! `monitor_host::input::results_file::read_results` on arbitrary bytes written to a file: never panics; an error
 //! names the file; a loaded set keeps every record of the file (none dropped).
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use monitor_host::results;
+use monitor_host::input::results_file as results;
 
 fuzz_target!(|data: &[u8]| {
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("endpoint.json");
     std::fs::write(&path, data).expect("write");
-    match results::load(&path) {
+    match results::read_results(&path) {
         Ok(set) => {
             // Every element of `_checkpoint.records` is a route of the set, valid or not.
             let value: serde_json::Value = serde_json::from_slice(data).expect("loaded => JSON");

@@ -10,9 +10,8 @@ use crate::sg::{self, DERIVATIVE, VALUE};
 use crate::signal;
 
 /// Which of the six strict bounds a chunk violated (in report order).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Failures {
     /// Longitudinal acceleration left `(lon_acc_min, lon_acc_max)`.
@@ -53,7 +52,7 @@ fn inside(values: &[f32], lo: f32, hi: f32) -> bool {
 
 /// The raw per-frame signals of the current chunk, at most `N` frames.
 #[derive(Clone, Debug)]
-pub struct ChunkBuffer<const N: usize> {
+pub(crate) struct ChunkBuffer<const N: usize> {
     a_lon: Vec<f32, N>,
     a_lat: Vec<f32, N>,
     a_mag: Vec<f32, N>,

@@ -1,20 +1,21 @@
 //! Every bound, threshold, window, period, slack and factor of the SDS definition.
 //!
-//! Defaults equal `SDS-SPEC.md` v1.1. Fields marked **\[decision\]** are the spec's own
+//! Defaults equal `SDS-SPEC.md` v1.2. Fields marked **\[decision\]** are the spec's own
 //! decisions: the default is the spec's, and a user may override it.
 
 use crate::error::ConfigError;
 
 /// Which comfort definition to compute (spec section 4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Profile {
     /// Physical units: yaw rate in rad/s, derivatives over the true step period `dt`.
-    #[serde(rename = "physical")]
+    #[cfg_attr(feature = "serde", serde(rename = "physical"))]
     Physical,
     /// Bench2Drive's published "Driving Smoothness", bugs included: yaw rate left in deg/s and
     /// phase-unwrapped per chunk, yaw acceleration not differentiated, jerks over 0.1 s spacing.
-    #[serde(rename = "b2d-legacy")]
+    #[cfg_attr(feature = "serde", serde(rename = "b2d-legacy"))]
     B2dLegacy,
 }
 
@@ -30,13 +31,31 @@ impl Profile {
             Profile::B2dLegacy => "b2d-legacy",
         }
     }
+
+    /// The yaw rate the comfort terms see, from a frame's yaw rate in deg/s (CARLA's unit):
+    /// rad/s for [`Profile::Physical`], left in deg/s for [`Profile::B2dLegacy`] (spec §4). The
+    /// streaming monitor and the batch reference both call this one conversion.
+    ///
+    /// ```
+    /// use monitor_core::Profile;
+    /// assert_eq!(Profile::B2dLegacy.comfort_yaw_rate(90.0), 90.0);
+    /// assert!((Profile::Physical.comfort_yaw_rate(180.0) - core::f32::consts::PI).abs() < 1e-6);
+    /// ```
+    #[inline]
+    pub fn comfort_yaw_rate(self, yaw_rate_deg: f32) -> f32 {
+        match self {
+            Profile::Physical => yaw_rate_deg * crate::signal::DEG_TO_RAD,
+            Profile::B2dLegacy => yaw_rate_deg,
+        }
+    }
 }
 
 /// The six strict comfort bounds (spec section 4, nuPlan's values).
 ///
 /// A filtered value `v` passes iff `lon_acc_min < v < lon_acc_max` (longitudinal acceleration)
 /// or `-b < v < b` (every other signal). A value exactly on a bound fails.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Bounds {
     /// Lower bound of longitudinal acceleration, m/s² (default -4.05).
@@ -70,7 +89,8 @@ impl Bounds {
 
 /// Penalty factors of DS_safe (spec sections 7 and 8). Scores are f64: they combine with the
 /// evaluator's f64 `score_route` and `score_penalty`.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Factors {
     /// Factor of a work-zone contact (default 0.5) **\[decision\]**.
@@ -103,7 +123,8 @@ impl Factors {
 /// let config = Config { profile: Profile::B2dLegacy, ..Config::DEFAULT };
 /// assert!(config.validate(20).is_ok());
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Config {
     /// Comfort profile (spec section 4; default `physical`).
@@ -137,7 +158,7 @@ pub struct Config {
 }
 
 impl Config {
-    /// Every default of `SDS-SPEC.md` v1.1.
+    /// Every default of `SDS-SPEC.md` v1.2.
     pub const DEFAULT: Config = Config {
         profile: Profile::Physical,
         dt: 0.05,

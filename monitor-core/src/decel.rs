@@ -7,7 +7,7 @@
 
 /// The `a_lon` of the last `N` frames.
 #[derive(Clone, Debug)]
-pub struct DecelWindow<const N: usize> {
+pub(crate) struct DecelWindow<const N: usize> {
     /// Ring storage: `data[..next]` holds the newest values (newest last), `data[next..]` the
     /// older ones once the ring has wrapped.
     data: [f32; N],
@@ -40,11 +40,13 @@ impl<const N: usize> DecelWindow<N> {
     }
 
     /// Values held (at most `N`).
+    #[cfg(test)]
     pub const fn len(&self) -> usize {
         self.len
     }
 
     /// True when no value is held.
+    #[cfg(test)]
     pub const fn is_empty(&self) -> bool {
         self.len == 0
     }
@@ -79,5 +81,45 @@ impl<const N: usize> DecelWindow<N> {
 impl<const N: usize> Default for DecelWindow<N> {
     fn default() -> Self {
         Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ring_by_hand() {
+        // Capacity 4; threshold +1.0 so that the ring's unwritten zeros would count if read.
+        let mut w: DecelWindow<4> = DecelWindow::new();
+        assert!(w.is_empty());
+        assert!(!w.decelerated(4, 1.0));
+        // Push 5, 6, 0.5: values (oldest..newest) [5, 6, 0.5]; 0.5 <= 1 is the newest.
+        for a in [5.0, 6.0, 0.5] {
+            w.push(a);
+        }
+        assert_eq!(w.len(), 3);
+        assert!(w.decelerated(1, 1.0));
+        assert!(!w.decelerated(0, 1.0));
+        // Push 7, 8: the ring wraps; values [6, 0.5, 7, 8]: 0.5 is the 3rd newest.
+        w.push(7.0);
+        w.push(8.0);
+        assert_eq!(w.len(), 4);
+        assert!(!w.decelerated(2, 1.0));
+        assert!(w.decelerated(3, 1.0));
+        assert!(w.decelerated(100, 1.0)); // a window beyond the capacity is the whole ring
+                                          // Push 9, 9, 9: 0.5 drops out ([8, 9, 9, 9]).
+        for _ in 0..3 {
+            w.push(9.0);
+        }
+        assert!(!w.decelerated(4, 1.0));
+        assert!(w.decelerated(4, 8.0)); // 8 is the oldest, 4th newest
+        assert!(!w.decelerated(3, 8.0));
+        w.clear();
+        assert!(w.is_empty() && !w.decelerated(4, 100.0));
+        // Capacity 0: pushing is a no-op, never decelerated.
+        let mut z: DecelWindow<0> = DecelWindow::new();
+        z.push(-5.0);
+        assert!(z.is_empty() && !z.decelerated(1, 0.0));
     }
 }

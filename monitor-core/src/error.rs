@@ -40,6 +40,7 @@ impl Field {
 /// Why a frame was refused.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum FrameError {
     /// The field is NaN or infinite.
     NonFinite(Field),
@@ -50,6 +51,7 @@ pub enum FrameError {
 /// Why a configuration was refused (see [`crate::Config::validate`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum ConfigError {
     /// `dt` must be finite and positive.
     Dt,
@@ -78,6 +80,7 @@ pub enum ConfigError {
 /// Why [`crate::Monitor::push`] or [`crate::Monitor::finish`] refused to act.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum MonitorError {
     /// The frame is invalid.
     Frame(FrameError),

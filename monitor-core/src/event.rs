@@ -8,7 +8,8 @@ use crate::lateral::Band;
 
 /// The verdict on the collisions of one frame (spec section 5). All collisions of a frame share
 /// it: they share the frame's speed and the 20 frames before it.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CollisionVerdict {
     /// Index of the frame in the route (0-based).
@@ -38,7 +39,8 @@ impl CollisionVerdict {
 }
 
 /// The comfort verdict of one chunk (spec section 4).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ComfortVerdict {
     /// Chunk index (0-based).
@@ -50,7 +52,8 @@ pub struct ComfortVerdict {
 }
 
 /// An anomalous or critical lateral chunk (spec section 6).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LateralVerdict {
     /// Chunk index (0-based); the trailing partial chunk counts.
@@ -62,9 +65,10 @@ pub struct LateralVerdict {
 }
 
 /// One thing that happened.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Event {
     /// Collisions in this frame, with their deceleration verdict.
     Collision(CollisionVerdict),

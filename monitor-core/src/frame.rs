@@ -7,22 +7,21 @@ use crate::signal;
 ///
 /// `layout` counts layout collisions that are *not* work-zone contacts; `workzone` counts those
 /// that are. All four kinds are collisions for the deceleration check.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Collisions {
     /// Entries of `collisions_pedestrian` aligned to this frame.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub pedestrian: u16,
     /// Entries of `collisions_vehicle` aligned to this frame.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub vehicle: u16,
     /// Entries of `collisions_layout` (not work-zone objects) aligned to this frame.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub layout: u16,
     /// Work-zone contacts (a subset of `collisions_layout`) aligned to this frame.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub workzone: u16,
 }
 
@@ -58,7 +57,8 @@ impl Collisions {
 /// assert_eq!(f.a_lon, 1.0);
 /// assert_eq!(f.a_lat, 0.0);
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Frame {
     /// Longitudinal acceleration `acc · fwd` (2-D), m/s².
@@ -74,10 +74,10 @@ pub struct Frame {
     pub speed: f32,
     /// Unsigned distance to the route reference, m; `None` when unknown (no reference, or a
     /// junction gap).
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub lat_err: Option<f32>,
     /// Collisions aligned to this frame.
-    #[serde(default)]
+    #[cfg_attr(feature = "serde", serde(default))]
     pub collisions: Collisions,
 }
 

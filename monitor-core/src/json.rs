@@ -8,6 +8,7 @@ use crate::frame::Frame;
 /// Why JSON could not be decoded or encoded.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub enum JsonError {
     /// The bytes are not a JSON frame (syntax, types or missing fields).
     Syntax,

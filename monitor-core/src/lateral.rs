@@ -3,9 +3,10 @@
 use crate::config::Config;
 
 /// The band of a chunk's maximum excess `m`; the bands are exclusive.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-#[serde(rename_all = "snake_case")]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum Band {
     /// `m <= anomalous_excess`.
     Normal,
@@ -38,7 +39,7 @@ impl Band {
 
 /// The maximum excess over the frames of the current chunk with known excess.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LateralChunk {
+pub(crate) struct LateralChunk {
     max: Option<f32>,
 }
 

@@ -1,7 +1,7 @@
 //! # monitor-core
 //!
 //! A `#![no_std]`, allocation-free streaming monitor for the **SafeDriving Score** (SDS) of the
-//! Safe2Drive paper, exactly as `SDS-SPEC.md` v1.1 defines it. It consumes one telemetry frame at
+//! Safe2Drive paper, exactly as `SDS-SPEC.md` v1.2 defines it. It consumes one telemetry frame at
 //! a time in fixed memory and bounded time, so the same code runs next to a vehicle stack on a
 //! Cortex-M microcontroller and inside the host replay tool.
 //!
@@ -46,7 +46,12 @@
 //! (`F32Ext::sqrt(x)`) and sums in a fixed order, so host and firmware agree to the bit.
 //! Scores are f64, as the evaluator's are.
 //!
-//! Feature `defmt` derives `defmt::Format` on the public types.
+//! The kernels [`signal`] and [`sg`] are public: they are the shared f32 kernels of spec §9, which
+//! the host's batch reference calls too. The state machine's parts (chunk buffer, deceleration
+//! window, lateral chunk) are internal to [`Monitor`].
+//!
+//! Features: `serde` (default) derives `serde::Serialize` / `Deserialize` on the public types and
+//! enables [`json`] (serde-json-core); `defmt` derives `defmt::Format` on the public types.
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]
@@ -57,6 +62,7 @@ pub mod decel;
 pub mod error;
 pub mod event;
 pub mod frame;
+#[cfg(feature = "serde")]
 pub mod json;
 pub mod lateral;
 pub mod monitor;
@@ -70,6 +76,8 @@ pub use config::{Bounds, Config, Factors, Profile};
 pub use error::{ConfigError, Field, FrameError, MonitorError};
 pub use event::{CollisionVerdict, ComfortVerdict, Event, Events, LateralVerdict};
 pub use frame::{Collisions, Frame};
+#[cfg(feature = "serde")]
+pub use json::JsonError;
 pub use lateral::Band;
 pub use monitor::{Finished, Monitor};
 pub use score::{RecordScores, SafeScore};

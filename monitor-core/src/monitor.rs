@@ -1,7 +1,7 @@
 //! The streaming state machine: `push` one frame at a time, `finish` the route.
 
 use crate::comfort::ChunkBuffer;
-use crate::config::{Config, Profile};
+use crate::config::Config;
 use crate::decel::DecelWindow;
 use crate::error::{ConfigError, MonitorError};
 use crate::event::{CollisionVerdict, ComfortVerdict, Event, Events, LateralVerdict};
@@ -171,10 +171,7 @@ impl<const N: usize> Monitor<N> {
         self.decel.push(frame.a_lon);
 
         // Comfort signals: only the first chunk_len frames of each chunk are buffered.
-        let yaw = match c.profile {
-            Profile::Physical => frame.yaw_rate * signal::DEG_TO_RAD,
-            Profile::B2dLegacy => frame.yaw_rate,
-        };
+        let yaw = c.profile.comfort_yaw_rate(frame.yaw_rate);
         self.chunk.push(frame.a_lon, frame.a_lat, frame.a_mag, yaw);
 
         if let Some(lat_err) = frame.lat_err {
@@ -271,5 +268,30 @@ impl Default for Monitor {
     fn default() -> Self {
         // The defaults are checked valid for the default capacity at compile time (`config`).
         Monitor::fresh(Config::DEFAULT)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::comfort::ChunkBuffer;
+    use crate::decel::DecelWindow;
+    use crate::lateral::LateralChunk;
+    use crate::RouteSummary;
+
+    #[test]
+    fn state_layout() {
+        // Layout (DESIGN.md), 64-bit host: Config 104 + ChunkBuffer 352 (4 heapless Vec<f32, 20>
+        // of 80 + 8) + LateralChunk 8 + DecelWindow 96 (HistoryBuf<f32, 20>) + RouteSummary 64 +
+        // finished 1 = 625, padded to 8: 632.
+        let parts = [
+            core::mem::size_of::<Config>(),
+            core::mem::size_of::<ChunkBuffer<20>>(),
+            core::mem::size_of::<LateralChunk>(),
+            core::mem::size_of::<DecelWindow<20>>(),
+            core::mem::size_of::<RouteSummary>(),
+        ];
+        assert_eq!(parts, [104, 352, 8, 96, 64]);
+        assert_eq!(crate::MONITOR_SIZE, 632);
     }
 }

@@ -29,7 +29,8 @@ pub fn powu(base: f64, n: u32) -> f64 {
 }
 
 /// What the evaluator recorded for the route, plus its work-zone count (spec section 7).
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RecordScores {
     /// `scores.score_route` (0..100).
@@ -41,7 +42,8 @@ pub struct RecordScores {
 }
 
 /// The route's safe scores.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SafeScore {
     /// `p_safe = score_penalty * (workzone / layout)^N_wz`.

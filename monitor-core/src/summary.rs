@@ -3,9 +3,8 @@
 use crate::comfort::Failures;
 
 /// Chunks that failed each bound (spec section 10, `comfort.failed`).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FailureCounts {
     /// Chunks failing the longitudinal-acceleration bounds.
@@ -43,9 +42,8 @@ impl FailureCounts {
 }
 
 /// Comfort counts (spec section 4).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ComfortSummary {
     /// Comfort chunks (full chunks, or one short chunk).
@@ -57,9 +55,8 @@ pub struct ComfortSummary {
 }
 
 /// Lateral counts (spec section 6).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct LateralSummary {
     /// Chunks including the trailing partial one: `ceil(frames / chunk_len)`.
@@ -73,9 +70,8 @@ pub struct LateralSummary {
 }
 
 /// Collision counts over aligned collisions (spec section 5).
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CollisionSummary {
     /// Collisions the monitor saw (aligned to a frame).
@@ -92,9 +88,8 @@ pub struct CollisionSummary {
 /// let s = monitor_core::RouteSummary::default();
 /// assert_eq!(s.comfort_score(), None); // no chunk: comfort undefined
 /// ```
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize,
-)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct RouteSummary {
     /// Frames pushed.

@@ -199,39 +199,3 @@ fn reset_forgets_the_window() {
     m.push(&crash).unwrap();
     assert_eq!(m.finish().unwrap().summary.collisions.nodecel, 1);
 }
-
-#[test]
-fn the_ring_by_hand() {
-    use monitor_core::decel::DecelWindow;
-    // Capacity 4; threshold +1.0 so that the ring's unwritten zeros would count if read.
-    let mut w: DecelWindow<4> = DecelWindow::new();
-    assert!(w.is_empty());
-    assert!(!w.decelerated(4, 1.0));
-    // Push 5, 6, 0.5: values (oldest..newest) [5, 6, 0.5]; 0.5 <= 1 is the newest.
-    for a in [5.0, 6.0, 0.5] {
-        w.push(a);
-    }
-    assert_eq!(w.len(), 3);
-    assert!(w.decelerated(1, 1.0));
-    assert!(!w.decelerated(0, 1.0));
-    // Push 7, 8: the ring wraps; values [6, 0.5, 7, 8]: 0.5 is the 3rd newest.
-    w.push(7.0);
-    w.push(8.0);
-    assert_eq!(w.len(), 4);
-    assert!(!w.decelerated(2, 1.0));
-    assert!(w.decelerated(3, 1.0));
-    assert!(w.decelerated(100, 1.0)); // a window beyond the capacity is the whole ring
-                                      // Push 9, 9, 9: 0.5 drops out ([8, 9, 9, 9]).
-    for _ in 0..3 {
-        w.push(9.0);
-    }
-    assert!(!w.decelerated(4, 1.0));
-    assert!(w.decelerated(4, 8.0)); // 8 is the oldest, 4th newest
-    assert!(!w.decelerated(3, 8.0));
-    w.clear();
-    assert!(w.is_empty() && !w.decelerated(4, 100.0));
-    // Capacity 0: pushing is a no-op, never decelerated.
-    let mut z: DecelWindow<0> = DecelWindow::new();
-    z.push(-5.0);
-    assert!(z.is_empty() && !z.decelerated(1, 0.0));
-}

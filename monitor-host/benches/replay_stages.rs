@@ -21,11 +21,13 @@
 //! clock is missing), which other processes on a shared machine do not inflate.
 
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
-use monitor_host::replay::{self, Options};
-use monitor_host::{batch, results, route, telemetry};
+use monitor_host::input::{metric_info, results_file, route_xml};
+use monitor_host::pipeline::{prepare, replay};
+use monitor_host::reference::batch;
+use monitor_host::Settings;
 
 #[path = "common/cpu.rs"]
 mod cpu;
@@ -77,12 +79,10 @@ fn main() -> anyhow::Result<()> {
         .and_then(|a| a.parse().ok())
         .unwrap_or(usize::MAX);
 
-    let set = results::load(&dir.join("results.json"))?;
-    let routes = route::load(&dir.join("routes.xml"))?;
-    let opts = Options {
-        telemetry_root: Some(dir.join("telemetry")),
-        ..Options::default()
-    };
+    let set = results_file::read_results(&dir.join("results.json"))?;
+    let routes = route_xml::read_route_xml(&dir.join("routes.xml"))?;
+    let settings = Settings::default();
+    let telemetry_root = dir.join("telemetry");
     let names = [
         "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay", "reader",
     ];
@@ -91,8 +91,7 @@ fn main() -> anyhow::Result<()> {
     for (k, loaded) in set.records.iter().take(max).enumerate() {
         let record = loaded.entry.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
         let save = record.save_name.as_deref().unwrap_or_default();
-        let path: &Path = opts.telemetry_root.as_deref().unwrap_or(Path::new("."));
-        let file = path.join(save).join("metric_info.json");
+        let file = telemetry_root.join(save).join("metric_info.json");
 
         let bytes = timed(&mut acc[0], 0, 0, || std::fs::read(&file))?;
         let n = bytes.len();
@@ -110,7 +109,7 @@ fn main() -> anyhow::Result<()> {
             drop(black_box(v));
         }
         let tel = timed(&mut acc[3], 0, n, || {
-            telemetry::parse_metric_info(black_box(&bytes))
+            metric_info::parse_metric_info(black_box(&bytes))
         })?;
         let frames = tel.frames.len();
         acc[0].frames += frames as u64;
@@ -122,18 +121,18 @@ fn main() -> anyhow::Result<()> {
         acc[3].frames += frames as u64;
         acc[8].frames += frames as u64;
         let mut prepared = timed(&mut acc[4], frames, n, || {
-            replay::prepare(record, &tel, Some(&routes), None, &opts)
+            prepare::prepare(record, &tel, Some(&routes), None, &settings)
         });
         let summary = timed(&mut acc[5], frames, n, || {
-            replay::stream(&mut prepared, &opts.config)
+            replay::stream(&mut prepared, &settings.core)
         })
         .map_err(|(i, e)| anyhow::anyhow!("frame {i}: {e}"))?;
         let reference = timed(&mut acc[6], frames, n, || {
-            batch::summarize(&prepared.frames, &opts.config)
+            batch::compute(&prepared.frames, &settings.core)
         });
         agree &= reference.summary == summary;
         let out = timed(&mut acc[7], frames, n, || {
-            replay::replay(loaded, Some(&routes), &opts)
+            replay::replay(loaded, Some(&routes), Some(&telemetry_root), &settings)
         });
         agree &= out.batch_agrees == Some(true);
         drop((bytes, tel, prepared));

@@ -1,25 +1,69 @@
 //! # monitor-host
 //!
-//! The `sds` tool's library: reads real Bench2Drive / CARLA Leaderboard 2.0 artifacts, turns
-//! each route's telemetry into [`monitor_core::Frame`]s, streams them through
-//! [`monitor_core::Monitor`], and reports per-route and benchmark scores (`SDS-SPEC.md` §10).
+//! The library behind the `sds` tool: reads real Bench2Drive / CARLA Leaderboard 2.0 artifacts,
+//! turns each route's telemetry into [`monitor_core::Frame`]s, streams them through
+//! [`monitor_core::Monitor`], checks every route against a batch reference, and reports per-route
+//! and benchmark scores as `SDS-SPEC.md` v1.2 defines them.
 //!
-//! Data flows one way:
+//! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress).
+//! The `sds` binary, the tests and the bindings all call it; none of them holds scoring logic.
+//!
+//! Data flows one way, through folders named after the stages:
 //!
 //! ```text
-//! results JSON ──> results ─┐
-//! metric_info.json ─> telemetry ─┼─> align / route (f64) ─> replay: Frame (f32) ─> Monitor ─> report
-//! route XML ──────> route ──┘                                   └─> batch (reference, must agree)
+//! results JSON ─┐  metric_info.json ─┐  route XML ─┐
+//!               v                    v             v
+//! input/     record, results_file, discovery, metric_info, lead_infractions, route_xml,
+//!            collision, labels                     │
+//!               │                                  v
+//!               │                      geometry/  kinematics (speed, yaw unit),
+//!               │                                 lateral (polyline, forward search)
+//!               v                                  │
+//! pipeline/  prepare → align → Frame (f32) → replay: Monitor::push / finish → outcome
+//!               │                              └─> reference/batch (must agree, spec §9)
+//!               v
+//! aggregate/ summary (§8.1), penalty re-check (§8), groups (§8.3)
+//!               v
+//! report/    model → json, csv, table
+//! ```
+//!
+//! Around them: [`Settings`] (every setting, typed), [`Inputs`], [`Warning`], [`Error`], and
+//! [`demo`] (writes the built-in demo run).
+//!
+//! ```
+//! use monitor_host::{demo, report, score_run, Inputs, Settings};
+//!
+//! let dir = tempfile::tempdir()?;
+//! let run = demo::write(dir.path())?;
+//! let mut settings = Settings::default();
+//! settings.set("profile", "b2d-legacy")?;
+//! let inputs = Inputs {
+//!     telemetry: Some(run.telemetry),
+//!     route_xml: Some(run.routes),
+//!     ..Inputs::new([run.results])
+//! };
+//! let report = score_run(&inputs, &settings)?;
+//! let json = report::json::json(&report)?;
+//! assert!(json.starts_with(b"{\n  \"schema\": \"sds-report/1\""));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
 
-pub mod align;
-pub mod batch;
-pub mod cli;
+pub mod aggregate;
 pub mod demo;
-pub mod infraction;
-pub mod replay;
+pub mod error;
+pub mod geometry;
+pub mod input;
+pub mod pipeline;
+pub mod reference;
 pub mod report;
-pub mod results;
-pub mod route;
-pub mod telemetry;
+pub mod run;
+pub mod settings;
+pub mod warning;
+
+pub use error::Error;
+pub use pipeline::outcome::{RouteState, TelemetryState};
+pub use report::model::Report;
+pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
+pub use settings::{Settings, SettingsError};
+pub use warning::Warning;

@@ -1,15 +1,15 @@
 //! Reads the real Bench2Drive result fixtures in `shared/fixtures/b2d/` (SOURCES.md describes
-//! each) through `results::load` and checks them against their own stored totals and the
+//! each) through `results_file::read_results` and checks them against their own stored totals and the
 //! §7/§8 rules. Skips (passes with a printed reason) when the shared folder is absent.
 
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use monitor_host::infraction::{
-    check_penalty, count_workzone, is_workzone, parse_collision, CollisionList, PenaltyFlavour,
-};
-use monitor_host::results::{self, Record, ResultSet};
+use monitor_host::aggregate::penalty::{check_penalty, PenaltyFlavour};
+use monitor_host::input::collision::{count_workzone, is_workzone, parse_collision, CollisionList};
+use monitor_host::input::record::Record;
+use monitor_host::input::results_file::{self as results, ResultSet};
 
 const B2D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/fixtures/b2d");
 
@@ -53,7 +53,7 @@ fn every_record_of_every_fixture_loads() {
     ];
     for (name, n) in expected {
         let Some(path) = fixture(name) else { return };
-        let set = results::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let set = results::read_results(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(set.records.len(), n, "{name}");
         let recs = valid(&set);
         assert!(set.broken_files.is_empty());
@@ -86,7 +86,7 @@ fn every_record_of_every_fixture_loads() {
         }
         if name == CRASHED {
             assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
-            let w = &set.warnings[0];
+            let w = &set.warnings[0].to_string();
             assert!(w.contains(CRASHED), "{w}");
             assert!(
                 w.ends_with(
@@ -115,7 +115,7 @@ fn totals_220(set: &ResultSet) -> (f64, f64) {
 fn driving_score_and_success_rate_match_stored_totals() {
     for (name, successes) in [(TFPP, 148), (PDM, 203), (UNIAD, 36)] {
         let Some(path) = fixture(name) else { return };
-        let set = results::load(&path).unwrap();
+        let set = results::read_results(&path).unwrap();
         let stored = &set.merged_totals[0];
         assert_eq!(stored.source, path);
         let (ds, sr) = totals_220(&set);
@@ -135,7 +135,7 @@ fn driving_score_and_success_rate_match_stored_totals() {
     // UniAD-Base holds 218 records and says "eval num": 218, yet its stored totals divide by 220:
     // the two missing routes count as 0 / failed (a denominator of 218 would not match).
     let Some(path) = fixture(UNIAD) else { return };
-    let set = results::load(&path).unwrap();
+    let set = results::read_results(&path).unwrap();
     let stored = &set.merged_totals[0];
     assert_eq!(stored.eval_num, Some(218));
     let sum: f64 = valid(&set).iter().map(|r| r.score_composed).sum();
@@ -145,7 +145,7 @@ fn driving_score_and_success_rate_match_stored_totals() {
 #[test]
 fn penalty_recheck_flags_only_the_hand_edited_record() {
     let flagged = |name: &str| -> Option<Vec<String>> {
-        let set = results::load(&fixture(name)?).unwrap();
+        let set = results::read_results(&fixture(name)?).unwrap();
         Some(
             valid(&set)
                 .into_iter()
@@ -166,7 +166,7 @@ fn penalty_recheck_flags_only_the_hand_edited_record() {
     assert!(uniad.is_empty(), "{uniad:?}");
 
     // the Leaderboard 2.0 flavour charges min-speed entries, which Bench2Drive records do not
-    let set = results::load(&fixture(PDM).unwrap()).unwrap();
+    let set = results::read_results(&fixture(PDM).unwrap()).unwrap();
     let lb20 = valid(&set)
         .into_iter()
         .filter(|r| !check_penalty(r, PenaltyFlavour::Leaderboard20).agrees)
@@ -177,7 +177,7 @@ fn penalty_recheck_flags_only_the_hand_edited_record() {
 #[test]
 fn route3564_mesh_collisions() {
     let Some(path) = fixture(R3564) else { return };
-    let set = results::load(&path).unwrap();
+    let set = results::read_results(&path).unwrap();
     let recs = valid(&set);
     let r = recs[0];
     assert_eq!(r.route_id, "RouteScenario_3564_rep0");
@@ -209,7 +209,7 @@ fn route3564_mesh_collisions() {
 fn collision_strings_parse_and_workzones_count() {
     for name in [TFPP, PDM, UNIAD, SIMLINGO, R3564] {
         let Some(path) = fixture(name) else { return };
-        let set = results::load(&path).unwrap();
+        let set = results::read_results(&path).unwrap();
         for r in valid(&set) {
             for list in CollisionList::ALL {
                 for s in r.infractions.list(list.name()) {
@@ -220,7 +220,7 @@ fn collision_strings_parse_and_workzones_count() {
         }
     }
     let Some(path) = fixture(UNIAD) else { return };
-    let set = results::load(&path).unwrap();
+    let set = results::read_results(&path).unwrap();
     let mut by_type: BTreeMap<String, usize> = BTreeMap::new();
     let mut total = 0;
     for r in valid(&set) {
@@ -271,7 +271,7 @@ fn directory_tree_with_broken_merged_and_duplicate_files() {
     fs::create_dir_all(broken.parent().unwrap()).unwrap();
     fs::write(&broken, &text[..text.len() / 2]).unwrap();
 
-    let set = results::load(root).unwrap();
+    let set = results::read_results(root).unwrap();
     // sorted by path: per_route/24206 (0 records), per_route/3564, rerun/3564
     let sources: Vec<_> = set.records.iter().map(|r| r.source.clone()).collect();
     assert_eq!(sources, [a.clone(), b.clone()]);
@@ -287,7 +287,7 @@ fn directory_tree_with_broken_merged_and_duplicate_files() {
         set.broken_files[0].1
     );
 
-    let has = |pred: &dyn Fn(&str) -> bool| set.warnings.iter().any(|w| pred(w));
+    let has = |pred: &dyn Fn(&str) -> bool| set.warnings.iter().any(|w| pred(&w.to_string()));
     let m = merged.display().to_string();
     assert!(
         has(&|w| w.starts_with(&m) && w.contains("skipped")),
@@ -320,7 +320,7 @@ fn directory_tree_with_broken_merged_and_duplicate_files() {
     let only = tempfile::tempdir().unwrap();
     fs::create_dir_all(only.path().join("m")).unwrap();
     fs::copy(&tfpp, only.path().join("m/merged.json")).unwrap();
-    let set = results::load(only.path()).unwrap();
+    let set = results::read_results(only.path()).unwrap();
     assert_eq!(set.records.len(), 220);
     assert_eq!(set.merged_totals.len(), 1);
     assert!(set.warnings.is_empty(), "{:?}", set.warnings);
@@ -333,7 +333,7 @@ fn truncated_single_file_is_an_error_with_position() {
     let p = dir.path().join("cut.json");
     let text = fs::read_to_string(&r3564).unwrap();
     fs::write(&p, &text[..100]).unwrap();
-    let e = results::load(&p).unwrap_err().to_string();
+    let e = results::read_results(&p).unwrap_err().to_string();
     assert!(e.starts_with(&p.display().to_string()), "{e}");
     assert!(
         e.contains("truncated JSON: unexpected end of input at line"),

@@ -4,7 +4,8 @@
 use std::collections::HashSet;
 use std::path::PathBuf;
 
-use monitor_host::route::{self, LateralTracker, RouteSet};
+use monitor_host::geometry::lateral::LateralTracker;
+use monitor_host::input::route_xml::{read_route_xml, RouteSet};
 
 fn fixture(rel: &str) -> Option<PathBuf> {
     let p = PathBuf::from(concat!(
@@ -22,7 +23,7 @@ fn fixture(rel: &str) -> Option<PathBuf> {
 
 fn load_220() -> Option<RouteSet> {
     let p = fixture("routes/bench2drive220.xml")?;
-    Some(route::load(&p).expect("bench2drive220.xml loads"))
+    Some(read_route_xml(&p).expect("bench2drive220.xml loads"))
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Shared helpers of the test suite.
 //!
 //! - [`stream`] runs a route through the streaming [`Monitor`] and keeps every event, so a test
-//!   can compare it with the batch reference (`monitor_host::batch`).
+//!   can compare it with the batch reference (`monitor_host::reference::batch`).
 //! - [`SPECIAL_VALUES`] lists the f32 values a property test should hit on purpose: zeros,
 //!   subnormals, huge values, values on and next to the comfort bounds.
 //!

@@ -11,8 +11,10 @@ use monitor_core::{
     json, Collisions, Config, ConfigError, Field, Frame, FrameError, Monitor, MonitorError,
     Profile, RouteSummary,
 };
-use monitor_host::telemetry::{self, FieldProblem, TelemetryError};
-use monitor_host::{batch, infraction, results, route};
+use monitor_host::geometry::kinematics;
+use monitor_host::input::metric_info::{self as telemetry, FieldProblem, TelemetryError};
+use monitor_host::input::{collision as infraction, results_file as results, route_xml as route};
+use monitor_host::reference::batch;
 use proptest::prelude::*;
 use proptest::test_runner::Config as PropConfig;
 
@@ -192,7 +194,7 @@ proptest! {
         prop_assert_eq!(&accepted, &good);
         let (_, clean) = run_monitor(Config::DEFAULT, &good);
         prop_assert_eq!(with_garbage, clean);
-        prop_assert_eq!(batch::summarize(&good, &Config::DEFAULT).summary, clean);
+        prop_assert_eq!(batch::compute(&good, &Config::DEFAULT).summary, clean);
     }
 
     /// Valid but extreme frames (huge, subnormal, signed zeros): streaming and the batch
@@ -205,7 +207,7 @@ proptest! {
         for profile in [Profile::Physical, Profile::B2dLegacy] {
             let config = Config { profile, ..Config::DEFAULT };
             let (_, streamed) = run_monitor(config, &valid);
-            prop_assert_eq!(batch::summarize(&valid, &config).summary, streamed);
+            prop_assert_eq!(batch::compute(&valid, &config).summary, streamed);
         }
     }
 
@@ -375,7 +377,7 @@ fn huge_finite_signals_are_uncomfortable_not_a_crash() {
             assert_eq!(s.comfort.chunks, 2);
             assert_eq!(s.comfort.comfortable, 0, "{v} judged comfortable");
             assert_eq!(s.lateral.critical, 2, "{v}: huge lateral error is critical");
-            assert_eq!(batch::summarize(&frames, &config).summary, s);
+            assert_eq!(batch::compute(&frames, &config).summary, s);
         }
     }
 }
@@ -780,7 +782,7 @@ proptest! {
         prop_assert_eq!(t.steps(), sorted.clone());
         let span = sorted[sorted.len() - 1] - sorted[0] + 1;
         prop_assert_eq!(t.gaps, span - sorted.len() as u64);
-        let v = telemetry::speeds(&t.frames, 0.05);
+        let v = kinematics::speeds(&t.frames, 0.05);
         prop_assert!(v.iter().all(|s| s.is_finite() && *s >= 0.0));
     }
 }
@@ -1036,7 +1038,7 @@ proptest! {
         let dir = tempfile::tempdir().unwrap();
         let p = dir.path().join("endpoint.json");
         std::fs::write(&p, &bytes).unwrap();
-        match results::load(&p) {
+        match results::read_results(&p) {
             Ok(set) => prop_assert!(set.records.len() < 300),
             Err(e) => prop_assert!(e.to_string().contains("endpoint.json"), "{}", e),
         }
@@ -1054,7 +1056,7 @@ proptest! {
             (0..healthy).map(|i| healthy_record(900_001 + i as u32)).collect();
         records.extend(junk.iter().cloned());
         let p = write_results(dir.path(), "run.json", &records);
-        let set = results::load(&p).unwrap();
+        let set = results::read_results(&p).unwrap();
         prop_assert_eq!(set.records.len(), records.len());
         for (i, r) in set.records.iter().enumerate() {
             prop_assert_eq!(r.index, i);
@@ -1076,7 +1078,7 @@ fn results_every_truncation_names_the_file() {
     let trunc = dir.path().join("truncated.json");
     for cut in 0..full.len() {
         std::fs::write(&trunc, &full[..cut]).unwrap();
-        let e = results::load(&trunc).expect_err("truncated file accepted");
+        let e = results::read_results(&trunc).expect_err("truncated file accepted");
         let msg = e.to_string();
         assert!(msg.contains("truncated.json"), "{msg}");
         if cut > 0 && !full[..cut].iter().all(u8::is_ascii_whitespace) {
@@ -1192,7 +1194,7 @@ fn results_bad_records_name_the_field() {
     let dir = tempfile::tempdir().unwrap();
     let records: Vec<_> = cases.iter().map(|(r, _)| r.clone()).collect();
     let p = write_results(dir.path(), "run.json", &records);
-    let set = results::load(&p).unwrap();
+    let set = results::read_results(&p).unwrap();
     assert_eq!(set.records.len(), cases.len());
     for (lr, (_, field)) in set.records.iter().zip(&cases) {
         let e = lr.entry.as_ref().expect_err(field);
@@ -1211,19 +1213,19 @@ fn results_records_kept_with_warnings() {
     let a = write_results(dir.path(), "a.json", &[no_save, odd]);
     // The same route id in a second file: kept twice, warned naming both files.
     let b = write_results(dir.path(), "b.json", &[healthy_record(1)]);
-    let set = results::load(dir.path()).unwrap();
+    let set = results::read_results(dir.path()).unwrap();
     assert_eq!(set.records.len(), 3);
     let r0 = set.records[0].entry.as_ref().unwrap();
     assert_eq!(r0.save_name, None);
     let r1 = set.records[1].entry.as_ref().unwrap();
     assert!(!r1.is_success());
-    let w = set.warnings.join("\n");
+    let texts: Vec<String> = set.warnings.iter().map(ToString::to_string).collect();
+    let w = texts.join("\n");
     assert!(
         w.contains("Exploded") && w.contains("RouteScenario_2_rep0"),
         "{w}"
     );
-    let dup = set
-        .warnings
+    let dup = texts
         .iter()
         .find(|w| w.contains("duplicate route id RouteScenario_1_rep0"))
         .unwrap_or_else(|| panic!("no duplicate warning: {w}"));
@@ -1239,7 +1241,7 @@ fn results_broken_file_in_a_directory_is_reported_not_fatal() {
     write_results(dir.path(), "good.json", &[healthy_record(1)]);
     let bad = dir.path().join("bad.json");
     std::fs::write(&bad, b"{\"_checkpoint\": {\"records\": [{\"route_id\": ").unwrap();
-    let set = results::load(dir.path()).unwrap();
+    let set = results::read_results(dir.path()).unwrap();
     assert_eq!(set.records.len(), 1);
     assert_eq!(set.broken_files.len(), 1);
     assert_eq!(set.broken_files[0].0, bad);
@@ -1250,7 +1252,7 @@ fn results_broken_file_in_a_directory_is_reported_not_fatal() {
     );
     // A single file that is a directory of nothing useful: an error naming it.
     let empty = tempfile::tempdir().unwrap();
-    let e = results::load(empty.path()).unwrap_err();
+    let e = results::read_results(empty.path()).unwrap_err();
     assert!(e.to_string().contains(&empty.path().display().to_string()));
 }
 
@@ -1268,7 +1270,7 @@ proptest! {
             "<routes>(<route( id=\"[0-9]{1,3}\")?( town=\"T\")?>(<waypoints>(<position( x=\"[-0-9.eEnaif]{0,5}\")?( y=\"[-0-9.]{0,5}\")?/>){0,4}</waypoints>)?</route>){0,3}(</routes>)?",
         ]
     ) {
-        match route::parse(&s) {
+        match route::parse_route_xml(&s) {
             Ok(set) => {
                 for r in set.iter() {
                     if let Ok(ok) = set.get_checked(&r.id) {
@@ -1287,14 +1289,14 @@ fn route_xml_bad_cases() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("routes.xml");
     std::fs::write(&p, "<routes><route id=\"1\"><waypoints><position x=\"1\" y=\"2\"/></waypoint></route></routes>").unwrap();
-    let e = route::load(&p).unwrap_err();
+    let e = route::read_route_xml(&p).unwrap_err();
     let msg = e.to_string();
     assert!(
         msg.contains("routes.xml") && msg.contains("line 1"),
         "{msg}"
     );
 
-    let set = route::parse(
+    let set = route::parse_route_xml(
         "<routes><route id=\"1\" town=\"T\"><waypoints></waypoints></route>\
          <route id=\"2\"><waypoints><position x=\"1\" y=\"nan\"/></waypoints></route>\
          <route id=\"3\"><waypoints><position x=\"1\" y=\"2\"/><position x=\"3\" y=\"2\"/></waypoints></route></routes>",
@@ -1310,6 +1312,6 @@ fn route_xml_bad_cases() {
     assert!(e.contains("route 42") && e.contains("not found"), "{e}");
     assert_eq!(set.get("3").unwrap().waypoints.len(), 2);
     // A file that is a directory, or absent: an error naming it.
-    let e = route::load(dir.path()).unwrap_err().to_string();
+    let e = route::read_route_xml(dir.path()).unwrap_err().to_string();
     assert!(e.contains(&dir.path().display().to_string()), "{e}");
 }

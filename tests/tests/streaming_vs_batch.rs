@@ -2,7 +2,7 @@
 //!
 //! Random routes (0..200 frames, smooth driving-like signals, wild and extreme values, unknown
 //! lateral errors, collisions anywhere, both profiles, varied chunking and deceleration windows)
-//! go through `Monitor::push`/`finish` and through `monitor_host::batch::summarize`; every count,
+//! go through `Monitor::push`/`finish` and through `monitor_host::reference::batch::compute`; every count,
 //! every event and every score must be identical (floats compared with `to_bits`).
 //!
 //! Cases: `PROPTEST_CASES` if set, else 10,000 for the main property (2,000 for the others).
@@ -11,7 +11,7 @@
 use monitor_core::{
     score, Band, Collisions, Config, Factors, Frame, Monitor, MonitorError, Profile, RecordScores,
 };
-use monitor_host::batch::{self, BatchRoute};
+use monitor_host::reference::batch::{self, BatchRoute};
 use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::sample::select;
@@ -325,7 +325,7 @@ fn expected_lateral(b: &BatchRoute, config: &Config) -> Vec<(u32, u32, Band)> {
 
 /// Streaming result `s` of `frames` against the batch reference.
 fn compare(s: &Streamed, frames: &[Frame], config: &Config) -> Result<(), TestCaseError> {
-    let b = batch::summarize(frames, config);
+    let b = batch::compute(frames, config);
     prop_assert_eq!(
         s.summary,
         b.summary,
@@ -389,10 +389,11 @@ fn check_scores(
     record: &RecordScores,
     factors: &Factors,
 ) -> Result<(), TestCaseError> {
-    let b = batch::summarize(frames, config);
+    let b = batch::compute(frames, config);
     for f in [factors, &config.factors] {
         let a = score::ds_safe(&s.summary, record, f);
-        let c = batch::ds_safe(&b.summary, record, f);
+        // The reference scores its own summary with the one score formula (spec §9).
+        let c = score::ds_safe(&b.summary, record, f);
         prop_assert_eq!(
             a.p_safe.to_bits(),
             c.p_safe.to_bits(),
@@ -539,7 +540,7 @@ fn generators_cover_every_outcome() {
     ];
     for _ in 0..3000 {
         let (frames, config) = strategy.new_tree(&mut runner).expect("strategy").current();
-        let b = batch::summarize(&frames, &config).summary;
+        let b = batch::compute(&frames, &config).summary;
         let n = frames.len();
         let outcomes = [
             b.comfort.comfortable > 0,

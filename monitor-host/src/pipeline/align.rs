@@ -1,4 +1,4 @@
-//! Collision event → telemetry frame alignment (`SDS-SPEC.md` §5).
+//! Collision event → telemetry frame alignment (`SDS-SPEC.md` v1.2 §5).
 //!
 //! An event is aligned by LEAD's step-exact `infractions.json` when one is available (first
 //! unused entry with the exact same message, whose step exists in the telemetry); otherwise by
@@ -7,8 +7,8 @@
 //! earliest frame.
 //!
 //! ```
-//! use monitor_host::align::{align_events, AlignedBy, EventRef};
-//! use monitor_host::telemetry::StepInfraction;
+//! use monitor_host::input::lead_infractions::StepInfraction;
+//! use monitor_host::pipeline::align::{align_events, AlignedBy, EventRef};
 //!
 //! let steps = [10, 11, 12, 13];
 //! let locations = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]];
@@ -22,7 +22,7 @@
 //! assert_eq!((a[1].frame, a[1].by), (Some(3), Some(AlignedBy::Nearest)));
 //! ```
 
-use crate::telemetry::StepInfraction;
+use crate::input::lead_infractions::StepInfraction;
 
 /// How an event was aligned to a frame (the report's `aligned_by`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -63,7 +63,7 @@ pub struct Alignment {
 /// inputs never align.
 ///
 /// ```
-/// use monitor_host::align::nearest_frame;
+/// use monitor_host::pipeline::align::nearest_frame;
 /// let locs = [[0.0, 0.0], [5.0, 0.0], [5.0005, 0.0], [5.0, 0.0]];
 /// assert_eq!(nearest_frame(&locs, 5.0006, 0.0, 1.0, 1e-3), Some(1)); // 1, 2, 3 tie
 /// assert_eq!(nearest_frame(&locs, 7.5, 0.0, 1.0, 1e-3), None);         // 2.4995 m away

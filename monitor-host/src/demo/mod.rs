@@ -12,7 +12,30 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result};
+/// Why the demo run could not be written.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DemoError {
+    /// A file or folder could not be written.
+    #[error("{what}: {source}")]
+    Write {
+        /// What was being written (naming the file or route).
+        what: String,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+type Result<T> = std::result::Result<T, DemoError>;
+
+/// Names the file an I/O error concerns.
+fn at(what: impl std::fmt::Display) -> impl FnOnce(std::io::Error) -> DemoError {
+    move |source| DemoError::Write {
+        what: what.to_string(),
+        source,
+    }
+}
 
 /// Step period of the simulator (20 Hz).
 const DT: f64 = 0.05;
@@ -265,7 +288,7 @@ pub struct DemoRun {
 fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoRun> {
     let telemetry = dir.join("telemetry");
     fs::create_dir_all(&telemetry)
-        .with_context(|| format!("cannot create {}", telemetry.display()))?;
+        .map_err(at(format_args!("cannot create {}", telemetry.display())))?;
     let mut records = Vec::new();
     let mut xml = String::from("<?xml version='1.0' encoding='utf-8'?>\n<routes>\n");
     let mut route_ids = Vec::new();
@@ -276,13 +299,14 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
 
         // Telemetry, in Bench2Drive's indented metric_info layout (steps start at 1).
         let folder = telemetry.join(&save_name);
-        fs::create_dir_all(&folder)?;
+        fs::create_dir_all(&folder)
+            .map_err(at(format_args!("cannot create {}", folder.display())))?;
         let path = folder.join("metric_info.json");
         match layout {
             Layout::Demo => write_metric_info(&path, &sim),
             Layout::Realistic => write_metric_info_realistic(&path, &sim),
         }
-        .with_context(|| format!("cannot write telemetry of {route_id}"))?;
+        .map_err(at(format_args!("cannot write telemetry of {route_id}")))?;
 
         // Route XML: a waypoint every 2 m along the road, from 10 m before the start (every
         // 7.5 m in the large run: closer to real route files, still below the 8 m junction gap).
@@ -310,7 +334,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
 
         // The evaluator's record.
         let mut infractions = serde_json::Map::new();
-        for l in crate::results::KNOWN_LISTS {
+        for l in crate::input::record::KNOWN_LISTS {
             infractions.insert(l.into(), serde_json::Value::Array(vec![]));
         }
         let mut penalty = 1.0;
@@ -352,7 +376,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
     }
     xml.push_str("</routes>\n");
     let routes = dir.join("routes.xml");
-    fs::write(&routes, xml)?;
+    fs::write(&routes, xml).map_err(at(format_args!("cannot write {}", routes.display())))?;
     let results = dir.join("results.json");
     let doc = serde_json::json!({
         "_checkpoint": {
@@ -366,7 +390,9 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
         "values": [],
         "labels": [],
     });
-    fs::write(&results, serde_json::to_string_pretty(&doc)?)?;
+    let text = serde_json::to_string_pretty(&doc)
+        .map_err(|e| at("cannot encode the results")(e.into()))?;
+    fs::write(&results, text).map_err(at(format_args!("cannot write {}", results.display())))?;
     Ok(DemoRun {
         results,
         telemetry,
@@ -375,7 +401,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
     })
 }
 
-fn write_metric_info(path: &Path, sim: &[SimFrame]) -> Result<()> {
+fn write_metric_info(path: &Path, sim: &[SimFrame]) -> std::io::Result<()> {
     let mut w = BufWriter::new(fs::File::create(path)?);
     w.write_all(b"{")?;
     for (i, f) in sim.iter().enumerate() {
@@ -516,7 +542,7 @@ fn realistic_frame(out: &mut String, step: usize, f: &SimFrame) {
     out.push_str("    }");
 }
 
-fn write_metric_info_realistic(path: &Path, sim: &[SimFrame]) -> Result<()> {
+fn write_metric_info_realistic(path: &Path, sim: &[SimFrame]) -> std::io::Result<()> {
     let mut w = BufWriter::with_capacity(1 << 16, fs::File::create(path)?);
     let mut buf = String::with_capacity(2048);
     w.write_all(b"{\n")?;

@@ -1,5 +1,4 @@
-//! Bench2Drive per-step telemetry (`metric_info.json`, `SDS-SPEC.md` §1.2) and LEAD's step-exact
-//! collision file (`infractions.json`).
+//! Bench2Drive per-step telemetry (`metric_info.json`, `SDS-SPEC.md` v1.2 §1.2).
 //!
 //! `metric_info.json` is a JSON object whose keys are decimal step numbers and whose values hold
 //! the ego's `acceleration`, `angular_velocity`, `forward_vector`, `right_vector` and `location`
@@ -9,7 +8,8 @@
 //! parts the monitor needs ([`TelemetryFrame`]).
 //!
 //! ```
-//! use monitor_host::telemetry::{parse_metric_info, speeds};
+//! use monitor_host::geometry::kinematics::speeds;
+//! use monitor_host::input::metric_info::parse_metric_info;
 //!
 //! let json = br#"{
 //!   "12": {"acceleration": [0.5, 0.0, 0.0], "angular_velocity": [0, 0, 3.0],
@@ -28,13 +28,19 @@
 //!
 //! let bad = parse_metric_info(br#"{"7": {"acceleration": [1, 2]}}"#).unwrap_err();
 //! assert_eq!(bad.to_string(), "step 7: field acceleration: fewer than 3 numbers");
-//! # Ok::<(), monitor_host::telemetry::TelemetryError>(())
+//! # Ok::<(), monitor_host::input::metric_info::TelemetryError>(())
 //! ```
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use serde::de::{self, DeserializeSeed, Deserializer, IgnoredAny, MapAccess, SeqAccess, Visitor};
+use serde::de::{Deserializer, IgnoredAny};
+
+mod visitor;
+
+#[cfg(test)]
+use visitor::FIELD_NAMES;
+use visitor::{is_non_finite, json_error, Ctx, TopVisitor};
 
 /// One telemetry frame, reduced to what the monitor and the host geometry need.
 ///
@@ -66,12 +72,12 @@ pub struct Telemetry {
 }
 
 impl Telemetry {
-    /// The step numbers, in frame order (for [`crate::align::align_events`]).
+    /// The step numbers, in frame order (for [`crate::pipeline::align::align_events`]).
     pub fn steps(&self) -> Vec<u64> {
         self.frames.iter().map(|f| f.step).collect()
     }
 
-    /// The 2-D locations, in frame order (for [`crate::align::nearest_frame`]).
+    /// The 2-D locations, in frame order (for [`crate::pipeline::align::nearest_frame`]).
     pub fn locations(&self) -> Vec<[f64; 2]> {
         self.frames.iter().map(|f| f.location).collect()
     }
@@ -113,6 +119,7 @@ impl fmt::Display for FieldProblem {
 /// Why a telemetry file (or an `infractions.json`) is invalid. The `Display` text is the reason
 /// reported as `invalid: <reason>` (`SDS-SPEC.md` §1.2): it names the step and the field.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum TelemetryError {
     /// The file cannot be read.
     #[error("cannot read {}: {source}", path.display())]
@@ -289,470 +296,6 @@ pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
     let n = frames.len() as u64;
     let gaps = (frames[frames.len() - 1].step - frames[0].step) - (n - 1);
     Ok(Telemetry { frames, gaps })
-}
-
-/// Per-frame speed (`SDS-SPEC.md` §2): `speed_0 = 0`,
-/// `speed_i = |loc_i - loc_{i-1}| / (dt * (step_i - step_{i-1}))`, 2-D, in f64.
-///
-/// The distance is `sqrt(dx² + dy²)` (IEEE-exact operations, so every platform agrees). Frames
-/// must be sorted by strictly increasing step, as [`parse_metric_info`] returns them.
-///
-/// ```
-/// use monitor_host::telemetry::{speeds, TelemetryFrame};
-/// let f = |step, x| TelemetryFrame { step, location: [x, 0.0], ..Default::default() };
-/// assert_eq!(speeds(&[f(1, 0.0), f(2, 1.0), f(4, 3.0)], 0.05), vec![0.0, 20.0, 20.0]);
-/// ```
-pub fn speeds(frames: &[TelemetryFrame], dt: f64) -> Vec<f64> {
-    let mut out = Vec::with_capacity(frames.len());
-    if frames.is_empty() {
-        return out;
-    }
-    out.push(0.0);
-    for w in frames.windows(2) {
-        let dx = w[1].location[0] - w[0].location[0];
-        let dy = w[1].location[1] - w[0].location[1];
-        let steps = w[1].step.saturating_sub(w[0].step) as f64;
-        out.push((dx * dx + dy * dy).sqrt() / (dt * steps));
-    }
-    out
-}
-
-/// One entry of LEAD's `infractions.json`: the metric_info step of an infraction and its message
-/// (the same text as the evaluator's infraction string).
-#[derive(Debug, Clone, PartialEq, Eq, serde::Deserialize)]
-pub struct StepInfraction {
-    /// The step, in `metric_info.json`'s numbering.
-    pub step: u64,
-    /// The infraction message.
-    pub message: String,
-}
-
-#[derive(serde::Deserialize)]
-struct InfractionsFile {
-    infractions: Vec<StepInfraction>,
-}
-
-/// Reads LEAD's `infractions.json` (`{"infractions": [{"step", "message", ...}], ...}`); other
-/// keys of the file and of each entry are ignored.
-///
-/// # Errors
-/// [`TelemetryError::Io`] if unreadable; [`TelemetryError::Infractions`] (with line and column)
-/// if the shape is wrong (e.g. an entry without an integer `step` or a string `message`).
-pub fn read_infractions(path: &Path) -> Result<Vec<StepInfraction>, TelemetryError> {
-    let bytes = std::fs::read(path).map_err(|source| TelemetryError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_infractions(&bytes)
-}
-
-/// [`read_infractions`] from memory.
-///
-/// ```
-/// use monitor_host::telemetry::parse_infractions;
-/// let v = parse_infractions(br#"{"infractions": [{"step": 813, "frame": 1626,
-///     "message": "Agent collided against object with type=static.prop.constructioncone and id=7 at (x=1.0, y=2.0, z=0.0)",
-///     "event_type": "COLLISION_STATIC"}], "other": 1}"#)?;
-/// assert_eq!(v[0].step, 813);
-/// # Ok::<(), monitor_host::telemetry::TelemetryError>(())
-/// ```
-///
-/// # Errors
-/// As [`read_infractions`].
-pub fn parse_infractions(bytes: &[u8]) -> Result<Vec<StepInfraction>, TelemetryError> {
-    serde_json::from_slice::<InfractionsFile>(bytes)
-        .map(|f| f.infractions)
-        .map_err(|e| TelemetryError::Infractions(e.to_string()))
-}
-
-/// Locates a record's `metric_info.json` (`SDS-SPEC.md` §1.2): first
-/// `<telemetry_root>/<save_name>/metric_info.json`, then `metric_info.json` in the folder of the
-/// result file if that file holds this one record. Returns the first that is a file.
-///
-/// A `save_name` that is empty, `.`/`..` or contains a path separator is not used as a folder
-/// name.
-pub fn locate(
-    telemetry_root: Option<&Path>,
-    save_name: &str,
-    result_file: &Path,
-    file_holds_one_record: bool,
-) -> Option<PathBuf> {
-    let safe_name = !save_name.is_empty()
-        && save_name != "."
-        && save_name != ".."
-        && !save_name.contains(['/', '\\']);
-    if let Some(root) = telemetry_root {
-        if safe_name {
-            let p = root.join(save_name).join("metric_info.json");
-            // `exists`, not `is_file`: a directory or an unreadable file in its place is found
-            // here and reported as invalid by the reader, not silently called missing.
-            if p.exists() {
-                return Some(p);
-            }
-        }
-    }
-    if file_holds_one_record {
-        let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
-        let p = dir.join("metric_info.json");
-        if p.exists() {
-            return Some(p);
-        }
-    }
-    None
-}
-
-/// The `infractions.json` beside a located `metric_info.json`, if it exists.
-pub fn infractions_beside(metric_info: &Path) -> Option<PathBuf> {
-    let p = metric_info
-        .parent()
-        .unwrap_or_else(|| Path::new(""))
-        .join("infractions.json");
-    p.is_file().then_some(p)
-}
-
-// ---------------------------------------------------------------------------------------------
-// Streaming parser internals.
-
-/// Parser context: where we are (for error messages) and the precise error, if a visitor of ours
-/// rejected the input (serde's error type cannot carry it).
-struct Ctx {
-    step: Option<u64>,
-    field: Option<&'static str>,
-    in_array: bool,
-    error: Option<TelemetryError>,
-}
-
-impl Ctx {
-    fn fail<E: de::Error>(&mut self, err: TelemetryError) -> E {
-        self.error = Some(err);
-        E::custom("invalid telemetry")
-    }
-}
-
-fn truncate_key(key: &str) -> String {
-    key.chars().take(40).collect()
-}
-
-/// The line-and-column part of serde_json's message stripped off.
-fn bare_message(e: &serde_json::Error) -> String {
-    let s = e.to_string();
-    let suffix = format!(" at line {} column {}", e.line(), e.column());
-    match s.strip_suffix(&suffix) {
-        Some(m) => m.to_string(),
-        None => s,
-    }
-}
-
-/// Is this syntax error a Python `NaN` / `Infinity` / `-Infinity` token or an overflowing number?
-fn is_non_finite(bytes: &[u8], e: &serde_json::Error) -> bool {
-    if bare_message(e) == "number out of range" {
-        return true;
-    }
-    // Byte offset of the error: start of line `line` plus `column`.
-    let mut start = 0usize;
-    let mut line = 1usize;
-    while line < e.line() {
-        match bytes[start..].iter().position(|&b| b == b'\n') {
-            Some(p) => {
-                start += p + 1;
-                line += 1;
-            }
-            None => return false,
-        }
-    }
-    let at = start.saturating_add(e.column()).min(bytes.len());
-    let lo = at.saturating_sub(9);
-    let hi = at.saturating_add(9).min(bytes.len());
-    let window = &bytes[lo..hi];
-    [&b"NaN"[..], b"Infinity"]
-        .iter()
-        .any(|tok| window.windows(tok.len()).any(|w| w == *tok))
-}
-
-fn json_error(bytes: &[u8], e: &serde_json::Error, step: Option<u64>) -> TelemetryError {
-    if e.is_syntax() && is_non_finite(bytes, e) {
-        return TelemetryError::NonFinite {
-            step,
-            line: e.line(),
-            column: e.column(),
-        };
-    }
-    TelemetryError::Json {
-        line: e.line(),
-        column: e.column(),
-        message: bare_message(e),
-    }
-}
-
-struct TopVisitor<'c> {
-    ctx: &'c mut Ctx,
-    frames: &'c mut Vec<TelemetryFrame>,
-    sorted: &'c mut bool,
-}
-
-impl<'de> Visitor<'de> for TopVisitor<'_> {
-    type Value = ();
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("an object of frames keyed by step")
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
-        let ctx = self.ctx;
-        let mut last: Option<u64> = None;
-        loop {
-            ctx.step = None;
-            ctx.field = None;
-            let Some(step) = map.next_key_seed(StepKey { ctx: &mut *ctx })? else {
-                return Ok(());
-            };
-            ctx.step = Some(step);
-            let frame = map.next_value_seed(FrameSeed {
-                ctx: &mut *ctx,
-                step,
-            })?;
-            if let Some(prev) = last {
-                if step <= prev {
-                    *self.sorted = false;
-                }
-            }
-            last = Some(step);
-            self.frames.push(frame);
-        }
-    }
-}
-
-/// A step key: decimal digits, parsed without allocating.
-struct StepKey<'c> {
-    ctx: &'c mut Ctx,
-}
-
-impl<'de> DeserializeSeed<'de> for StepKey<'_> {
-    type Value = u64;
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<u64, D::Error> {
-        d.deserialize_str(self)
-    }
-}
-
-impl<'de> Visitor<'de> for StepKey<'_> {
-    type Value = u64;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a decimal step number")
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<u64, E> {
-        if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
-            return Err(self.ctx.fail(TelemetryError::BadStepKey {
-                key: truncate_key(v),
-            }));
-        }
-        let mut n: u64 = 0;
-        for b in v.bytes() {
-            match n
-                .checked_mul(10)
-                .and_then(|n| n.checked_add(u64::from(b - b'0')))
-            {
-                Some(m) => n = m,
-                None => {
-                    return Err(self.ctx.fail(TelemetryError::StepOutOfRange {
-                        key: truncate_key(v),
-                    }))
-                }
-            }
-        }
-        Ok(n)
-    }
-}
-
-/// Which frame field a key names.
-#[derive(Clone, Copy)]
-enum Field {
-    Acc,
-    AngVel,
-    Fwd,
-    Right,
-    Loc,
-    Other,
-}
-
-const FIELD_NAMES: [&str; 5] = [
-    "acceleration",
-    "angular_velocity",
-    "forward_vector",
-    "right_vector",
-    "location",
-];
-
-struct FieldKey;
-
-impl<'de> DeserializeSeed<'de> for FieldKey {
-    type Value = Field;
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Field, D::Error> {
-        d.deserialize_str(self)
-    }
-}
-
-impl<'de> Visitor<'de> for FieldKey {
-    type Value = Field;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a field name")
-    }
-
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<Field, E> {
-        Ok(match v {
-            "acceleration" => Field::Acc,
-            "angular_velocity" => Field::AngVel,
-            "forward_vector" => Field::Fwd,
-            "right_vector" => Field::Right,
-            "location" => Field::Loc,
-            _ => Field::Other,
-        })
-    }
-}
-
-struct FrameSeed<'c> {
-    ctx: &'c mut Ctx,
-    step: u64,
-}
-
-impl<'de> DeserializeSeed<'de> for FrameSeed<'_> {
-    type Value = TelemetryFrame;
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<TelemetryFrame, D::Error> {
-        d.deserialize_map(self)
-    }
-}
-
-impl<'de> Visitor<'de> for FrameSeed<'_> {
-    type Value = TelemetryFrame;
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("a frame object")
-    }
-
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<TelemetryFrame, A::Error> {
-        let ctx = self.ctx;
-        let step = self.step;
-        let mut vals: [Option<[f64; 3]>; 5] = [None; 5];
-        while let Some(field) = map.next_key_seed(FieldKey)? {
-            let idx = match field {
-                Field::Acc => 0,
-                Field::AngVel => 1,
-                Field::Fwd => 2,
-                Field::Right => 3,
-                Field::Loc => 4,
-                Field::Other => {
-                    map.next_value::<IgnoredAny>()?;
-                    continue;
-                }
-            };
-            let name = FIELD_NAMES[idx];
-            if vals[idx].is_some() {
-                return Err(ctx.fail(TelemetryError::Field {
-                    step,
-                    field: name,
-                    problem: FieldProblem::Duplicate,
-                }));
-            }
-            ctx.field = Some(name);
-            ctx.in_array = false;
-            let v = map.next_value_seed(Vec3 {
-                ctx: &mut *ctx,
-                step,
-                field: name,
-            })?;
-            ctx.field = None;
-            vals[idx] = Some(v);
-        }
-        let mut out = [[0.0f64; 3]; 5];
-        for (i, (slot, name)) in vals.iter().zip(FIELD_NAMES).enumerate() {
-            match slot {
-                Some(v) => out[i] = *v,
-                None => {
-                    return Err(ctx.fail(TelemetryError::Field {
-                        step,
-                        field: name,
-                        problem: FieldProblem::Missing,
-                    }))
-                }
-            }
-        }
-        let [acc, angvel, fwd, right, loc] = out;
-        // Values stored as f32 must stay finite after rounding.
-        let f32_checks: [(usize, &[f64]); 4] = [
-            (0, &acc[..2]),
-            (1, &angvel[2..]),
-            (2, &fwd[..2]),
-            (3, &right[..2]),
-        ];
-        for (i, vs) in f32_checks {
-            if vs.iter().any(|&v| !(v as f32).is_finite()) {
-                return Err(ctx.fail(TelemetryError::Field {
-                    step,
-                    field: FIELD_NAMES[i],
-                    problem: FieldProblem::OutOfF32Range,
-                }));
-            }
-        }
-        Ok(TelemetryFrame {
-            step,
-            location: [loc[0], loc[1]],
-            acc: [acc[0] as f32, acc[1] as f32],
-            fwd: [fwd[0] as f32, fwd[1] as f32],
-            right: [right[0] as f32, right[1] as f32],
-            yaw_rate_deg: angvel[2] as f32,
-        })
-    }
-}
-
-/// A required 3-vector: an array of at least 3 finite numbers; extra elements are ignored.
-struct Vec3<'c> {
-    ctx: &'c mut Ctx,
-    step: u64,
-    field: &'static str,
-}
-
-impl<'de> DeserializeSeed<'de> for Vec3<'_> {
-    type Value = [f64; 3];
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<[f64; 3], D::Error> {
-        d.deserialize_seq(self)
-    }
-}
-
-impl<'de> Visitor<'de> for Vec3<'_> {
-    type Value = [f64; 3];
-
-    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str("an array of 3 numbers")
-    }
-
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<[f64; 3], A::Error> {
-        self.ctx.in_array = true;
-        let mut v = [0.0f64; 3];
-        for slot in &mut v {
-            match seq.next_element::<f64>()? {
-                Some(x) if x.is_finite() => *slot = x,
-                Some(_) => {
-                    return Err(self.ctx.fail(TelemetryError::Field {
-                        step: self.step,
-                        field: self.field,
-                        problem: FieldProblem::NonFinite,
-                    }))
-                }
-                None => {
-                    return Err(self.ctx.fail(TelemetryError::Field {
-                        step: self.step,
-                        field: self.field,
-                        problem: FieldProblem::TooShort,
-                    }))
-                }
-            }
-        }
-        while seq.next_element::<IgnoredAny>()?.is_some() {}
-        self.ctx.in_array = false;
-        Ok(v)
-    }
 }
 
 #[cfg(test)]
@@ -1052,87 +595,5 @@ mod tests {
         // "\u0031" is "1": serde_json hands an unescaped temporary to the key visitor.
         let b = format!("{{\"\\u0031\": {}}}", body(0.0, 0.0));
         assert_eq!(parse_metric_info(b.as_bytes()).unwrap().frames[0].step, 1);
-    }
-
-    #[test]
-    fn speeds_from_displacement() {
-        let f = |step, x: f64, y: f64| TelemetryFrame {
-            step,
-            location: [x, y],
-            ..Default::default()
-        };
-        // 3-4-5 triangle: 5 m in one step of 0.05 s = 100 m/s; then 5 m over 2 steps = 50 m/s.
-        let v = speeds(&[f(10, 0.0, 0.0), f(11, 3.0, 4.0), f(13, 6.0, 8.0)], 0.05);
-        assert_eq!(v[0], 0.0);
-        assert!((v[1] - 100.0).abs() < 1e-9, "{v:?}");
-        assert!((v[2] - 50.0).abs() < 1e-9, "{v:?}");
-        assert!(speeds(&[], 0.05).is_empty());
-        assert_eq!(speeds(&[f(1, 5.0, 5.0)], 0.05), vec![0.0]);
-    }
-
-    #[test]
-    fn infractions_file() {
-        let v = parse_infractions(
-            br#"{"infractions": [
-                {"step": 10, "infraction": "COLLISION_VEHICLE", "frame": 20, "message": "a", "event_type": 1, "meters_travelled": 3.5},
-                {"step": 12, "message": "b"}], "extra": {}}"#,
-        )
-        .unwrap();
-        assert_eq!(
-            v,
-            vec![
-                StepInfraction {
-                    step: 10,
-                    message: "a".into()
-                },
-                StepInfraction {
-                    step: 12,
-                    message: "b".into()
-                }
-            ]
-        );
-        let e = parse_infractions(br#"{"infractions": [{"message": "a"}]}"#).unwrap_err();
-        assert!(e.to_string().contains("missing field `step`"), "{e}");
-        assert!(parse_infractions(b"[]").is_err());
-        let e = read_infractions(Path::new("/nonexistent/infractions.json")).unwrap_err();
-        assert!(e.to_string().starts_with("cannot read "), "{e}");
-    }
-
-    #[test]
-    fn locate_prefers_root_then_result_folder() {
-        let dir = tempfile::tempdir().unwrap();
-        let root = dir.path().join("telemetry");
-        let save = "RouteScenario_1_rep0_Town01_X_1_1_01_01_00_00_00";
-        std::fs::create_dir_all(root.join(save)).unwrap();
-        let results = dir.path().join("res");
-        std::fs::create_dir_all(&results).unwrap();
-        let result_file = results.join("r.json");
-        std::fs::write(&result_file, "{}").unwrap();
-
-        assert_eq!(locate(Some(&root), save, &result_file, true), None);
-        std::fs::write(results.join("metric_info.json"), "{}").unwrap();
-        assert_eq!(
-            locate(Some(&root), save, &result_file, true),
-            Some(results.join("metric_info.json"))
-        );
-        // A merged file (many records) never uses its folder.
-        assert_eq!(locate(Some(&root), save, &result_file, false), None);
-        let mi = root.join(save).join("metric_info.json");
-        std::fs::write(&mi, "{}").unwrap();
-        assert_eq!(
-            locate(Some(&root), save, &result_file, true),
-            Some(mi.clone())
-        );
-        assert_eq!(locate(None, save, &result_file, false), None);
-        assert_eq!(
-            locate(Some(&root), "../telemetry", &result_file, false),
-            None
-        );
-        assert_eq!(infractions_beside(&mi), None);
-        std::fs::write(root.join(save).join("infractions.json"), "{}").unwrap();
-        assert_eq!(
-            infractions_beside(&mi),
-            Some(root.join(save).join("infractions.json"))
-        );
     }
 }

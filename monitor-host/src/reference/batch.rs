@@ -7,22 +7,23 @@
 //! be read against the spec line by line; the property test `tests/tests/streaming_vs_batch.rs`
 //! checks that the two paths agree on random routes, and the replay tool can run both.
 //!
-//! What it shares with `monitor-core`: only the low-level kernels, which the spec requires to be
-//! the same — the Savitzky–Golay filter and its tables ([`sg::filter`], [`sg::VALUE`],
+//! What it shares with `monitor-core`: only the low-level f32 kernels, which the spec requires
+//! to be the same — the Savitzky–Golay filter and its tables ([`sg::filter`], [`sg::VALUE`],
 //! [`sg::DERIVATIVE`]), the per-frame kernels ([`signal::excess`], [`signal::unwrap`],
-//! [`signal::DEG_TO_RAD`]) and [`powu`]. Chunking, the bound comparisons, the deceleration window,
-//! the lateral bands, the counting and the score formula are written here again, independently of
-//! the monitor's state machine (no `Monitor`, `ChunkBuffer`, `DecelWindow`, `LateralChunk`,
-//! `Band::of` or `score::ds_safe`).
+//! [`monitor_core::Profile::comfort_yaw_rate`]), [`powu`] and the score formula
+//! [`monitor_core::score::ds_safe`]. Chunking, the bound comparisons, the deceleration window,
+//! the lateral bands and the counting are written here again, independently of the monitor's
+//! state machine (no `Monitor`, `ChunkBuffer`, `DecelWindow`, `LateralChunk`, `Band::of`).
 //!
 //! ```
 //! use monitor_core::{Collisions, Config, Frame, RecordScores};
-//! use monitor_host::batch;
+//! use monitor_core::score;
+//! use monitor_host::reference::batch;
 //!
 //! let mut frames = vec![Frame { speed: 8.0, lat_err: Some(0.3), ..Frame::default() }; 45];
 //! frames[30].collisions = Collisions { vehicle: 1, ..Collisions::NONE };
 //! frames[44].lat_err = Some(1.2); // excess 0.38 m: an anomalous trailing chunk
-//! let route = batch::summarize(&frames, &Config::DEFAULT);
+//! let route = batch::compute(&frames, &Config::DEFAULT);
 //! assert_eq!(route.summary.comfort.chunks, 2); // frames 40..45 are dropped for comfort
 //! assert_eq!(route.summary.lateral.chunks, 3); // ... but not for lateral excess
 //! assert_eq!(route.summary.lateral.anomalous, 1);
@@ -30,14 +31,13 @@
 //! assert_eq!(route.collisions[0].frame, 30);
 //!
 //! let record = RecordScores { score_route: 100.0, score_penalty: 1.0, workzone: 0 };
-//! let safe = batch::ds_safe(&route.summary, &record, &Config::DEFAULT.factors);
+//! let safe = score::ds_safe(&route.summary, &record, &Config::DEFAULT.factors);
 //! assert!((safe.ds_safe - 100.0 * 0.8 * 0.95).abs() < 1e-9);
 //! ```
 
-use monitor_core::score::powu;
 use monitor_core::{
-    sg, signal, CollisionSummary, ComfortSummary, Config, Factors, FailureCounts, Failures, Frame,
-    LateralSummary, Profile, RecordScores, RouteSummary, SafeScore,
+    sg, signal, CollisionSummary, ComfortSummary, Config, FailureCounts, Failures, Frame,
+    LateralSummary, Profile, RouteSummary,
 };
 
 /// Everything the batch reference computes for one route.
@@ -81,11 +81,11 @@ pub struct BatchComfort {
 ///
 /// ```
 /// use monitor_core::{Config, Frame};
-/// let route = monitor_host::batch::summarize(&[Frame::default(); 19], &Config::DEFAULT);
+/// let route = monitor_host::reference::batch::compute(&[Frame::default(); 19], &Config::DEFAULT);
 /// assert_eq!(route.summary.comfort.chunks, 1); // a short route: one chunk of 19 frames
 /// assert_eq!(route.comfort[0].frames, 19);
 /// ```
-pub fn summarize(frames: &[Frame], config: &Config) -> BatchRoute {
+pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
     let n = frames.len();
     // A valid config has chunk_len >= 7; never let 0 reach `chunks_exact`.
     let chunk_len = usize::from(config.chunk_len).max(1);
@@ -97,10 +97,7 @@ pub fn summarize(frames: &[Frame], config: &Config) -> BatchRoute {
     let a_mag: Vec<f32> = frames.iter().map(|f| f.a_mag).collect();
     let omega: Vec<f32> = frames
         .iter()
-        .map(|f| match config.profile {
-            Profile::Physical => f.yaw_rate * signal::DEG_TO_RAD,
-            Profile::B2dLegacy => f.yaw_rate,
-        })
+        .map(|f| config.profile.comfort_yaw_rate(f.yaw_rate))
         .collect();
     let excess: Vec<Option<f32>> = frames
         .iter()
@@ -168,28 +165,6 @@ pub fn summarize(frames: &[Frame], config: &Config) -> BatchRoute {
         comfort,
         lateral,
     }
-}
-
-/// `DS_safe` and `p_safe` of one route (spec §8), multiplied left to right as the spec writes
-/// them: `p_safe = score_penalty * (workzone / layout)^N_wz`,
-/// `DS_safe = score_route * p_safe * nodecel^N_nodecel * anomalous^N_anom * critical^N_crit`.
-///
-/// ```
-/// use monitor_core::{Factors, RecordScores, RouteSummary};
-/// let mut s = RouteSummary::default();
-/// s.lateral.critical = 2;
-/// let r = RecordScores { score_route: 50.0, score_penalty: 1.0, workzone: 0 };
-/// let safe = monitor_host::batch::ds_safe(&s, &r, &Factors::DEFAULT);
-/// assert!((safe.ds_safe - 50.0 * 0.81).abs() < 1e-9);
-/// ```
-pub fn ds_safe(summary: &RouteSummary, record: &RecordScores, factors: &Factors) -> SafeScore {
-    let p_safe = record.score_penalty * powu(factors.workzone / factors.layout, record.workzone);
-    let ds_safe = record.score_route
-        * p_safe
-        * powu(factors.nodecel, summary.collisions.nodecel)
-        * powu(factors.anomalous, summary.lateral.anomalous)
-        * powu(factors.critical, summary.lateral.critical);
-    SafeScore { p_safe, ds_safe }
 }
 
 fn count(n: usize) -> u32 {
@@ -303,7 +278,7 @@ fn lateral_summary(maxima: &[Option<f32>], config: &Config) -> LateralSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use monitor_core::Collisions;
+    use monitor_core::{score, Collisions, Factors, RecordScores};
 
     fn cruise(n: usize) -> Vec<Frame> {
         vec![
@@ -340,7 +315,7 @@ mod tests {
             (41, 2, 3, Some(20)),
         ];
         for (n, comfort, lateral, first) in cases {
-            let r = summarize(&cruise(n), &Config::DEFAULT);
+            let r = compute(&cruise(n), &Config::DEFAULT);
             assert_eq!(r.summary.frames, n as u32, "n={n}");
             assert_eq!(r.summary.comfort.chunks, comfort, "n={n}");
             assert_eq!(r.summary.comfort.comfortable, comfort, "n={n}");
@@ -356,15 +331,15 @@ mod tests {
             min_chunk: 10,
             ..Config::DEFAULT
         };
-        assert_eq!(summarize(&cruise(9), &config).summary.comfort.chunks, 0);
-        assert_eq!(summarize(&cruise(10), &config).summary.comfort.chunks, 1);
+        assert_eq!(compute(&cruise(9), &config).summary.comfort.chunks, 0);
+        assert_eq!(compute(&cruise(10), &config).summary.comfort.chunks, 1);
         let short = Config {
             chunk_len: 8,
             min_chunk: 8,
             ..Config::DEFAULT
         };
         // 17 frames of 8: two comfort chunks, three lateral chunks.
-        let r = summarize(&cruise(17), &short);
+        let r = compute(&cruise(17), &short);
         assert_eq!(r.summary.comfort.chunks, 2);
         assert_eq!(r.summary.lateral.chunks, 3);
     }
@@ -376,7 +351,7 @@ mod tests {
             for (i, fr) in frames.iter_mut().enumerate() {
                 f(i, fr);
             }
-            summarize(&frames, &Config::DEFAULT).summary.comfort
+            compute(&frames, &Config::DEFAULT).summary.comfort
         };
         // A constant 2.5 m/s² is above 2.40; 2.3 is inside.
         let c = with(&|_, f| f.a_lon = 2.5);
@@ -436,7 +411,7 @@ mod tests {
         for (i, f) in frames.iter_mut().enumerate() {
             f.yaw_rate = if i % 2 == 0 { 0.0 } else { 6.5 };
         }
-        let c = summarize(&frames, &legacy).summary.comfort;
+        let c = compute(&frames, &legacy).summary.comfort;
         assert_eq!(c.comfortable, 1);
         // The unwrap restarts in every chunk: 6.5 deg/s from frame 19 on unwraps to 0.217 in
         // chunk 0, but chunk 1 starts at 6.5 and stays there, failing both yaw bounds.
@@ -444,7 +419,7 @@ mod tests {
         for f in steps[19..].iter_mut() {
             f.yaw_rate = 6.5;
         }
-        let r = summarize(&steps, &legacy);
+        let r = compute(&steps, &legacy);
         assert_eq!(r.comfort[0].failed, Failures::default());
         assert!(r.comfort[1].failed.yaw_rate && r.comfort[1].failed.yaw_acc);
         // 0 and 3 deg/s alternating does not unwrap (3 / 2π rounds to 0): the smoothed values,
@@ -452,13 +427,13 @@ mod tests {
         for (i, f) in frames.iter_mut().enumerate() {
             f.yaw_rate = if i % 2 == 0 { 0.0 } else { 3.0 };
         }
-        let c = summarize(&frames, &legacy).summary.comfort;
+        let c = compute(&frames, &legacy).summary.comfort;
         assert_eq!((c.comfortable, c.failed.yaw_rate), (0, 1));
         // A constant 1.0 deg/s: inside 1.93 (yaw_acc = SG(u)) but outside 0.95.
         for f in frames.iter_mut() {
             f.yaw_rate = 1.0;
         }
-        let c = summarize(&frames, &legacy).summary.comfort;
+        let c = compute(&frames, &legacy).summary.comfort;
         assert_eq!(
             c.failed,
             FailureCounts {
@@ -470,7 +445,7 @@ mod tests {
         for f in frames.iter_mut() {
             f.yaw_rate = 2.0;
         }
-        let c = summarize(&frames, &legacy).summary.comfort;
+        let c = compute(&frames, &legacy).summary.comfort;
         assert_eq!((c.failed.yaw_rate, c.failed.yaw_acc), (1, 1));
     }
 
@@ -485,14 +460,14 @@ mod tests {
             profile: Profile::B2dLegacy,
             ..Config::DEFAULT
         };
-        assert_eq!(summarize(&frames, &legacy).summary.comfort.comfortable, 1);
+        assert_eq!(compute(&frames, &legacy).summary.comfort.comfortable, 1);
     }
 
     #[test]
     fn collision_at_frame_zero_is_exempt() {
         let mut frames = cruise(5);
         frames[0] = hit(frames[0], 2, 1);
-        let r = summarize(&frames, &Config::DEFAULT);
+        let r = compute(&frames, &Config::DEFAULT);
         let c = r.summary.collisions;
         assert_eq!((c.aligned, c.exempt, c.nodecel), (3, 3, 0));
         assert_eq!(
@@ -516,7 +491,7 @@ mod tests {
         frames[50] = hit(frames[50], 1, 0);
         frames[51] = hit(frames[51], 1, 0); // ... but counts for the next one
         frames[51].speed = 0.49; // standing: exempt whatever the window
-        let r = summarize(&frames, &Config::DEFAULT);
+        let r = compute(&frames, &Config::DEFAULT);
         let v: Vec<(usize, bool, bool)> = r
             .collisions
             .iter()
@@ -539,7 +514,7 @@ mod tests {
             decel_window: 0,
             ..Config::DEFAULT
         };
-        assert_eq!(summarize(&frames, &none).summary.collisions.nodecel, 5);
+        assert_eq!(compute(&frames, &none).summary.collisions.nodecel, 5);
     }
 
     #[test]
@@ -561,7 +536,7 @@ mod tests {
         set(1, 0.5);
         set(2, 0.6);
         set(3, 2.0);
-        let r = summarize(&frames, &config);
+        let r = compute(&frames, &config);
         let l = r.summary.lateral;
         assert_eq!(
             (l.chunks, l.scored_chunks, l.anomalous, l.critical),
@@ -579,14 +554,14 @@ mod tests {
             slack: 0.0,
             ..Config::DEFAULT
         };
-        let l = summarize(&edge, &zero).summary.lateral;
+        let l = compute(&edge, &zero).summary.lateral;
         assert_eq!((l.anomalous, l.critical), (1, 1));
         // With the default slack, the f32 sums 0.82 + 0.25 and 0.82 + 0.65 round to excesses
         // 0.24999994 (normal) and 0.65000004 (critical).
         let mut edge = cruise(40);
         edge[0].lat_err = Some(-(0.82f32 + 0.25));
         edge[20].lat_err = Some(0.82f32 + 0.65);
-        let r = summarize(&edge, &Config::DEFAULT);
+        let r = compute(&edge, &Config::DEFAULT);
         assert_eq!(r.lateral[0], Some(0.249_999_94));
         assert_eq!(r.lateral[1], Some(0.650_000_04));
         let l = r.summary.lateral;
@@ -604,10 +579,10 @@ mod tests {
             score_penalty: 0.65,
             workzone: 1,
         };
-        let safe = ds_safe(&s, &r, &Factors::DEFAULT);
+        let safe = score::ds_safe(&s, &r, &Factors::DEFAULT);
         assert!((safe.p_safe - 0.5).abs() < 1e-12);
         assert!((safe.ds_safe - 80.0 * 0.5 * 0.64 * 0.95 * 0.9).abs() < 1e-9);
-        let zero = ds_safe(&RouteSummary::default(), &r, &Factors::DEFAULT);
+        let zero = score::ds_safe(&RouteSummary::default(), &r, &Factors::DEFAULT);
         assert_eq!(zero.ds_safe, 80.0 * zero.p_safe);
     }
 }

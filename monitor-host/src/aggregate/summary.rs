@@ -1,0 +1,95 @@
+//! The benchmark aggregates (`SDS-SPEC.md` v1.2 §8.1): f64, summed in input order.
+
+use serde::Serialize;
+
+use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+
+/// Benchmark aggregates (spec section 8).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Summary {
+    /// N: routes found, or `--expected-routes`.
+    pub routes: usize,
+    /// Routes found in the input.
+    pub routes_found: usize,
+    /// Routes with defined comfort.
+    pub comfort_routes: usize,
+    /// Σ score_composed / N.
+    pub driving_score: Option<f64>,
+    /// 100 × successes / N.
+    pub success_rate: Option<f64>,
+    /// Σ DS_safe / N; null when some route could not be scored.
+    pub mean_ds_safe: Option<f64>,
+    /// Mean comfort over routes with defined comfort.
+    pub mean_comfort: Option<f64>,
+    /// mean_ds_safe × mean_comfort.
+    pub sds: Option<f64>,
+    /// 100 × routes with a collision / N.
+    pub collision_rate: Option<f64>,
+    /// Routes whose recorded penalty disagrees with their infractions.
+    pub penalty_mismatches: Vec<String>,
+    /// Routes whose telemetry is missing or invalid.
+    pub telemetry_problems: usize,
+    /// Invalid records.
+    pub invalid_records: usize,
+    /// Routes where streaming and batch disagreed (must be empty).
+    pub batch_disagreements: Vec<String>,
+}
+
+/// Computes the aggregates over the outcomes, in input order.
+pub fn summarize(outcomes: &[RouteOutcome], expected: Option<usize>) -> Summary {
+    let found = outcomes.len();
+    let n = expected.unwrap_or(found);
+    let per = |total: f64| (n > 0).then(|| total / n as f64);
+    let mut composed = 0.0f64;
+    let mut successes = 0usize;
+    let mut ds_safe = 0.0f64;
+    let mut all_scored = true;
+    let mut comfort_sum = 0.0f64;
+    let mut comfort_routes = 0usize;
+    let mut collided = 0usize;
+    for o in outcomes {
+        let Some(r) = o.record() else {
+            all_scored = false;
+            continue;
+        };
+        composed += r.score_composed;
+        successes += usize::from(r.is_success());
+        match o.safe {
+            Some(s) => ds_safe += s.ds_safe,
+            None => all_scored = false,
+        }
+        if let Some(c) = o.summary.and_then(|s| s.comfort_score()) {
+            comfort_sum += c;
+            comfort_routes += 1;
+        }
+        collided += usize::from(!o.events.is_empty());
+    }
+    let mean_ds_safe = if all_scored { per(ds_safe) } else { None };
+    let mean_comfort = (comfort_routes > 0).then(|| comfort_sum / comfort_routes as f64);
+    Summary {
+        routes: n,
+        routes_found: found,
+        comfort_routes,
+        driving_score: per(composed),
+        success_rate: per(100.0 * successes as f64),
+        sds: mean_ds_safe.zip(mean_comfort).map(|(d, c)| d * c),
+        mean_ds_safe,
+        mean_comfort,
+        collision_rate: per(100.0 * collided as f64),
+        penalty_mismatches: outcomes
+            .iter()
+            .filter(|o| o.penalty.is_some_and(|p| !p.agrees))
+            .filter_map(|o| o.record().map(|r| r.route_id.clone()))
+            .collect(),
+        telemetry_problems: outcomes
+            .iter()
+            .filter(|o| o.record().is_some() && o.telemetry != TelemetryState::Ok)
+            .count(),
+        invalid_records: outcomes.iter().filter(|o| o.record().is_none()).count(),
+        batch_disagreements: outcomes
+            .iter()
+            .filter(|o| o.batch_agrees == Some(false))
+            .filter_map(|o| o.record().map(|r| r.route_id.clone()))
+            .collect(),
+    }
+}

@@ -1,0 +1,136 @@
+//! The command line's arguments (clap).
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// `sds`: the SafeDriving Score of Bench2Drive runs.
+#[derive(Debug, Parser)]
+#[command(name = "sds", version, about, long_about = None)]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Report formats.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// The JSON report of spec section 10.
+    Json,
+    /// The paper's Table 1 row and a Table 2-style breakdown.
+    Table,
+    /// One line per route.
+    Csv,
+}
+
+/// Comfort profiles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ProfileArg {
+    /// Physical units (default).
+    Physical,
+    /// Bench2Drive's published smoothness, bugs included.
+    #[value(name = "b2d-legacy")]
+    B2dLegacy,
+}
+
+/// Breakdown groups.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum GroupArg {
+    /// Scenario type.
+    Scenario,
+    /// Scenario family (`--families`).
+    Family,
+    /// Town.
+    Town,
+    /// Weather (`--weathers`).
+    Weather,
+}
+
+/// Arguments of `sds score`.
+#[derive(Debug, clap::Args)]
+pub struct ScoreArgs {
+    /// Results: a raw evaluator file, a merged file, or a directory of per-route files.
+    /// Repeat to read several.
+    #[arg(long, required = true)]
+    pub results: Vec<PathBuf>,
+    /// Telemetry root holding `<save_name>/metric_info.json`.
+    #[arg(long)]
+    pub telemetry: Option<PathBuf>,
+    /// Bench2Drive route XML (reference for the lateral error).
+    #[arg(long)]
+    pub routes: Option<PathBuf>,
+    /// Comfort profile.
+    #[arg(long, value_enum, default_value = "physical")]
+    pub profile: ProfileArg,
+    /// Benchmark size N (missing routes count as 0 / failed), e.g. 220.
+    #[arg(long)]
+    pub expected_routes: Option<usize>,
+    /// Score routes without telemetry without telemetry terms instead of failing them.
+    #[arg(long)]
+    pub allow_missing_telemetry: bool,
+    /// Output format.
+    #[arg(long, value_enum, default_value = "json")]
+    pub format: Format,
+    /// Write the report here (atomically) instead of standard output.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// Group the table's breakdown by this.
+    #[arg(long, value_enum, default_value = "scenario")]
+    pub group_by: GroupArg,
+    /// Scenario type -> family label (JSON object, or CSV `type,label` lines).
+    #[arg(long)]
+    pub families: Option<PathBuf>,
+    /// Weather id -> label (JSON object, or CSV `id,label` lines).
+    #[arg(long)]
+    pub weathers: Option<PathBuf>,
+    /// Override a setting, e.g. `--set slack=0.9 --set bounds.yaw_rate=1.0 --set gap_max=6`.
+    /// Names are those of the report's `config` block.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Score a run: every route through the streaming monitor, then the report.
+    Score(ScoreArgs),
+    /// Write the built-in demo run into DIR (and score it with --score).
+    Demo {
+        /// Output folder.
+        dir: PathBuf,
+        /// Score the demo afterwards and print the table.
+        #[arg(long)]
+        score: bool,
+        /// Write a benchmark-sized run (220 routes x 4,000 frames) instead.
+        #[arg(long)]
+        large: bool,
+        /// Routes of the large run.
+        #[arg(long, default_value_t = 220)]
+        large_routes: usize,
+        /// Frames per route of the large run.
+        #[arg(long, default_value_t = 4000)]
+        large_frames: usize,
+    },
+    /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
+    Frames {
+        /// Results file or directory.
+        #[arg(long)]
+        results: PathBuf,
+        /// Telemetry root.
+        #[arg(long)]
+        telemetry: Option<PathBuf>,
+        /// Route XML.
+        #[arg(long)]
+        routes: Option<PathBuf>,
+        /// The route id (`RouteScenario_<id>_rep<k>`).
+        #[arg(long)]
+        route_id: String,
+        /// Write here instead of standard output.
+        #[arg(short = 'o', long)]
+        output: Option<PathBuf>,
+    },
+}

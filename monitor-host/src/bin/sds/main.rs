@@ -1,0 +1,195 @@
+//! `sds`: the SafeDriving Score tool. See `sds --help` and the crate docs of `monitor_host`.
+//!
+//! The binary is thin: arguments, progress bar, output, exit codes. Everything else is the
+//! library's [`monitor_host::score_run`].
+//!
+//! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
+//! 2 usage error; 3 the report was written but some route has a problem (missing or invalid
+//! telemetry without `--allow-missing-telemetry`, an invalid record, or a streaming/batch
+//! disagreement) — every such route is in the report with its state.
+
+mod args;
+mod output;
+mod progress;
+
+use anyhow::Result;
+use clap::Parser;
+
+use monitor_host::aggregate::groups::{GroupBy, Labels};
+use monitor_host::input::labels::read_labels;
+use monitor_host::report::{csv, json, table};
+use monitor_host::{demo, route_frames, score_run_with, Inputs, Settings};
+
+use args::{Cli, Command, Format, GroupArg, ProfileArg, ScoreArgs};
+use output::write_output;
+
+/// Exit code: the report was written, but some route has a problem.
+const EXIT_ROUTE_PROBLEMS: i32 = 3;
+
+fn main() {
+    let cli = Cli::parse();
+    let code = match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("sds: error: {e:#}");
+            1
+        }
+    };
+    std::process::exit(code);
+}
+
+fn run(cli: Cli) -> Result<i32> {
+    match cli.command {
+        Command::Score(args) => score(&args),
+        Command::Demo {
+            dir,
+            score: then_score,
+            large,
+            large_routes,
+            large_frames,
+        } => {
+            let run = if large {
+                demo::write_large(&dir, large_routes, large_frames)?
+            } else {
+                demo::write(&dir)?
+            };
+            eprintln!(
+                "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
+                run.route_ids.len(),
+                dir.display(),
+                run.results.display(),
+                run.telemetry.display(),
+                run.routes.display()
+            );
+            if !then_score {
+                return Ok(0);
+            }
+            score(&ScoreArgs {
+                results: vec![run.results],
+                telemetry: Some(run.telemetry),
+                routes: Some(run.routes),
+                profile: ProfileArg::Physical,
+                expected_routes: None,
+                allow_missing_telemetry: false,
+                format: Format::Table,
+                output: None,
+                group_by: GroupArg::Scenario,
+                families: None,
+                weathers: None,
+                set: vec![],
+                jobs: None,
+            })
+        }
+        Command::Frames {
+            results,
+            telemetry,
+            routes,
+            route_id,
+            output,
+        } => {
+            let inputs = Inputs {
+                results: vec![results],
+                telemetry,
+                route_xml: routes,
+            };
+            let run = route_frames(&inputs, &route_id, &Settings::default())?;
+            for w in &run.warnings {
+                eprintln!("sds: warning: {route_id}: {w}");
+            }
+            let mut out = Vec::new();
+            let mut buf = [0u8; 512];
+            for f in &run.frames {
+                let n = monitor_core::json::encode(f, &mut buf)
+                    .map_err(|e| anyhow::anyhow!("cannot encode a frame: {e}"))?;
+                out.extend_from_slice(&buf[..n]);
+                out.push(b'\n');
+            }
+            write_output(output.as_deref(), &out)?;
+            Ok(0)
+        }
+    }
+}
+
+/// The settings of `sds score`: its options, then `--set` overrides in order.
+fn settings(args: &ScoreArgs) -> Result<Settings> {
+    let mut s = Settings::default();
+    s.core.profile = match args.profile {
+        ProfileArg::Physical => monitor_core::Profile::Physical,
+        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+    };
+    s.expected_routes = args.expected_routes;
+    s.allow_missing_telemetry = args.allow_missing_telemetry;
+    s.threads = args.jobs;
+    s.apply(&args.set)?;
+    Ok(s)
+}
+
+fn score(args: &ScoreArgs) -> Result<i32> {
+    let settings = settings(args)?;
+    let inputs = Inputs {
+        results: args.results.clone(),
+        telemetry: args.telemetry.clone(),
+        route_xml: args.routes.clone(),
+    };
+    let bar = progress::Bar::new();
+    let report = score_run_with(&inputs, &settings, &bar);
+    bar.finish();
+    let report = report?;
+
+    for w in &report.warnings {
+        eprintln!("sds: warning: {w}");
+    }
+    for r in &report.routes {
+        for w in &r.warnings {
+            let id = r.route_id.as_deref().unwrap_or("<no route_id>");
+            eprintln!("sds: warning: {id}: {w}");
+        }
+    }
+    let bytes = match args.format {
+        Format::Json => json::json(&report)?,
+        Format::Csv => csv::csv(&report),
+        Format::Table => {
+            let group = match args.group_by {
+                GroupArg::Scenario => GroupBy::Scenario,
+                GroupArg::Family => GroupBy::Family,
+                GroupArg::Town => GroupBy::Town,
+                GroupArg::Weather => GroupBy::Weather,
+            };
+            let labels = match (group, &args.families, &args.weathers) {
+                (GroupBy::Family, Some(f), _) => read_labels(f)?,
+                (GroupBy::Weather, _, Some(w)) => read_labels(w)?,
+                _ => Labels::new(),
+            };
+            table::table(&report, group, &labels).into_bytes()
+        }
+    };
+    write_output(args.output.as_deref(), &bytes)?;
+
+    // The exit status comes from the report's data, never from its rendering.
+    if !report.has_problems() {
+        return Ok(0);
+    }
+    if report.routes.is_empty() {
+        eprintln!("sds: no route found in the results: nothing was scored");
+    }
+    for r in report.problem_routes() {
+        eprintln!(
+            "sds: {} ({}): {}",
+            r.route_id.as_deref().unwrap_or("<no route_id>"),
+            r.source,
+            r.state
+        );
+    }
+    let s = &report.summary;
+    if !s.batch_disagreements.is_empty() {
+        eprintln!(
+            "sds: streaming and batch disagree on {:?} (please report this bug)",
+            s.batch_disagreements
+        );
+    }
+    eprintln!(
+        "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
+        s.telemetry_problems, s.invalid_records
+    );
+    Ok(EXIT_ROUTE_PROBLEMS)
+}

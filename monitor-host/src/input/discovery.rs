@@ -1,0 +1,154 @@
+//! Finding the run's files (`SDS-SPEC.md` v1.2 §1.2): the results files of a directory tree,
+//! and the telemetry (`metric_info.json`) and LEAD `infractions.json` of a record.
+
+use std::collections::HashSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use walkdir::WalkDir;
+
+use crate::warning::Warning;
+
+/// The candidate results files under `root`: every `*.json` except `metric_info.json` and
+/// `infractions.json`, sorted by path. Symbolic links are followed; a folder reached twice (a
+/// link loop or a second link) is read once. Entries that cannot be read are skipped with a
+/// warning.
+pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut visited = HashSet::new();
+    let mut walk = WalkDir::new(root)
+        .follow_links(true)
+        .sort_by_file_name()
+        .into_iter();
+    while let Some(entry) = walk.next() {
+        let entry = match entry {
+            Ok(e) => e,
+            Err(e) => {
+                if e.loop_ancestor().is_some() {
+                    continue; // a symlink loop: the folder is being read already
+                }
+                let path = e.path().unwrap_or(root).to_path_buf();
+                let reason = e
+                    .io_error()
+                    .map_or_else(|| e.to_string(), ToString::to_string);
+                // A folder that exists but cannot be listed, or an entry (a dangling link)
+                // that cannot be read at all.
+                warnings.push(if fs::metadata(&path).is_ok_and(|m| m.is_dir()) {
+                    Warning::CannotList { dir: path, reason }
+                } else {
+                    Warning::CannotRead { path, reason }
+                });
+                continue;
+            }
+        };
+        let path = entry.path();
+        if entry.file_type().is_dir() {
+            let canon = fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+            if !visited.insert(canon) {
+                walk.skip_current_dir(); // a second link to a folder already read
+            }
+        } else if entry.file_type().is_file() {
+            let name = entry.file_name().to_string_lossy();
+            let is_json = path.extension().is_some_and(|e| e == "json");
+            if is_json && name != "metric_info.json" && name != "infractions.json" {
+                files.push(path.to_path_buf());
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// Locates a record's `metric_info.json` (`SDS-SPEC.md` §1.2): first
+/// `<telemetry_root>/<save_name>/metric_info.json`, then `metric_info.json` in the folder of the
+/// result file if that file holds this one record. Returns the first that is a file.
+///
+/// A `save_name` that is empty, `.`/`..` or contains a path separator is not used as a folder
+/// name.
+pub fn locate_metric_info(
+    telemetry_root: Option<&Path>,
+    save_name: &str,
+    result_file: &Path,
+    file_holds_one_record: bool,
+) -> Option<PathBuf> {
+    let safe_name = !save_name.is_empty()
+        && save_name != "."
+        && save_name != ".."
+        && !save_name.contains(['/', '\\']);
+    if let Some(root) = telemetry_root {
+        if safe_name {
+            let p = root.join(save_name).join("metric_info.json");
+            // `exists`, not `is_file`: a directory or an unreadable file in its place is found
+            // here and reported as invalid by the reader, not silently called missing.
+            if p.exists() {
+                return Some(p);
+            }
+        }
+    }
+    if file_holds_one_record {
+        let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
+        let p = dir.join("metric_info.json");
+        if p.exists() {
+            return Some(p);
+        }
+    }
+    None
+}
+
+/// The `infractions.json` beside a located `metric_info.json`, if it exists.
+pub fn lead_infractions_beside(metric_info: &Path) -> Option<PathBuf> {
+    let p = metric_info
+        .parent()
+        .unwrap_or_else(|| Path::new(""))
+        .join("infractions.json");
+    p.is_file().then_some(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn locate_prefers_root_then_result_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path().join("telemetry");
+        let save = "RouteScenario_1_rep0_Town01_X_1_1_01_01_00_00_00";
+        std::fs::create_dir_all(root.join(save)).unwrap();
+        let results = dir.path().join("res");
+        std::fs::create_dir_all(&results).unwrap();
+        let result_file = results.join("r.json");
+        std::fs::write(&result_file, "{}").unwrap();
+
+        assert_eq!(
+            locate_metric_info(Some(&root), save, &result_file, true),
+            None
+        );
+        std::fs::write(results.join("metric_info.json"), "{}").unwrap();
+        assert_eq!(
+            locate_metric_info(Some(&root), save, &result_file, true),
+            Some(results.join("metric_info.json"))
+        );
+        // A merged file (many records) never uses its folder.
+        assert_eq!(
+            locate_metric_info(Some(&root), save, &result_file, false),
+            None
+        );
+        let mi = root.join(save).join("metric_info.json");
+        std::fs::write(&mi, "{}").unwrap();
+        assert_eq!(
+            locate_metric_info(Some(&root), save, &result_file, true),
+            Some(mi.clone())
+        );
+        assert_eq!(locate_metric_info(None, save, &result_file, false), None);
+        assert_eq!(
+            locate_metric_info(Some(&root), "../telemetry", &result_file, false),
+            None
+        );
+        assert_eq!(lead_infractions_beside(&mi), None);
+        std::fs::write(root.join(save).join("infractions.json"), "{}").unwrap();
+        assert_eq!(
+            lead_infractions_beside(&mi),
+            Some(root.join(save).join("infractions.json"))
+        );
+    }
+}

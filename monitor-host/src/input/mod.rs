@@ -1,0 +1,22 @@
+//! Reading the run's files. Everything here turns bytes into typed values and names the file,
+//! route and field of any problem.
+//!
+//! | what | module |
+//! |---|---|
+//! | a route record: infraction lists, scores, meta (§1.1) | [`record`] |
+//! | results files: raw, merged, per-route (§1.1) | [`results_file`] |
+//! | finding files: result trees, telemetry folders (§1.2) | [`discovery`] |
+//! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
+//! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
+//! | route XML: the lateral reference (§1.3) | [`route_xml`] |
+//! | collision strings (§5, §7) | [`collision`] |
+//! | label maps for the breakdown (§8.3) | [`labels`] |
+
+pub mod collision;
+pub mod discovery;
+pub mod labels;
+pub mod lead_infractions;
+pub mod metric_info;
+pub mod record;
+pub mod results_file;
+pub mod route_xml;

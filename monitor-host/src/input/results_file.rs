@@ -1,0 +1,555 @@
+//! Evaluator results files: Bench2Drive / CARLA Leaderboard 2.0 checkpoint JSON
+//! (`SDS-SPEC.md` v1.2 §1.1, §1.2 "Directory input").
+//!
+//! Three shapes are read, all through [`read_results`]:
+//! - a raw evaluator file: `{"_checkpoint": {"global_record", "progress", "records": [..]},
+//!   "entry_status", ...}`;
+//! - a Bench2Drive merged file: `{"_checkpoint": {"records": [..]}, "driving score",
+//!   "success rate", "eval num"}`;
+//! - a directory tree of per-route raw files ([`crate::input::discovery::json_files`]). Every
+//!   file whose top level has `_checkpoint` is read; when raw files exist, merged files (those
+//!   with `"driving score"`) are skipped with a warning.
+//!
+//! Records are validated one by one ([`Record::from_value`]): a record with a missing or
+//! wrong-typed required field is kept as an invalid entry naming the field, never dropped.
+//!
+//! ```
+//! use monitor_host::input::results_file::read_results;
+//! let dir = tempfile::tempdir()?;
+//! let file = dir.path().join("endpoint.json");
+//! std::fs::write(&file, r#"{"_checkpoint": {"progress": [1, 1], "records": [{
+//!     "route_id": "RouteScenario_3564_rep0", "scenario_name": "InvadingTurn_1",
+//!     "weather_id": 23, "status": "Completed",
+//!     "infractions": {"collisions_layout": [], "min_speed_infractions": ["Average speed is 90.0% of the surrounding traffic's one"]},
+//!     "scores": {"score_route": 100, "score_penalty": 1.0, "score_composed": 100.0}}]},
+//!     "entry_status": "Finished"}"#)?;
+//! let set = read_results(&file)?;
+//! assert_eq!(set.records.len(), 1);
+//! let record = set.records[0].entry.as_ref().expect("valid record");
+//! assert_eq!(record.xml_id(), Some("3564"));
+//! assert_eq!(record.scenario_type(), "InvadingTurn");
+//! assert_eq!(record.weather_id.as_deref(), Some("23"));
+//! assert!(record.is_success());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::collections::HashMap;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value};
+
+use crate::input::discovery;
+use crate::input::record::{expected, kind, LoadedRecord, Record};
+use crate::warning::Warning;
+
+/// The totals stored in a Bench2Drive merged file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergedTotals {
+    /// `"driving score"` (0..100).
+    pub driving_score: f64,
+    /// `"success rate"` (0..1, a fraction, as Bench2Drive stores it).
+    pub success_rate: f64,
+    /// `"eval num"` (the number of records merged), when present.
+    pub eval_num: Option<u64>,
+    /// The merged file.
+    pub source: PathBuf,
+}
+
+/// Everything [`load`] read.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ResultSet {
+    /// Input order: files sorted by path, records in file order.
+    pub records: Vec<LoadedRecord>,
+    /// Human-readable warnings (crashed runs with no records, skipped merged files, duplicate
+    /// route ids naming both files, unknown statuses, ignored stored totals).
+    pub warnings: Vec<Warning>,
+    /// The stored totals of the merged files that were read.
+    pub merged_totals: Vec<MergedTotals>,
+    /// Files in a directory that looked like results but could not be read, with the reason.
+    pub broken_files: Vec<(PathBuf, String)>,
+}
+
+impl ResultSet {
+    /// The valid records, in input order.
+    pub fn valid(&self) -> impl Iterator<Item = &Record> {
+        self.records.iter().filter_map(|r| r.entry.as_ref().ok())
+    }
+}
+
+/// Why a results file (or directory) could not be read. Every message names the file.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ResultsError {
+    /// The path could not be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file ends before the JSON value is complete.
+    #[error("{}: truncated JSON: unexpected end of input at line {line}, column {column}", path.display())]
+    TruncatedJson {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line of the end of input.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+    },
+    /// The file is not valid JSON.
+    #[error("{}: invalid JSON at line {line}, column {column}: {message}", path.display())]
+    InvalidJson {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// The parser's message.
+        message: String,
+    },
+    /// Valid JSON, but not a checkpoint: a required field is missing or has the wrong type.
+    #[error("{}: field {field}: {reason}", path.display())]
+    Format {
+        /// The file.
+        path: PathBuf,
+        /// The JSON path of the field, e.g. `_checkpoint.records`.
+        field: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// A directory holds no evaluator result file at all.
+    #[error("{}: no evaluator result files (*.json with a top-level \"_checkpoint\") found", path.display())]
+    NoResults {
+        /// The directory.
+        path: PathBuf,
+    },
+}
+
+/// Reads evaluator results from a file (raw or merged) or a directory tree of them.
+///
+/// A single file that is unreadable, not JSON, or has no `_checkpoint.records` array is an
+/// error. In a directory such a file goes to [`ResultSet::broken_files`] (and a warning) and
+/// loading continues; a directory without any result file is [`ResultsError::NoResults`].
+pub fn read_results(path: &Path) -> Result<ResultSet, ResultsError> {
+    let meta = fs::metadata(path).map_err(|source| ResultsError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut set = ResultSet::default();
+    if meta.is_dir() {
+        load_dir(path, &mut set)?;
+    } else {
+        let file = match parse_file(path) {
+            Parsed::Checkpoint(f) => f,
+            Parsed::NotCheckpoint(e) | Parsed::Broken(e) => return Err(e),
+        };
+        add_file(&mut set, path, file, true);
+    }
+    warn_duplicates(&mut set);
+    Ok(set)
+}
+
+/// A parsed checkpoint file, before record validation.
+struct CheckpointFile {
+    records: Vec<Value>,
+    merged: bool,
+    entry_status: Option<String>,
+    progress: Option<Vec<Value>>,
+    top: Map<String, Value>,
+}
+
+enum Parsed {
+    Checkpoint(CheckpointFile),
+    /// Valid JSON without a top-level `_checkpoint` (in a directory: not a results file).
+    NotCheckpoint(ResultsError),
+    /// Unreadable, invalid JSON, or a `_checkpoint` without a records array.
+    Broken(ResultsError),
+}
+
+fn parse_file(path: &Path) -> Parsed {
+    let bytes = match fs::read(path) {
+        Ok(b) => b,
+        Err(source) => {
+            return Parsed::Broken(ResultsError::Io {
+                path: path.to_path_buf(),
+                source,
+            })
+        }
+    };
+    let value: Value = match serde_json::from_slice(&bytes) {
+        Ok(v) => v,
+        Err(e) => {
+            let err = if e.classify() == serde_json::error::Category::Eof {
+                ResultsError::TruncatedJson {
+                    path: path.to_path_buf(),
+                    line: e.line(),
+                    column: e.column(),
+                }
+            } else {
+                ResultsError::InvalidJson {
+                    path: path.to_path_buf(),
+                    line: e.line(),
+                    column: e.column(),
+                    message: strip_position(&e.to_string()),
+                }
+            };
+            return Parsed::Broken(err);
+        }
+    };
+    let format = |field: &str, reason: String| ResultsError::Format {
+        path: path.to_path_buf(),
+        field: field.to_string(),
+        reason,
+    };
+    let Value::Object(mut top) = value else {
+        return Parsed::NotCheckpoint(format(
+            "(top level)",
+            format!(
+                "expected an object with \"_checkpoint\", got {}",
+                kind(&value)
+            ),
+        ));
+    };
+    let checkpoint = match top.remove("_checkpoint") {
+        None => {
+            return Parsed::NotCheckpoint(format("_checkpoint", "missing".to_string()));
+        }
+        Some(Value::Object(m)) => m,
+        Some(v) => return Parsed::Broken(format("_checkpoint", expected("an object", &v))),
+    };
+    let mut checkpoint = checkpoint;
+    let records = match checkpoint.remove("records") {
+        None => return Parsed::Broken(format("_checkpoint.records", "missing".to_string())),
+        Some(Value::Array(a)) => a,
+        Some(v) => return Parsed::Broken(format("_checkpoint.records", expected("an array", &v))),
+    };
+    let progress = match checkpoint.remove("progress") {
+        Some(Value::Array(a)) => Some(a),
+        _ => None,
+    };
+    let entry_status = top
+        .get("entry_status")
+        .and_then(Value::as_str)
+        .map(String::from);
+    Parsed::Checkpoint(CheckpointFile {
+        records,
+        merged: top.contains_key("driving score"),
+        entry_status,
+        progress,
+        top,
+    })
+}
+
+/// serde_json appends " at line L column C"; the error variants carry those separately.
+fn strip_position(msg: &str) -> String {
+    match msg.rfind(" at line ") {
+        Some(i) => msg[..i].to_string(),
+        None => msg.to_string(),
+    }
+}
+
+fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile, read_totals: bool) {
+    let n = file.records.len();
+    let progress_text = file.progress.as_ref().map(|p| {
+        let parts: Vec<String> = p.iter().map(Value::to_string).collect();
+        format!("[{}]", parts.join(", "))
+    });
+    let progress_pair = file.progress.as_ref().and_then(|p| match p.as_slice() {
+        [a, b] => Some((a.as_u64()?, b.as_u64()?)),
+        _ => None,
+    });
+    if n == 0 {
+        let unfinished = file
+            .entry_status
+            .as_deref()
+            .is_some_and(|s| s != "Finished")
+            || progress_pair.is_some_and(|(i, total)| i < total);
+        set.warnings.push(Warning::NoRecords {
+            file: path.to_path_buf(),
+            entry_status: file.entry_status.clone(),
+            progress: progress_text,
+            crashed: unfinished,
+        });
+    } else if let Some((_, total)) = progress_pair {
+        if (n as u64) < total {
+            set.warnings.push(Warning::Unfinished {
+                file: path.to_path_buf(),
+                progress: progress_text.unwrap_or_else(|| "?".into()),
+                recorded: n,
+                total,
+            });
+        }
+    }
+    if file.merged && read_totals {
+        match merged_totals(&file.top, path) {
+            Ok(t) => set.merged_totals.push(t),
+            Err(reason) => set.warnings.push(Warning::StoredTotalsIgnored {
+                file: path.to_path_buf(),
+                reason,
+            }),
+        }
+    }
+    for (index, value) in file.records.iter().enumerate() {
+        let entry = Record::from_value(value);
+        if let Ok(r) = &entry {
+            let known = matches!(r.status.as_str(), "Completed" | "Perfect" | "Failed")
+                || r.status.starts_with("Failed - ");
+            if !known {
+                set.warnings.push(Warning::UnknownStatus {
+                    file: path.to_path_buf(),
+                    index,
+                    route: r.route_id.clone(),
+                    status: r.status.clone(),
+                });
+            }
+        }
+        set.records.push(LoadedRecord {
+            source: path.to_path_buf(),
+            index,
+            records_in_file: n,
+            entry,
+        });
+    }
+}
+
+fn merged_totals(top: &Map<String, Value>, path: &Path) -> Result<MergedTotals, String> {
+    let num = |key: &str| match top.get(key) {
+        None => Err(format!("field \"{key}\": missing")),
+        Some(v) => v
+            .as_f64()
+            .ok_or_else(|| format!("field \"{key}\": {}", expected("a number", v))),
+    };
+    let driving_score = num("driving score")?;
+    let success_rate = num("success rate")?;
+    let eval_num = match top.get("eval num") {
+        None | Some(Value::Null) => None,
+        Some(v) => Some(v.as_u64().ok_or_else(|| {
+            format!(
+                "field \"eval num\": {}",
+                expected("a non-negative integer", v)
+            )
+        })?),
+    };
+    Ok(MergedTotals {
+        driving_score,
+        success_rate,
+        eval_num,
+        source: path.to_path_buf(),
+    })
+}
+
+fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
+    // The root itself must be listable: an unreadable root is an error, not a warning.
+    fs::read_dir(root).map_err(|source| ResultsError::Io {
+        path: root.to_path_buf(),
+        source,
+    })?;
+    let files = discovery::json_files(root, &mut set.warnings);
+
+    let mut raw = Vec::new();
+    let mut merged = Vec::new();
+    for path in files {
+        match parse_file(&path) {
+            Parsed::Checkpoint(f) if f.merged => merged.push((path, f)),
+            Parsed::Checkpoint(f) => raw.push((path, f)),
+            Parsed::NotCheckpoint(_) => {}
+            Parsed::Broken(e) => {
+                let reason = e.to_string();
+                set.warnings.push(Warning::UnreadableResults {
+                    reason: reason.clone(),
+                });
+                set.broken_files.push((path, reason));
+            }
+        }
+    }
+    if raw.is_empty() && merged.is_empty() && set.broken_files.is_empty() {
+        return Err(ResultsError::NoResults {
+            path: root.to_path_buf(),
+        });
+    }
+    if raw.is_empty() {
+        for (path, f) in merged {
+            add_file(set, &path, f, true);
+        }
+    } else {
+        for (path, _) in &merged {
+            set.warnings.push(Warning::MergedSkipped {
+                file: path.clone(),
+                raw_files: raw.len(),
+            });
+        }
+        for (path, f) in raw {
+            add_file(set, &path, f, false);
+        }
+    }
+    Ok(())
+}
+
+fn warn_duplicates(set: &mut ResultSet) {
+    let mut first: HashMap<&str, &LoadedRecord> = HashMap::new();
+    let mut warnings = Vec::new();
+    for lr in &set.records {
+        let id = match &lr.entry {
+            Ok(r) => Some(r.route_id.as_str()),
+            Err(e) => e.route_id.as_deref(),
+        };
+        let Some(id) = id else { continue };
+        match first.get(id) {
+            None => {
+                first.insert(id, lr);
+            }
+            Some(prev) => warnings.push(Warning::DuplicateRoute {
+                route: id.to_string(),
+                first: (prev.source.clone(), prev.index),
+                second: (lr.source.clone(), lr.index),
+            }),
+        }
+    }
+    set.warnings.extend(warnings);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    fn good() -> Value {
+        json!({
+            "index": 0,
+            "route_id": "RouteScenario_24206_rep3",
+            "scenario_name": "ConstructionObstacle_12",
+            "weather_id": "7",
+            "save_name": "RouteScenario_24206_rep3_Town12_ConstructionObstacle_12_7_06_17_06_49_04",
+            "status": "Completed",
+            "num_infractions": 1,
+            "infractions": {
+                "collisions_layout": [],
+                "min_speed_infractions": ["Average speed is 80.5% of the surrounding traffic's one"],
+                "route_timeout": []
+            },
+            "scores": {"score_route": 100, "score_penalty": 1.0, "score_composed": 100.0},
+            "meta": {"route_length": 102.063, "duration_game": 200.05, "duration_system": null},
+            "town_name": "Town12"
+        })
+    }
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let p = dir.join(name);
+        if let Some(parent) = p.parent() {
+            fs::create_dir_all(parent).unwrap();
+        }
+        fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn single_file_errors_name_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = write(
+            dir.path(),
+            "trunc.json",
+            "{\"_checkpoint\": {\"records\": [",
+        );
+        let e = read_results(&p).unwrap_err().to_string();
+        assert!(e.contains("trunc.json"), "{e}");
+        assert!(
+            e.contains("truncated JSON") && e.contains("line 1, column 29"),
+            "{e}"
+        );
+
+        let p = write(dir.path(), "bad.json", "{\"_checkpoint\": x}");
+        let e = read_results(&p).unwrap_err().to_string();
+        assert!(
+            e.contains("bad.json: invalid JSON at line 1, column 17"),
+            "{e}"
+        );
+
+        let p = write(dir.path(), "nock.json", "{\"records\": []}");
+        let e = read_results(&p).unwrap_err().to_string();
+        assert!(e.ends_with("nock.json: field _checkpoint: missing"), "{e}");
+
+        let p = write(
+            dir.path(),
+            "norec.json",
+            "{\"_checkpoint\": {\"records\": {}}}",
+        );
+        let e = read_results(&p).unwrap_err().to_string();
+        assert!(
+            e.ends_with("norec.json: field _checkpoint.records: expected an array, got object"),
+            "{e}"
+        );
+
+        let e = read_results(&dir.path().join("absent.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("absent.json: cannot read"), "{e}");
+    }
+
+    #[test]
+    fn records_kept_in_order_with_invalid_ones() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut bad = good();
+        bad["scores"]["score_route"] = json!("n/a");
+        let text = json!({"_checkpoint": {"records": [good(), bad, 7]},
+                          "driving score": 1.5, "success rate": 0.25, "eval num": 3})
+        .to_string();
+        let p = write(dir.path(), "m.json", &text);
+        let set = read_results(&p).unwrap();
+        assert_eq!(set.records.len(), 3);
+        assert!(set.records[0].entry.is_ok());
+        assert!(set.records[1].entry.is_err());
+        assert!(set.records[2].entry.is_err());
+        assert_eq!(set.records[2].index, 2);
+        assert!(set
+            .records
+            .iter()
+            .all(|r| r.records_in_file == 3 && r.source == p));
+        assert_eq!(set.merged_totals.len(), 1);
+        assert_eq!(set.merged_totals[0].driving_score, 1.5);
+        assert_eq!(set.merged_totals[0].eval_num, Some(3));
+        // records 0 and 1 share a route id
+        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
+        assert!(set.warnings[0]
+            .to_string()
+            .starts_with("duplicate route id RouteScenario_24206_rep3"));
+    }
+
+    #[test]
+    fn unknown_status_and_incomplete_progress_warn() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut r = good();
+        r["status"] = json!("Exploded");
+        let text = json!({"_checkpoint": {"progress": [1, 4], "records": [r]},
+                          "entry_status": "Crashed"})
+        .to_string();
+        let p = write(dir.path(), "x.json", &text);
+        let set = read_results(&p).unwrap();
+        assert_eq!(set.records.len(), 1);
+        assert!(set
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("unknown status \"Exploded\"")));
+        assert!(set
+            .warnings
+            .iter()
+            .any(|w| w.to_string().contains("only 1 of 4 routes")));
+    }
+
+    #[test]
+    fn empty_directory_is_an_error() {
+        let dir = tempfile::tempdir().unwrap();
+        write(
+            dir.path(),
+            "a/metric_info.json",
+            "{\"_checkpoint\": {\"records\": []}}",
+        );
+        write(dir.path(), "b/other.json", "[1, 2]");
+        write(dir.path(), "notes.txt", "{");
+        let e = read_results(dir.path()).unwrap_err();
+        assert!(matches!(e, ResultsError::NoResults { .. }), "{e}");
+    }
+}

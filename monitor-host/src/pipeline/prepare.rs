@@ -1,0 +1,141 @@
+//! Prepare: a record and its telemetry → the monitor's frames (`SDS-SPEC.md` v1.2 §2, §5).
+//!
+//! Signals come from the raw vectors through the core's f32 kernels; speed, lateral error and
+//! collision alignment are computed in f64 on the raw coordinates and rounded to f32 once, when
+//! the [`Frame`] is built.
+
+use monitor_core::{Collisions, Frame};
+
+use crate::geometry::kinematics;
+use crate::geometry::lateral::LateralTracker;
+use crate::input::collision::{self, CollisionList};
+use crate::input::lead_infractions::StepInfraction;
+use crate::input::metric_info::Telemetry;
+use crate::input::record::Record;
+use crate::input::route_xml::RouteSet;
+use crate::pipeline::align::{self, EventRef};
+use crate::pipeline::outcome::CollisionEvent;
+use crate::settings::Settings;
+
+/// Parses a record's collision lists into events (not yet aligned).
+pub fn collision_events(record: &Record) -> Vec<(CollisionEvent, String, Option<[f64; 2]>)> {
+    let mut out = Vec::new();
+    for list in CollisionList::ALL {
+        for s in record.infractions.list(list.name()) {
+            let (type_id, workzone, loc, parse_error) = match collision::parse_collision(s) {
+                Ok(c) => {
+                    let wz = list == CollisionList::Layout && collision::is_workzone(&c.type_id);
+                    (Some(c.type_id), wz, c.location.map(|l| [l[0], l[1]]), None)
+                }
+                Err(e) => (None, false, None, Some(e.to_string())),
+            };
+            out.push((
+                CollisionEvent {
+                    list,
+                    type_id,
+                    workzone,
+                    frame: None,
+                    step: None,
+                    aligned_by: None,
+                    impact_speed: None,
+                    decelerated: None,
+                    exempt: None,
+                    parse_error,
+                },
+                s.clone(),
+                loc,
+            ));
+        }
+    }
+    out
+}
+
+/// The frames the monitor sees for a route, and the events aligned to them.
+#[derive(Clone, Debug)]
+pub struct PreparedRoute {
+    /// One frame per telemetry step, in step order.
+    pub frames: Vec<Frame>,
+    /// Step number of each frame.
+    pub steps: Vec<u64>,
+    /// Collision events, aligned where possible.
+    pub events: Vec<CollisionEvent>,
+}
+
+/// Builds the monitor's frames: signals from the raw vectors (f32 kernels), speed, lateral error
+/// and alignment in f64, then rounded to f32 once.
+pub fn prepare(
+    record: &Record,
+    tel: &Telemetry,
+    routes: Option<&RouteSet>,
+    infractions: Option<&[StepInfraction]>,
+    settings: &Settings,
+) -> PreparedRoute {
+    let n = tel.frames.len();
+    let steps = tel.steps();
+    let locations = tel.locations();
+    let speeds = kinematics::speeds(&tel.frames, f64::from(settings.core.dt));
+
+    let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
+    let mut tracker =
+        reference.map(|r| LateralTracker::new(r, settings.gap_max, settings.lookahead));
+
+    let parsed = collision_events(record);
+    let refs: Vec<EventRef> = parsed
+        .iter()
+        .map(|(_, msg, loc)| EventRef {
+            message: msg,
+            location: *loc,
+        })
+        .collect();
+    let aligned = align::align_events(
+        &refs,
+        &steps,
+        &locations,
+        infractions,
+        settings.align_max_dist,
+        settings.align_tie,
+    );
+    let mut collisions = vec![Collisions::NONE; n];
+    let mut events = Vec::with_capacity(parsed.len());
+    for ((mut ev, _, _), a) in parsed.into_iter().zip(aligned) {
+        if let Some(k) = a.frame.filter(|&k| k < n) {
+            let c = &mut collisions[k];
+            let slot = match (ev.list, ev.workzone) {
+                (CollisionList::Pedestrian, _) => &mut c.pedestrian,
+                (CollisionList::Vehicle, _) => &mut c.vehicle,
+                (CollisionList::Layout, true) => &mut c.workzone,
+                (CollisionList::Layout, false) => &mut c.layout,
+            };
+            *slot = slot.saturating_add(1);
+            ev.frame = Some(k);
+            ev.step = Some(steps[k]);
+            ev.aligned_by = a.by;
+            ev.impact_speed = Some(speeds[k] as f32);
+        }
+        events.push(ev);
+    }
+
+    let frames = tel
+        .frames
+        .iter()
+        .zip(&speeds)
+        .zip(collisions)
+        .map(|((f, &speed), c)| {
+            let lat_err = tracker.as_mut().and_then(|t| t.next(f.location));
+            Frame::from_vectors(
+                f.acc,
+                f.fwd,
+                f.right,
+                f.yaw_rate_deg,
+                speed as f32,
+                lat_err.map(|e| e as f32),
+                c,
+            )
+        })
+        .collect();
+    PreparedRoute {
+        frames,
+        steps,
+        events,
+    }
+}

@@ -1,0 +1,206 @@
+//! Replay: one loaded record → its telemetry read and prepared → streamed through a fresh
+//! [`Monitor`] → scored, and checked against the batch reference (`SDS-SPEC.md` v1.2 §9, §10).
+
+use std::path::{Path, PathBuf};
+
+use monitor_core::{score, Config, Event, Monitor, RecordScores, RouteSummary};
+
+use crate::aggregate::penalty;
+use crate::input::discovery;
+use crate::input::lead_infractions;
+use crate::input::metric_info;
+use crate::input::record::{LoadedRecord, Record};
+use crate::input::route_xml::RouteSet;
+use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
+use crate::reference::batch;
+use crate::settings::Settings;
+use crate::warning::Warning;
+
+/// Streams prepared frames through a fresh monitor; fills the events' verdicts.
+/// Returns the summary, or the first frame the monitor refused (index, reason).
+pub fn stream(
+    prepared: &mut PreparedRoute,
+    config: &Config,
+) -> Result<RouteSummary, (usize, String)> {
+    let mut monitor: Monitor = Monitor::new(*config).map_err(|e| (0, e.to_string()))?;
+    let mut verdicts = Vec::new();
+    for (i, f) in prepared.frames.iter().enumerate() {
+        let events = monitor.push(f).map_err(|e| (i, e.to_string()))?;
+        for e in &events {
+            if let Event::Collision(v) = e {
+                verdicts.push(*v);
+            }
+        }
+    }
+    let done = monitor
+        .finish()
+        .map_err(|e| (prepared.frames.len(), e.to_string()))?;
+    for ev in &mut prepared.events {
+        if let Some(k) = ev.frame {
+            if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
+                ev.decelerated = Some(v.decelerated);
+                ev.exempt = Some(v.exempt);
+            }
+        }
+    }
+    Ok(done.summary)
+}
+
+/// A route's telemetry, read and turned into frames.
+#[derive(Clone, Debug)]
+pub struct RouteTelemetry {
+    /// The frames and aligned events.
+    pub prepared: PreparedRoute,
+    /// Missing step numbers.
+    pub gaps: u64,
+    /// The `metric_info.json` read.
+    pub path: PathBuf,
+}
+
+/// Locates and reads a record's telemetry (and `infractions.json` beside it) and prepares its
+/// frames. Problems that do not stop the route are pushed to `warnings`.
+pub fn read_telemetry(
+    loaded: &LoadedRecord,
+    record: &Record,
+    routes: Option<&RouteSet>,
+    telemetry_root: Option<&Path>,
+    settings: &Settings,
+    warnings: &mut Vec<Warning>,
+) -> Result<RouteTelemetry, TelemetryState> {
+    let path = record
+        .save_name
+        .as_deref()
+        .and_then(|save| {
+            discovery::locate_metric_info(
+                telemetry_root,
+                save,
+                &loaded.source,
+                loaded.records_in_file == 1,
+            )
+        })
+        .ok_or(TelemetryState::Missing)?;
+    let tel = metric_info::read_metric_info(&path)
+        .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
+    let infractions = match discovery::lead_infractions_beside(&path) {
+        None => None,
+        Some(p) => match lead_infractions::read_lead_infractions(&p) {
+            Ok(list) => Some(list),
+            Err(e) => {
+                warnings.push(Warning::LeadInfractions {
+                    file: p,
+                    reason: e.to_string(),
+                });
+                None
+            }
+        },
+    };
+    if let (Some(set), Some(id)) = (routes, record.xml_id()) {
+        if let Err(e) = set.get_checked(id) {
+            warnings.push(Warning::NoReference(e));
+        }
+    }
+    let prepared = prepare(record, &tel, routes, infractions.as_deref(), settings);
+    Ok(RouteTelemetry {
+        prepared,
+        gaps: tel.gaps,
+        path,
+    })
+}
+
+/// Replays one loaded record: locate and read telemetry, prepare frames, stream, score, and
+/// check the batch reference.
+pub fn replay(
+    loaded: &LoadedRecord,
+    routes: Option<&RouteSet>,
+    telemetry_root: Option<&Path>,
+    settings: &Settings,
+) -> RouteOutcome {
+    let mut out = RouteOutcome {
+        loaded: loaded.clone(),
+        telemetry: TelemetryState::Missing,
+        frames: 0,
+        gaps: 0,
+        summary: None,
+        safe: None,
+        events: Vec::new(),
+        workzone: 0,
+        penalty: None,
+        batch_agrees: None,
+        warnings: Vec::new(),
+    };
+    let Ok(record) = &loaded.entry else {
+        return out;
+    };
+    out.penalty = Some(penalty::check_penalty(record, settings.penalty_flavour));
+    let summary = match read_telemetry(
+        loaded,
+        record,
+        routes,
+        telemetry_root,
+        settings,
+        &mut out.warnings,
+    ) {
+        Ok(RouteTelemetry {
+            mut prepared,
+            gaps,
+            path,
+        }) => {
+            out.frames = prepared.frames.len() as u32;
+            out.gaps = gaps;
+            match stream(&mut prepared, &settings.core) {
+                Ok(summary) => {
+                    let reference = batch::compute(&prepared.frames, &settings.core);
+                    out.batch_agrees = Some(reference.summary == summary);
+                    out.telemetry = TelemetryState::Ok;
+                    out.events = prepared.events;
+                    Some(summary)
+                }
+                Err((i, reason)) => {
+                    out.telemetry = TelemetryState::Invalid(format!(
+                        "{}: step {}: {reason}",
+                        path.display(),
+                        prepared.steps.get(i).copied().unwrap_or_default()
+                    ));
+                    None
+                }
+            }
+        }
+        Err(state) => {
+            out.telemetry = state;
+            None
+        }
+    };
+    // A route not replayed keeps its collisions, unaligned (spec section 10).
+    if out.telemetry != TelemetryState::Ok {
+        out.events = collision_events(record)
+            .into_iter()
+            .map(|(e, _, _)| e)
+            .collect();
+    }
+    for e in &out.events {
+        if let Some(reason) = &e.parse_error {
+            out.warnings.push(Warning::UnparseableCollision {
+                list: e.list,
+                reason: reason.clone(),
+            });
+        }
+    }
+    out.workzone = out.events.iter().filter(|e| e.workzone).count() as u32;
+    // Without telemetry the route is scored without telemetry terms only when allowed.
+    let summary = summary.or_else(|| {
+        settings
+            .allow_missing_telemetry
+            .then_some(RouteSummary::ZERO)
+    });
+    if let Some(s) = summary {
+        let scores = RecordScores {
+            score_route: record.score_route,
+            score_penalty: record.score_penalty,
+            workzone: out.workzone,
+        };
+        out.safe = Some(score::ds_safe(&s, &scores, &settings.core.factors));
+        out.summary = Some(s);
+    }
+    out
+}

@@ -1,0 +1,78 @@
+//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting).
+
+use crate::report::model::{Report, RouteReport};
+
+/// The header line's columns.
+pub const COLUMNS: [&str; 26] = [
+    "route_id",
+    "scenario_type",
+    "town",
+    "weather_id",
+    "status",
+    "state",
+    "score_route",
+    "score_penalty",
+    "score_composed",
+    "frames",
+    "gaps",
+    "pedestrian",
+    "vehicle",
+    "layout",
+    "workzone",
+    "unaligned",
+    "exempt",
+    "nodecel",
+    "lateral_chunks",
+    "anomalous",
+    "critical",
+    "comfort_chunks",
+    "comfortable",
+    "comfort",
+    "p_safe",
+    "ds_safe",
+];
+
+fn row(r: &RouteReport) -> [String; 26] {
+    let s = |x: &Option<String>| x.clone().unwrap_or_default();
+    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let c = &r.collisions;
+    [
+        s(&r.route_id),
+        s(&r.scenario_type),
+        s(&r.town),
+        s(&r.weather_id),
+        s(&r.status),
+        r.state.to_string(),
+        o(r.score_route),
+        o(r.score_penalty),
+        o(r.score_composed),
+        r.frames.to_string(),
+        r.gaps.to_string(),
+        c.pedestrian.to_string(),
+        c.vehicle.to_string(),
+        c.layout.to_string(),
+        c.workzone.to_string(),
+        c.unaligned.to_string(),
+        c.exempt.to_string(),
+        c.nodecel.to_string(),
+        r.lateral.chunks.to_string(),
+        r.lateral.anomalous.to_string(),
+        r.lateral.critical.to_string(),
+        r.comfort.chunks.to_string(),
+        r.comfort.comfortable.to_string(),
+        o(r.comfort.score),
+        o(r.p_safe),
+        o(r.ds_safe),
+    ]
+}
+
+/// One CSV line per route, after a header line ([`COLUMNS`]); empty cells for absent values.
+pub fn csv(report: &Report) -> Vec<u8> {
+    let mut w = ::csv::Writer::from_writer(Vec::new());
+    // Writing to memory cannot fail; an error here would be a bug in the csv crate.
+    let _ = w.write_record(COLUMNS);
+    for r in &report.routes {
+        let _ = w.write_record(row(r));
+    }
+    w.into_inner().unwrap_or_default()
+}

@@ -1,0 +1,14 @@
+//! The report (`SDS-SPEC.md` v1.2 §10): the [`model`] a run produces and its renderings.
+//!
+//! | rendering | module |
+//! |---|---|
+//! | JSON (the full report) | [`json`] |
+//! | CSV (one line per route) | [`mod@csv`] |
+//! | table (Table 1 row, Table 2-style breakdown) | [`table`] |
+
+pub mod csv;
+pub mod json;
+pub mod model;
+pub mod table;
+
+pub use model::{Report, RouteReport};

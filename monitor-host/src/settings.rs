@@ -1,0 +1,468 @@
+//! Every setting of a run (`SDS-SPEC.md` v1.2 §1.3, §2, §5, §8 and the core's §3-§7): the core's
+//! [`Config`] plus the host's own, with the spec's defaults, validation, and `NAME=VALUE` parsing.
+//!
+//! Names are those of the report's `config` block; a group member is written `group.field`
+//! (`bounds.yaw_rate`, `factors.workzone`).
+//!
+//! ```
+//! use monitor_host::Settings;
+//!
+//! let mut s = Settings::default();
+//! s.set("slack", "0.9")?;
+//! s.set("bounds.yaw_rate", "1.0")?;
+//! s.set("penalty_flavour", "leaderboard20")?;
+//! s.set("profile", "b2d-legacy")?;
+//! assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+//! assert!(s.set("nope", "1").unwrap_err().to_string().contains("gap_max"));
+//! assert!(s.set("chunk_len", "99").is_err()); // validated: beyond the monitor's capacity
+//! # Ok::<(), monitor_host::SettingsError>(())
+//! ```
+
+use monitor_core::{Config, ConfigError, Profile};
+
+use crate::aggregate::penalty::PenaltyFlavour;
+
+/// Why a setting was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SettingsError {
+    /// `--set` text without `=`.
+    #[error("--set {0}: expected NAME=VALUE")]
+    Syntax(String),
+    /// No setting has this name.
+    #[error("unknown setting {name}; known settings: {}", Settings::NAMES.join(", "))]
+    Unknown {
+        /// The name given.
+        name: String,
+    },
+    /// The value does not parse as the setting's type.
+    #[error("setting {name}: expected {expected}, got {value:?}")]
+    Value {
+        /// The setting.
+        name: &'static str,
+        /// What it takes.
+        expected: &'static str,
+        /// The text given.
+        value: String,
+    },
+    /// The core's configuration is inconsistent.
+    #[error("invalid configuration: {0}")]
+    Config(ConfigError),
+    /// A host setting is out of its range.
+    #[error("invalid configuration: {name} must be {rule}")]
+    Range {
+        /// The setting.
+        name: &'static str,
+        /// The rule it breaks.
+        rule: &'static str,
+    },
+}
+
+/// All settings of a run. Build from [`Settings::default`] (the spec's defaults), change fields
+/// or call [`Settings::set`], then [`Settings::validate`] (done again by [`crate::score_run`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settings {
+    /// The monitor's configuration (profile, bounds, windows, slack, factors).
+    pub core: Config,
+    /// A reference segment strictly longer than this is a junction gap, m (8.0) **\[decision\]**.
+    pub gap_max: f64,
+    /// Forward-search window of the lateral error, m of route length (10.0) **\[decision\]**.
+    pub lookahead: f64,
+    /// Farthest a collision may be from its frame to be aligned, m, inclusive (1.0) **\[decision\]**.
+    pub align_max_dist: f64,
+    /// Frames within this of the smallest distance tie; ties go to the earliest, m (1e-3).
+    pub align_tie: f64,
+    /// Factors of the penalty re-check (§8).
+    pub penalty_flavour: PenaltyFlavour,
+    /// Benchmark size N: routes not found count as 0 / failed (§8.1).
+    pub expected_routes: Option<usize>,
+    /// Score routes without telemetry without telemetry terms instead of failing them.
+    pub allow_missing_telemetry: bool,
+    /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
+    pub threads: Option<usize>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            core: Config::DEFAULT,
+            gap_max: 8.0,
+            lookahead: 10.0,
+            align_max_dist: 1.0,
+            align_tie: 1e-3,
+            penalty_flavour: PenaltyFlavour::Bench2Drive,
+            expected_routes: None,
+            allow_missing_telemetry: false,
+            threads: None,
+        }
+    }
+}
+
+fn f32_of(name: &'static str, v: &str) -> Result<f32, SettingsError> {
+    // Through f64, as a JSON reader does, so `--set` gives the value the report prints.
+    Ok(f64_of(name, v)? as f32)
+}
+
+fn f64_of(name: &'static str, v: &str) -> Result<f64, SettingsError> {
+    v.trim().parse().map_err(|_| SettingsError::Value {
+        name,
+        expected: "a number",
+        value: v.to_string(),
+    })
+}
+
+fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
+    v.trim().parse().map_err(|_| SettingsError::Value {
+        name,
+        expected: "an integer in 0..=65535",
+        value: v.to_string(),
+    })
+}
+
+impl Settings {
+    /// Every settable name, in the order of the report's `config` block.
+    pub const NAMES: [&'static str; 30] = [
+        "align_max_dist",
+        "align_tie",
+        "allow_missing_telemetry",
+        "anomalous_excess",
+        "bounds.lat_acc",
+        "bounds.lon_acc_max",
+        "bounds.lon_acc_min",
+        "bounds.lon_jerk",
+        "bounds.mag_jerk",
+        "bounds.yaw_acc",
+        "bounds.yaw_rate",
+        "chunk_len",
+        "critical_excess",
+        "decel_threshold",
+        "decel_window",
+        "dt",
+        "expected_routes",
+        "factors.anomalous",
+        "factors.critical",
+        "factors.layout",
+        "factors.nodecel",
+        "factors.workzone",
+        "gap_max",
+        "legacy_jerk_spacing",
+        "lookahead",
+        "min_chunk",
+        "penalty_flavour",
+        "profile",
+        "slack",
+        "stationary_speed",
+    ];
+
+    /// Sets one setting from its text (`"0.9"`, `"b2d-legacy"`, `"true"`, `"220"`, `"null"` for
+    /// no `expected_routes`) and validates the whole.
+    ///
+    /// # Errors
+    /// [`SettingsError::Unknown`] (listing the known names), [`SettingsError::Value`], or a
+    /// validation error; the settings are unchanged then.
+    pub fn set(&mut self, name: &str, value: &str) -> Result<(), SettingsError> {
+        let mut next = self.clone();
+        next.set_unchecked(name, value)?;
+        next.validate()?;
+        *self = next;
+        Ok(())
+    }
+
+    /// Applies `NAME=VALUE` overrides in order (the command line's `--set`), then validates.
+    ///
+    /// # Errors
+    /// As [`Settings::set`], or [`SettingsError::Syntax`] for text without `=`.
+    pub fn apply(&mut self, overrides: &[String]) -> Result<(), SettingsError> {
+        let mut next = self.clone();
+        for s in overrides {
+            let (name, value) = s
+                .split_once('=')
+                .ok_or_else(|| SettingsError::Syntax(s.clone()))?;
+            next.set_unchecked(name, value)?;
+        }
+        next.validate()?;
+        *self = next;
+        Ok(())
+    }
+
+    fn set_unchecked(&mut self, name: &str, v: &str) -> Result<(), SettingsError> {
+        let c = &mut self.core;
+        let b = &mut c.bounds;
+        let f = &mut c.factors;
+        let Some(&key) = Self::NAMES.iter().find(|n| **n == name) else {
+            return Err(SettingsError::Unknown { name: name.into() });
+        };
+        match key {
+            "align_max_dist" => self.align_max_dist = f64_of(key, v)?,
+            "align_tie" => self.align_tie = f64_of(key, v)?,
+            "gap_max" => self.gap_max = f64_of(key, v)?,
+            "lookahead" => self.lookahead = f64_of(key, v)?,
+            "allow_missing_telemetry" => {
+                self.allow_missing_telemetry =
+                    v.trim().parse().map_err(|_| SettingsError::Value {
+                        name: key,
+                        expected: "true or false",
+                        value: v.into(),
+                    })?
+            }
+            "expected_routes" => {
+                self.expected_routes = match v.trim() {
+                    "null" | "" => None,
+                    t => Some(t.parse().map_err(|_| SettingsError::Value {
+                        name: key,
+                        expected: "a route count or null",
+                        value: v.into(),
+                    })?),
+                }
+            }
+            "penalty_flavour" => {
+                self.penalty_flavour =
+                    PenaltyFlavour::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "bench2drive or leaderboard20",
+                        value: v.into(),
+                    })?
+            }
+            "profile" => {
+                c.profile = [Profile::Physical, Profile::B2dLegacy]
+                    .into_iter()
+                    .find(|p| p.name() == v.trim())
+                    .ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "physical or b2d-legacy",
+                        value: v.into(),
+                    })?
+            }
+            "anomalous_excess" => c.anomalous_excess = f32_of(key, v)?,
+            "critical_excess" => c.critical_excess = f32_of(key, v)?,
+            "decel_threshold" => c.decel_threshold = f32_of(key, v)?,
+            "dt" => c.dt = f32_of(key, v)?,
+            "legacy_jerk_spacing" => c.legacy_jerk_spacing = f32_of(key, v)?,
+            "slack" => c.slack = f32_of(key, v)?,
+            "stationary_speed" => c.stationary_speed = f32_of(key, v)?,
+            "chunk_len" => c.chunk_len = u16_of(key, v)?,
+            "min_chunk" => c.min_chunk = u16_of(key, v)?,
+            "decel_window" => c.decel_window = u16_of(key, v)?,
+            "bounds.lat_acc" => b.lat_acc = f32_of(key, v)?,
+            "bounds.lon_acc_max" => b.lon_acc_max = f32_of(key, v)?,
+            "bounds.lon_acc_min" => b.lon_acc_min = f32_of(key, v)?,
+            "bounds.lon_jerk" => b.lon_jerk = f32_of(key, v)?,
+            "bounds.mag_jerk" => b.mag_jerk = f32_of(key, v)?,
+            "bounds.yaw_acc" => b.yaw_acc = f32_of(key, v)?,
+            "bounds.yaw_rate" => b.yaw_rate = f32_of(key, v)?,
+            "factors.anomalous" => f.anomalous = f64_of(key, v)?,
+            "factors.critical" => f.critical = f64_of(key, v)?,
+            "factors.layout" => f.layout = f64_of(key, v)?,
+            "factors.nodecel" => f.nodecel = f64_of(key, v)?,
+            "factors.workzone" => f.workzone = f64_of(key, v)?,
+            _ => return Err(SettingsError::Unknown { name: name.into() }),
+        }
+        Ok(())
+    }
+
+    /// The value of a setting as a person writes it (`0.05`, not the f32's f64 widening), or
+    /// `None` for an unknown name.
+    pub fn get(&self, name: &str) -> Option<String> {
+        let c = &self.core;
+        let (b, f) = (&c.bounds, &c.factors);
+        Some(match name {
+            "align_max_dist" => self.align_max_dist.to_string(),
+            "align_tie" => self.align_tie.to_string(),
+            "gap_max" => self.gap_max.to_string(),
+            "lookahead" => self.lookahead.to_string(),
+            "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
+            "expected_routes" => self
+                .expected_routes
+                .map_or_else(|| "null".into(), |n| n.to_string()),
+            "penalty_flavour" => self.penalty_flavour.name().into(),
+            "profile" => c.profile.name().into(),
+            "anomalous_excess" => c.anomalous_excess.to_string(),
+            "critical_excess" => c.critical_excess.to_string(),
+            "decel_threshold" => c.decel_threshold.to_string(),
+            "dt" => c.dt.to_string(),
+            "legacy_jerk_spacing" => c.legacy_jerk_spacing.to_string(),
+            "slack" => c.slack.to_string(),
+            "stationary_speed" => c.stationary_speed.to_string(),
+            "chunk_len" => c.chunk_len.to_string(),
+            "min_chunk" => c.min_chunk.to_string(),
+            "decel_window" => c.decel_window.to_string(),
+            "bounds.lat_acc" => b.lat_acc.to_string(),
+            "bounds.lon_acc_max" => b.lon_acc_max.to_string(),
+            "bounds.lon_acc_min" => b.lon_acc_min.to_string(),
+            "bounds.lon_jerk" => b.lon_jerk.to_string(),
+            "bounds.mag_jerk" => b.mag_jerk.to_string(),
+            "bounds.yaw_acc" => b.yaw_acc.to_string(),
+            "bounds.yaw_rate" => b.yaw_rate.to_string(),
+            "factors.anomalous" => f.anomalous.to_string(),
+            "factors.critical" => f.critical.to_string(),
+            "factors.layout" => f.layout.to_string(),
+            "factors.nodecel" => f.nodecel.to_string(),
+            "factors.workzone" => f.workzone.to_string(),
+            _ => return None,
+        })
+    }
+
+    /// Checks the whole: the core's [`Config::validate`] for the default monitor capacity, and
+    /// the host's distances.
+    ///
+    /// # Errors
+    /// The first problem found.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        self.core
+            .validate(monitor_core::DEFAULT_CAPACITY)
+            .map_err(SettingsError::Config)?;
+        let checks = [
+            (
+                "gap_max",
+                self.gap_max,
+                "finite and positive",
+                self.gap_max > 0.0,
+            ),
+            (
+                "lookahead",
+                self.lookahead,
+                "finite and not negative",
+                self.lookahead >= 0.0,
+            ),
+            (
+                "align_max_dist",
+                self.align_max_dist,
+                "finite and not negative",
+                self.align_max_dist >= 0.0,
+            ),
+            (
+                "align_tie",
+                self.align_tie,
+                "finite and not negative",
+                self.align_tie >= 0.0,
+            ),
+        ];
+        for (name, x, rule, ok) in checks {
+            if !(ok && x.is_finite()) {
+                return Err(SettingsError::Range { name, rule });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl std::fmt::Display for Settings {
+    /// One `name = value` line per setting, in [`Settings::NAMES`] order.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for name in Self::NAMES {
+            writeln!(f, "{name} = {}", self.get(name).unwrap_or_default())?;
+        }
+        Ok(())
+    }
+}
+
+/// The report's `config` block: every setting by name, keys in alphabetical order, the groups
+/// `bounds` and `factors` as objects, f32 values widened to f64 (as the report has always
+/// printed them). `threads` is not part of it.
+impl serde::Serialize for Settings {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let c = &self.core;
+        let (b, f) = (&c.bounds, &c.factors);
+        let w = f64::from;
+        let bounds: [(&str, f64); 7] = [
+            ("lat_acc", w(b.lat_acc)),
+            ("lon_acc_max", w(b.lon_acc_max)),
+            ("lon_acc_min", w(b.lon_acc_min)),
+            ("lon_jerk", w(b.lon_jerk)),
+            ("mag_jerk", w(b.mag_jerk)),
+            ("yaw_acc", w(b.yaw_acc)),
+            ("yaw_rate", w(b.yaw_rate)),
+        ];
+        let factors: [(&str, f64); 5] = [
+            ("anomalous", f.anomalous),
+            ("critical", f.critical),
+            ("layout", f.layout),
+            ("nodecel", f.nodecel),
+            ("workzone", f.workzone),
+        ];
+        let mut m = s.serialize_map(Some(20))?;
+        m.serialize_entry("align_max_dist", &self.align_max_dist)?;
+        m.serialize_entry("align_tie", &self.align_tie)?;
+        m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
+        m.serialize_entry("anomalous_excess", &w(c.anomalous_excess))?;
+        m.serialize_entry("bounds", &Group(&bounds))?;
+        m.serialize_entry("chunk_len", &c.chunk_len)?;
+        m.serialize_entry("critical_excess", &w(c.critical_excess))?;
+        m.serialize_entry("decel_threshold", &w(c.decel_threshold))?;
+        m.serialize_entry("decel_window", &c.decel_window)?;
+        m.serialize_entry("dt", &w(c.dt))?;
+        m.serialize_entry("expected_routes", &self.expected_routes)?;
+        m.serialize_entry("factors", &Group(&factors))?;
+        m.serialize_entry("gap_max", &self.gap_max)?;
+        m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
+        m.serialize_entry("lookahead", &self.lookahead)?;
+        m.serialize_entry("min_chunk", &c.min_chunk)?;
+        m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
+        m.serialize_entry("profile", c.profile.name())?;
+        m.serialize_entry("slack", &w(c.slack))?;
+        m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
+        m.end()
+    }
+}
+
+/// A settings group (`bounds`, `factors`) as a JSON object.
+struct Group<'a>(&'a [(&'a str, f64)]);
+
+impl serde::Serialize for Group<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_round_trips() {
+        let s = Settings::default();
+        for name in Settings::NAMES {
+            let v = s.get(name).expect(name);
+            let mut t = Settings::default();
+            t.set(name, &v)
+                .unwrap_or_else(|e| panic!("{name}={v}: {e}"));
+            assert_eq!(t, s, "{name}");
+        }
+        assert_eq!(s.get("dt").as_deref(), Some("0.05"));
+        assert_eq!(s.get("nope"), None);
+    }
+
+    #[test]
+    fn set_parses_and_validates() {
+        let mut s = Settings::default();
+        s.apply(&["gap_max=6".into(), "factors.workzone=0.4".into()])
+            .unwrap();
+        assert_eq!((s.gap_max, s.core.factors.workzone), (6.0, 0.4));
+        s.set("expected_routes", "220").unwrap();
+        assert_eq!(s.expected_routes, Some(220));
+        s.set("allow_missing_telemetry", "true").unwrap();
+        assert!(s.allow_missing_telemetry);
+        let before = s.clone();
+        let e = s.set("slack", "-1").unwrap_err();
+        assert!(e.to_string().contains("slack"), "{e}");
+        assert_eq!(s, before, "a refused setting changes nothing");
+        assert!(matches!(
+            s.set("gap_max", "x"),
+            Err(SettingsError::Value {
+                name: "gap_max",
+                ..
+            })
+        ));
+        assert!(s.set("gap_max", "NaN").is_err());
+        assert!(matches!(
+            s.apply(&["slack".into()]),
+            Err(SettingsError::Syntax(_))
+        ));
+        let e = s.set("bounds", "1").unwrap_err().to_string();
+        assert!(
+            e.contains("bounds.yaw_rate") && e.contains("penalty_flavour"),
+            "{e}"
+        );
+    }
+}

@@ -42,10 +42,8 @@ fn bare_message(e: &serde_json::Error) -> String {
 }
 
 /// Is this syntax error a Python `NaN` / `Infinity` / `-Infinity` token or an overflowing number?
+/// Decided from the bytes at the error's position, not from the parser's message text.
 pub(super) fn is_non_finite(bytes: &[u8], e: &serde_json::Error) -> bool {
-    if bare_message(e) == "number out of range" {
-        return true;
-    }
     // Byte offset of the error: start of line `line` plus `column`.
     let mut start = 0usize;
     let mut line = 1usize;
@@ -65,6 +63,28 @@ pub(super) fn is_non_finite(bytes: &[u8], e: &serde_json::Error) -> bool {
     [&b"NaN"[..], b"Infinity"]
         .iter()
         .any(|tok| window.windows(tok.len()).any(|w| w == *tok))
+        || overflowing_number_near(bytes, at)
+}
+
+/// Is there a number literal ending at or just before `at` that overflows f64 (`1e999`)?
+fn overflowing_number_near(bytes: &[u8], at: usize) -> bool {
+    let is_num = |b: &u8| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-');
+    // The parser stops on the literal's last byte or the one after it.
+    let Some(end) = (at.saturating_sub(2)..at.min(bytes.len()))
+        .rev()
+        .find(|&i| is_num(&bytes[i]))
+    else {
+        return false;
+    };
+    let begin = bytes[..=end]
+        .iter()
+        .rposition(|b| !is_num(b))
+        .map_or(0, |i| i + 1);
+    let end = end + bytes[end..].iter().take_while(|b| is_num(b)).count();
+    std::str::from_utf8(&bytes[begin..end])
+        .ok()
+        .and_then(|t| t.parse::<f64>().ok())
+        .is_some_and(f64::is_infinite)
 }
 
 pub(super) fn json_error(bytes: &[u8], e: &serde_json::Error, step: Option<u64>) -> TelemetryError {

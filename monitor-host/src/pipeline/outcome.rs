@@ -70,10 +70,13 @@ impl std::fmt::Display for TelemetryState {
     }
 }
 
-/// One entry of a collision list and what the replay made of it.
-#[derive(Clone, Debug, PartialEq)]
+/// One entry of a collision list and what the replay made of it: the one host type of a
+/// collision event, from parsing to the report (its JSON form is the report's
+/// `collision_events` entry; the string and location it came from are not printed).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct CollisionEvent {
     /// The list it came from.
+    #[serde(serialize_with = "list_name")]
     pub list: CollisionList,
     /// `type=` of the collision string (`None` when the string does not parse).
     pub type_id: Option<String>,
@@ -92,7 +95,18 @@ pub struct CollisionEvent {
     /// Exempt (standing ego); `None` when unaligned.
     pub exempt: Option<bool>,
     /// Why the collision string did not parse.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub parse_error: Option<String>,
+    /// The evaluator's string (matched against LEAD's `infractions.json` messages).
+    #[serde(skip)]
+    pub message: String,
+    /// The (x, y) parsed from the string, if any.
+    #[serde(skip)]
+    pub location: Option<[f64; 2]>,
+}
+
+fn list_name<S: serde::Serializer>(list: &CollisionList, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(list.name())
 }
 
 /// Everything known about one route after the replay.

@@ -18,7 +18,7 @@ use crate::pipeline::outcome::CollisionEvent;
 use crate::settings::Settings;
 
 /// Parses a record's collision lists into events (not yet aligned).
-pub fn collision_events(record: &Record) -> Vec<(CollisionEvent, String, Option<[f64; 2]>)> {
+pub fn collision_events(record: &Record) -> Vec<CollisionEvent> {
     let mut out = Vec::new();
     for list in CollisionList::ALL {
         for s in record.infractions.list(list.name()) {
@@ -29,22 +29,20 @@ pub fn collision_events(record: &Record) -> Vec<(CollisionEvent, String, Option<
                 }
                 Err(e) => (None, false, None, Some(e.to_string())),
             };
-            out.push((
-                CollisionEvent {
-                    list,
-                    type_id,
-                    workzone,
-                    frame: None,
-                    step: None,
-                    aligned_by: None,
-                    impact_speed: None,
-                    decelerated: None,
-                    exempt: None,
-                    parse_error,
-                },
-                s.clone(),
-                loc,
-            ));
+            out.push(CollisionEvent {
+                list,
+                type_id,
+                workzone,
+                frame: None,
+                step: None,
+                aligned_by: None,
+                impact_speed: None,
+                decelerated: None,
+                exempt: None,
+                parse_error,
+                message: s.clone(),
+                location: loc,
+            });
         }
     }
     out
@@ -82,9 +80,9 @@ pub fn prepare(
     let parsed = collision_events(record);
     let refs: Vec<EventRef> = parsed
         .iter()
-        .map(|(_, msg, loc)| EventRef {
-            message: msg,
-            location: *loc,
+        .map(|e| EventRef {
+            message: &e.message,
+            location: e.location,
         })
         .collect();
     let aligned = align::align_events(
@@ -97,7 +95,7 @@ pub fn prepare(
     );
     let mut collisions = vec![Collisions::NONE; n];
     let mut events = Vec::with_capacity(parsed.len());
-    for ((mut ev, _, _), a) in parsed.into_iter().zip(aligned) {
+    for (mut ev, a) in parsed.into_iter().zip(aligned) {
         if let Some(k) = a.frame.filter(|&k| k < n) {
             let c = &mut collisions[k];
             let slot = match (ev.list, ev.workzone) {

@@ -173,10 +173,7 @@ pub fn replay(
     };
     // A route not replayed keeps its collisions, unaligned (spec section 10).
     if out.telemetry != TelemetryState::Ok {
-        out.events = collision_events(record)
-            .into_iter()
-            .map(|(e, _, _)| e)
-            .collect();
+        out.events = collision_events(record);
     }
     for e in &out.events {
         if let Some(reason) = &e.parse_error {

@@ -60,49 +60,6 @@ pub struct ComfortReport {
     pub failed: monitor_core::FailureCounts,
 }
 
-/// One collision event of a route.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct EventReport {
-    /// `collisions_pedestrian`, `collisions_vehicle` or `collisions_layout`.
-    pub list: &'static str,
-    /// The object's type id.
-    pub type_id: Option<String>,
-    /// A work-zone contact.
-    pub workzone: bool,
-    /// Aligned frame (0-based).
-    pub frame: Option<usize>,
-    /// Its step number.
-    pub step: Option<u64>,
-    /// `nearest`, `infractions.json` or null.
-    pub aligned_by: Option<&'static str>,
-    /// Speed at the frame, m/s.
-    pub impact_speed: Option<f32>,
-    /// Decelerated before.
-    pub decelerated: Option<bool>,
-    /// Exempt.
-    pub exempt: Option<bool>,
-    /// Why the collision string did not parse.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub parse_error: Option<String>,
-}
-
-impl From<&CollisionEvent> for EventReport {
-    fn from(e: &CollisionEvent) -> Self {
-        EventReport {
-            list: e.list.name(),
-            type_id: e.type_id.clone(),
-            workzone: e.workzone,
-            frame: e.frame,
-            step: e.step,
-            aligned_by: e.aligned_by.map(|a| a.name()),
-            impact_speed: e.impact_speed,
-            decelerated: e.decelerated,
-            exempt: e.exempt,
-            parse_error: e.parse_error.clone(),
-        }
-    }
-}
-
 /// The penalty re-check of a route.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct PenaltyReport {
@@ -154,7 +111,7 @@ pub struct RouteReport {
     /// The results file and record index.
     pub source: String,
     /// Collision events.
-    pub collision_events: Vec<EventReport>,
+    pub collision_events: Vec<CollisionEvent>,
     /// Penalty re-check; null for an invalid record.
     pub penalty_check: Option<PenaltyReport>,
     /// The batch reference agreed with the streaming monitor; null when not replayed.
@@ -230,7 +187,7 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         telemetry: o.telemetry.clone(),
         state: o.state(),
         source: format!("{}#{}", o.loaded.source.display(), o.loaded.index),
-        collision_events: o.events.iter().map(EventReport::from).collect(),
+        collision_events: o.events.clone(),
         penalty_check: o.penalty.map(|p| PenaltyReport {
             recomputed: p.recomputed,
             agrees: p.agrees,

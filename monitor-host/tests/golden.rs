@@ -43,7 +43,7 @@ fn demo_report_matches_the_golden_file() {
             .lines()
             .zip(want.lines())
             .position(|(a, b)| a != b)
-            .map_or_else(|| got.lines().count().min(want.lines().count()), |i| i);
+            .unwrap_or_else(|| got.lines().count().min(want.lines().count()));
         panic!(
             "the demo report differs from {GOLDEN} at line {}:\n  got:  {}\n  want: {}\n\
              If the change is intended, regenerate with SDS_BLESS=1 and commit the file.",

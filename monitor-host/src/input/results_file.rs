@@ -56,7 +56,7 @@ pub struct MergedTotals {
     pub source: PathBuf,
 }
 
-/// Everything [`load`] read.
+/// Everything [`read_results`] read.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ResultSet {
     /// Input order: files sorted by path, records in file order.

@@ -10,7 +10,7 @@
 //! What it shares with `monitor-core`: only the low-level f32 kernels, which the spec requires
 //! to be the same — the Savitzky–Golay filter and its tables ([`sg::filter`], [`sg::VALUE`],
 //! [`sg::DERIVATIVE`]), the per-frame kernels ([`signal::excess`], [`signal::unwrap`],
-//! [`monitor_core::Profile::comfort_yaw_rate`]), [`powu`] and the score formula
+//! [`monitor_core::Profile::comfort_yaw_rate`]) and the score formula
 //! [`monitor_core::score::ds_safe`]. Chunking, the bound comparisons, the deceleration window,
 //! the lateral bands and the counting are written here again, independently of the monitor's
 //! state machine (no `Monitor`, `ChunkBuffer`, `DecelWindow`, `LateralChunk`, `Band::of`).

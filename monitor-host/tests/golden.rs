@@ -36,7 +36,9 @@ fn demo_report_matches_the_golden_file() {
         return;
     }
     let want = std::fs::read_to_string(Path::new(GOLDEN)).unwrap_or_else(|e| {
-        panic!("{GOLDEN}: {e} (create it with SDS_BLESS=1 cargo test -p monitor-host --test golden)")
+        panic!(
+            "{GOLDEN}: {e} (create it with SDS_BLESS=1 cargo test -p monitor-host --test golden)"
+        )
     });
     if got != want {
         let line = got

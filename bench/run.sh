@@ -237,10 +237,10 @@ Stages of replay::replay, single thread, CPU time (large run):
 | read (std::fs::read, first touch) | $(stage_nspf read) | $(stage_mbs read) | $(stage_share read)% |
 | skip (serde_json IgnoredAny: the parser floor) | $(stage_nspf skip) | $(stage_mbs skip) | $(stage_share skip)% |
 | reader (the same through from_reader + BufReader) | $(stage_nspf reader) | $(stage_mbs reader) | $(stage_share reader)% |
-| parse (telemetry::parse_metric_info) | $(stage_nspf parse) | $(stage_mbs parse) | $(stage_share parse)% |
+| parse (metric_info::parse_metric_info) | $(stage_nspf parse) | $(stage_mbs parse) | $(stage_share parse)% |
 | prepare (speeds, lateral error, alignment, Frames) | $(stage_nspf prepare) | - | $(stage_share prepare)% |
 | stream (Monitor::push over every frame) | $(stage_nspf stream) | - | $(stage_share stream)% |
-| batch (batch::summarize reference check) | $(stage_nspf batch) | - | $(stage_share batch)% |
+| batch (batch::compute reference check) | $(stage_nspf batch) | - | $(stage_share batch)% |
 | replay (all of it, incl. locate + read) | $(stage_nspf replay) | $(stage_mbs replay) | 100% |
 
 Scaling (sds score --jobs 1; CPU = user + sys):

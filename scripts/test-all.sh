@@ -16,6 +16,10 @@ cargo fmt --all --check
 step "cargo clippy"
 cargo clippy --workspace --all-targets -- -D warnings
 
+step "library builds without the command line (what the bindings compile)"
+cargo clippy -p monitor-host --no-default-features --all-targets -- -D warnings
+cargo clippy -p monitor-core --no-default-features -- -D warnings
+
 step "cargo test"
 cargo test --workspace --release
 

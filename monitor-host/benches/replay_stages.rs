@@ -10,10 +10,10 @@
 //! | `reader`  | `serde_json::from_reader` (64 KB `BufReader`) into `IgnoredAny`: the     |
 //! |           | floor of a parse that never holds the whole file                          |
 //! | `dom`     | `serde_json::Value` of the same bytes (first 20 routes only): a DOM's cost |
-//! | `parse`   | `telemetry::parse_metric_info` (our streaming visitor)                    |
-//! | `prepare` | `replay::prepare`: speeds, lateral error, alignment, `Frame`s              |
+//! | `parse`   | `metric_info::parse_metric_info` (our streaming visitor)                    |
+//! | `prepare` | `prepare::prepare`: speeds, lateral error, alignment, `Frame`s              |
 //! | `stream`  | `replay::stream`: the monitor over every frame                            |
-//! | `batch`   | `batch::summarize`: the batch reference check on the same frames           |
+//! | `batch`   | `batch::compute`: the batch reference check on the same frames           |
 //! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
 //!
 //! Prints one line per stage: `stage=NAME routes=R frames=F bytes=B wall_s=W cpu_s=C`, where

@@ -51,7 +51,7 @@
 //! window, lateral chunk) are internal to [`Monitor`].
 //!
 //! Features: `serde` (default) derives `serde::Serialize` / `Deserialize` on the public types and
-//! enables [`json`] (serde-json-core); `defmt` derives `defmt::Format` on the public types.
+//! enables the `json` module (serde-json-core); `defmt` derives `defmt::Format` on the public types.
 #![no_std]
 #![deny(missing_docs)]
 #![forbid(unsafe_code)]

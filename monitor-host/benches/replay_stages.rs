@@ -126,7 +126,7 @@ fn main() -> anyhow::Result<()> {
         let summary = timed(&mut acc[5], frames, n, || {
             replay::stream(&mut prepared, &settings.core)
         })
-        .map_err(|(i, e)| anyhow::anyhow!("frame {i}: {e}"))?;
+        .map_err(|e| anyhow::anyhow!("frame {}: {e}", e.index()))?;
         let reference = timed(&mut acc[6], frames, n, || {
             batch::compute(&prepared.frames, &settings.core)
         });

@@ -1,9 +1,26 @@
 //! LEAD's step-exact collision file, `infractions.json` beside `metric_info.json`
 //! (`SDS-SPEC.md` v1.2 §5): the metric_info step of each infraction and its message.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use crate::input::metric_info::TelemetryError;
+/// Why an `infractions.json` cannot be used (the route is then aligned by position, with a
+/// warning).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum LeadInfractionsError {
+    /// The file cannot be read.
+    #[error("cannot read {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file does not have the expected shape (the parser's message, with line and column).
+    #[error("invalid infractions.json: {0}")]
+    Shape(String),
+}
 
 /// One entry of LEAD's `infractions.json`: the metric_info step of an infraction and its message
 /// (the same text as the evaluator's infraction string).
@@ -24,10 +41,10 @@ struct InfractionsFile {
 /// keys of the file and of each entry are ignored.
 ///
 /// # Errors
-/// [`TelemetryError::Io`] if unreadable; [`TelemetryError::Infractions`] (with line and column)
+/// [`LeadInfractionsError::Io`] if unreadable; [`LeadInfractionsError::Shape`] (with line and column)
 /// if the shape is wrong (e.g. an entry without an integer `step` or a string `message`).
-pub fn read_lead_infractions(path: &Path) -> Result<Vec<StepInfraction>, TelemetryError> {
-    let bytes = std::fs::read(path).map_err(|source| TelemetryError::Io {
+pub fn read_lead_infractions(path: &Path) -> Result<Vec<StepInfraction>, LeadInfractionsError> {
+    let bytes = std::fs::read(path).map_err(|source| LeadInfractionsError::Io {
         path: path.to_path_buf(),
         source,
     })?;
@@ -42,15 +59,15 @@ pub fn read_lead_infractions(path: &Path) -> Result<Vec<StepInfraction>, Telemet
 ///     "message": "Agent collided against object with type=static.prop.constructioncone and id=7 at (x=1.0, y=2.0, z=0.0)",
 ///     "event_type": "COLLISION_STATIC"}], "other": 1}"#)?;
 /// assert_eq!(v[0].step, 813);
-/// # Ok::<(), monitor_host::input::metric_info::TelemetryError>(())
+/// # Ok::<(), monitor_host::input::lead_infractions::LeadInfractionsError>(())
 /// ```
 ///
 /// # Errors
 /// As [`read_lead_infractions`].
-pub fn parse_lead_infractions(bytes: &[u8]) -> Result<Vec<StepInfraction>, TelemetryError> {
+pub fn parse_lead_infractions(bytes: &[u8]) -> Result<Vec<StepInfraction>, LeadInfractionsError> {
     serde_json::from_slice::<InfractionsFile>(bytes)
         .map(|f| f.infractions)
-        .map_err(|e| TelemetryError::Infractions(e.to_string()))
+        .map_err(|e| LeadInfractionsError::Shape(e.to_string()))
 }
 
 #[cfg(test)]

@@ -3,7 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use monitor_core::{score, Config, Event, Monitor, RecordScores, RouteSummary};
+use monitor_core::{
+    score, Config, ConfigError, Event, Monitor, MonitorError, RecordScores, RouteSummary,
+};
 
 use crate::aggregate::penalty;
 use crate::input::discovery;
@@ -17,25 +19,55 @@ use crate::reference::batch;
 use crate::settings::Settings;
 use crate::warning::Warning;
 
+/// Why the monitor refused a route.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum Refused {
+    /// The configuration (checked before any frame).
+    #[error("{0}")]
+    Config(ConfigError),
+    /// A frame (its index), or `finish` (index = the number of frames).
+    #[error("{error}")]
+    Frame {
+        /// Index of the frame.
+        index: usize,
+        /// What the monitor said.
+        error: MonitorError,
+    },
+}
+
+impl Refused {
+    /// The index of the refused frame (0 for the configuration).
+    pub fn index(&self) -> usize {
+        match self {
+            Refused::Config(_) => 0,
+            Refused::Frame { index, .. } => *index,
+        }
+    }
+}
+
 /// Streams prepared frames through a fresh monitor; fills the events' verdicts.
-/// Returns the summary, or the first frame the monitor refused (index, reason).
-pub fn stream(
-    prepared: &mut PreparedRoute,
-    config: &Config,
-) -> Result<RouteSummary, (usize, String)> {
-    let mut monitor: Monitor = Monitor::new(*config).map_err(|e| (0, e.to_string()))?;
+/// Returns the summary, or why the monitor refused the route.
+///
+/// # Errors
+/// The first frame (or the configuration) the monitor refused.
+pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSummary, Refused> {
+    let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
     let mut verdicts = Vec::new();
-    for (i, f) in prepared.frames.iter().enumerate() {
-        let events = monitor.push(f).map_err(|e| (i, e.to_string()))?;
+    for (index, f) in prepared.frames.iter().enumerate() {
+        let events = monitor
+            .push(f)
+            .map_err(|error| Refused::Frame { index, error })?;
         for e in &events {
             if let Event::Collision(v) = e {
                 verdicts.push(*v);
             }
         }
     }
-    let done = monitor
-        .finish()
-        .map_err(|e| (prepared.frames.len(), e.to_string()))?;
+    let done = monitor.finish().map_err(|error| Refused::Frame {
+        index: prepared.frames.len(),
+        error,
+    })?;
     for ev in &mut prepared.events {
         if let Some(k) = ev.frame {
             if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
@@ -156,11 +188,15 @@ pub fn replay(
                     out.events = prepared.events;
                     Some(summary)
                 }
-                Err((i, reason)) => {
+                Err(refused) => {
                     out.telemetry = TelemetryState::Invalid(format!(
-                        "{}: step {}: {reason}",
+                        "{}: step {}: {refused}",
                         path.display(),
-                        prepared.steps.get(i).copied().unwrap_or_default()
+                        prepared
+                            .steps
+                            .get(refused.index())
+                            .copied()
+                            .unwrap_or_default()
                     ));
                     None
                 }

@@ -116,8 +116,8 @@ impl fmt::Display for FieldProblem {
     }
 }
 
-/// Why a telemetry file (or an `infractions.json`) is invalid. The `Display` text is the reason
-/// reported as `invalid: <reason>` (`SDS-SPEC.md` §1.2): it names the step and the field.
+/// Why a telemetry file is invalid. The `Display` text is the reason reported as
+/// `invalid: <reason>` (`SDS-SPEC.md` §1.2): it names the step and the field.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum TelemetryError {
@@ -192,9 +192,6 @@ pub enum TelemetryError {
         /// Column (bytes into the line).
         column: usize,
     },
-    /// `infractions.json` does not have the expected shape.
-    #[error("invalid infractions.json: {0}")]
-    Infractions(String),
 }
 
 fn step_prefix(step: Option<u64>) -> String {

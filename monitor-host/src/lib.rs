@@ -27,8 +27,8 @@
 //! report/    model → json, csv, table
 //! ```
 //!
-//! Around them: [`Settings`] (every setting, typed), [`Inputs`], [`Warning`], [`Error`], and
-//! [`demo`] (writes the built-in demo run).
+//! Around them: [`Settings`] (every setting, typed), [`Inputs`], [`Warning`], [`Error`] (every
+//! layer's error type is re-exported here too), and [`demo`] (writes the built-in demo run).
 //!
 //! ```
 //! use monitor_host::{demo, report, score_run, Inputs, Settings};
@@ -61,8 +61,15 @@ pub mod run;
 pub mod settings;
 pub mod warning;
 
+pub use demo::DemoError;
 pub use error::Error;
+pub use input::labels::LabelsError;
+pub use input::lead_infractions::LeadInfractionsError;
+pub use input::metric_info::TelemetryError;
+pub use input::results_file::ResultsError;
+pub use input::route_xml::RouteError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
+pub use pipeline::replay::Refused;
 pub use report::model::Report;
 pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
 pub use settings::{Settings, SettingsError};

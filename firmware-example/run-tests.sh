@@ -6,9 +6,10 @@
 #      handler that cannot link), and the check itself can fail (a planted panic must not link);
 #   3. flash and RAM sizes, and the monitor's state size, within budgets.sh;
 #   4. instructions per frame (average and worst frame), counted by QEMU with -icount shift=0
-#      and the insncount plugin, within budgets.sh;
+#      and our insncount plugin (qemu-plugin/insncount.c, built here), within budgets.sh;
 #   5. stack high-water mark (cortex-m-rt paint-stack) within budgets.sh.
-# Idempotent; everything it writes goes to firmware-example/target/ (git-ignored). Measurements
+# Idempotent; everything it writes goes to firmware-example/target/ (git-ignored; builds go to
+# $CARGO_TARGET_DIR/firmware-example instead when CARGO_TARGET_DIR is set). Measurements
 # are summarised in target/qemu-tests/measurements.txt (docs/FIRMWARE.md records them).
 #
 # Environment: QEMU_TIMEOUT (seconds per QEMU run, default 60); FIRMWARE_FRAMES=FILE.jsonl to
@@ -18,6 +19,10 @@ set -euo pipefail
 FW="$(cd "$(dirname "$0")" && pwd)"
 ROOT="$(cd "$FW/.." && pwd)"
 OUT="$FW/target/qemu-tests"
+# The firmware's own build directory: firmware-example/target, or a subfolder of CARGO_TARGET_DIR
+# when one is set (CI shares one build cache between its runs).
+FW_TARGET="${CARGO_TARGET_DIR:+$CARGO_TARGET_DIR/firmware-example}"
+FW_TARGET="${FW_TARGET:-$FW/target}"
 QEMU_TIMEOUT="${QEMU_TIMEOUT:-60}"
 # shellcheck source=budgets.sh
 source "$FW/budgets.sh"
@@ -66,10 +71,13 @@ for tool in qemu-system-arm arm-none-eabi-size arm-none-eabi-nm arm-none-eabi-ob
 done
 say "$(qemu-system-arm --version | head -1)"
 
+# The instruction counter: our TCG plugin (qemu-plugin/), API version 2, which QEMU 9.0 and later
+# accept; an older QEMU refuses to load it, so say so up front.
 PLUGIN="$OUT/libinsncount.so"
-PLUGIN_SRC="$ROOT/../shared/tools/qemu-insncount/insncount.c"
-[ -f "$PLUGIN_SRC" ] || fail "$PLUGIN_SRC not found (shared/ must sit beside the repository)"
-gcc -shared -fPIC -O2 -Wall -o "$PLUGIN" "$PLUGIN_SRC" || fail "cannot build the QEMU insncount plugin (../shared/tools/qemu-insncount)"
+qemu_major=$(qemu-system-arm --version | sed -n '1s/.*version \([0-9]*\)\..*/\1/p')
+[ "${qemu_major:-0}" -ge 9 ] || fail "qemu-system-arm ${qemu_major:-?}.x is too old for the insncount plugin (API 2 needs QEMU >= 9.0; bash scripts/setup.sh installs it from bookworm-backports)"
+gcc -shared -fPIC -O2 -Wall -Wextra -Werror -fvisibility=hidden -o "$PLUGIN" "$FW/qemu-plugin/insncount.c" \
+  || fail "cannot build the QEMU insncount plugin (firmware-example/qemu-plugin/insncount.c)"
 
 # --- lints of the firmware crate (it is outside the workspace, so test-all's fmt/clippy skip it) --
 say "cargo fmt --check, cargo clippy (firmware crate)"
@@ -123,10 +131,10 @@ build() {
     vehicle) feats=(--no-default-features) ;;
   esac
   if [ $# -gt 0 ]; then feats+=(--features "$*"); fi
-  (cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW/target" \
+  (cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW_TARGET" \
     cargo build -q --release --target "$target" ${BUILD_STD[@]+"${BUILD_STD[@]}"} "${feats[@]}") \
     >"$OUT/build-$target-$kind.log" 2>&1 || return 1
-  cp "$FW/target/$target/release/firmware-example" "$OUT/$target-$kind.elf"
+  cp "$FW_TARGET/$target/release/firmware-example" "$OUT/$target-$kind.elf"
 }
 
 qemu() { # qemu TARGET ELF [args...]: runs the firmware with its semihosting arguments
@@ -174,7 +182,7 @@ PLUGIN_ARGS=()
 } >"$OUT/measurements.txt"
 report() { echo "$*" | tee -a "$OUT/measurements.txt"; }
 
-(cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW/target" \
+(cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW_TARGET" \
   cargo clippy -q --release --target thumbv7em-none-eabihf ${BUILD_STD[@]+"${BUILD_STD[@]}"} -- -D warnings) \
   || fail "cargo clippy (firmware crate)"
 
@@ -295,7 +303,7 @@ done
 # Host unit tests of the firmware's library (frame table, pin rules, output lines).
 say "host unit tests of the firmware library"
 host=$(rustc -vV | sed -n 's/^host: //p')
-(cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW/target" \
+(cd "$FW" && SDS_FRAMES="$SDS_FRAMES_LIST" CARGO_TARGET_DIR="$FW_TARGET" \
   cargo test -q --lib --target "$host") || fail "firmware library unit tests"
 
 echo

@@ -44,6 +44,8 @@ def metric_info(frames, indent=4, start=1, extra=None):
 def main():
     # --- collision strings: every distinct one of the fixtures, plus edge forms.
     seen = set()
+    if not FIX.is_dir():
+        print(f"note: {FIX} is absent: seeds from hand-made inputs only")
     if FIX.is_dir():
         for f in sorted(FIX.glob("*.json")):
             try:

@@ -21,7 +21,9 @@ skip() {
   exit 0
 }
 command -v cargo >/dev/null 2>&1 || skip "cargo not found"
-cargo +nightly --version >/dev/null 2>&1 || skip "no nightly toolchain"
+# Look nightly up in rustup's list: `cargo +nightly` alone could make rustup download one.
+export RUSTUP_AUTO_INSTALL=0
+rustup toolchain list 2>/dev/null | grep -q '^nightly' || skip "no nightly toolchain"
 cargo +nightly fuzz --version >/dev/null 2>&1 || skip "cargo-fuzz is not installed"
 
 work="$(mktemp -d)"

@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# Installs what the test suite needs, idempotently: rustup components and thumb targets,
-# QEMU (Debian bookworm-backports) and arm binutils. Safe to run again; prints what it did.
+# Installs what scripts/test-all.sh uses, and nothing else, idempotently: rustfmt, clippy and the
+# thumb targets; cargo-fuzz only beside an already installed nightly toolchain (the fuzz smoke run
+# needs both and skips without them; nightly itself is never installed); qemu-system-arm >= 9
+# (Debian bookworm-backports), arm binutils and gcc for the firmware tests. Safe to run again;
+# prints one line for each thing it installs or skips.
 set -euo pipefail
 
-log() { printf '[setup] %s\n' "$*" >&2; }
+acted=""
+log() { printf '[setup] %s\n' "$*" >&2; acted=1; }
+# `cargo +nightly ...` would make rustup download a missing nightly unless auto-install is off.
+export RUSTUP_AUTO_INSTALL=0
 
 # Rust components and targets.
 if command -v rustup >/dev/null 2>&1; then
@@ -15,17 +21,23 @@ if command -v rustup >/dev/null 2>&1; then
   done
 fi
 
-# cargo-fuzz for the fuzz smoke run (needs the nightly toolchain; skipped without it).
-if cargo +nightly --version >/dev/null 2>&1 && ! cargo +nightly fuzz --version >/dev/null 2>&1; then
-  log "installing cargo-fuzz"
+# cargo-fuzz for the fuzz smoke run, only when a nightly toolchain is installed (looked up in
+# rustup's list: asking `cargo +nightly` could install one).
+if ! rustup toolchain list 2>/dev/null | grep -q '^nightly'; then
+  log "skipping cargo-fuzz: no nightly toolchain installed (the fuzz smoke run skips too)"
+elif ! cargo +nightly fuzz --version >/dev/null 2>&1; then
+  log "installing cargo-fuzz (nightly is installed: the fuzz smoke run uses it; takes minutes)"
   cargo install cargo-fuzz --locked >/dev/null 2>&1 || log "WARNING: cargo install cargo-fuzz failed"
 fi
 
-# apt packages: qemu-system-arm from bookworm-backports (bookworm's 7.2 would remove the
-# preinstalled qemu-utils), binutils-arm-none-eabi for section sizes.
+# apt packages: qemu-system-arm >= 9 from bookworm-backports (bookworm's 7.2 is too old for the
+# insncount plugin's API and would remove the preinstalled qemu-utils), binutils-arm-none-eabi for
+# section sizes, gcc to build the plugin.
 need_apt=()
-command -v qemu-system-arm >/dev/null 2>&1 || need_apt+=(qemu-system-arm)
+qemu_major=$(qemu-system-arm --version 2>/dev/null | sed -n '1s/.*version \([0-9]*\)\..*/\1/p')
+[ "${qemu_major:-0}" -ge 9 ] || need_apt+=(qemu-system-arm)
 command -v arm-none-eabi-size >/dev/null 2>&1 || need_apt+=(binutils-arm-none-eabi)
+command -v gcc >/dev/null 2>&1 || need_apt+=(gcc)
 if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   if grep -qs bookworm /etc/os-release && ! grep -rqs bookworm-backports /etc/apt/sources.list /etc/apt/sources.list.d/; then
@@ -37,7 +49,8 @@ if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   $SUDO apt-get update -qq >/dev/null 2>&1 || true
   release=""; grep -qs bookworm /etc/os-release && release="-t bookworm-backports"
   # shellcheck disable=SC2086
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq $release "${need_apt[@]}" >/dev/null 2>&1 \
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $release "${need_apt[@]}" >/dev/null 2>&1 \
     || log "WARNING: apt-get install ${need_apt[*]} failed"
 fi
+[ -n "$acted" ] || log "everything the tests use is installed"
 exit 0

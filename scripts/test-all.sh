@@ -21,6 +21,7 @@ cargo clippy -p monitor-host --no-default-features --all-targets -- -D warnings
 cargo clippy -p monitor-core --no-default-features -- -D warnings
 
 step "cargo test"
+[ -d ../shared/fixtures ] || echo "note: ../shared/fixtures is absent: the tests on real Bench2Drive files skip (each says why under --nocapture)"
 cargo test --workspace --release
 
 step "cargo doc (warnings denied)"

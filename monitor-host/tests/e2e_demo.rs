@@ -224,7 +224,7 @@ fn bad_setting_is_an_error_naming_it() {
         "--set",
         "chunk_len=99",
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("chunk_len"));
 }
 

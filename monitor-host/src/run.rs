@@ -194,9 +194,22 @@ pub fn score_run_with(
         .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
         .count();
     if without > 0 && with == 0 && !settings.allow_missing_telemetry {
+        // With a root given, one route's reason shows what was looked for (and the closest
+        // folder); without one, the message itself says so.
+        let example = inputs.telemetry.as_ref().and_then(|_| {
+            outcomes
+                .iter()
+                .find_map(|o| match (&o.telemetry, o.record()) {
+                    (TelemetryState::Missing(why), Some(r)) => {
+                        Some((r.route_id.clone(), why.clone()))
+                    }
+                    _ => None,
+                })
+        });
         warnings.push(Warning::NoTelemetry {
             root: inputs.telemetry.clone(),
             routes: without,
+            example,
         });
     }
     Ok(build(

@@ -130,6 +130,8 @@ pub enum Warning {
         root: Option<PathBuf>,
         /// Routes without telemetry.
         routes: usize,
+        /// The first such route and why its telemetry was not found.
+        example: Option<(String, String)>,
     },
     /// A label file that misses some routes' keys.
     LabelsMissKeys {
@@ -280,7 +282,11 @@ impl std::fmt::Display for Warning {
                 f,
                 "{gaps} of {span} step numbers missing (over 10 %): its chunks span missing time"
             ),
-            Warning::NoTelemetry { root, routes } => {
+            Warning::NoTelemetry {
+                root,
+                routes,
+                example,
+            } => {
                 match root {
                     Some(r) => write!(
                         f,
@@ -293,6 +299,9 @@ impl std::fmt::Display for Warning {
                         "no route has telemetry: none of the {routes} route(s) has a \
                          metric_info.json beside its results file, and no --telemetry was given"
                     )?,
+                }
+                if let Some((route, reason)) = example {
+                    write!(f, " (e.g. {route}: {reason})")?;
                 }
                 f.write_str(
                     "; give --telemetry DIR (the folder holding <save_name>/metric_info.json) \

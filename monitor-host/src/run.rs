@@ -117,6 +117,13 @@ pub fn score_run_with(
             first: kept.duplicates.iter().take(5).cloned().collect(),
         });
     }
+    if !kept.dropped.is_empty() {
+        warnings.push(Warning::DuplicatesDropped {
+            copies: kept.dropped.len(),
+            ids: kept.duplicates.len(),
+            policy: settings.duplicates.name(),
+        });
+    }
     let records = kept.records;
     let routes = inputs
         .route_xml

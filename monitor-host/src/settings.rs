@@ -129,6 +129,12 @@ fn bool_of(name: &'static str, v: &str) -> Result<bool, SettingsError> {
 
 /// An f32 setting as the decimal a person writes: the shortest text that reads back as the same
 /// f32 (`0.05`, not its f64 widening `0.05000000074505806`), as an f64.
+///
+/// ```
+/// use monitor_host::settings::decimal;
+/// assert_eq!(decimal(0.05), 0.05);
+/// assert_ne!(f64::from(0.05f32), 0.05);
+/// ```
 pub fn decimal(x: f32) -> f64 {
     x.to_string().parse().unwrap_or(f64::from(x))
 }

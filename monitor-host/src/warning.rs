@@ -86,6 +86,15 @@ pub enum Warning {
         /// The first few of them, with the sources of each copy.
         first: Vec<Duplicate>,
     },
+    /// Copies of duplicated routes left out by `duplicates: first|last` (listed in `dropped`).
+    DuplicatesDropped {
+        /// Copies left out.
+        copies: usize,
+        /// Route ids concerned.
+        ids: usize,
+        /// `first` or `last`.
+        policy: &'static str,
+    },
     /// A record whose route is not in the route set of `--routes` (spec section 1.5).
     ForeignRoute {
         /// The route id.
@@ -249,6 +258,15 @@ impl std::fmt::Display for Warning {
                     .collect::<Vec<_>>()
                     .join("; "),
                 if *ids > first.len() { "; ..." } else { "" }
+            ),
+            Warning::DuplicatesDropped {
+                copies,
+                ids,
+                policy,
+            } => write!(
+                f,
+                "duplicates: {policy}: {copies} copies of {ids} route id(s) left out; the \
+                 report's `dropped` lists each with the copy kept"
             ),
             Warning::ForeignRoute { route, routes_file } => write!(
                 f,

@@ -82,6 +82,17 @@ pub enum LabelsError {
 /// Checks a label file against the routes' keys: an error when no key matches, else the keys
 /// without a label (sorted, each once).
 ///
+/// ```
+/// use monitor_host::input::labels::{check_coverage, parse_labels};
+/// use std::path::Path;
+/// let labels = parse_labels("Accident,obstacles\n", "f.csv")?;
+/// let f = Path::new("f.csv");
+/// let missing = check_coverage(&labels, ["Accident", "HardBreakRoute"], f, "scenario type", "--families")?;
+/// assert_eq!(missing, ["HardBreakRoute"]);
+/// assert!(check_coverage(&labels, ["HardBreakRoute"], f, "scenario type", "--families").is_err());
+/// # Ok::<(), monitor_host::LabelsError>(())
+/// ```
+///
 /// # Errors
 /// [`LabelsError::NoMatch`].
 pub fn check_coverage<'a>(

@@ -40,4 +40,18 @@ if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq $release "${need_apt[@]}" >/dev/null 2>&1 \
     || log "WARNING: apt-get install ${need_apt[*]} failed"
 fi
+# C API tests (bindings/c/run-tests.sh): arm-none-eabi-gcc links the Cortex-M4F C firmware (it
+# uses GCC's own headers and libgcc only, so newlib, a recommendation, is not needed); valgrind
+# and pkg-config for the host tests.
+capi_apt=()
+command -v arm-none-eabi-gcc >/dev/null 2>&1 || capi_apt+=(gcc-arm-none-eabi)
+command -v valgrind >/dev/null 2>&1 || capi_apt+=(valgrind)
+command -v pkg-config >/dev/null 2>&1 || capi_apt+=(pkg-config)
+if [ ${#capi_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
+  capi_sudo=""; [ "$(id -u)" -eq 0 ] || capi_sudo="sudo"
+  log "installing ${capi_apt[*]} (C API tests)"
+  $capi_sudo apt-get update -qq >/dev/null 2>&1 || true
+  DEBIAN_FRONTEND=noninteractive $capi_sudo apt-get install -y -qq --no-install-recommends "${capi_apt[@]}" >/dev/null 2>&1 \
+    || log "WARNING: apt-get install ${capi_apt[*]} failed"
+fi
 exit 0

@@ -149,6 +149,28 @@ grep -E '^(route|event|summary|pins) ' "$OUT/fw-run.txt" >"$OUT/fw-m4f.txt" || t
 diff -u "$OUT/host.txt" "$OUT/fw-m4f.txt" >&2 || fail "the C firmware's lines (Cortex-M4F) differ from monitor_replay's"
 say "ok: Cortex-M4F C firmware == host: ${#ROUTES[@]} routes, $nev events, summaries and pins byte-identical"
 
+# No panicking code in the image: the panic handler (a `udf` trap) and every panic path were
+# removed as unreachable. The check can fail: the test-only feature panic-canary adds a panic
+# the optimiser cannot remove; its image must contain the trap, and running it must end in the
+# firmware's fault handler (a panic never returns into C).
+has_panic() { arm-none-eabi-objdump -d "$1" | grep -qE $'\tudf(\\.w)?\t' || arm-none-eabi-nm -C "$1" | grep -qi panic; }
+! has_panic "$OUT/fw-m4f.elf" || fail "panicking code survives in the Cortex-M4F image (see arm-none-eabi-objdump -d $OUT/fw-m4f.elf | grep udf)"
+(CARGO_PROFILE_RELEASE_LTO=fat CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 cargo rustc -q --release -p sds-capi \
+  --target "$M4F" --crate-type staticlib --features panic-canary) >"$OUT/build-canary.log" 2>&1 \
+  || { cat "$OUT/build-canary.log" >&2; fail "building the panic canary"; }
+arm-none-eabi-gcc "${ARMFLAGS[@]}" -DSDS_PANIC_CANARY -I"$HERE/include" -I"$EX" -I"$FWDIR" -T "$FWDIR/link.ld" \
+  -Wl,--gc-sections -Wl,-z,noexecstack -o "$OUT/fw-canary.elf" "$FWDIR/startup.c" "$FWDIR/semihost.c" \
+  "$FWDIR/main.c" "$EX/sds_lines.c" "$OUT/fw_frames.c" "$TARGET_DIR/$M4F/release/libsds_monitor.a" -lgcc \
+  || fail "linking the panic canary firmware"
+has_panic "$OUT/fw-canary.elf" || fail "the planted panic left no trace in the image: the check above cannot fail"
+if timeout "$QEMU_TIMEOUT" qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -monitor none \
+  -serial none -icount shift=0 -semihosting-config enable=on,target=native -kernel "$OUT/fw-canary.elf" \
+  >"$OUT/fw-canary.txt"; then
+  fail "the panic canary firmware exited successfully"
+fi
+grep -q '^error: fault' "$OUT/fw-canary.txt" || fail "the planted panic did not trap into the fault handler ($OUT/fw-canary.txt)"
+say "ok: no panicking code in the Cortex-M4F image; a planted panic shows (udf) and traps into the fault handler"
+
 # Sizes: sections of the image; the library's share by symbol (every symbol of the image that
 # libsds_monitor.a defines), its float formatting (Ryu, for the JSON lines) apart.
 section() { arm-none-eabi-size -A "$1" | awk -v s="$2" '$1 == s { print $2; f = 1 } END { if (!f) print 0 }'; }

@@ -44,6 +44,11 @@ static int events_out(const sds_events *events, sds_pins *pins) {
   return 1;
 }
 
+#ifdef SDS_PANIC_CANARY
+/* Test only: libsds_monitor.a built with the feature panic-canary; index 3 panics. */
+uint32_t sds_panic_canary(uint32_t index);
+#endif
+
 int main(void) {
   char line[SDS_LINE_MAX];
   sds_monitor *m = (sds_monitor *)&storage;
@@ -57,6 +62,11 @@ int main(void) {
   if (r != SDS_RESULT_OK) {
     return fail("error: sds_monitor_init", r);
   }
+#ifdef SDS_PANIC_CANARY
+  if (sds_panic_canary(fw_route_count + 2u) != 0u) {
+    return fail("error: the panic canary returned", 0);
+  }
+#endif
   for (uint32_t route = 0; route < fw_route_count; route++) {
     sds_pins pins = {false, 0, false, 0};
     if (route > 0 && (r = sds_monitor_reset(m)) != SDS_RESULT_OK) {

@@ -80,6 +80,16 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
     }
 }
 
+/// Test only (feature `panic-canary`, never in a release): panics when `index > 2`, the
+/// optimiser cannot rule that out. run-tests.sh links it into a second Cortex-M image to show
+/// that its check for panicking code can fail, and that a panic traps into the fault handler.
+#[cfg(feature = "panic-canary")]
+#[no_mangle]
+pub extern "C" fn sds_panic_canary(index: u32) -> u32 {
+    let table = [1u32, 2, 3];
+    table[core::hint::black_box(index) as usize]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

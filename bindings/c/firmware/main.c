@@ -7,6 +7,10 @@
  *   monitor_size N, storage_size N, stack N, routes R frames F, done
  *
  * run-tests.sh compares the first four kinds byte for byte with the host's `monitor_replay`.
+ *
+ * With the semihosting command line "fw bench N" it only pushes the first N frames of the first
+ * route (no output) and exits: QEMU's instruction count of `bench N` minus `bench 0` is the C
+ * API's cost for those frames.
  */
 #include <stdint.h>
 
@@ -49,6 +53,29 @@ static int events_out(const sds_events *events, sds_pins *pins) {
 uint32_t sds_panic_canary(uint32_t index);
 #endif
 
+/* N of "PROGRAM bench N"; -1 without "bench" (the full run), -2 when malformed. */
+static int32_t bench_frames(void) {
+  char cmd[64];
+  const char *p = cmd;
+  int32_t n = 0;
+  if (!semihost_cmdline(cmd, sizeof cmd)) {
+    return -1;
+  }
+  while (*p != '\0' && *p != ' ') { /* the program name */
+    p++;
+  }
+  while (*p == ' ') {
+    p++;
+  }
+  if (p[0] != 'b' || p[1] != 'e' || p[2] != 'n' || p[3] != 'c' || p[4] != 'h' || p[5] != ' ') {
+    return *p == '\0' ? -1 : -2;
+  }
+  for (p += 6; *p >= '0' && *p <= '9' && n < 1000000; p++) {
+    n = n * 10 + (*p - '0');
+  }
+  return *p == '\0' ? n : -2;
+}
+
 int main(void) {
   char line[SDS_LINE_MAX];
   sds_monitor *m = (sds_monitor *)&storage;
@@ -61,6 +88,20 @@ int main(void) {
 
   if (r != SDS_RESULT_OK) {
     return fail("error: sds_monitor_init", r);
+  }
+  {
+    int32_t n = bench_frames();
+    if (n == -2) {
+      return fail("error: usage: fw [bench N]", 0);
+    }
+    if (n >= 0) {
+      for (uint32_t i = 0; i < (uint32_t)n && i < fw_route_frames[0]; i++) {
+        if (sds_monitor_push(m, &fw_frames[i], &events) != SDS_RESULT_OK) {
+          return 1;
+        }
+      }
+      return 0;
+    }
   }
 #ifdef SDS_PANIC_CANARY
   if (sds_panic_canary(fw_route_count + 2u) != 0u) {

@@ -6,6 +6,7 @@
 enum {
   SYS_OPEN = 0x01,
   SYS_WRITE = 0x05,
+  SYS_GET_CMDLINE = 0x15,
   SYS_EXIT = 0x18,
   ADP_STOPPED_APPLICATION_EXIT = 0x20026,
   ADP_STOPPED_RUN_TIME_ERROR = 0x20023
@@ -36,6 +37,20 @@ int semihost_write(const char *bytes, size_t n) {
   block[1] = (uint32_t)(uintptr_t)bytes;
   block[2] = (uint32_t)n;
   return call(SYS_WRITE, block) == 0; /* the bytes NOT written */
+}
+
+int semihost_cmdline(char *buf, size_t cap) {
+  uint32_t block[2];
+  if (cap < 2) {
+    return 0;
+  }
+  block[0] = (uint32_t)(uintptr_t)buf;
+  block[1] = (uint32_t)(cap - 1);
+  if (call(SYS_GET_CMDLINE, block) != 0 || block[1] >= cap) {
+    return 0;
+  }
+  buf[block[1]] = '\0';
+  return 1;
 }
 
 void semihost_exit(int ok) {

@@ -89,6 +89,10 @@ enum sds_result
    */
   SDS_RESULT_PANIC = 9,
   /**
+   * A pointer argument is not aligned for its type (a cast from a byte buffer?).
+   */
+  SDS_RESULT_MISALIGNED_POINTER = 10,
+  /**
    * An error this version of the C API does not know (the core is newer).
    */
   SDS_RESULT_UNKNOWN = 99,
@@ -790,7 +794,8 @@ size_t sds_monitor_align(void);
  * left untouched. Re-initialising a monitor starts afresh with the new configuration.
  *
  * Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_BUFFER_TOO_SMALL` (`len <
- * sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_CONFIG_*`.
+ * sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER`
+ * (`config`), `SDS_RESULT_CONFIG_*`.
  *
  * # Safety
  * `monitor` is NULL or writable for `len` bytes, and not used by anyone else during the call;
@@ -804,9 +809,9 @@ sds_result sds_monitor_init(struct sds_monitor *monitor,
  * Pushes one frame. `*events` gets the events it caused (often none), in order. On failure
  * the monitor is unchanged (skip the frame or finish the route) and `events->len` is 0.
  *
- * Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_NOT_INITIALIZED`,
- * `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN, infinite or negative field),
- * `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
+ * Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+ * `SDS_RESULT_NOT_INITIALIZED`, `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN,
+ * infinite or negative field), `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
  *
  * # Safety
  * `monitor` is NULL or an initialised monitor nobody else uses during the call; `frame` is

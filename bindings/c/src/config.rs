@@ -4,7 +4,7 @@
 use monitor_core::{Bounds, Config, Factors, Profile};
 
 use crate::result::{code, sds_result};
-use crate::{guard, SDS_CAPACITY};
+use crate::{guard, usable, SDS_CAPACITY};
 
 /// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL` or `SDS_PROFILE_B2D_LEGACY`.
 /// A plain integer, so that no value written by C is undefined behaviour in Rust.
@@ -196,13 +196,12 @@ pub extern "C" fn sds_config_default() -> sds_config {
 #[no_mangle]
 pub unsafe extern "C" fn sds_config_validate(config: *const sds_config) -> sds_result {
     guard(|| {
-        if config.is_null() {
-            return sds_result::NullPointer;
-        }
-        // SAFETY: non-NULL, and the caller promises a readable sds_config; every bit pattern
-        // of its fields is a valid value (plain integers and floats).
-        let config = unsafe { config.read_unaligned() };
-        code(config.to_core().map(|_| ()))
+        code((|| {
+            usable(config)?;
+            // SAFETY: usable, and the caller promises a readable sds_config; every bit pattern
+            // of its fields is a valid value (plain integers and floats).
+            unsafe { config.read() }.to_core().map(|_| ())
+        })())
     })
 }
 

@@ -178,14 +178,22 @@ impl From<&Event> for sds_event {
     }
 }
 
-impl From<&Events> for sds_events {
-    fn from(events: &Events) -> Self {
-        let mut out = sds_events::default();
-        // The core emits at most one event per kind, three kinds: zip never drops one.
-        for (slot, e) in out.events.iter_mut().zip(events) {
-            *slot = e.into();
-            out.len += 1;
+impl sds_events {
+    /// Sets `self` to `events` in place (every slot: the event, or zero).
+    #[inline(always)] // lets the optimiser read the events where push left them (no copies)
+    pub(crate) fn set(&mut self, events: &Events) {
+        let mut it = events.iter();
+        let mut len = 0;
+        // The core emits at most one event per kind, three kinds: no event is left over.
+        for slot in self.events.iter_mut() {
+            *slot = match it.next() {
+                Some(e) => {
+                    len += 1;
+                    e.into()
+                }
+                None => sds_event::default(),
+            };
         }
-        out
+        self.len = len;
     }
 }

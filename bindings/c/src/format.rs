@@ -3,8 +3,8 @@
 
 use core::ffi::c_char;
 
-use crate::guard;
 use crate::result::sds_result;
+use crate::{guard, usable};
 
 /// Bytes `sds_format_f32` / `sds_format_f64` may need, the terminating NUL included.
 pub const SDS_NUMBER_TEXT_MAX: usize = 32;
@@ -14,8 +14,11 @@ pub const SDS_NUMBER_TEXT_MAX: usize = 32;
 /// # Safety
 /// `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
 unsafe fn put(text: &str, buf: *mut c_char, len: usize, written: *mut usize) -> sds_result {
-    if buf.is_null() || written.is_null() {
+    if buf.is_null() {
         return sds_result::NullPointer;
+    }
+    if let Err(e) = usable(written) {
+        return e;
     }
     let n = text.len();
     if n >= len {
@@ -26,7 +29,7 @@ unsafe fn put(text: &str, buf: *mut c_char, len: usize, written: *mut usize) -> 
     unsafe {
         core::ptr::copy_nonoverlapping(text.as_ptr(), buf.cast::<u8>(), n);
         buf.add(n).write(0);
-        written.write_unaligned(n);
+        written.write(n);
     }
     sds_result::Ok
 }

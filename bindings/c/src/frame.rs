@@ -2,8 +2,8 @@
 
 use monitor_core::{Collisions, Frame};
 
-use crate::guard;
 use crate::result::sds_result;
+use crate::{guard, usable};
 
 /// Collisions aligned to one frame, counted by kind.
 #[repr(C)]
@@ -97,15 +97,19 @@ pub unsafe extern "C" fn sds_frame_from_vectors(
     out: *mut sds_frame,
 ) -> sds_result {
     guard(|| {
-        if acc.is_null() || forward.is_null() || right.is_null() || out.is_null() {
-            return sds_result::NullPointer;
+        if let Err(e) = usable(acc)
+            .and(usable(forward))
+            .and(usable(right))
+            .and(usable(out))
+        {
+            return e;
         }
-        // SAFETY: each is non-NULL and the caller promises two readable floats.
+        // SAFETY: each is usable and the caller promises two readable floats.
         let (acc, forward, right) = unsafe {
             (
-                acc.cast::<[f32; 2]>().read_unaligned(),
-                forward.cast::<[f32; 2]>().read_unaligned(),
-                right.cast::<[f32; 2]>().read_unaligned(),
+                acc.cast::<[f32; 2]>().read(),
+                forward.cast::<[f32; 2]>().read(),
+                right.cast::<[f32; 2]>().read(),
             )
         };
         let f = Frame::from_vectors(
@@ -117,8 +121,7 @@ pub unsafe extern "C" fn sds_frame_from_vectors(
             None,
             Collisions::NONE,
         );
-        // SAFETY: non-NULL, and the caller promises a writable sds_frame; it was initialised
-        // by the caller, so reading it back for the untouched fields is sound.
+        // SAFETY: usable, and the caller promises a writable sds_frame that nothing else uses.
         let frame = unsafe { &mut *out };
         frame.a_lon = f.a_lon;
         frame.a_lat = f.a_lat;

@@ -52,6 +52,19 @@ use result::sds_result;
 pub const SDS_CAPACITY: usize = 20;
 const _: () = assert!(SDS_CAPACITY == monitor_core::DEFAULT_CAPACITY);
 
+/// An input or output pointer is usable: not NULL (`SDS_RESULT_NULL_POINTER`) and aligned for
+/// its type (`SDS_RESULT_MISALIGNED_POINTER`). Then aligned reads and writes, which compile to
+/// word moves, are sound (given the caller's promise that the memory is valid).
+pub(crate) fn usable<T>(p: *const T) -> Result<(), sds_result> {
+    if p.is_null() {
+        Err(sds_result::NullPointer)
+    } else if !p.is_aligned() {
+        Err(sds_result::MisalignedPointer)
+    } else {
+        Ok(())
+    }
+}
+
 /// Runs one call's body. Host: a panic (a bug) becomes `SDS_RESULT_PANIC` instead of unwinding
 /// into C.
 #[cfg(not(target_os = "none"))]

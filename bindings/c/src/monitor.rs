@@ -2,13 +2,14 @@
 
 use core::mem::{align_of, size_of};
 
-use monitor_core::Monitor;
+use monitor_core::{Frame, Monitor};
 
 use crate::config::sds_config;
 use crate::event::sds_events;
-use crate::guard;
-use crate::result::sds_result;
+use crate::frame::sds_frame;
+use crate::result::{code, sds_result};
 use crate::summary::sds_summary;
+use crate::{guard, usable};
 
 /// Marks an initialised monitor, so that a zeroed or never-initialised buffer is refused.
 const MAGIC: u32 = 0x5344_534D; // "SDSM"
@@ -100,7 +101,8 @@ unsafe fn state_ref<'a>(m: *const sds_monitor) -> Result<&'a Monitor, sds_result
 /// left untouched. Re-initialising a monitor starts afresh with the new configuration.
 ///
 /// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_BUFFER_TOO_SMALL` (`len <
-/// sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_CONFIG_*`.
+/// sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER`
+/// (`config`), `SDS_RESULT_CONFIG_*`.
 ///
 /// # Safety
 /// `monitor` is NULL or writable for `len` bytes, and not used by anyone else during the call;
@@ -112,8 +114,11 @@ pub unsafe extern "C" fn sds_monitor_init(
     config: *const sds_config,
 ) -> sds_result {
     guard(|| {
-        if monitor.is_null() || config.is_null() {
+        if monitor.is_null() {
             return sds_result::NullPointer;
+        }
+        if let Err(e) = usable(config) {
+            return e;
         }
         if len < size_of::<sds_monitor>() {
             return sds_result::BufferTooSmall;
@@ -121,8 +126,9 @@ pub unsafe extern "C" fn sds_monitor_init(
         if !monitor.is_aligned() {
             return sds_result::BufferMisaligned;
         }
-        // SAFETY: non-NULL; the caller promises a readable sds_config (plain numbers).
-        let config = unsafe { config.read_unaligned() };
+        // SAFETY: usable (non-NULL, aligned); the caller promises a readable sds_config, and
+        // any bits of its plain numeric fields are valid.
+        let config = unsafe { config.read() };
         let m = match config
             .to_core()
             .and_then(|c| Monitor::new(c).map_err(Into::into))
@@ -145,9 +151,9 @@ pub unsafe extern "C" fn sds_monitor_init(
 /// Pushes one frame. `*events` gets the events it caused (often none), in order. On failure
 /// the monitor is unchanged (skip the frame or finish the route) and `events->len` is 0.
 ///
-/// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_NOT_INITIALIZED`,
-/// `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN, infinite or negative field),
-/// `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
+/// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+/// `SDS_RESULT_NOT_INITIALIZED`, `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN,
+/// infinite or negative field), `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
 ///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody else uses during the call; `frame` is
@@ -155,29 +161,38 @@ pub unsafe extern "C" fn sds_monitor_init(
 #[no_mangle]
 pub unsafe extern "C" fn sds_monitor_push(
     monitor: *mut sds_monitor,
-    frame: *const crate::frame::sds_frame,
+    frame: *const sds_frame,
     events: *mut sds_events,
 ) -> sds_result {
     guard(|| {
-        if events.is_null() || frame.is_null() {
-            return sds_result::NullPointer;
+        if let Err(e) = usable(events) {
+            return e;
         }
-        // SAFETY: non-NULL; the caller promises a writable sds_events.
-        unsafe { events.write_unaligned(sds_events::default()) };
+        // SAFETY: usable; the caller promises a writable sds_events that nothing else uses.
+        let events = unsafe { &mut *events };
+        if let Err(e) = usable(frame) {
+            *events = sds_events::default();
+            return e;
+        }
         // SAFETY: the caller's promise on `monitor`.
         let m = match unsafe { state_mut(monitor) } {
             Ok(m) => m,
-            Err(e) => return e,
+            Err(e) => {
+                *events = sds_events::default();
+                return e;
+            }
         };
-        // SAFETY: non-NULL; the caller promises a readable sds_frame.
-        let frame = unsafe { frame.read_unaligned() };
-        match m.push(&(&frame).into()) {
+        // SAFETY: usable; the caller promises a readable sds_frame.
+        let frame = Frame::from(unsafe { &*frame });
+        match m.push(&frame) {
             Ok(ev) => {
-                // SAFETY: non-NULL and writable, as above.
-                unsafe { events.write_unaligned((&ev).into()) };
+                events.set(&ev);
                 sds_result::Ok
             }
-            Err(e) => e.into(),
+            Err(e) => {
+                *events = sds_events::default();
+                e.into()
+            }
         }
     })
 }
@@ -196,27 +211,25 @@ pub unsafe extern "C" fn sds_monitor_finish(
     summary: *mut sds_summary,
 ) -> sds_result {
     guard(|| {
-        if events.is_null() || summary.is_null() {
-            return sds_result::NullPointer;
+        if let Err(e) = usable(events) {
+            return e;
         }
-        // SAFETY: non-NULL; the caller promises a writable sds_events.
-        unsafe { events.write_unaligned(sds_events::default()) };
-        // SAFETY: the caller's promise on `monitor`.
-        let m = match unsafe { state_mut(monitor) } {
-            Ok(m) => m,
-            Err(e) => return e,
-        };
-        match m.finish() {
-            Ok(done) => {
-                // SAFETY: both non-NULL and writable (the caller's promise).
-                unsafe {
-                    events.write_unaligned((&done.events).into());
-                    summary.write_unaligned((&done.summary).into());
-                }
-                sds_result::Ok
-            }
-            Err(e) => e.into(),
+        // SAFETY: usable; the caller promises a writable sds_events that nothing else uses.
+        let events = unsafe { &mut *events };
+        let r = (|| {
+            usable(summary)?;
+            // SAFETY: the caller's promise on `monitor`.
+            let m = unsafe { state_mut(monitor) }?;
+            let done = m.finish()?;
+            events.set(&done.events);
+            // SAFETY: usable; the caller promises a writable sds_summary.
+            unsafe { summary.write((&done.summary).into()) };
+            Ok(())
+        })();
+        if r.is_err() {
+            *events = sds_events::default();
         }
+        code(r)
     })
 }
 
@@ -250,18 +263,14 @@ pub unsafe extern "C" fn sds_monitor_summary(
     summary: *mut sds_summary,
 ) -> sds_result {
     guard(|| {
-        if summary.is_null() {
-            return sds_result::NullPointer;
-        }
-        // SAFETY: the caller's promise on `monitor`.
-        match unsafe { state_ref(monitor) } {
-            Ok(m) => {
-                // SAFETY: non-NULL and writable (the caller's promise).
-                unsafe { summary.write_unaligned(m.summary().into()) };
-                sds_result::Ok
-            }
-            Err(e) => e,
-        }
+        code((|| {
+            usable(summary)?;
+            // SAFETY: the caller's promise on `monitor`.
+            let m = unsafe { state_ref(monitor) }?;
+            // SAFETY: usable; the caller promises a writable sds_summary.
+            unsafe { summary.write(m.summary().into()) };
+            Ok(())
+        })())
     })
 }
 
@@ -276,18 +285,14 @@ pub unsafe extern "C" fn sds_monitor_config(
     config: *mut sds_config,
 ) -> sds_result {
     guard(|| {
-        if config.is_null() {
-            return sds_result::NullPointer;
-        }
-        // SAFETY: the caller's promise on `monitor`.
-        match unsafe { state_ref(monitor) } {
-            Ok(m) => {
-                // SAFETY: non-NULL and writable (the caller's promise).
-                unsafe { config.write_unaligned((*m.config()).into()) };
-                sds_result::Ok
-            }
-            Err(e) => e,
-        }
+        code((|| {
+            usable(config)?;
+            // SAFETY: the caller's promise on `monitor`.
+            let m = unsafe { state_ref(monitor) }?;
+            // SAFETY: usable; the caller promises a writable sds_config.
+            unsafe { config.write((*m.config()).into()) };
+            Ok(())
+        })())
     })
 }
 
@@ -295,7 +300,6 @@ pub unsafe extern "C" fn sds_monitor_config(
 mod tests {
     use super::*;
     use crate::config::sds_config_default;
-    use crate::frame::sds_frame;
 
     #[test]
     fn init_checks_buffer_and_config() {

@@ -34,6 +34,8 @@ pub enum sds_result {
     /// A Rust panic was caught at the boundary (a bug: please report it). Host builds only;
     /// on a microcontroller there is no unwinding and a panic traps instead.
     Panic = 9,
+    /// A pointer argument is not aligned for its type (a cast from a byte buffer?).
+    MisalignedPointer = 10,
     /// An error this version of the C API does not know (the core is newer).
     Unknown = 99,
     /// `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
@@ -154,6 +156,7 @@ pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
         7 => c"the output buffer is too small",
         8 => c"undefined: the route has no comfort chunk",
         9 => c"a Rust panic was caught at the C boundary (a bug: please report it)",
+        10 => c"a pointer argument is not aligned for its type",
         99 => c"an error this version of the C API does not know",
         100 => c"config: profile must be SDS_PROFILE_PHYSICAL or SDS_PROFILE_B2D_LEGACY",
         101 => c"config: dt must be finite and positive",
@@ -197,6 +200,7 @@ mod tests {
             sds_result::OutputTooSmall,
             sds_result::Undefined,
             sds_result::Panic,
+            sds_result::MisalignedPointer,
             sds_result::Unknown,
             sds_result::ConfigProfile,
             sds_result::ConfigDt,

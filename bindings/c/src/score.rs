@@ -3,9 +3,9 @@
 use monitor_core::{score, Factors, RouteSummary};
 
 use crate::config::sds_factors;
-use crate::guard;
 use crate::result::sds_result;
 use crate::summary::sds_summary;
+use crate::{guard, usable};
 
 /// What the evaluator recorded for the route, plus its work-zone count.
 #[repr(C)]
@@ -42,17 +42,17 @@ pub unsafe extern "C" fn sds_summary_comfort_score(
     score: *mut f64,
 ) -> sds_result {
     guard(|| {
-        if summary.is_null() || score.is_null() {
-            return sds_result::NullPointer;
+        if let Err(e) = usable(summary).and(usable(score)) {
+            return e;
         }
-        // SAFETY: non-NULL; the caller promises a readable sds_summary (plain integers).
-        let s = RouteSummary::from(&unsafe { summary.read_unaligned() });
+        // SAFETY: usable; the caller promises a readable sds_summary (plain integers).
+        let s = RouteSummary::from(unsafe { &*summary });
         let (value, r) = match s.comfort_score() {
             Some(v) => (v, sds_result::Ok),
             None => (f64::NAN, sds_result::Undefined),
         };
-        // SAFETY: non-NULL; the caller promises a writable double.
-        unsafe { score.write_unaligned(value) };
+        // SAFETY: usable; the caller promises a writable double.
+        unsafe { score.write(value) };
         r
     })
 }
@@ -70,17 +70,15 @@ pub unsafe extern "C" fn sds_ds_safe(
     out: *mut sds_safe_score,
 ) -> sds_result {
     guard(|| {
-        if summary.is_null() || record.is_null() || factors.is_null() || out.is_null() {
-            return sds_result::NullPointer;
+        if let Err(e) = usable(summary)
+            .and(usable(record))
+            .and(usable(factors))
+            .and(usable(out))
+        {
+            return e;
         }
-        // SAFETY: all non-NULL; the caller promises readable values (plain numbers).
-        let (s, r, f) = unsafe {
-            (
-                summary.read_unaligned(),
-                record.read_unaligned(),
-                factors.read_unaligned(),
-            )
-        };
+        // SAFETY: all usable; the caller promises readable values (plain numbers).
+        let (s, r, f) = unsafe { (summary.read(), record.read(), factors.read()) };
         let record = score::RecordScores {
             score_route: r.score_route,
             score_penalty: r.score_penalty,
@@ -91,8 +89,8 @@ pub unsafe extern "C" fn sds_ds_safe(
             p_safe: safe.p_safe,
             ds_safe: safe.ds_safe,
         };
-        // SAFETY: non-NULL; the caller promises a writable sds_safe_score.
-        unsafe { out.write_unaligned(value) };
+        // SAFETY: usable; the caller promises a writable sds_safe_score.
+        unsafe { out.write(value) };
         sds_result::Ok
     })
 }

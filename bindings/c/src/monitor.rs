@@ -184,14 +184,17 @@ pub unsafe extern "C" fn sds_monitor_push(
         };
         // SAFETY: usable; the caller promises a readable sds_frame.
         let frame = Frame::from(unsafe { &*frame });
-        match m.push(&frame) {
+        // Read the events where push left them: moving them out of the Result costs two
+        // 64-byte unaligned copies on Cortex-M.
+        let pushed = m.push(&frame);
+        match &pushed {
             Ok(ev) => {
-                events.set(&ev);
+                events.set(ev);
                 sds_result::Ok
             }
             Err(e) => {
                 *events = sds_events::default();
-                e.into()
+                (*e).into()
             }
         }
     })

@@ -133,6 +133,13 @@ static void test_buffer(void) {
     CHECK_RESULT(sds_monitor_init(odd, sds_monitor_size(), &c), SDS_RESULT_BUFFER_MISALIGNED);
     CHECK_RESULT(sds_monitor_push(odd, &f, &ev), SDS_RESULT_BUFFER_MISALIGNED);
   }
+  /* Misaligned argument pointers (a struct cast from a byte buffer) are refused too. */
+  CHECK_RESULT(sds_monitor_push((sds_monitor *)&zeroed, (const sds_frame *)((char *)&f + 1), &ev),
+               SDS_RESULT_MISALIGNED_POINTER);
+  CHECK_RESULT(sds_monitor_push((sds_monitor *)&zeroed, &f, (sds_events *)((char *)&big[1] + 2)),
+               SDS_RESULT_MISALIGNED_POINTER);
+  CHECK_RESULT(sds_config_validate((const sds_config *)((char *)&c + 2)),
+               SDS_RESULT_MISALIGNED_POINTER);
   /* A failed init leaves the buffer untouched. */
   CHECK(memcmp(&big[0], &zeroed, sizeof zeroed) == 0);
   CHECK_RESULT(sds_monitor_push(m, &f, &ev), SDS_RESULT_NOT_INITIALIZED);

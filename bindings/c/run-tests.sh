@@ -103,6 +103,7 @@ for id in "${ids[@]}"; do
   ranked+=("$(interesting "$OUT/host-$id.txt") $id")
 done
 mapfile -t ROUTES < <(printf '%s\n' "${ranked[@]}" | sort -s -k1,1nr | cut -d' ' -f2)
+printf '%s\n' "${ROUTES[@]}" >"$OUT/routes.txt"
 FRAMES=()
 for r in "${ROUTES[@]}"; do FRAMES+=("$OUT/frames-$r.jsonl"); done
 "$REPLAY" "${FRAMES[@]}" >"$OUT/host.txt"
@@ -156,6 +157,15 @@ grep -qx done "$OUT/fw-run.txt" || fail "the C firmware did not finish"
 grep -E '^(route|event|summary|pins) ' "$OUT/fw-run.txt" >"$OUT/fw-m4f.txt" || true
 diff -u "$OUT/host.txt" "$OUT/fw-m4f.txt" >&2 || fail "the C firmware's lines (Cortex-M4F) differ from monitor_replay's"
 say "ok: Cortex-M4F C firmware == host: ${#ROUTES[@]} routes, $nev events, summaries and pins byte-identical"
+# And directly against the Rust firmware's own output, when firmware-example/run-tests.sh ran
+# before (scripts/test-all.sh runs it first) on the same routes in the same order.
+RUST_FW="$ROOT/firmware-example/target/qemu-tests"
+if [ -f "$RUST_FW/fw-$M4F.txt" ] && [ -f "$RUST_FW/host.txt" ] && cmp -s "$RUST_FW/host.txt" "$OUT/host.txt"; then
+  diff -u "$RUST_FW/fw-$M4F.txt" "$OUT/fw-m4f.txt" >&2 || fail "the C firmware's lines differ from the Rust firmware's ($RUST_FW/fw-$M4F.txt)"
+  say "ok: Cortex-M4F C firmware == Rust firmware (firmware-example, its last run): byte-identical"
+else
+  say "note: no output of the Rust firmware on these routes (firmware-example/run-tests.sh not run): compared with the host only"
+fi
 
 # No panicking code in the image: the panic handler (a `udf` trap) and every panic path were
 # removed as unreachable. The check can fail: the test-only feature panic-canary adds a panic

@@ -14,167 +14,93 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/**
- * Frames per chunk and in the deceleration window that a C monitor holds (the spec's 20):
- * `chunk_len` and `decel_window` must not exceed it.
- */
+// Frames per chunk and in the deceleration window that a C monitor holds (the spec's 20):
+// `chunk_len` and `decel_window` must not exceed it.
 #define SDS_CAPACITY 20
 
-/**
- * At most one event of each kind per push or finish.
- */
+// At most one event of each kind per push or finish.
 #define SDS_MAX_EVENTS 3
 
-/**
- * Bytes `sds_format_f32` / `sds_format_f64` may need, the terminating NUL included.
- */
+// Bytes `sds_format_f32` / `sds_format_f64` may need, the terminating NUL included.
 #define SDS_NUMBER_TEXT_MAX 32
 
-/**
- * 64-bit words of `sds_monitor_storage`.
- */
+// 64-bit words of `sds_monitor_storage`.
 #define SDS_MONITOR_STORAGE_WORDS 80
 
-/**
- * The outcome of every fallible `sds_` function: `SDS_RESULT_OK` (0), or why it refused.
- * Nothing changes when a call fails (a failed push leaves the monitor as it was).
- *
- * The numbers are part of the ABI and never reused: configuration errors are 100..199, frame
- * errors 200..299.
- */
+// The outcome of every fallible `sds_` function: `SDS_RESULT_OK` (0), or why it refused.
+// Nothing changes when a call fails (a failed push leaves the monitor as it was).
+//
+// The numbers are part of the ABI and never reused: configuration errors are 100..199, frame
+// errors 200..299.
 enum sds_result
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
-  /**
-   * Success.
-   */
+  // Success.
   SDS_RESULT_OK = 0,
-  /**
-   * A pointer argument was NULL.
-   */
+  // A pointer argument was NULL.
   SDS_RESULT_NULL_POINTER = 1,
-  /**
-   * The monitor buffer is smaller than `sds_monitor_size()`.
-   */
+  // The monitor buffer is smaller than `sds_monitor_size()`.
   SDS_RESULT_BUFFER_TOO_SMALL = 2,
-  /**
-   * The monitor buffer is not aligned to `sds_monitor_align()`.
-   */
+  // The monitor buffer is not aligned to `sds_monitor_align()`.
   SDS_RESULT_BUFFER_MISALIGNED = 3,
-  /**
-   * The monitor was never initialised with `sds_monitor_init` (or was overwritten).
-   */
+  // The monitor was never initialised with `sds_monitor_init` (or was overwritten).
   SDS_RESULT_NOT_INITIALIZED = 4,
-  /**
-   * The route is finished: `sds_monitor_reset` starts the next one.
-   */
+  // The route is finished: `sds_monitor_reset` starts the next one.
   SDS_RESULT_FINISHED = 5,
-  /**
-   * The route already has 2^32 - 1 frames.
-   */
+  // The route already has 2^32 - 1 frames.
   SDS_RESULT_TOO_MANY_FRAMES = 6,
-  /**
-   * A text output buffer is too small.
-   */
+  // A text output buffer is too small.
   SDS_RESULT_OUTPUT_TOO_SMALL = 7,
-  /**
-   * The value is undefined (a comfort score of a route without a comfort chunk).
-   */
+  // The value is undefined (a comfort score of a route without a comfort chunk).
   SDS_RESULT_UNDEFINED = 8,
-  /**
-   * A Rust panic was caught at the boundary (a bug: please report it). Host builds only;
-   * on a microcontroller there is no unwinding and a panic traps instead.
-   */
+  // A Rust panic was caught at the boundary (a bug: please report it). Host builds only;
+  // on a microcontroller there is no unwinding and a panic traps instead.
   SDS_RESULT_PANIC = 9,
-  /**
-   * A pointer argument is not aligned for its type (a cast from a byte buffer?).
-   */
+  // A pointer argument is not aligned for its type (a cast from a byte buffer?).
   SDS_RESULT_MISALIGNED_POINTER = 10,
-  /**
-   * An error this version of the C API does not know (the core is newer).
-   */
+  // An error this version of the C API does not know (the core is newer).
   SDS_RESULT_UNKNOWN = 99,
-  /**
-   * `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
-   */
+  // `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
   SDS_RESULT_CONFIG_PROFILE = 100,
-  /**
-   * `dt` must be finite and positive.
-   */
+  // `dt` must be finite and positive.
   SDS_RESULT_CONFIG_DT = 101,
-  /**
-   * `legacy_jerk_spacing` must be finite and positive.
-   */
+  // `legacy_jerk_spacing` must be finite and positive.
   SDS_RESULT_CONFIG_LEGACY_SPACING = 102,
-  /**
-   * `min_chunk` must be at least the filter window (7).
-   */
+  // `min_chunk` must be at least the filter window (7).
   SDS_RESULT_CONFIG_MIN_CHUNK = 103,
-  /**
-   * `chunk_len` must lie in `min_chunk ..= SDS_CAPACITY`.
-   */
+  // `chunk_len` must lie in `min_chunk ..= SDS_CAPACITY`.
   SDS_RESULT_CONFIG_CHUNK_LEN = 104,
-  /**
-   * `decel_window` must be at most `SDS_CAPACITY`.
-   */
+  // `decel_window` must be at most `SDS_CAPACITY`.
   SDS_RESULT_CONFIG_DECEL_WINDOW = 105,
-  /**
-   * Bounds must be finite and positive, and `lon_acc_min < lon_acc_max`.
-   */
+  // Bounds must be finite and positive, and `lon_acc_min < lon_acc_max`.
   SDS_RESULT_CONFIG_BOUNDS = 106,
-  /**
-   * `slack` must be finite and not negative.
-   */
+  // `slack` must be finite and not negative.
   SDS_RESULT_CONFIG_SLACK = 107,
-  /**
-   * Need `0 <= anomalous_excess <= critical_excess`, both finite.
-   */
+  // Need `0 <= anomalous_excess <= critical_excess`, both finite.
   SDS_RESULT_CONFIG_EXCESS_BANDS = 108,
-  /**
-   * `decel_threshold` must be finite.
-   */
+  // `decel_threshold` must be finite.
   SDS_RESULT_CONFIG_DECEL_THRESHOLD = 109,
-  /**
-   * `stationary_speed` must be finite and not negative.
-   */
+  // `stationary_speed` must be finite and not negative.
   SDS_RESULT_CONFIG_STATIONARY_SPEED = 110,
-  /**
-   * Factors must lie in `0 ..= 1` and the layout factor must be positive.
-   */
+  // Factors must lie in `0 ..= 1` and the layout factor must be positive.
   SDS_RESULT_CONFIG_FACTOR = 111,
-  /**
-   * `a_lon` is NaN or infinite.
-   */
+  // `a_lon` is NaN or infinite.
   SDS_RESULT_FRAME_A_LON_NOT_FINITE = 200,
-  /**
-   * `a_lat` is NaN or infinite.
-   */
+  // `a_lat` is NaN or infinite.
   SDS_RESULT_FRAME_A_LAT_NOT_FINITE = 201,
-  /**
-   * `a_mag` is NaN or infinite.
-   */
+  // `a_mag` is NaN or infinite.
   SDS_RESULT_FRAME_A_MAG_NOT_FINITE = 202,
-  /**
-   * `yaw_rate` is NaN or infinite.
-   */
+  // `yaw_rate` is NaN or infinite.
   SDS_RESULT_FRAME_YAW_RATE_NOT_FINITE = 203,
-  /**
-   * `speed` is NaN or infinite.
-   */
+  // `speed` is NaN or infinite.
   SDS_RESULT_FRAME_SPEED_NOT_FINITE = 204,
-  /**
-   * `lat_err` is NaN or infinite (and `has_lat_err` is set).
-   */
+  // `lat_err` is NaN or infinite (and `has_lat_err` is set).
   SDS_RESULT_FRAME_LAT_ERR_NOT_FINITE = 205,
-  /**
-   * `speed` is negative.
-   */
+  // `speed` is negative.
   SDS_RESULT_FRAME_SPEED_NEGATIVE = 206,
-  /**
-   * `a_mag` is negative.
-   */
+  // `a_mag` is negative.
   SDS_RESULT_FRAME_A_MAG_NEGATIVE = 207,
 };
 #ifndef __cplusplus
@@ -185,592 +111,371 @@ typedef uint32_t sds_result;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
-/**
- * The monitor of one route (opaque). It lives in a buffer the caller owns: at least
- * `sds_monitor_size()` bytes aligned to `sds_monitor_align()`, for example an
- * `sds_monitor_storage`. Nothing is allocated and nothing needs freeing.
- */
+// The monitor of one route (opaque). It lives in a buffer the caller owns: at least
+// `sds_monitor_size()` bytes aligned to `sds_monitor_align()`, for example an
+// `sds_monitor_storage`. Nothing is allocated and nothing needs freeing.
 typedef struct sds_monitor sds_monitor;
 
-/**
- * Which comfort definition to compute: `SDS_PROFILE_PHYSICAL` or `SDS_PROFILE_B2D_LEGACY`.
- * A plain integer, so that no value written by C is undefined behaviour in Rust.
- */
+// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL` or `SDS_PROFILE_B2D_LEGACY`.
+// A plain integer, so that no value written by C is undefined behaviour in Rust.
 typedef uint32_t sds_profile;
 
-/**
- * The six strict comfort bounds (m/s², m/s³, rad/s², rad/s).
- */
+// The six strict comfort bounds (m/s², m/s³, rad/s², rad/s).
 typedef struct sds_bounds {
-  /**
-   * Lower bound of longitudinal acceleration (default -4.05).
-   */
+  // Lower bound of longitudinal acceleration (default -4.05).
   float lon_acc_min;
-  /**
-   * Upper bound of longitudinal acceleration (default 2.40).
-   */
+  // Upper bound of longitudinal acceleration (default 2.40).
   float lon_acc_max;
-  /**
-   * Bound of |lateral acceleration| (default 4.89).
-   */
+  // Bound of |lateral acceleration| (default 4.89).
   float lat_acc;
-  /**
-   * Bound of |jerk magnitude| (default 8.37).
-   */
+  // Bound of |jerk magnitude| (default 8.37).
   float mag_jerk;
-  /**
-   * Bound of |longitudinal jerk| (default 4.13).
-   */
+  // Bound of |longitudinal jerk| (default 4.13).
   float lon_jerk;
-  /**
-   * Bound of |yaw acceleration| (default 1.93).
-   */
+  // Bound of |yaw acceleration| (default 1.93).
   float yaw_acc;
-  /**
-   * Bound of |yaw rate| (default 0.95).
-   */
+  // Bound of |yaw rate| (default 0.95).
   float yaw_rate;
 } sds_bounds;
 
-/**
- * Penalty factors of DS_safe.
- */
+// Penalty factors of DS_safe.
 typedef struct sds_factors {
-  /**
-   * Factor of a work-zone contact (default 0.5).
-   */
+  // Factor of a work-zone contact (default 0.5).
   double workzone;
-  /**
-   * Bench2Drive's layout-collision factor that a work-zone contact replaces (default 0.65).
-   */
+  // Bench2Drive's layout-collision factor that a work-zone contact replaces (default 0.65).
   double layout;
-  /**
-   * Factor per collision without deceleration (default 0.8).
-   */
+  // Factor per collision without deceleration (default 0.8).
   double nodecel;
-  /**
-   * Factor per anomalous lateral chunk (default 0.95).
-   */
+  // Factor per anomalous lateral chunk (default 0.95).
   double anomalous;
-  /**
-   * Factor per critical lateral chunk (default 0.9).
-   */
+  // Factor per critical lateral chunk (default 0.9).
   double critical;
 } sds_factors;
 
-/**
- * The whole configuration. Start from `sds_config_default()`, change fields, and check with
- * `sds_config_validate` (`sds_monitor_init` checks it too).
- */
+// The whole configuration. Start from `sds_config_default()`, change fields, and check with
+// `sds_config_validate` (`sds_monitor_init` checks it too).
 typedef struct sds_config {
-  /**
-   * `SDS_PROFILE_PHYSICAL` (default) or `SDS_PROFILE_B2D_LEGACY`.
-   */
+  // `SDS_PROFILE_PHYSICAL` (default) or `SDS_PROFILE_B2D_LEGACY`.
   sds_profile profile;
-  /**
-   * Nominal step period in seconds (default 0.05, 20 Hz).
-   */
+  // Nominal step period in seconds (default 0.05, 20 Hz).
   float dt;
-  /**
-   * Sample spacing of the legacy profile's jerks, seconds (default 0.1).
-   */
+  // Sample spacing of the legacy profile's jerks, seconds (default 0.1).
   float legacy_jerk_spacing;
-  /**
-   * Frames per chunk (default 20), in `min_chunk ..= SDS_CAPACITY`.
-   */
+  // Frames per chunk (default 20), in `min_chunk ..= SDS_CAPACITY`.
   uint16_t chunk_len;
-  /**
-   * Fewest frames of a route that still has one short comfort chunk (default 7, at least 7).
-   */
+  // Fewest frames of a route that still has one short comfort chunk (default 7, at least 7).
   uint16_t min_chunk;
-  /**
-   * Comfort bounds.
-   */
+  // Comfort bounds.
   struct sds_bounds bounds;
-  /**
-   * Lateral slack `lane_half_width - ego_half_width`, m (default 0.82).
-   */
+  // Lateral slack `lane_half_width - ego_half_width`, m (default 0.82).
   float slack;
-  /**
-   * Lower edge of the anomalous lateral band, m (default 0.25).
-   */
+  // Lower edge of the anomalous lateral band, m (default 0.25).
   float anomalous_excess;
-  /**
-   * Lower edge of the critical lateral band, m (default 0.65).
-   */
+  // Lower edge of the critical lateral band, m (default 0.65).
   float critical_excess;
-  /**
-   * `a_lon` at or below this counts as deceleration, m/s² (default -0.5).
-   */
+  // `a_lon` at or below this counts as deceleration, m/s² (default -0.5).
   float decel_threshold;
-  /**
-   * Frames before a collision searched for deceleration (default 20), at most `SDS_CAPACITY`.
-   */
+  // Frames before a collision searched for deceleration (default 20), at most `SDS_CAPACITY`.
   uint16_t decel_window;
-  /**
-   * A collision below this speed is exempt, m/s (default 0.5).
-   */
+  // A collision below this speed is exempt, m/s (default 0.5).
   float stationary_speed;
-  /**
-   * Penalty factors.
-   */
+  // Penalty factors.
   struct sds_factors factors;
 } sds_config;
 
-/**
- * Collisions aligned to one frame, counted by kind.
- */
+// Collisions aligned to one frame, counted by kind.
 typedef struct sds_collisions {
-  /**
-   * Pedestrian collisions.
-   */
+  // Pedestrian collisions.
   uint16_t pedestrian;
-  /**
-   * Vehicle collisions.
-   */
+  // Vehicle collisions.
   uint16_t vehicle;
-  /**
-   * Layout collisions that are not work-zone contacts.
-   */
+  // Layout collisions that are not work-zone contacts.
   uint16_t layout;
-  /**
-   * Work-zone contacts (layout collisions with work-zone objects).
-   */
+  // Work-zone contacts (layout collisions with work-zone objects).
   uint16_t workzone;
 } sds_collisions;
 
-/**
- * One frame. Zero-initialise it (`sds_frame f = {0};`) and set the fields you know.
- */
+// One frame. Zero-initialise it (`sds_frame f = {0};`) and set the fields you know.
 typedef struct sds_frame {
-  /**
-   * Longitudinal acceleration `acc · forward` (2-D), m/s².
-   */
+  // Longitudinal acceleration `acc · forward` (2-D), m/s².
   float a_lon;
-  /**
-   * Lateral acceleration `acc · right` (2-D), m/s².
-   */
+  // Lateral acceleration `acc · right` (2-D), m/s².
   float a_lat;
-  /**
-   * Acceleration magnitude `hypot(acc_x, acc_y)`, m/s² (not negative).
-   */
+  // Acceleration magnitude `hypot(acc_x, acc_y)`, m/s² (not negative).
   float a_mag;
-  /**
-   * Yaw rate in **degrees per second** (CARLA's unit); the profile converts it.
-   */
+  // Yaw rate in **degrees per second** (CARLA's unit); the profile converts it.
   float yaw_rate;
-  /**
-   * Planar speed, m/s (not negative).
-   */
+  // Planar speed, m/s (not negative).
   float speed;
-  /**
-   * Unsigned distance to the route reference, m; read only when `has_lat_err` is true.
-   */
+  // Unsigned distance to the route reference, m; read only when `has_lat_err` is true.
   float lat_err;
-  /**
-   * False when the distance to the reference is unknown (no reference, a junction gap).
-   */
+  // False when the distance to the reference is unknown (no reference, a junction gap).
   bool has_lat_err;
-  /**
-   * Collisions aligned to this frame.
-   */
+  // Collisions aligned to this frame.
   struct sds_collisions collisions;
 } sds_frame;
 
-/**
- * Which member of an `sds_event` is set: `SDS_EVENT_COLLISION`, `SDS_EVENT_COMFORT` or
- * `SDS_EVENT_LATERAL`.
- */
+// Which member of an `sds_event` is set: `SDS_EVENT_COLLISION`, `SDS_EVENT_COMFORT` or
+// `SDS_EVENT_LATERAL`.
 typedef uint32_t sds_event_kind;
 
-/**
- * The verdict on the collisions of one frame.
- */
+// The verdict on the collisions of one frame.
 typedef struct sds_collision_verdict {
-  /**
-   * Index of the frame in the route (from 0).
-   */
+  // Index of the frame in the route (from 0).
   uint32_t frame;
-  /**
-   * The collisions of that frame.
-   */
+  // The collisions of that frame.
   struct sds_collisions collisions;
-  /**
-   * Speed at impact, m/s.
-   */
+  // Speed at impact, m/s.
   float speed;
-  /**
-   * Some frame of the window before had `a_lon <= decel_threshold`.
-   */
+  // Some frame of the window before had `a_lon <= decel_threshold`.
   bool decelerated;
-  /**
-   * The ego was standing, or this is the route's first frame.
-   */
+  // The ego was standing, or this is the route's first frame.
   bool exempt;
-  /**
-   * `!decelerated && !exempt`: a collision without deceleration (penalised).
-   */
+  // `!decelerated && !exempt`: a collision without deceleration (penalised).
   bool nodecel;
 } sds_collision_verdict;
 
-/**
- * The bounds a comfort chunk failed (all false: comfortable).
- */
+// The bounds a comfort chunk failed (all false: comfortable).
 typedef struct sds_failures {
-  /**
-   * Longitudinal acceleration left `(lon_acc_min, lon_acc_max)`.
-   */
+  // Longitudinal acceleration left `(lon_acc_min, lon_acc_max)`.
   bool lon_acc;
-  /**
-   * |lateral acceleration| reached its bound.
-   */
+  // |lateral acceleration| reached its bound.
   bool lat_acc;
-  /**
-   * |jerk magnitude| reached its bound.
-   */
+  // |jerk magnitude| reached its bound.
   bool mag_jerk;
-  /**
-   * |longitudinal jerk| reached its bound.
-   */
+  // |longitudinal jerk| reached its bound.
   bool lon_jerk;
-  /**
-   * |yaw acceleration| reached its bound.
-   */
+  // |yaw acceleration| reached its bound.
   bool yaw_acc;
-  /**
-   * |yaw rate| reached its bound.
-   */
+  // |yaw rate| reached its bound.
   bool yaw_rate;
 } sds_failures;
 
-/**
- * The comfort verdict of one chunk.
- */
+// The comfort verdict of one chunk.
 typedef struct sds_comfort_verdict {
-  /**
-   * Chunk index (from 0).
-   */
+  // Chunk index (from 0).
   uint32_t chunk;
-  /**
-   * Frames in the chunk.
-   */
+  // Frames in the chunk.
   uint16_t frames;
-  /**
-   * The bounds it failed.
-   */
+  // The bounds it failed.
   struct sds_failures failed;
-  /**
-   * No bound failed.
-   */
+  // No bound failed.
   bool comfortable;
 } sds_comfort_verdict;
 
-/**
- * The band of a chunk's maximum lateral excess.
- */
+// The band of a chunk's maximum lateral excess.
 typedef uint32_t sds_band;
 
-/**
- * An anomalous or critical lateral chunk.
- */
+// An anomalous or critical lateral chunk.
 typedef struct sds_lateral_verdict {
-  /**
-   * Chunk index (from 0; the trailing partial chunk counts).
-   */
+  // Chunk index (from 0; the trailing partial chunk counts).
   uint32_t chunk;
-  /**
-   * Maximum lateral excess in the chunk, m.
-   */
+  // Maximum lateral excess in the chunk, m.
   float max_excess;
-  /**
-   * `SDS_BAND_ANOMALOUS` or `SDS_BAND_CRITICAL`.
-   */
+  // `SDS_BAND_ANOMALOUS` or `SDS_BAND_CRITICAL`.
   sds_band band;
 } sds_lateral_verdict;
 
-/**
- * One event: `kind` says which member is set; the others are zero.
- */
+// One event: `kind` says which member is set; the others are zero.
 typedef struct sds_event {
-  /**
-   * Which member is set.
-   */
+  // Which member is set.
   sds_event_kind kind;
-  /**
-   * Set when `kind == SDS_EVENT_COLLISION`.
-   */
+  // Set when `kind == SDS_EVENT_COLLISION`.
   struct sds_collision_verdict collision;
-  /**
-   * Set when `kind == SDS_EVENT_COMFORT`.
-   */
+  // Set when `kind == SDS_EVENT_COMFORT`.
   struct sds_comfort_verdict comfort;
-  /**
-   * Set when `kind == SDS_EVENT_LATERAL`.
-   */
+  // Set when `kind == SDS_EVENT_LATERAL`.
   struct sds_lateral_verdict lateral;
 } sds_event;
 
-/**
- * The events of one push or finish, in the order they happened: `events[0 .. len]`.
- */
+// The events of one push or finish, in the order they happened: `events[0 .. len]`.
 typedef struct sds_events {
-  /**
-   * Number of events set (0 to `SDS_MAX_EVENTS`).
-   */
+  // Number of events set (0 to `SDS_MAX_EVENTS`).
   uint32_t len;
-  /**
-   * The events; slots from `len` on are zero.
-   */
+  // The events; slots from `len` on are zero.
   struct sds_event events[SDS_MAX_EVENTS];
 } sds_events;
 
-/**
- * Chunks that failed each bound.
- */
+// Chunks that failed each bound.
 typedef struct sds_failure_counts {
-  /**
-   * Chunks failing the longitudinal-acceleration bounds.
-   */
+  // Chunks failing the longitudinal-acceleration bounds.
   uint32_t lon_acc;
-  /**
-   * Chunks failing the lateral-acceleration bound.
-   */
+  // Chunks failing the lateral-acceleration bound.
   uint32_t lat_acc;
-  /**
-   * Chunks failing the jerk-magnitude bound.
-   */
+  // Chunks failing the jerk-magnitude bound.
   uint32_t mag_jerk;
-  /**
-   * Chunks failing the longitudinal-jerk bound.
-   */
+  // Chunks failing the longitudinal-jerk bound.
   uint32_t lon_jerk;
-  /**
-   * Chunks failing the yaw-acceleration bound.
-   */
+  // Chunks failing the yaw-acceleration bound.
   uint32_t yaw_acc;
-  /**
-   * Chunks failing the yaw-rate bound.
-   */
+  // Chunks failing the yaw-rate bound.
   uint32_t yaw_rate;
 } sds_failure_counts;
 
-/**
- * Comfort counts.
- */
+// Comfort counts.
 typedef struct sds_comfort_summary {
-  /**
-   * Comfort chunks (full chunks, or one short chunk).
-   */
+  // Comfort chunks (full chunks, or one short chunk).
   uint32_t chunks;
-  /**
-   * Chunks within all six bounds.
-   */
+  // Chunks within all six bounds.
   uint32_t comfortable;
-  /**
-   * Chunks failing each bound.
-   */
+  // Chunks failing each bound.
   struct sds_failure_counts failed;
 } sds_comfort_summary;
 
-/**
- * Lateral counts.
- */
+// Lateral counts.
 typedef struct sds_lateral_summary {
-  /**
-   * Chunks including the trailing partial one.
-   */
+  // Chunks including the trailing partial one.
   uint32_t chunks;
-  /**
-   * Chunks with at least one frame of known excess.
-   */
+  // Chunks with at least one frame of known excess.
   uint32_t scored_chunks;
-  /**
-   * Anomalous chunks (`N_anom`).
-   */
+  // Anomalous chunks (`N_anom`).
   uint32_t anomalous;
-  /**
-   * Critical chunks (`N_crit`).
-   */
+  // Critical chunks (`N_crit`).
   uint32_t critical;
 } sds_lateral_summary;
 
-/**
- * Collision counts over the collisions aligned to a frame.
- */
+// Collision counts over the collisions aligned to a frame.
 typedef struct sds_collision_summary {
-  /**
-   * Collisions the monitor saw.
-   */
+  // Collisions the monitor saw.
   uint32_t aligned;
-  /**
-   * Of those, exempt (standing ego or first frame).
-   */
+  // Of those, exempt (standing ego or first frame).
   uint32_t exempt;
-  /**
-   * Not exempt and no deceleration before (`N_nodecel`).
-   */
+  // Not exempt and no deceleration before (`N_nodecel`).
   uint32_t nodecel;
 } sds_collision_summary;
 
-/**
- * Everything the monitor learned about one route.
- */
+// Everything the monitor learned about one route.
 typedef struct sds_summary {
-  /**
-   * Frames pushed.
-   */
+  // Frames pushed.
   uint32_t frames;
-  /**
-   * Comfort counts.
-   */
+  // Comfort counts.
   struct sds_comfort_summary comfort;
-  /**
-   * Lateral counts.
-   */
+  // Lateral counts.
   struct sds_lateral_summary lateral;
-  /**
-   * Collision counts.
-   */
+  // Collision counts.
   struct sds_collision_summary collisions;
 } sds_summary;
 
-/**
- * What the evaluator recorded for the route, plus its work-zone count.
- */
+// What the evaluator recorded for the route, plus its work-zone count.
 typedef struct sds_record_scores {
-  /**
-   * `scores.score_route` (0..100).
-   */
+  // `scores.score_route` (0..100).
   double score_route;
-  /**
-   * `scores.score_penalty`.
-   */
+  // `scores.score_penalty`.
   double score_penalty;
-  /**
-   * Work-zone contacts among the layout collisions, aligned or not (`N_wz`).
-   */
+  // Work-zone contacts among the layout collisions, aligned or not (`N_wz`).
   uint32_t workzone;
 } sds_record_scores;
 
-/**
- * The route's safe scores.
- */
+// The route's safe scores.
 typedef struct sds_safe_score {
-  /**
-   * `p_safe = score_penalty * (workzone / layout)^N_wz`.
-   */
+  // `p_safe = score_penalty * (workzone / layout)^N_wz`.
   double p_safe;
-  /**
-   * `DS_safe = score_route * p_safe * nodecel^N_nodecel * anomalous^N_anom * critical^N_crit`.
-   */
+  // `DS_safe = score_route * p_safe * nodecel^N_nodecel * anomalous^N_anom * critical^N_crit`.
   double ds_safe;
 } sds_safe_score;
 
-/**
- * Memory for one monitor with the right size and alignment for every target, usable as a
- * `static` or on the stack: `sds_monitor_storage mem; sds_monitor *m = (sds_monitor *)&mem;`.
- * It is larger than `sds_monitor_size()` on 32-bit targets.
- */
+// Memory for one monitor with the right size and alignment for every target, usable as a
+// `static` or on the stack: `sds_monitor_storage mem; sds_monitor *m = (sds_monitor *)&mem;`.
+// It is larger than `sds_monitor_size()` on 32-bit targets.
 typedef struct sds_monitor_storage {
-  /**
-   * Opaque.
-   */
+  // Opaque.
   uint64_t _words[SDS_MONITOR_STORAGE_WORDS];
 } sds_monitor_storage;
 
-/**
- * Physical units: yaw rate in rad/s, derivatives over the true step period `dt` (the default).
- */
+// Physical units: yaw rate in rad/s, derivatives over the true step period `dt` (the default).
 #define SDS_PROFILE_PHYSICAL 0
 
-/**
- * Bench2Drive's published "Driving Smoothness", bugs included.
- */
+// Bench2Drive's published "Driving Smoothness", bugs included.
 #define SDS_PROFILE_B2D_LEGACY 1
 
-/**
- * Not an event (an unused slot).
- */
+// Not an event (an unused slot).
 #define SDS_EVENT_NONE 0
 
-/**
- * `collision` is set.
- */
+// `collision` is set.
 #define SDS_EVENT_COLLISION 1
 
-/**
- * `comfort` is set.
- */
+// `comfort` is set.
 #define SDS_EVENT_COMFORT 2
 
-/**
- * `lateral` is set.
- */
+// `lateral` is set.
 #define SDS_EVENT_LATERAL 3
 
-/**
- * `max_excess <= anomalous_excess` (never in an event).
- */
+// `max_excess <= anomalous_excess` (never in an event).
 #define SDS_BAND_NORMAL 0
 
-/**
- * `anomalous_excess < max_excess <= critical_excess`.
- */
+// `anomalous_excess < max_excess <= critical_excess`.
 #define SDS_BAND_ANOMALOUS 1
 
-/**
- * `max_excess > critical_excess`.
- */
+// `max_excess > critical_excess`.
 #define SDS_BAND_CRITICAL 2
 
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
 
-/**
- * The spec's defaults (always valid).
- */
+// The spec's defaults (always valid).
+//
+// ```c
+// sds_config c = sds_config_default();
+// c.profile = SDS_PROFILE_B2D_LEGACY;   /* any field, then sds_config_validate */
+// ```
 struct sds_config sds_config_default(void);
 
-/**
- * Checks a configuration with the same rules as the Rust monitor, for a monitor of
- * `SDS_CAPACITY` frames per chunk: `SDS_RESULT_OK` or the `SDS_RESULT_CONFIG_*` code of the
- * first field that fails (`SDS_RESULT_NULL_POINTER` for a NULL `config`).
- *
- * # Safety
- * `config` is NULL or points to a readable `sds_config`.
- */
+// Checks a configuration with the same rules as the Rust monitor, for a monitor of
+// `SDS_CAPACITY` frames per chunk: `SDS_RESULT_OK` or the `SDS_RESULT_CONFIG_*` code of the
+// first field that fails (`SDS_RESULT_NULL_POINTER` for a NULL `config`).
+//
+// ```c
+// sds_config c = sds_config_default();
+// c.chunk_len = 40;
+// sds_config_validate(&c);   /* SDS_RESULT_CONFIG_CHUNK_LEN: more than SDS_CAPACITY */
+// ```
+//
+// # Safety
+// `config` is NULL or points to a readable `sds_config`.
 sds_result sds_config_validate(const struct sds_config *config);
 
-/**
- * Formats `value` in the shortest form that reads back to the same `float` ("0.5", "1.0",
- * "1e-7"; "NaN", "inf", "-inf" when not finite), NUL-terminated, into `buf` of `len` bytes;
- * `*written` gets the length without the NUL. `SDS_RESULT_OUTPUT_TOO_SMALL` (nothing written)
- * when it does not fit; `SDS_NUMBER_TEXT_MAX` bytes always suffice.
- *
- * # Safety
- * `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
- */
+// Formats `value` in the shortest form that reads back to the same `float` ("0.5", "1.0",
+// "1e-7"; "NaN", "inf", "-inf" when not finite), NUL-terminated, into `buf` of `len` bytes;
+// `*written` gets the length without the NUL. `SDS_RESULT_OUTPUT_TOO_SMALL` (nothing written)
+// when it does not fit; `SDS_NUMBER_TEXT_MAX` bytes always suffice.
+//
+// ```c
+// char text[SDS_NUMBER_TEXT_MAX];
+// size_t n;
+// sds_format_f32(0.1f, text, sizeof text, &n);   /* "0.1", n == 3 */
+// ```
+//
+// # Safety
+// `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
 sds_result sds_format_f32(float value, char *buf, size_t len, size_t *written);
 
-/**
- * `sds_format_f32` for a `double` (the scores).
- *
- * # Safety
- * `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
- */
+// `sds_format_f32` for a `double` (the scores).
+//
+// ```c
+// char text[SDS_NUMBER_TEXT_MAX];
+// size_t n;
+// sds_format_f64(out.ds_safe, text, sizeof text, &n);
+// ```
+//
+// # Safety
+// `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
 sds_result sds_format_f64(double value, char *buf, size_t len, size_t *written);
 
-/**
- * Fills the signals of `out` from the 2-D parts of CARLA's `acceleration`, `forward_vector` and
- * `right_vector` (two floats each), with the same f32 kernels as the Rust tools, so that C and
- * Rust frames agree to the bit. Sets `yaw_rate` and `speed`; leaves `lat_err`, `has_lat_err` and
- * `collisions` as they were.
- *
- * # Safety
- * `acc`, `forward` and `right` are NULL or point to two readable floats each; `out` is NULL or
- * points to a writable `sds_frame`.
- */
+// Fills the signals of `out` from the 2-D parts of CARLA's `acceleration`, `forward_vector` and
+// `right_vector` (two floats each), with the same f32 kernels as the Rust tools, so that C and
+// Rust frames agree to the bit. Sets `yaw_rate` and `speed`; leaves `lat_err`, `has_lat_err` and
+// `collisions` as they were.
+//
+// ```c
+// const float acc[2] = {1.5f, -0.25f}, fwd[2] = {0.6f, 0.8f}, right[2] = {0.8f, -0.6f};
+// sds_frame f = {0};
+// sds_frame_from_vectors(acc, fwd, right, 3.0f /* deg/s */, 7.0f /* m/s */, &f);
+// ```
+//
+// # Safety
+// `acc`, `forward` and `right` are NULL or point to two readable floats each; `out` is NULL or
+// points to a writable `sds_frame`.
 sds_result sds_frame_from_vectors(const float *acc,
                                   const float *forward,
                                   const float *right,
@@ -778,111 +483,155 @@ sds_result sds_frame_from_vectors(const float *acc,
                                   float speed,
                                   struct sds_frame *out);
 
-/**
- * Bytes a monitor needs (at most `sizeof(sds_monitor_storage)`).
- */
+// Bytes a monitor needs (at most `sizeof(sds_monitor_storage)`).
+//
+// ```c
+// void *buf = aligned_alloc(sds_monitor_align(), 1024);   /* 1024 >= sds_monitor_size() */
+// ```
 size_t sds_monitor_size(void);
 
-/**
- * Alignment a monitor's buffer needs, in bytes.
- */
+// Alignment a monitor's buffer needs, in bytes.
+//
+// ```c
+// assert(sds_monitor_align() <= _Alignof(sds_monitor_storage));   /* C11 */
+// ```
 size_t sds_monitor_align(void);
 
-/**
- * Initialises a monitor for one route in the caller's buffer `monitor` of `len` bytes, with
- * the configuration `config` (checked as `sds_config_validate` does). On failure the buffer is
- * left untouched. Re-initialising a monitor starts afresh with the new configuration.
- *
- * Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_BUFFER_TOO_SMALL` (`len <
- * sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER`
- * (`config`), `SDS_RESULT_CONFIG_*`.
- *
- * # Safety
- * `monitor` is NULL or writable for `len` bytes, and not used by anyone else during the call;
- * `config` is NULL or points to a readable `sds_config`.
- */
+// Initialises a monitor for one route in the caller's buffer `monitor` of `len` bytes, with
+// the configuration `config` (checked as `sds_config_validate` does). On failure the buffer is
+// left untouched. Re-initialising a monitor starts afresh with the new configuration.
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_BUFFER_TOO_SMALL` (`len <
+// sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER`
+// (`config`), `SDS_RESULT_CONFIG_*`.
+//
+// ```c
+// static sds_monitor_storage mem;                 /* or any suitably aligned buffer */
+// sds_monitor *m = (sds_monitor *)&mem;
+// sds_config c = sds_config_default();
+// sds_result r = sds_monitor_init(m, sizeof mem, &c);   /* SDS_RESULT_OK */
+// ```
+//
+// # Safety
+// `monitor` is NULL or writable for `len` bytes, and not used by anyone else during the call;
+// `config` is NULL or points to a readable `sds_config`.
 sds_result sds_monitor_init(struct sds_monitor *monitor,
                             size_t len,
                             const struct sds_config *config);
 
-/**
- * Pushes one frame. `*events` gets the events it caused (often none), in order. On failure
- * the monitor is unchanged (skip the frame or finish the route) and `events->len` is 0.
- *
- * Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
- * `SDS_RESULT_NOT_INITIALIZED`, `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN,
- * infinite or negative field), `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
- *
- * # Safety
- * `monitor` is NULL or an initialised monitor nobody else uses during the call; `frame` is
- * NULL or readable; `events` is NULL or writable.
- */
+// Pushes one frame. `*events` gets the events it caused (often none), in order. On failure
+// the monitor is unchanged (skip the frame or finish the route) and `events->len` is 0.
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+// `SDS_RESULT_NOT_INITIALIZED`, `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN,
+// infinite or negative field), `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
+//
+// ```c
+// sds_frame f = {0};
+// f.speed = 8.0f;
+// f.collisions.vehicle = 1;
+// sds_events ev;
+// if (sds_monitor_push(m, &f, &ev) == SDS_RESULT_OK && ev.len > 0 &&
+//     ev.events[0].kind == SDS_EVENT_COLLISION && ev.events[0].collision.nodecel) {
+//   /* a collision without braking before it */
+// }
+// ```
+//
+// # Safety
+// `monitor` is NULL or an initialised monitor nobody else uses during the call; `frame` is
+// NULL or readable; `events` is NULL or writable.
 sds_result sds_monitor_push(struct sds_monitor *monitor,
                             const struct sds_frame *frame,
                             struct sds_events *events);
 
-/**
- * Ends the route: `*events` gets the events of its end (the short route's comfort chunk, the
- * trailing lateral chunk) and `*summary` the route's summary. A second call returns
- * `SDS_RESULT_FINISHED`; `sds_monitor_reset` starts the next route.
- *
- * # Safety
- * `monitor` is NULL or an initialised monitor nobody else uses during the call; `events` and
- * `summary` are NULL or writable.
- */
+// Ends the route: `*events` gets the events of its end (the short route's comfort chunk, the
+// trailing lateral chunk) and `*summary` the route's summary. A second call returns
+// `SDS_RESULT_FINISHED`; `sds_monitor_reset` starts the next route.
+//
+// ```c
+// sds_events ev;
+// sds_summary s;
+// if (sds_monitor_finish(m, &ev, &s) == SDS_RESULT_OK) {
+//   printf("%u frames, %u collisions without braking\n", s.frames, s.collisions.nodecel);
+// }
+// sds_monitor_reset(m);                           /* the next route */
+// ```
+//
+// # Safety
+// `monitor` is NULL or an initialised monitor nobody else uses during the call; `events` and
+// `summary` are NULL or writable.
 sds_result sds_monitor_finish(struct sds_monitor *monitor,
                               struct sds_events *events,
                               struct sds_summary *summary);
 
-/**
- * Starts a new route with the same configuration (after `sds_monitor_finish`, or to abandon
- * the current route).
- *
- * # Safety
- * `monitor` is NULL or an initialised monitor nobody else uses during the call.
- */
+// Starts a new route with the same configuration (after `sds_monitor_finish`, or to abandon
+// the current route).
+//
+// ```c
+// sds_monitor_reset(m);   /* SDS_RESULT_OK; the counts start again from zero */
+// ```
+//
+// # Safety
+// `monitor` is NULL or an initialised monitor nobody else uses during the call.
 sds_result sds_monitor_reset(struct sds_monitor *monitor);
 
-/**
- * The counts so far into `*summary` (final after `sds_monitor_finish`).
- *
- * # Safety
- * `monitor` is NULL or an initialised monitor nobody writes to during the call; `summary` is
- * NULL or writable.
- */
+// The counts so far into `*summary` (final after `sds_monitor_finish`).
+//
+// ```c
+// sds_summary s;
+// sds_monitor_summary(m, &s);   /* s.frames: frames pushed so far */
+// ```
+//
+// # Safety
+// `monitor` is NULL or an initialised monitor nobody writes to during the call; `summary` is
+// NULL or writable.
 sds_result sds_monitor_summary(const struct sds_monitor *monitor, struct sds_summary *summary);
 
-/**
- * The configuration in use into `*config`.
- *
- * # Safety
- * `monitor` is NULL or an initialised monitor nobody writes to during the call; `config` is
- * NULL or writable.
- */
+// The configuration in use into `*config`.
+//
+// ```c
+// sds_config c;
+// sds_monitor_config(m, &c);   /* c.chunk_len == 20 with the defaults */
+// ```
+//
+// # Safety
+// `monitor` is NULL or an initialised monitor nobody writes to during the call; `config` is
+// NULL or writable.
 sds_result sds_monitor_config(const struct sds_monitor *monitor, struct sds_config *config);
 
-/**
- * A static, NUL-terminated English description of a result code (any number: unknown codes
- * give "unknown result code"). Never NULL; the caller must not free it.
- */
+// A static, NUL-terminated English description of a result code (any number: unknown codes
+// give "unknown result code"). Never NULL; the caller must not free it.
+//
+// ```c
+// sds_result r = sds_monitor_push(m, &f, &ev);
+// if (r != SDS_RESULT_OK) fprintf(stderr, "frame skipped: %s\n", sds_result_str(r));
+// ```
 const char *sds_result_str(uint32_t result);
 
-/**
- * The comfort score `comfortable / chunks` into `*score`; `SDS_RESULT_UNDEFINED` (and NaN) when
- * the route has no comfort chunk (fewer than `min_chunk` frames).
- *
- * # Safety
- * `summary` is NULL or points to a readable `sds_summary`; `score` is NULL or writable.
- */
+// The comfort score `comfortable / chunks` into `*score`; `SDS_RESULT_UNDEFINED` (and NaN) when
+// the route has no comfort chunk (fewer than `min_chunk` frames).
+//
+// ```c
+// double c;
+// if (sds_summary_comfort_score(&s, &c) == SDS_RESULT_UNDEFINED) { /* no comfort chunk */ }
+// ```
+//
+// # Safety
+// `summary` is NULL or points to a readable `sds_summary`; `score` is NULL or writable.
 sds_result sds_summary_comfort_score(const struct sds_summary *summary, double *score);
 
-/**
- * DS_safe of one route (multiplied left to right as the spec writes it, so the bits equal the
- * Rust tools').
- *
- * # Safety
- * Each pointer is NULL or points to a readable (`out`: writable) value of its type.
- */
+// DS_safe of one route (multiplied left to right as the spec writes it, so the bits equal the
+// Rust tools').
+//
+// ```c
+// sds_record_scores rec = {80.0, 1.0, 0};   /* score_route, score_penalty, work-zone hits */
+// sds_config c = sds_config_default();
+// sds_safe_score out;
+// sds_ds_safe(&s, &rec, &c.factors, &out);  /* out.ds_safe */
+// ```
+//
+// # Safety
+// Each pointer is NULL or points to a readable (`out`: writable) value of its type.
 sds_result sds_ds_safe(const struct sds_summary *summary,
                        const struct sds_record_scores *record,
                        const struct sds_factors *factors,

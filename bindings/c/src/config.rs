@@ -182,6 +182,11 @@ impl sds_config {
 }
 
 /// The spec's defaults (always valid).
+///
+/// ```c
+/// sds_config c = sds_config_default();
+/// c.profile = SDS_PROFILE_B2D_LEGACY;   /* any field, then sds_config_validate */
+/// ```
 #[no_mangle]
 pub extern "C" fn sds_config_default() -> sds_config {
     Config::DEFAULT.into()
@@ -190,6 +195,12 @@ pub extern "C" fn sds_config_default() -> sds_config {
 /// Checks a configuration with the same rules as the Rust monitor, for a monitor of
 /// `SDS_CAPACITY` frames per chunk: `SDS_RESULT_OK` or the `SDS_RESULT_CONFIG_*` code of the
 /// first field that fails (`SDS_RESULT_NULL_POINTER` for a NULL `config`).
+///
+/// ```c
+/// sds_config c = sds_config_default();
+/// c.chunk_len = 40;
+/// sds_config_validate(&c);   /* SDS_RESULT_CONFIG_CHUNK_LEN: more than SDS_CAPACITY */
+/// ```
 ///
 /// # Safety
 /// `config` is NULL or points to a readable `sds_config`.

@@ -39,6 +39,12 @@ unsafe fn put(text: &str, buf: *mut c_char, len: usize, written: *mut usize) -> 
 /// `*written` gets the length without the NUL. `SDS_RESULT_OUTPUT_TOO_SMALL` (nothing written)
 /// when it does not fit; `SDS_NUMBER_TEXT_MAX` bytes always suffice.
 ///
+/// ```c
+/// char text[SDS_NUMBER_TEXT_MAX];
+/// size_t n;
+/// sds_format_f32(0.1f, text, sizeof text, &n);   /* "0.1", n == 3 */
+/// ```
+///
 /// # Safety
 /// `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.
 #[no_mangle]
@@ -56,6 +62,12 @@ pub unsafe extern "C" fn sds_format_f32(
 }
 
 /// `sds_format_f32` for a `double` (the scores).
+///
+/// ```c
+/// char text[SDS_NUMBER_TEXT_MAX];
+/// size_t n;
+/// sds_format_f64(out.ds_safe, text, sizeof text, &n);
+/// ```
 ///
 /// # Safety
 /// `buf` is NULL or writable for `len` bytes; `written` is NULL or writable.

@@ -84,6 +84,12 @@ impl From<&sds_frame> for Frame {
 /// Rust frames agree to the bit. Sets `yaw_rate` and `speed`; leaves `lat_err`, `has_lat_err` and
 /// `collisions` as they were.
 ///
+/// ```c
+/// const float acc[2] = {1.5f, -0.25f}, fwd[2] = {0.6f, 0.8f}, right[2] = {0.8f, -0.6f};
+/// sds_frame f = {0};
+/// sds_frame_from_vectors(acc, fwd, right, 3.0f /* deg/s */, 7.0f /* m/s */, &f);
+/// ```
+///
 /// # Safety
 /// `acc`, `forward` and `right` are NULL or point to two readable floats each; `out` is NULL or
 /// points to a writable `sds_frame`.

@@ -42,12 +42,20 @@ const _: () = assert!(size_of::<sds_monitor>() <= size_of::<sds_monitor_storage>
 const _: () = assert!(align_of::<sds_monitor>() <= align_of::<sds_monitor_storage>());
 
 /// Bytes a monitor needs (at most `sizeof(sds_monitor_storage)`).
+///
+/// ```c
+/// void *buf = aligned_alloc(sds_monitor_align(), 1024);   /* 1024 >= sds_monitor_size() */
+/// ```
 #[no_mangle]
 pub extern "C" fn sds_monitor_size() -> usize {
     size_of::<sds_monitor>()
 }
 
 /// Alignment a monitor's buffer needs, in bytes.
+///
+/// ```c
+/// assert(sds_monitor_align() <= _Alignof(sds_monitor_storage));   /* C11 */
+/// ```
 #[no_mangle]
 pub extern "C" fn sds_monitor_align() -> usize {
     align_of::<sds_monitor>()
@@ -104,6 +112,13 @@ unsafe fn state_ref<'a>(m: *const sds_monitor) -> Result<&'a Monitor, sds_result
 /// sds_monitor_size()`), `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER`
 /// (`config`), `SDS_RESULT_CONFIG_*`.
 ///
+/// ```c
+/// static sds_monitor_storage mem;                 /* or any suitably aligned buffer */
+/// sds_monitor *m = (sds_monitor *)&mem;
+/// sds_config c = sds_config_default();
+/// sds_result r = sds_monitor_init(m, sizeof mem, &c);   /* SDS_RESULT_OK */
+/// ```
+///
 /// # Safety
 /// `monitor` is NULL or writable for `len` bytes, and not used by anyone else during the call;
 /// `config` is NULL or points to a readable `sds_config`.
@@ -155,6 +170,17 @@ pub unsafe extern "C" fn sds_monitor_init(
 /// `SDS_RESULT_NOT_INITIALIZED`, `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_FRAME_*` (a NaN,
 /// infinite or negative field), `SDS_RESULT_FINISHED`, `SDS_RESULT_TOO_MANY_FRAMES`.
 ///
+/// ```c
+/// sds_frame f = {0};
+/// f.speed = 8.0f;
+/// f.collisions.vehicle = 1;
+/// sds_events ev;
+/// if (sds_monitor_push(m, &f, &ev) == SDS_RESULT_OK && ev.len > 0 &&
+///     ev.events[0].kind == SDS_EVENT_COLLISION && ev.events[0].collision.nodecel) {
+///   /* a collision without braking before it */
+/// }
+/// ```
+///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody else uses during the call; `frame` is
 /// NULL or readable; `events` is NULL or writable.
@@ -204,6 +230,15 @@ pub unsafe extern "C" fn sds_monitor_push(
 /// trailing lateral chunk) and `*summary` the route's summary. A second call returns
 /// `SDS_RESULT_FINISHED`; `sds_monitor_reset` starts the next route.
 ///
+/// ```c
+/// sds_events ev;
+/// sds_summary s;
+/// if (sds_monitor_finish(m, &ev, &s) == SDS_RESULT_OK) {
+///   printf("%u frames, %u collisions without braking\n", s.frames, s.collisions.nodecel);
+/// }
+/// sds_monitor_reset(m);                           /* the next route */
+/// ```
+///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody else uses during the call; `events` and
 /// `summary` are NULL or writable.
@@ -239,6 +274,10 @@ pub unsafe extern "C" fn sds_monitor_finish(
 /// Starts a new route with the same configuration (after `sds_monitor_finish`, or to abandon
 /// the current route).
 ///
+/// ```c
+/// sds_monitor_reset(m);   /* SDS_RESULT_OK; the counts start again from zero */
+/// ```
+///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody else uses during the call.
 #[no_mangle]
@@ -256,6 +295,11 @@ pub unsafe extern "C" fn sds_monitor_reset(monitor: *mut sds_monitor) -> sds_res
 }
 
 /// The counts so far into `*summary` (final after `sds_monitor_finish`).
+///
+/// ```c
+/// sds_summary s;
+/// sds_monitor_summary(m, &s);   /* s.frames: frames pushed so far */
+/// ```
 ///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody writes to during the call; `summary` is
@@ -278,6 +322,11 @@ pub unsafe extern "C" fn sds_monitor_summary(
 }
 
 /// The configuration in use into `*config`.
+///
+/// ```c
+/// sds_config c;
+/// sds_monitor_config(m, &c);   /* c.chunk_len == 20 with the defaults */
+/// ```
 ///
 /// # Safety
 /// `monitor` is NULL or an initialised monitor nobody writes to during the call; `config` is

@@ -143,6 +143,11 @@ pub(crate) fn code(r: Result<(), sds_result>) -> sds_result {
 
 /// A static, NUL-terminated English description of a result code (any number: unknown codes
 /// give "unknown result code"). Never NULL; the caller must not free it.
+///
+/// ```c
+/// sds_result r = sds_monitor_push(m, &f, &ev);
+/// if (r != SDS_RESULT_OK) fprintf(stderr, "frame skipped: %s\n", sds_result_str(r));
+/// ```
 #[no_mangle]
 pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
     let s: &'static core::ffi::CStr = match result {

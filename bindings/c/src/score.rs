@@ -34,6 +34,11 @@ pub struct sds_safe_score {
 /// The comfort score `comfortable / chunks` into `*score`; `SDS_RESULT_UNDEFINED` (and NaN) when
 /// the route has no comfort chunk (fewer than `min_chunk` frames).
 ///
+/// ```c
+/// double c;
+/// if (sds_summary_comfort_score(&s, &c) == SDS_RESULT_UNDEFINED) { /* no comfort chunk */ }
+/// ```
+///
 /// # Safety
 /// `summary` is NULL or points to a readable `sds_summary`; `score` is NULL or writable.
 #[no_mangle]
@@ -59,6 +64,13 @@ pub unsafe extern "C" fn sds_summary_comfort_score(
 
 /// DS_safe of one route (multiplied left to right as the spec writes it, so the bits equal the
 /// Rust tools').
+///
+/// ```c
+/// sds_record_scores rec = {80.0, 1.0, 0};   /* score_route, score_penalty, work-zone hits */
+/// sds_config c = sds_config_default();
+/// sds_safe_score out;
+/// sds_ds_safe(&s, &rec, &c.factors, &out);  /* out.ds_safe */
+/// ```
 ///
 /// # Safety
 /// Each pointer is NULL or points to a readable (`out`: writable) value of its type.

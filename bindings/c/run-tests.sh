@@ -82,7 +82,8 @@ EX="$HERE/examples"
 gcc "${CFLAGS[@]}" $PC_CFLAGS -I"$EX" -o "$OUT/sds_replay" "$EX/replay.c" "$EX/replay_file.c" \
   "$EX/sds_lines.c" "$EX/frames_jsonl.c" -Wl,-Bstatic -lsds_monitor -Wl,-Bdynamic $PC_LIBS \
   || fail "building the example against the installed library"
-! ldd "$OUT/sds_replay" | grep -q sds_monitor || fail "sds_replay links libsds_monitor dynamically"
+ldd "$OUT/sds_replay" >"$OUT/sds_replay.ldd"
+! grep -q sds_monitor "$OUT/sds_replay.ldd" || fail "sds_replay links libsds_monitor dynamically"
 say "ok: install.sh + pkg-config ($PC_LIBS); sds_replay linked statically"
 
 # 4. Host replays --------------------------------------------------------------------------------
@@ -171,7 +172,11 @@ fi
 # removed as unreachable. The check can fail: the test-only feature panic-canary adds a panic
 # the optimiser cannot remove; its image must contain the trap, and running it must end in the
 # firmware's fault handler (a panic never returns into C).
-has_panic() { arm-none-eabi-objdump -d "$1" | grep -qE $'\tudf(\\.w)?\t' || arm-none-eabi-nm -C "$1" | grep -qi panic; }
+has_panic() { # (files, not pipes: grep -q would end the pipe early, and pipefail would see SIGPIPE)
+  arm-none-eabi-objdump -d "$1" >"$1.dis"
+  arm-none-eabi-nm -C "$1" >"$1.nm"
+  grep -qE $'\tudf(\\.w)?\t' "$1.dis" || grep -qi panic "$1.nm"
+}
 ! has_panic "$OUT/fw-m4f.elf" || fail "panicking code survives in the Cortex-M4F image (see arm-none-eabi-objdump -d $OUT/fw-m4f.elf | grep udf)"
 (CARGO_PROFILE_RELEASE_LTO=fat CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 cargo rustc -q --release -p sds-capi \
   --target "$M4F" --crate-type staticlib --features panic-canary) >"$OUT/build-canary.log" 2>&1 \

@@ -9,7 +9,8 @@
 #      (test_api.cpp, g++ -std=c++17 -Wall -Wextra -Werror) byte-identical to `monitor_replay`'s;
 #      the two tests also check every error code (NULLs, small buffer, bad configs, NaN frames,
 #      frame after finish);
-#   5. the C and C++ tests run clean under valgrind (--error-exitcode=1 --leak-check=full);
+#   5. the C and C++ tests run clean under valgrind (--error-exitcode=1 --leak-check=full); four
+#      threads with a monitor each agree with a single-threaded run, with no race under helgrind;
 #   6. Cortex-M4F: libsds_monitor.a for thumbv7em-none-eabihf linked into a C firmware
 #      (arm-none-eabi-gcc, our own startup and semihosting) replays the same routes under QEMU
 #      (mps2-an386, -icount shift=0) and prints lines byte-identical to `monitor_replay`'s (so to
@@ -137,7 +138,11 @@ for t in test_api test_api_cpp; do
     || { cat "$OUT/$t-valgrind.log" >&2; fail "$t under valgrind"; }
   cmp -s "$OUT/host.txt" "$OUT/$t-valgrind.txt" || fail "$t under valgrind printed other lines"
 done
-say "ok: test_api and test_api_cpp clean under valgrind (no error, no leak)"
+gcc "${CFLAGS[@]}" -pthread -I"$HERE/include" -o "$OUT/test_threads" "$HERE/ctest/test_threads.c" "$LIBA" \
+  "${SYSLIBS[@]}" || fail "building test_threads.c"
+valgrind -q --tool=helgrind --error-exitcode=1 "$OUT/test_threads" 2>"$OUT/test_threads.log" \
+  || { cat "$OUT/test_threads.log" >&2; fail "test_threads under helgrind (a data race, or a thread's result differs)"; }
+say "ok: test_api and test_api_cpp clean under valgrind (no error, no leak); $(tail -1 "$OUT/test_threads.log") (one monitor per thread, no data race under helgrind)"
 
 # 6. Cortex-M4F under QEMU ---------------------------------------------------------------------------
 bash "$HERE/install.sh" "$OUT/prefix-m4f" --target "$M4F" >"$OUT/build-m4f.log" 2>&1 \

@@ -313,6 +313,53 @@ static void test_verdicts(void) {
   CHECK(isnan(score));
 }
 
+/* Field by field (padding bytes are unspecified, so no memcmp of events). */
+static int same_events(const sds_events *a, const sds_events *b) {
+  if (a->len != b->len) {
+    return 0;
+  }
+  for (uint32_t i = 0; i < a->len; i++) {
+    const sds_event *x = &a->events[i], *y = &b->events[i];
+    if (x->kind != y->kind || x->collision.frame != y->collision.frame ||
+        x->collision.speed != y->collision.speed ||
+        x->collision.decelerated != y->collision.decelerated ||
+        x->collision.nodecel != y->collision.nodecel || x->comfort.chunk != y->comfort.chunk ||
+        x->comfort.comfortable != y->comfort.comfortable || x->lateral.chunk != y->lateral.chunk ||
+        x->lateral.max_excess != y->lateral.max_excess) {
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/* A monitor holds no pointers: a memcpy is an independent snapshot that goes on identically. */
+static void test_snapshot(void) {
+  static sds_monitor_storage copy;
+  sds_monitor *m = fresh();
+  sds_monitor *c = (sds_monitor *)&copy;
+  sds_events ev_m, ev_c;
+  sds_summary s_m, s_c;
+  sds_frame f = cruise();
+  for (int i = 0; i < 25; i++) {
+    f.a_lon = (float)(i % 7) * -0.9f;
+    CHECK_RESULT(sds_monitor_push(m, &f, &ev_m), SDS_RESULT_OK);
+  }
+  memcpy(&copy, &storage, sizeof copy);
+  f.collisions.vehicle = 1;
+  CHECK_RESULT(sds_monitor_push(m, &f, &ev_m), SDS_RESULT_OK);
+  CHECK_RESULT(sds_monitor_push(c, &f, &ev_c), SDS_RESULT_OK);
+  CHECK(ev_m.len == 1 && ev_m.events[0].kind == SDS_EVENT_COLLISION);
+  CHECK(ev_m.events[0].collision.decelerated); /* a_lon -4.5 .. -0.9 within the window */
+  CHECK(same_events(&ev_m, &ev_c));
+  CHECK_RESULT(sds_monitor_finish(m, &ev_m, &s_m), SDS_RESULT_OK);
+  CHECK_RESULT(sds_monitor_finish(c, &ev_c, &s_c), SDS_RESULT_OK);
+  CHECK(s_m.frames == 26 && memcmp(&s_m, &s_c, sizeof s_m) == 0);
+  CHECK(same_events(&ev_m, &ev_c));
+  /* The original was untouched by the copy's pushes: a reset one and the copy are independent. */
+  CHECK_RESULT(sds_monitor_reset(m), SDS_RESULT_OK);
+  CHECK_RESULT(sds_monitor_push(c, &f, &ev_c), SDS_RESULT_FINISHED);
+}
+
 static void test_scores_and_text(void) {
   sds_summary s;
   sds_record_scores rec;
@@ -367,6 +414,7 @@ int main(int argc, char **argv) {
   test_config();
   test_frames();
   test_verdicts();
+  test_snapshot();
   test_scores_and_text();
   for (int i = 1; i < argc && replayed; i++) {
     replayed = sds_replay_file((uint32_t)(i - 1), argv[i]);

@@ -17,6 +17,7 @@ pub mod align;
 pub mod batch;
 pub mod cli;
 pub mod demo;
+pub mod geometry;
 pub mod infraction;
 pub mod replay;
 pub mod report;

@@ -1,0 +1,96 @@
+//! Piecewise cubic records (`elevation`, `laneOffset`, lane `width`): each record holds from its
+//! start until the next one starts; a record that starts exactly at `s` applies at `s`.
+
+/// One record: `a + b ds + c ds² + d ds³` with `ds = s - start`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Cubic {
+    pub start: f64,
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+    pub d: f64,
+}
+
+impl Cubic {
+    /// Value, first and second derivative at `s`.
+    #[inline]
+    pub fn eval(&self, s: f64) -> [f64; 3] {
+        let u = s - self.start;
+        [
+            self.a + u * (self.b + u * (self.c + u * self.d)),
+            self.b + u * (2.0 * self.c + u * 3.0 * self.d),
+            2.0 * self.c + 6.0 * self.d * u,
+        ]
+    }
+}
+
+/// Records sorted by start (stable: a later record with the same start wins, as in the file).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Piecewise(pub Vec<Cubic>);
+
+impl Piecewise {
+    /// Sorts the records by start, keeping file order among equal starts.
+    pub fn new(mut records: Vec<Cubic>) -> Self {
+        records.sort_by(|a, b| a.start.total_cmp(&b.start));
+        Piecewise(records)
+    }
+
+    /// The record in force at `s`: the last one starting at or before `s`, else the first.
+    #[inline]
+    pub fn record(&self, s: f64) -> Option<&Cubic> {
+        let n = self.0.partition_point(|c| c.start <= s);
+        self.0.get(n.saturating_sub(1))
+    }
+
+    /// Value and derivatives at `s` of the last record starting before `end` (the limit from
+    /// below at the end of a lane section: a record starting at `end` is not used).
+    #[inline]
+    pub fn eval_before(&self, s: f64, end: f64) -> [f64; 3] {
+        let n = self.0.partition_point(|c| c.start < end);
+        self.0
+            .get(n.saturating_sub(1))
+            .map_or([0.0; 3], |c| c.eval(s))
+    }
+
+    /// Value and derivatives at `s` (zero without records).
+    #[inline]
+    pub fn eval(&self, s: f64) -> [f64; 3] {
+        self.record(s).map_or([0.0; 3], |c| c.eval(s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn record_starting_at_s_applies_at_s() {
+        let p = Piecewise::new(vec![
+            Cubic {
+                start: 10.0,
+                a: 2.0,
+                b: 0.0,
+                c: 0.0,
+                d: 0.0,
+            },
+            Cubic {
+                start: 0.0,
+                a: 1.0,
+                b: 1.0,
+                c: 0.0,
+                d: 0.0,
+            },
+        ]);
+        assert_eq!(p.eval(9.5)[0], 10.5);
+        assert_eq!(p.eval(10.0)[0], 2.0);
+        assert_eq!(p.eval(-1.0)[0], 0.0); // before the first record: the first one, extended
+        let c = Cubic {
+            start: 1.0,
+            a: 1.0,
+            b: 2.0,
+            c: 3.0,
+            d: 4.0,
+        };
+        assert_eq!(c.eval(2.0), [10.0, 2.0 + 6.0 + 12.0, 6.0 + 24.0]);
+    }
+}

@@ -29,6 +29,9 @@ if [ -x firmware-example/run-tests.sh ]; then
   step "firmware under QEMU"
   bash firmware-example/run-tests.sh
 fi
+step "map cross-check against CARLA's map code (skips without PyPI)"
+bash scripts/map-crosscheck.sh
+
 step "fuzz smoke (each target briefly, from the committed corpus)"
 FUZZ_SECONDS="${FUZZ_SECONDS:-10}" bash scripts/fuzz-smoke.sh
 

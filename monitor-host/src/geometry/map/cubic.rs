@@ -42,18 +42,21 @@ impl Piecewise {
         self.0.get(n.saturating_sub(1))
     }
 
-    /// Value and derivatives at `s` of the last record starting before `end` (the limit from
-    /// below at the end of a lane section: a record starting at `end` is not used).
+    /// Value and derivatives at `s` of the record in force at `sel`: on a piece of a lane
+    /// between two record starts, every point (its ends included) uses the piece's records, so
+    /// a piece ending where a new record starts ends at the limit from inside.
     #[inline]
-    pub fn eval_before(&self, s: f64, end: f64) -> [f64; 3] {
-        let n = self.0.partition_point(|c| c.start < end);
-        self.0
-            .get(n.saturating_sub(1))
-            .map_or([0.0; 3], |c| c.eval(s))
+    pub fn eval_in(&self, s: f64, sel: f64) -> [f64; 3] {
+        self.record(sel).map_or([0.0; 3], |c| c.eval(s))
+    }
+
+    /// Every record start.
+    pub fn starts(&self) -> impl Iterator<Item = f64> + '_ {
+        self.0.iter().map(|c| c.start)
     }
 
     /// Value and derivatives at `s` (zero without records).
-    #[inline]
+    #[cfg(test)]
     pub fn eval(&self, s: f64) -> [f64; 3] {
         self.record(s).map_or([0.0; 3], |c| c.eval(s))
     }

@@ -22,44 +22,46 @@ impl Road {
             .saturating_sub(1)
     }
 
-    /// Width of lane `id` of section `sec` at `s`, with its derivatives (at the section's end:
-    /// the limit from inside, as [`Road::lane_t`]).
+    /// The `s` that selects the records for a point at `s` of section `sec`: `s` itself, except
+    /// at or past the end of a section that is not the road's last, where the lane is the limit
+    /// from inside its section (records starting at the section's end belong to the next one).
     #[inline]
-    pub fn lane_width(&self, sec: usize, id: i32, s: f64) -> [f64; 3] {
+    pub fn selector(&self, sec: usize, s: f64) -> f64 {
         let section = &self.sections[sec];
-        let at_end = s >= section.s1 && sec + 1 < self.sections.len();
+        if s >= section.s1 && sec + 1 < self.sections.len() {
+            section.s1 - 1e-9 * section.s1.abs().max(1.0)
+        } else {
+            s
+        }
+    }
+
+    /// Width of lane `id` of section `sec` at `s` (records chosen at `sel`), with derivatives.
+    #[inline]
+    pub fn lane_width_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> [f64; 3] {
+        let section = &self.sections[sec];
         match section.find(id) {
-            Some((side, i)) if at_end => side[i]
-                .widths
-                .eval_before(s - section.s0, section.s1 - section.s0),
-            Some((side, i)) => side[i].widths.eval(s - section.s0),
+            Some((side, i)) => side[i].widths.eval_in(s - section.s0, sel - section.s0),
             None => [0.0; 3],
         }
     }
 
-    /// Lateral position `t` of lane `id`'s centre at `s` (left positive), with derivatives.
-    ///
-    /// At the end of a lane section that is not the road's last, the lane is evaluated as the
-    /// limit from inside its section: a `laneOffset` or `width` record starting exactly there
-    /// belongs to the next section's lanes.
+    /// Width of lane `id` of section `sec` at `s`.
     #[inline]
-    pub fn lane_t(&self, sec: usize, id: i32, s: f64) -> [f64; 3] {
+    pub fn lane_width(&self, sec: usize, id: i32, s: f64) -> [f64; 3] {
+        self.lane_width_in(sec, id, s, self.selector(sec, s))
+    }
+
+    /// Lateral position `t` of lane `id`'s centre at `s` (left positive, records chosen at
+    /// `sel`), with derivatives.
+    #[inline]
+    pub fn lane_t_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> [f64; 3] {
         let section = &self.sections[sec];
-        let at_end = s >= section.s1 && sec + 1 < self.sections.len();
-        let mut t = if at_end {
-            self.lane_offset.eval_before(s, section.s1)
-        } else {
-            self.lane_offset.eval(s)
-        };
+        let mut t = self.lane_offset.eval_in(s, sel);
         if let Some((side, i)) = section.find(id) {
-            let ds = s - section.s0;
+            let (ds, dsel) = (s - section.s0, sel - section.s0);
             let sign = if id > 0 { 1.0 } else { -1.0 };
             for (j, lane) in side[..=i].iter().enumerate() {
-                let w = if at_end {
-                    lane.widths.eval_before(ds, section.s1 - section.s0)
-                } else {
-                    lane.widths.eval(ds)
-                };
+                let w = lane.widths.eval_in(ds, dsel);
                 let f = if j == i { 0.5 * sign } else { sign };
                 t[0] += f * w[0];
                 t[1] += f * w[1];
@@ -69,12 +71,12 @@ impl Road {
         t
     }
 
-    /// The centre line of lane `id` of section `sec` at `s`.
+    /// The centre line of lane `id` of section `sec` at `s`, every record chosen at `sel`.
     #[inline]
-    pub fn centre(&self, sec: usize, id: i32, s: f64) -> CentrePoint {
-        let pose = self.reference.pose(s);
-        let [t, dt, ddt] = self.lane_t(sec, id, s);
-        let [z, dz, ddz] = self.elevation.eval(s);
+    pub fn centre_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> CentrePoint {
+        let pose = self.reference.pose_in(s, sel);
+        let [t, dt, ddt] = self.lane_t_in(sec, id, s, sel);
+        let [z, dz, ddz] = self.elevation.eval_in(s, sel);
         let (sn, c) = pose.hdg.sin_cos();
         let (tx, ty) = (c, sn);
         let (nx, ny) = (-sn, c);
@@ -90,12 +92,34 @@ impl Road {
         }
     }
 
-    /// The centre point of lane `id` at `s` in 2-D only (OpenDRIVE frame).
+    /// The centre line of lane `id` of section `sec` at `s`.
     #[inline]
-    pub fn centre_xy(&self, sec: usize, id: i32, s: f64) -> [f64; 2] {
-        let pose = self.reference.pose(s);
-        let t = self.lane_t(sec, id, s)[0];
-        let (sn, c) = pose.hdg.sin_cos();
-        [pose.x - t * sn, pose.y + t * c]
+    pub fn centre(&self, sec: usize, id: i32, s: f64) -> CentrePoint {
+        self.centre_in(sec, id, s, self.selector(sec, s))
+    }
+
+    /// Where a record of the lane's geometry (reference line, elevation, lane offset, the widths
+    /// of the lane and the lanes inside it) starts strictly inside section `sec`, sorted: the
+    /// lane's centre line may bend or jump there.
+    pub fn breakpoints(&self, sec: usize, id: i32) -> Vec<f64> {
+        let section = &self.sections[sec];
+        let (s0, s1) = (section.s0, section.s1);
+        let mut out: Vec<f64> = self
+            .reference
+            .geometries
+            .iter()
+            .map(|g| g.s0)
+            .chain(self.elevation.starts())
+            .chain(self.lane_offset.starts())
+            .collect();
+        if let Some((side, i)) = section.find(id) {
+            for lane in &side[..=i] {
+                out.extend(lane.widths.starts().map(|d| s0 + d));
+            }
+        }
+        out.retain(|&s| s > s0 && s < s1);
+        out.sort_by(f64::total_cmp);
+        out.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+        out
     }
 }

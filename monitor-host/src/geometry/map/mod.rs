@@ -306,7 +306,9 @@ impl Map {
         let node = &self.net.nodes[c.node as usize];
         let road = &self.roads[node.road as usize];
         let sec = node.section as usize;
-        let at = road.centre(sec, node.lane, c.s).p;
+        let piece = &self.index.pieces[c.piece as usize];
+        let sel = 0.5 * (piece.s_a + piece.s_b);
+        let at = road.centre_in(sec, node.lane, c.s, sel).p;
         Projection {
             lane: LaneRef {
                 road: node.road,
@@ -314,7 +316,7 @@ impl Map {
                 lane: node.lane,
             },
             s: c.s,
-            width: road.lane_width(sec, node.lane, c.s)[0],
+            width: road.lane_width_in(sec, node.lane, c.s, sel)[0],
             distance_2d: (at[0] - p[0]).hypot(at[1] - p[1]),
             distance_3d: c.d,
             junction: road.junction.is_some(),
@@ -362,7 +364,7 @@ impl Map {
     /// The road's `s` range of a lane section: used by callers that evaluate a lane.
     fn centre_carla(&self, lane: &LaneRef, s: f64) -> [f64; 2] {
         let road = &self.roads[lane.road as usize];
-        let p = road.centre_xy(lane.section as usize, lane.lane, s);
+        let p = road.centre(lane.section as usize, lane.lane, s).p;
         [p[0], -p[1]]
     }
 

@@ -22,10 +22,9 @@ pub(crate) struct Node {
     pub forward: bool,
     /// Nodes reachable at this lane's end in driving direction.
     pub successors: Vec<u32>,
-    /// `(s, centre-line 2-D length from s0)` at the knots.
+    /// `(s, centre-line 2-D length from s0)` at the knots: every record start inside the
+    /// section (see [`Road::breakpoints`]) and steps of at most [`KNOT_STEP`] between them.
     pub knots: Vec<[f64; 2]>,
-    /// Centre-line points at the knots (OpenDRIVE frame, with elevation).
-    pub points: Vec<[f64; 3]>,
 }
 
 impl Node {
@@ -63,13 +62,6 @@ impl Network {
                     if !lane.driving {
                         continue;
                     }
-                    let s_at = |i: usize| {
-                        if i == n {
-                            s1
-                        } else {
-                            s0 + (s1 - s0) * i as f64 / n as f64
-                        }
-                    };
                     let positive = (0..=2 * n).any(|h| {
                         let s = s0 + (s1 - s0) * h as f64 / (2 * n) as f64;
                         road.lane_width(si, lane.id, s)[0] > 0.0
@@ -77,17 +69,25 @@ impl Network {
                     if !positive {
                         continue;
                     }
-                    let mut knots = Vec::with_capacity(n + 1);
-                    let mut points = Vec::with_capacity(n + 1);
+                    let mut cuts = vec![s0];
+                    cuts.extend(road.breakpoints(si, lane.id));
+                    cuts.push(s1);
+                    let mut knots = vec![[s0, 0.0]];
                     let mut len = 0.0;
-                    for i in 0..=n {
-                        let s = s_at(i);
-                        if i > 0 {
-                            len +=
-                                gauss::integrate(s_at(i - 1), s, |u| speed(road, si, lane.id, u));
+                    for w in cuts.windows(2) {
+                        let (a, b) = (w[0], w[1]);
+                        let m = ((b - a) / KNOT_STEP).ceil().max(1.0) as usize;
+                        let mut prev = a;
+                        for i in 1..=m {
+                            let s = if i == m {
+                                b
+                            } else {
+                                a + (b - a) * i as f64 / m as f64
+                            };
+                            len += gauss::integrate(prev, s, |u| speed(road, si, lane.id, u));
+                            knots.push([s, len]);
+                            prev = s;
                         }
-                        knots.push([s, len]);
-                        points.push(road.centre(si, lane.id, s).p);
                     }
                     let idx = net.nodes.len() as u32;
                     net.by_lane.insert((ri as u32, si as u32, lane.id), idx);
@@ -100,7 +100,6 @@ impl Network {
                         forward: (lane.id < 0) != road.left_hand,
                         successors: Vec::new(),
                         knots,
-                        points,
                     });
                 }
             }

@@ -72,12 +72,14 @@ struct Curve<'a> {
     road: &'a Road,
     sec: usize,
     lane: i32,
+    /// Selects the records (see [`Road::centre_in`]).
+    sel: f64,
 }
 
 /// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C(s) - p`.
 #[inline]
 fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
-    let c = c.road.centre(c.sec, c.lane, s);
+    let c = c.road.centre_in(c.sec, c.lane, s, c.sel);
     let d = [c.p[0] - p[0], c.p[1] - p[1], c.p[2] - p[2]];
     let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
     [
@@ -119,7 +121,8 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
     (s, f)
 }
 
-/// The nearest point of lane `lane`'s centre line to `p` over `s` in `[a, b]`: `(s, |D|²)`.
+/// The nearest point of lane `lane`'s centre line to `p` over `s` in `[a, b]`, a piece between
+/// two breakpoints: `(s, |D|²)`.
 pub(crate) fn nearest_on(
     road: &Road,
     sec: usize,
@@ -128,7 +131,12 @@ pub(crate) fn nearest_on(
     a: f64,
     b: f64,
 ) -> (f64, f64) {
-    let curve = Curve { road, sec, lane };
+    let curve = Curve {
+        road,
+        sec,
+        lane,
+        sel: 0.5 * (a + b),
+    };
     let [fa, ga, _] = objective(curve, a, p);
     let [fb, gb, _] = objective(curve, b, p);
     let mut best = if fa <= fb { (a, fa) } else { (b, fb) };
@@ -158,18 +166,18 @@ impl Index {
         let mut pieces = Vec::new();
         for (ni, node) in net.nodes.iter().enumerate() {
             let road = &roads[node.road as usize];
+            let sec = node.section as usize;
             for i in 1..node.knots.len() {
                 let (s_a, s_b) = (node.knots[i - 1][0], node.knots[i][0]);
-                let (a, b) = (node.points[i - 1], node.points[i]);
+                let sel = 0.5 * (s_a + s_b);
+                let at = |s: f64| road.centre_in(sec, node.lane, s, sel).p;
+                let (a, b) = (at(s_a), at(s_b));
                 // The curve's deviation from its chord, measured at the middle and a quarter in;
                 // bounded generously (a smooth curve over a short piece is close to a parabola,
                 // whose deviation peaks in the middle).
                 let mut dev: f64 = 0.0;
                 for f in [0.25, 0.5, 0.75] {
-                    let m = road
-                        .centre(node.section as usize, node.lane, s_a + f * (s_b - s_a))
-                        .p;
-                    dev = dev.max(seg_dist(&m, &a, &b));
+                    dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)), &a, &b));
                 }
                 pieces.push(Piece {
                     node: ni as u32,

@@ -234,12 +234,13 @@ pub(crate) struct ReferenceLine {
 }
 
 impl ReferenceLine {
-    /// The pose at road `s`: the geometry starting last at or before `s` (else the first).
+    /// The pose at road `s` of the geometry in force at `sel` (the one starting last at or
+    /// before `sel`, else the first).
     #[inline]
-    pub fn pose(&self, s: f64) -> Pose {
+    pub fn pose_in(&self, s: f64, sel: f64) -> Pose {
         let i = self
             .geometries
-            .partition_point(|g| g.s0 <= s)
+            .partition_point(|g| g.s0 <= sel)
             .saturating_sub(1);
         let g = &self.geometries[i];
         g.pose(s - g.s0)

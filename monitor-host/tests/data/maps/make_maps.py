@@ -107,10 +107,22 @@ write(
     ),
 )
 
-# paramPoly3, both pRange: road 1 over p in [0, 30] (arcLength), road 2 over [0, 1] (normalized).
-u1 = (0.0, 1.0, -0.004, 0.0)
+# paramPoly3, both pRange: road 1 over p in [0, 30] (arcLength: p runs to `length` = 30, and bU is
+# chosen so that the curve is 30 m long too), road 2 over [0, 1] (normalized).
 v1 = (0.0, 0.0, 0.02, -0.0003)
-len1 = gl_arc(lambda p: math.hypot(u1[1] + 2 * u1[2] * p + 3 * u1[3] * p * p, v1[1] + 2 * v1[2] * p + 3 * v1[3] * p * p), 0.0, 30.0)
+
+
+def len_u1(bu):
+    u = (0.0, bu, -0.004, 0.0)
+    return gl_arc(lambda p: math.hypot(u[1] + 2 * u[2] * p + 3 * u[3] * p * p, v1[1] + 2 * v1[2] * p + 3 * v1[3] * p * p), 0.0, 30.0)
+
+
+lo, hi = 0.5, 1.5
+for _ in range(100):
+    mid = 0.5 * (lo + hi)
+    lo, hi = (mid, hi) if len_u1(mid) < 30.0 else (lo, mid)
+u1 = (0.0, 0.5 * (lo + hi), -0.004, 0.0)
+len1 = 30.0
 u2 = (0.0, 35.0, -6.0, 1.0)
 v2 = (0.0, 2.0, 9.0, -4.0)
 len2 = gl_arc(lambda p: math.hypot(u2[1] + 2 * u2[2] * p + 3 * u2[3] * p * p, v2[1] + 2 * v2[2] * p + 3 * v2[3] * p * p), 0.0, 1.0)

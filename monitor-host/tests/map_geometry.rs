@@ -59,7 +59,7 @@ fn spiral_lanes_follow_the_fresnel_series() {
             if n > 0 {
                 fact *= n as f64;
             }
-            let term = a.powi(n as i32) * s.powi(2 * n as i32 + 1) / (fact * (2 * n + 1) as f64);
+            let term = a.powi(n) * s.powi(2 * n + 1) / (fact * (2 * n + 1) as f64);
             match n % 4 {
                 0 => x += term,
                 1 => y += term,

@@ -53,7 +53,8 @@ impl Network {
         let mut net = Network::default();
         for (ri, road) in roads.iter().enumerate() {
             for (si, sec) in road.sections.iter().enumerate() {
-                let (s0, s1) = (sec.s0, sec.s1.min(road.length.max(sec.s0)));
+                // A section reaching outside the road is cut to it.
+                let (s0, s1) = (sec.s0.max(0.0), sec.s1.min(road.length));
                 if s1.is_nan() || s1 <= s0 {
                     continue;
                 }

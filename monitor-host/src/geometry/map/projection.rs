@@ -14,8 +14,10 @@
 use super::network::Network;
 use super::road::Road;
 
-/// Side of a grid cell (m).
+/// Side of a grid cell (m), unless the map is so large that the grid would exceed
+/// [`MAX_CELLS`] cells a side.
 const CELL: f64 = 4.0;
+const MAX_CELLS: f64 = 2048.0;
 
 /// A piece of a lane's centre line: `s` in `[s_a, s_b]`, chord `a`–`b` (3-D), and `slack`, an
 /// upper bound on the distance of the curve from its chord.
@@ -32,6 +34,7 @@ pub(crate) struct Piece {
 /// The grid of pieces, stored cell by cell.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Index {
+    cell: f64,
     x0: f64,
     y0: f64,
     nx: i64,
@@ -179,6 +182,10 @@ impl Index {
                 for f in [0.25, 0.5, 0.75] {
                     dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)), &a, &b));
                 }
+                if !(a.iter().chain(&b).all(|v| v.is_finite()) && dev.is_finite()) {
+                    // A lane whose numbers overflow has no usable geometry here.
+                    continue;
+                }
                 pieces.push(Piece {
                     node: ni as u32,
                     s_a,
@@ -209,12 +216,17 @@ impl Index {
             let half = 0.5 * (p.b[0] - p.a[0]).hypot(p.b[1] - p.a[1]);
             reach = reach.max(half + p.slack);
         }
-        let nx = (((x1 - x0) / CELL).floor() as i64 + 1).clamp(1, 1 << 20);
-        let ny = (((y1 - y0) / CELL).floor() as i64 + 1).clamp(1, 1 << 20);
+        let cell = CELL.max((x1 - x0).max(y1 - y0) / MAX_CELLS);
+        let nx = (((x1 - x0) / cell).floor() as i64)
+            .saturating_add(1)
+            .clamp(1, 4096);
+        let ny = (((y1 - y0) / cell).floor() as i64)
+            .saturating_add(1)
+            .clamp(1, 4096);
         let cell_of = |p: &Piece| {
             let m = mid(p);
-            let i = (((m[0] - x0) / CELL).floor() as i64).clamp(0, nx - 1);
-            let j = (((m[1] - y0) / CELL).floor() as i64).clamp(0, ny - 1);
+            let i = (((m[0] - x0) / cell).floor() as i64).clamp(0, nx - 1);
+            let j = (((m[1] - y0) / cell).floor() as i64).clamp(0, ny - 1);
             (j * nx + i) as usize
         };
         let mut counts = vec![0u32; (nx * ny) as usize + 1];
@@ -233,6 +245,7 @@ impl Index {
             fill[c] += 1;
         }
         Index {
+            cell,
             x0,
             y0,
             nx,
@@ -303,8 +316,8 @@ impl Index {
         if let Some(h) = hint.filter(|&h| (h as usize) < self.pieces.len()) {
             try_piece(h, &mut best, out);
         }
-        let ci = ((p[0] - self.x0) / CELL).floor().clamp(-1e15, 1e15) as i64;
-        let cj = ((p[1] - self.y0) / CELL).floor().clamp(-1e15, 1e15) as i64;
+        let ci = ((p[0] - self.x0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
+        let cj = ((p[1] - self.y0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
         // Beyond this ring no cell of the grid is left.
         let r_max = [ci, self.nx - 1 - ci, cj, self.ny - 1 - cj]
             .iter()
@@ -317,7 +330,7 @@ impl Index {
             .unwrap_or(0);
         let mut r = r_min;
         while r <= r_max {
-            let ring_lb = (r - 1).max(0) as f64 * CELL - self.reach;
+            let ring_lb = (r - 1).max(0) as f64 * self.cell - self.reach;
             if ring_lb > best + tol {
                 break;
             }
@@ -327,9 +340,12 @@ impl Index {
                 let (i0, i1) = ((ci - r).max(0), (ci + r).min(self.nx - 1));
                 let visit = |i: i64, best: &mut f64, out: &mut Vec<Candidate>| {
                     // Distance from p to the cell's rectangle.
-                    let (cx0, cy0) = (self.x0 + i as f64 * CELL, self.y0 + j as f64 * CELL);
-                    let dx = (cx0 - p[0]).max(p[0] - cx0 - CELL).max(0.0);
-                    let dy = (cy0 - p[1]).max(p[1] - cy0 - CELL).max(0.0);
+                    let (cx0, cy0) = (
+                        self.x0 + i as f64 * self.cell,
+                        self.y0 + j as f64 * self.cell,
+                    );
+                    let dx = (cx0 - p[0]).max(p[0] - cx0 - self.cell).max(0.0);
+                    let dy = (cy0 - p[1]).max(p[1] - cy0 - self.cell).max(0.0);
                     if dx.hypot(dy) - self.reach <= *best + tol {
                         let c = (j * self.nx + i) as usize;
                         for k in self.starts[c]..self.starts[c + 1] {

@@ -11,6 +11,10 @@ use super::error::MapError;
 use super::reference_line::{Geometry, ReferenceLine, Shape};
 use super::road::{Connection, Contact, Junction, Lane, LaneSection, Road, RoadLink};
 
+/// Longest road or geometry accepted (m): a town's roads are far shorter, and the lane network
+/// samples every lane every few metres.
+pub(crate) const MAX_LENGTH: f64 = 100_000.0;
+
 /// The roads and junctions of a file, links resolved to indices.
 pub(crate) struct Parsed {
     pub roads: Vec<Road>,
@@ -220,6 +224,12 @@ fn parse_road(
     if length < 0.0 {
         return Err(ctx.err(here(), format!("negative length {length}")));
     }
+    if length > MAX_LENGTH {
+        return Err(ctx.err(
+            here(),
+            format!("length {length} m is longer than {MAX_LENGTH} m"),
+        ));
+    }
     let junction = match node.attribute("junction").map(str::trim) {
         None | Some("-1") | Some("") => None,
         Some(j) => Some(j.to_string()),
@@ -247,6 +257,12 @@ fn parse_road(
             let glen = ctx.num(g, "length", &el)?;
             if glen < 0.0 {
                 return Err(ctx.err(el(), format!("negative length {glen}")));
+            }
+            if glen > MAX_LENGTH {
+                return Err(ctx.err(
+                    el(),
+                    format!("length {glen} m is longer than {MAX_LENGTH} m"),
+                ));
             }
             let kind = g.children().find(|c| c.is_element()).ok_or_else(|| {
                 ctx.err(el(), "has no shape (line, arc, spiral, poly3, paramPoly3)")

@@ -108,14 +108,16 @@ def refine(
 DIST_TOL_BY_MAP = {"parampoly3": 3e-3}
 
 
-def width_at(m: carla.Map, road: int, lane: int, section: int, s: float) -> float | None:
-    """CARLA's width of one lane of one lane section at s (just inside the section at its end)."""
+def width_at(m: carla.Map, road: int, lane: int, section: int, s: float) -> list[float]:
+    """CARLA's widths of one lane of one lane section at s and just below and above it (CARLA
+    takes s as a float32; where a width record starts exactly at s, both sides are valid)."""
     step = max(1e-5, abs(s) * 3e-7)
+    out = []
     for t in (s, s - step, s + step):
         w = m.get_waypoint_xodr(road, lane, t)
         if w is not None and w.section_id == section:
-            return float(w.lane_width)
-    return None
+            out.append(float(w.lane_width))
+    return out
 
 
 def check_map(path: Path, binary: str, n: int, seed: int) -> bool:
@@ -186,8 +188,8 @@ def check_map(path: Path, binary: str, n: int, seed: int) -> bool:
                 junction_diff += 1
             # Same lane: CARLA's width at our s (where the distance is flat in s, the two minimisers
             # may differ by centimetres of s on a lane whose width changes).
-            w_carla = width_at(cmap, int(road), lane, section, s_ours)
-            w_diff.append(abs((w_carla if w_carla is not None else ref[2]) - width))
+            w_carla = width_at(cmap, int(road), lane, section, s_ours) or [ref[2]]
+            w_diff.append(min(abs(w - width) for w in w_carla))
         if (abs(ref[0] - d2) > dist_tol or (same and w_diff[-1] > WIDTH_TOL)) and len(bad_examples) < 10:
             bad_examples.append(f"  point {p}: ours road {road} lane {lane} s {s_ours} d {d2:.4f} w {width}; reference s {ref[1]:.4f} d {ref[0]:.4f} w {ref[2]} (CARLA raw road {wp.road_id} lane {wp.lane_id} s {wp.s:.4f}, section {wp.section_id})")
 

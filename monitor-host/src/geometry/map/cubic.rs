@@ -24,6 +24,25 @@ impl Cubic {
     }
 }
 
+impl Cubic {
+    /// The same polynomial as coefficients in `v = x - origin`.
+    #[inline]
+    pub fn shifted(&self, origin: f64) -> [f64; 4] {
+        let [v, d1, d2] = self.eval(origin);
+        [v, d1, 0.5 * d2, self.d]
+    }
+}
+
+/// Value, first and second derivative at `v` of the cubic `c[0] + c[1] v + c[2] v² + c[3] v³`.
+#[inline]
+pub(crate) fn eval_coeffs(c: &[f64; 4], v: f64) -> [f64; 3] {
+    [
+        c[0] + v * (c[1] + v * (c[2] + v * c[3])),
+        c[1] + v * (2.0 * c[2] + v * 3.0 * c[3]),
+        2.0 * c[2] + 6.0 * c[3] * v,
+    ]
+}
+
 /// Records sorted by start (stable: a later record with the same start wins, as in the file).
 #[derive(Debug, Clone, Default)]
 pub(crate) struct Piecewise(pub Vec<Cubic>);

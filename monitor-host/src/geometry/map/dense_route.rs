@@ -28,8 +28,10 @@ pub struct DenseSample {
 /// use monitor_host::geometry::map::dense_route;
 /// let d = dense_route(&[[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [5.0, 2.5, 0.0]], 8.0, None);
 /// let xs: Vec<[f64; 2]> = d.iter().map(|s| s.xy).collect();
-/// // 0, 1, 2, 3 m (3 is 2 m from Q: not closer, so 4 m too), then from (5, 0): 0 m only.
-/// assert_eq!(xs, vec![[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [4.0, 0.0], [5.0, 0.0]]);
+/// // Pair 1: 0, 1, 2, 3 m (3 m is 2 m from Q: not closer), 4 m (closer: the last).
+/// // Pair 2: 0 m (2.5 m from Q), 1 m (closer: the last).
+/// let expected = [[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0], [4.0, 0.0], [5.0, 0.0], [5.0, 1.0]];
+/// assert_eq!(xs, expected);
 /// assert!(d.iter().all(|s| s.in_junction.is_none()));
 /// ```
 pub fn dense_route(waypoints: &[[f64; 3]], gap_max: f64, map: Option<&Map>) -> Vec<DenseSample> {

@@ -3,7 +3,29 @@
 //! `t = laneOffset(s) + sign(k) (sum of the widths of lanes 1..|k|-1 + width_k / 2)`, with the
 //! road's elevation as its height.
 
+use super::reference_line::Pose;
 use super::road::Road;
+
+/// The centre-line point at lateral position `t` (with its s-derivatives) off the reference
+/// pose, at height `z` (with derivatives): `C = R + t N`, `C' = (1 - t k) T + t' N`,
+/// `C'' = -(2 t' k + t k') T + ((1 - t k) k + t'') N`.
+#[inline]
+pub(crate) fn centre_from(
+    pose: &Pose,
+    [t, dt, ddt]: [f64; 3],
+    [z, dz, ddz]: [f64; 3],
+) -> CentrePoint {
+    let (tx, ty) = (pose.cos, pose.sin);
+    let (nx, ny) = (-pose.sin, pose.cos);
+    let along = 1.0 - t * pose.k;
+    let d2t = -(2.0 * dt * pose.k + t * pose.dk);
+    let d2n = along * pose.k + ddt;
+    CentrePoint {
+        p: [pose.x + t * nx, pose.y + t * ny, z],
+        d1: [along * tx + dt * nx, along * ty + dt * ny, dz],
+        d2: [d2t * tx + d2n * nx, d2t * ty + d2n * ny, ddz],
+    }
+}
 
 /// A point of a lane's centre line with its first and second derivatives in road `s`
 /// (OpenDRIVE frame; `p[2]` is the elevation).
@@ -75,21 +97,9 @@ impl Road {
     #[inline]
     pub fn centre_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> CentrePoint {
         let pose = self.reference.pose_in(s, sel);
-        let [t, dt, ddt] = self.lane_t_in(sec, id, s, sel);
-        let [z, dz, ddz] = self.elevation.eval_in(s, sel);
-        let (sn, c) = pose.hdg.sin_cos();
-        let (tx, ty) = (c, sn);
-        let (nx, ny) = (-sn, c);
-        let along = 1.0 - t * pose.k;
-        let d1t = along;
-        let d1n = dt;
-        let d2t = -(2.0 * dt * pose.k + t * pose.dk);
-        let d2n = along * pose.k + ddt;
-        CentrePoint {
-            p: [pose.x + t * nx, pose.y + t * ny, z],
-            d1: [d1t * tx + d1n * nx, d1t * ty + d1n * ny, dz],
-            d2: [d2t * tx + d2n * nx, d2t * ty + d2n * ny, ddz],
-        }
+        let t = self.lane_t_in(sec, id, s, sel);
+        let z = self.elevation.eval_in(s, sel);
+        centre_from(&pose, t, z)
     }
 
     /// The centre line of lane `id` of section `sec` at `s`.

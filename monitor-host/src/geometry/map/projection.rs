@@ -11,24 +11,32 @@
 //!
 //! [`KNOT_STEP`]: super::network::KNOT_STEP
 
+use super::cubic::eval_coeffs;
+use super::lanes::centre_from;
 use super::network::Network;
+use super::reference_line::Geometry;
 use super::road::Road;
 
 /// Side of a grid cell (m), unless the map is so large that the grid would exceed
 /// [`MAX_CELLS`] cells a side.
-const CELL: f64 = 4.0;
-const MAX_CELLS: f64 = 2048.0;
+const CELL: f64 = 2.0;
+const MAX_CELLS: f64 = 1024.0;
 
 /// A piece of a lane's centre line: `s` in `[s_a, s_b]`, chord `a`–`b` (3-D), and `slack`, an
-/// upper bound on the distance of the curve from its chord.
+/// upper bound on the distance of the curve from its chord. Between two breakpoints every
+/// record is fixed, so the piece keeps its geometry's index and its lateral position `t` and
+/// height `z` as single cubics in `s - s_a` (the sums of the records that make them).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Piece {
     pub node: u32,
+    pub geometry: u32,
     pub s_a: f64,
     pub s_b: f64,
     pub a: [f64; 3],
     pub b: [f64; 3],
     pub slack: f64,
+    pub t: [f64; 4],
+    pub z: [f64; 4],
 }
 
 /// The grid of pieces, stored cell by cell.
@@ -42,8 +50,10 @@ pub(crate) struct Index {
     /// `starts[c]..starts[c + 1]` are the pieces of cell `c` (row-major).
     starts: Vec<u32>,
     pub pieces: Vec<Piece>,
-    /// Every point of a piece lies within `reach` of the cell holding its chord's midpoint.
-    reach: f64,
+    /// Every point of a piece lies within `reach[c]` of the cell `c` holding its chord's
+    /// midpoint; `reach_max` is the largest.
+    reach: Vec<f64>,
+    reach_max: f64,
 }
 
 /// A lane found near the query point: the node, `s` of its nearest point and the 3-D distance.
@@ -69,20 +79,23 @@ fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
     (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
 }
 
-/// One lane's centre line within one lane section.
+/// One piece of a lane's centre line, ready to evaluate.
 #[derive(Clone, Copy)]
 struct Curve<'a> {
-    road: &'a Road,
-    sec: usize,
-    lane: i32,
-    /// Selects the records (see [`Road::centre_in`]).
-    sel: f64,
+    geometry: &'a Geometry,
+    piece: &'a Piece,
 }
 
 /// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C(s) - p`.
 #[inline]
 fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
-    let c = c.road.centre_in(c.sec, c.lane, s, c.sel);
+    let pose = c.geometry.pose(s - c.geometry.s0);
+    let v = s - c.piece.s_a;
+    let c = centre_from(
+        &pose,
+        eval_coeffs(&c.piece.t, v),
+        eval_coeffs(&c.piece.z, v),
+    );
     let d = [c.p[0] - p[0], c.p[1] - p[1], c.p[2] - p[2]];
     let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
     [
@@ -124,22 +137,10 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
     (s, f)
 }
 
-/// The nearest point of lane `lane`'s centre line to `p` over `s` in `[a, b]`, a piece between
-/// two breakpoints: `(s, |D|²)`.
-pub(crate) fn nearest_on(
-    road: &Road,
-    sec: usize,
-    lane: i32,
-    p: &[f64; 3],
-    a: f64,
-    b: f64,
-) -> (f64, f64) {
-    let curve = Curve {
-        road,
-        sec,
-        lane,
-        sel: 0.5 * (a + b),
-    };
+/// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`.
+fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
+    let curve = Curve { geometry, piece };
+    let (a, b) = (piece.s_a, piece.s_b);
     let [fa, ga, _] = objective(curve, a, p);
     let [fb, gb, _] = objective(curve, b, p);
     let mut best = if fa <= fb { (a, fa) } else { (b, fb) };
@@ -170,10 +171,59 @@ impl Index {
         for (ni, node) in net.nodes.iter().enumerate() {
             let road = &roads[node.road as usize];
             let sec = node.section as usize;
+            let section = &road.sections[sec];
             for i in 1..node.knots.len() {
                 let (s_a, s_b) = (node.knots[i - 1][0], node.knots[i][0]);
                 let sel = 0.5 * (s_a + s_b);
-                let at = |s: f64| road.centre_in(sec, node.lane, s, sel).p;
+                let geometry = road
+                    .reference
+                    .geometries
+                    .partition_point(|g| g.s0 <= sel)
+                    .saturating_sub(1);
+                // t and z as single cubics in s - s_a: the records in force at sel, re-centred.
+                let add = |acc: &mut [f64; 4], c: [f64; 4], f: f64| {
+                    for k in 0..4 {
+                        acc[k] += f * c[k];
+                    }
+                };
+                let mut t = [0.0; 4];
+                if let Some(r) = road.lane_offset.record(sel) {
+                    add(&mut t, r.shifted(s_a), 1.0);
+                }
+                if let Some((side, li)) = section.find(node.lane) {
+                    let sign = if node.lane > 0 { 1.0 } else { -1.0 };
+                    for (j, lane) in side[..=li].iter().enumerate() {
+                        if let Some(r) = lane.widths.record(sel - section.s0) {
+                            let f = if j == li { 0.5 * sign } else { sign };
+                            add(&mut t, r.shifted(s_a - section.s0), f);
+                        }
+                    }
+                }
+                let z = road
+                    .elevation
+                    .record(sel)
+                    .map_or([0.0; 4], |r| r.shifted(s_a));
+                let piece = |a: [f64; 3], b: [f64; 3], slack: f64| Piece {
+                    node: ni as u32,
+                    geometry: geometry as u32,
+                    s_a,
+                    s_b,
+                    a,
+                    b,
+                    slack,
+                    t,
+                    z,
+                };
+                let geom = &road.reference.geometries[geometry];
+                let at = |s: f64| {
+                    let v = s - s_a;
+                    centre_from(
+                        &geom.pose(s - geom.s0),
+                        eval_coeffs(&t, v),
+                        eval_coeffs(&z, v),
+                    )
+                    .p
+                };
                 let (a, b) = (at(s_a), at(s_b));
                 // The curve's deviation from its chord, measured at the middle and a quarter in;
                 // bounded generously (a smooth curve over a short piece is close to a parabola,
@@ -186,14 +236,7 @@ impl Index {
                     // A lane whose numbers overflow has no usable geometry here.
                     continue;
                 }
-                pieces.push(Piece {
-                    node: ni as u32,
-                    s_a,
-                    s_b,
-                    a,
-                    b,
-                    slack: 1.5 * dev + 1e-3,
-                });
+                pieces.push(piece(a, b, 1.5 * dev + 1e-3));
             }
         }
         if pieces.is_empty() {
@@ -206,15 +249,12 @@ impl Index {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         );
-        let mut reach: f64 = 0.0;
         for p in &pieces {
             let m = mid(p);
             x0 = x0.min(m[0]);
             y0 = y0.min(m[1]);
             x1 = x1.max(m[0]);
             y1 = y1.max(m[1]);
-            let half = 0.5 * (p.b[0] - p.a[0]).hypot(p.b[1] - p.a[1]);
-            reach = reach.max(half + p.slack);
         }
         let cell = CELL.max((x1 - x0).max(y1 - y0) / MAX_CELLS);
         let nx = (((x1 - x0) / cell).floor() as i64)
@@ -230,9 +270,14 @@ impl Index {
             (j * nx + i) as usize
         };
         let mut counts = vec![0u32; (nx * ny) as usize + 1];
+        let mut reach = vec![0.0f64; (nx * ny) as usize];
         for p in &pieces {
-            counts[cell_of(p) + 1] += 1;
+            let c = cell_of(p);
+            counts[c + 1] += 1;
+            let half = 0.5 * (p.b[0] - p.a[0]).hypot(p.b[1] - p.a[1]);
+            reach[c] = reach[c].max(half + p.slack);
         }
+        let reach_max = reach.iter().copied().fold(0.0, f64::max);
         for c in 1..counts.len() {
             counts[c] += counts[c - 1];
         }
@@ -253,12 +298,13 @@ impl Index {
             starts,
             pieces: sorted,
             reach,
+            reach_max,
         }
     }
 
     /// Every lane whose nearest point to `p` lies within `tol` of the nearest distance, each
     /// lane (node) once, in `out` (cleared first). `hint`: a piece likely to be near (e.g. the
-    /// previous frame's), solved first so that the search prunes early; it never changes the
+    /// previous frame's), whose distance bounds the search from the start; it never changes the
     /// result.
     pub fn search(
         &self,
@@ -280,15 +326,8 @@ impl Index {
                 return;
             }
             let node = &net.nodes[piece.node as usize];
-            let road = &roads[node.road as usize];
-            let (s, f) = nearest_on(
-                road,
-                node.section as usize,
-                node.lane,
-                p,
-                piece.s_a,
-                piece.s_b,
-            );
+            let geometry = &roads[node.road as usize].reference.geometries[piece.geometry as usize];
+            let (s, f) = nearest_on(geometry, piece, p);
             let d = f.sqrt();
             if d > *best + tol {
                 return;
@@ -314,7 +353,13 @@ impl Index {
             }
         };
         if let Some(h) = hint.filter(|&h| (h as usize) < self.pieces.len()) {
-            try_piece(h, &mut best, out);
+            // The hint's chord plus its slack bounds the nearest distance from above: no piece
+            // farther than that can hold the answer. (The answer itself is still found below.)
+            let piece = &self.pieces[h as usize];
+            let bound = seg_dist(p, &piece.a, &piece.b) + piece.slack;
+            if bound.is_finite() {
+                best = bound;
+            }
         }
         let ci = ((p[0] - self.x0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
         let cj = ((p[1] - self.y0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
@@ -330,7 +375,7 @@ impl Index {
             .unwrap_or(0);
         let mut r = r_min;
         while r <= r_max {
-            let ring_lb = (r - 1).max(0) as f64 * self.cell - self.reach;
+            let ring_lb = (r - 1).max(0) as f64 * self.cell - self.reach_max;
             if ring_lb > best + tol {
                 break;
             }
@@ -346,8 +391,8 @@ impl Index {
                     );
                     let dx = (cx0 - p[0]).max(p[0] - cx0 - self.cell).max(0.0);
                     let dy = (cy0 - p[1]).max(p[1] - cy0 - self.cell).max(0.0);
-                    if dx.hypot(dy) - self.reach <= *best + tol {
-                        let c = (j * self.nx + i) as usize;
+                    let c = (j * self.nx + i) as usize;
+                    if dx.hypot(dy) - self.reach[c] <= *best + tol {
                         for k in self.starts[c]..self.starts[c + 1] {
                             try_piece(k, best, out);
                         }

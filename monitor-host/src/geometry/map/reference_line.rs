@@ -17,6 +17,9 @@ pub(crate) struct Pose {
     pub x: f64,
     pub y: f64,
     pub hdg: f64,
+    /// `cos(hdg)`, `sin(hdg)`.
+    pub cos: f64,
+    pub sin: f64,
     /// Curvature (1/m, positive to the left).
     pub k: f64,
     /// d(curvature)/ds (exact for lines, arcs and spirals; 0 for polynomials, which only slows
@@ -54,6 +57,9 @@ pub(crate) struct Geometry {
     pub x: f64,
     pub y: f64,
     pub hdg: f64,
+    /// `cos(hdg)`, `sin(hdg)`, computed once.
+    pub cos: f64,
+    pub sin: f64,
     /// `length` as given (the shape is evaluated past it along the end tangent).
     #[allow(dead_code)]
     pub length: f64,
@@ -117,30 +123,52 @@ impl Shape {
 }
 
 impl Geometry {
+    /// A geometry record.
+    pub fn new(s0: f64, x: f64, y: f64, hdg: f64, length: f64, shape: Shape) -> Geometry {
+        let (sin, cos) = hdg.sin_cos();
+        Geometry {
+            s0,
+            x,
+            y,
+            hdg,
+            cos,
+            sin,
+            length,
+            shape,
+        }
+    }
+
     /// The pose at `sigma = s - s0` (extended along the end tangents outside `[0, length]`).
+    #[inline]
     pub fn pose(&self, sigma: f64) -> Pose {
-        let (c, sn) = (self.hdg.cos(), self.hdg.sin());
+        let (c, sn) = (self.cos, self.sin);
         match &self.shape {
             Shape::Line => Pose {
                 x: self.x + sigma * c,
                 y: self.y + sigma * sn,
                 hdg: self.hdg,
+                cos: c,
+                sin: sn,
                 k: 0.0,
                 dk: 0.0,
             },
             Shape::Arc { k } => {
                 let half = 0.5 * k * sigma;
+                let (sh, ch) = half.sin_cos();
                 // Chord form: stable for tiny curvature.
                 let chord = if half.abs() < 1e-9 {
                     sigma
                 } else {
-                    2.0 * half.sin() / k
+                    2.0 * sh / k
                 };
-                let dir = self.hdg + half;
+                // Heading turned by half (the chord's direction), then by half again.
+                let (dc, ds) = (c * ch - sn * sh, sn * ch + c * sh);
                 Pose {
-                    x: self.x + chord * dir.cos(),
-                    y: self.y + chord * dir.sin(),
+                    x: self.x + chord * dc,
+                    y: self.y + chord * ds,
                     hdg: self.hdg + k * sigma,
+                    cos: dc * ch - ds * sh,
+                    sin: ds * ch + dc * sh,
                     k: *k,
                     dk: 0.0,
                 }
@@ -152,10 +180,14 @@ impl Geometry {
                     let th = self.hdg + u * (k0 + 0.5 * dk * u);
                     [th.cos(), th.sin()]
                 });
+                let hdg = self.hdg + sigma * (k0 + 0.5 * dk * sigma);
+                let (sin, cos) = hdg.sin_cos();
                 Pose {
                     x: self.x + knots[i][0] + d[0],
                     y: self.y + knots[i][1] + d[1],
-                    hdg: self.hdg + sigma * (k0 + 0.5 * dk * sigma),
+                    hdg,
+                    cos,
+                    sin,
                     k: k0 + dk * sigma,
                     dk: *dk,
                 }
@@ -188,6 +220,8 @@ impl Geometry {
                     x: self.x + c * lu - sn * lv,
                     y: self.y + sn * lu + c * lv,
                     hdg: self.hdg + tv.atan2(tu),
+                    cos: c * tu - sn * tv,
+                    sin: sn * tu + c * tv,
                     k: if extra == 0.0 { k } else { 0.0 },
                     dk: 0.0,
                 }
@@ -252,14 +286,7 @@ mod tests {
     use super::*;
 
     fn geom(shape: Shape, length: f64) -> Geometry {
-        Geometry {
-            s0: 0.0,
-            x: 1.0,
-            y: 2.0,
-            hdg: 0.3,
-            length,
-            shape,
-        }
+        Geometry::new(0.0, 1.0, 2.0, 0.3, length, shape)
     }
 
     #[test]
@@ -272,6 +299,7 @@ mod tests {
             let p = g.pose(i as f64);
             assert!(((p.x - cx).hypot(p.y - cy) - 1.0 / k).abs() < 1e-12);
             assert!((p.hdg - (0.3 + k * i as f64)).abs() < 1e-15);
+            assert!((p.cos - p.hdg.cos()).abs() < 1e-15 && (p.sin - p.hdg.sin()).abs() < 1e-15);
         }
     }
 

@@ -313,14 +313,7 @@ fn parse_road(
                     ))
                 }
             };
-            geometries.push(Geometry {
-                s0,
-                x,
-                y,
-                hdg,
-                length: glen,
-                shape,
-            });
+            geometries.push(Geometry::new(s0, x, y, hdg, glen, shape));
         }
     }
     if geometries.is_empty() {

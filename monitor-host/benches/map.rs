@@ -8,13 +8,39 @@
 //!   throughput is frames/s;
 //! - `map/project_frame/plain`: the same frames through `Map::project` (no history);
 //! - `map/dense_route/Town04`: the dense route (with junction gaps filled) of every Town04 route.
+//!
+//! Each is measured twice: `map/*` in wall time, `map_cpu/*` in this thread's CPU time (on a
+//! shared machine, time while another process holds the core is not counted).
 
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Bencher, Criterion, Throughput};
 use monitor_host::geometry::map::{dense_route, Map, Projector};
 use monitor_host::route;
+
+#[path = "common/cpu.rs"]
+mod cpu;
+
+/// Runs `f` as a criterion routine, timed by wall clock or by this thread's CPU clock.
+fn run<T>(b: &mut Bencher, cpu_time: bool, mut f: impl FnMut() -> T) {
+    if !cpu_time {
+        return b.iter(&mut f);
+    }
+    b.iter_custom(|iters| {
+        let wall = std::time::Instant::now();
+        let start = cpu::thread_cpu_ns();
+        for _ in 0..iters {
+            black_box(f());
+        }
+        match (start, cpu::thread_cpu_ns()) {
+            (Some(a), Some(b)) => Duration::from_nanos(b - a),
+            _ => wall.elapsed(),
+        }
+    })
+}
 
 fn shared() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures")
@@ -37,11 +63,6 @@ fn bench(c: &mut Criterion) {
         eprintln!("SKIP map benches: {} not found", path.display());
         return;
     }
-    let mut g = c.benchmark_group("map");
-    g.sample_size(20);
-    g.bench_function("load/Town04", |b| {
-        b.iter(|| Map::load(black_box(&path)).unwrap())
-    });
     let map = Map::load(&path).unwrap();
     let routes = town04_routes();
     // A drive: the dense route's 1 m samples (one frame per metre: 20 m/s at 20 Hz), wobbling
@@ -55,38 +76,45 @@ fn bench(c: &mut Criterion) {
         }
     }
     eprintln!("{} Town04 routes, {} frames", routes.len(), frames.len());
-    if !frames.is_empty() {
-        g.throughput(Throughput::Elements(frames.len() as u64));
-        g.bench_function("project_frame/history", |b| {
-            b.iter(|| {
-                let mut p = Projector::new(&map);
-                let mut sum = 0.0;
-                for f in &frames {
-                    sum += p.project(f[0], f[1], f[2]).map_or(0.0, |x| x.distance_2d);
-                }
-                sum
-            })
+    for (group, cpu_time) in [("map", false), ("map_cpu", true)] {
+        let mut g = c.benchmark_group(group);
+        g.sample_size(20);
+        g.bench_function("load/Town04", |b| {
+            run(b, cpu_time, || Map::load(black_box(&path)).unwrap())
         });
-        g.bench_function("project_frame/plain", |b| {
-            b.iter(|| {
-                let mut sum = 0.0;
-                for f in &frames {
-                    sum += map.project(f[0], f[1], f[2]).map_or(0.0, |x| x.distance_2d);
-                }
-                sum
-            })
-        });
-        g.throughput(Throughput::Elements(routes.len() as u64));
-        g.bench_function("dense_route/Town04", |b| {
-            b.iter(|| {
-                routes
-                    .iter()
-                    .map(|r| dense_route(r, 8.0, Some(&map)).len())
-                    .sum::<usize>()
-            })
-        });
+        if !frames.is_empty() {
+            g.throughput(Throughput::Elements(frames.len() as u64));
+            g.bench_function("project_frame/history", |b| {
+                run(b, cpu_time, || {
+                    let mut p = Projector::new(&map);
+                    let mut sum = 0.0;
+                    for f in &frames {
+                        sum += p.project(f[0], f[1], f[2]).map_or(0.0, |x| x.distance_2d);
+                    }
+                    sum
+                })
+            });
+            g.bench_function("project_frame/plain", |b| {
+                run(b, cpu_time, || {
+                    let mut sum = 0.0;
+                    for f in &frames {
+                        sum += map.project(f[0], f[1], f[2]).map_or(0.0, |x| x.distance_2d);
+                    }
+                    sum
+                })
+            });
+            g.throughput(Throughput::Elements(routes.len() as u64));
+            g.bench_function("dense_route/Town04", |b| {
+                run(b, cpu_time, || {
+                    routes
+                        .iter()
+                        .map(|r| dense_route(r, 8.0, Some(&map)).len())
+                        .sum::<usize>()
+                })
+            });
+        }
+        g.finish();
     }
-    g.finish();
 }
 
 criterion_group!(benches, bench);

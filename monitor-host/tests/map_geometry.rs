@@ -346,6 +346,27 @@ fn junction_gaps_are_filled_with_the_shortest_lane_chain() {
         n as f64 >= arc_len / 0.5 - 1e-9,
         "{n} pieces for {arc_len} m"
     );
+    // At the junction's entry road 1 ends where roads 10, 11 and 12 start: four tied lanes.
+    // The projection takes the smallest road id; the chain takes whichever tied lane leads to
+    // Q by the shortest chain (here road 11, the right turn).
+    let entry = [0.0, 1.75, 0.0];
+    let tied = map.project_tied(entry[0], entry[1], entry[2]);
+    let ids: Vec<&str> = tied.iter().map(|t| map.road_id(t.lane.road)).collect();
+    assert_eq!(ids, ["1", "10", "11", "12"]);
+    assert!(tied.iter().all(|t| t.tied == 4 && t.distance_2d < 1e-12));
+    assert_eq!(
+        map.road_id(map.project(entry[0], entry[1], entry[2]).unwrap().lane.road),
+        "1"
+    );
+    let turn = map.fill_gap(entry, q).expect("chain from the tied entry");
+    let turn_len: f64 = turn
+        .windows(2)
+        .map(|w| (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]))
+        .sum();
+    assert!(
+        (turn_len - (FRAC_PI_2 * 8.25 + 10.0)).abs() < 0.01,
+        "{turn_len}"
+    );
     // Against the driving direction there is no chain; nor from a lane without successors.
     assert!(map.fill_gap(q, p).is_none());
     assert!(map

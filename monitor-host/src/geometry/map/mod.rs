@@ -44,7 +44,7 @@ pub use lookup::MapDir;
 
 use network::Network;
 use projection::{Candidate, Index};
-use road::{road_id_key, Junction, Road};
+use road::{road_id_key, Road};
 
 /// Lanes whose centre lines lie within this distance (m) of the nearest one are *tied*.
 pub const TIE_TOLERANCE: f64 = 1e-3;
@@ -107,8 +107,6 @@ pub struct LaneSpan {
 pub struct Map {
     file: String,
     roads: Vec<Road>,
-    #[allow(dead_code)]
-    junctions: Vec<Junction>,
     net: Network,
     index: Index,
 }
@@ -148,7 +146,6 @@ impl Map {
         Ok(Map {
             file: file.to_string(),
             roads: parsed.roads,
-            junctions: parsed.junctions,
             net,
             index,
         })
@@ -361,7 +358,7 @@ impl Map {
         Some((self.describe(chosen, &p, cands.len()), nearest))
     }
 
-    /// The road's `s` range of a lane section: used by callers that evaluate a lane.
+    /// The centre point of `lane` at road `s`, CARLA x/y.
     fn centre_carla(&self, lane: &LaneRef, s: f64) -> [f64; 2] {
         let road = &self.roads[lane.road as usize];
         let p = road.centre(lane.section as usize, lane.lane, s).p;

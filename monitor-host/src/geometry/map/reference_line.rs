@@ -60,9 +60,6 @@ pub(crate) struct Geometry {
     /// `cos(hdg)`, `sin(hdg)`, computed once.
     pub cos: f64,
     pub sin: f64,
-    /// `length` as given (the shape is evaluated past it along the end tangent).
-    #[allow(dead_code)]
-    pub length: f64,
     pub shape: Shape,
 }
 
@@ -123,8 +120,9 @@ impl Shape {
 }
 
 impl Geometry {
-    /// A geometry record.
-    pub fn new(s0: f64, x: f64, y: f64, hdg: f64, length: f64, shape: Shape) -> Geometry {
+    /// A geometry record (its `length` is already in `shape`; past it the shape goes on along
+    /// its end tangent, or its own formula).
+    pub fn new(s0: f64, x: f64, y: f64, hdg: f64, shape: Shape) -> Geometry {
         let (sin, cos) = hdg.sin_cos();
         Geometry {
             s0,
@@ -133,7 +131,6 @@ impl Geometry {
             hdg,
             cos,
             sin,
-            length,
             shape,
         }
     }
@@ -285,14 +282,14 @@ impl ReferenceLine {
 mod tests {
     use super::*;
 
-    fn geom(shape: Shape, length: f64) -> Geometry {
-        Geometry::new(0.0, 1.0, 2.0, 0.3, length, shape)
+    fn geom(shape: Shape) -> Geometry {
+        Geometry::new(0.0, 1.0, 2.0, 0.3, shape)
     }
 
     #[test]
     fn arc_is_a_circle() {
         let k = 0.05;
-        let g = geom(Shape::Arc { k }, 40.0);
+        let g = geom(Shape::Arc { k });
         // Centre: start + left normal / k.
         let (cx, cy) = (1.0 - 0.3f64.sin() / k, 2.0 + 0.3f64.cos() / k);
         for i in 0..=40 {
@@ -305,8 +302,8 @@ mod tests {
 
     #[test]
     fn spiral_with_constant_curvature_is_the_arc() {
-        let a = geom(Shape::Arc { k: -0.02 }, 100.0);
-        let s = geom(Shape::spiral(0.3, 100.0, -0.02, -0.02), 100.0);
+        let a = geom(Shape::Arc { k: -0.02 });
+        let s = geom(Shape::spiral(0.3, 100.0, -0.02, -0.02));
         for i in 0..=100 {
             let (p, q) = (a.pose(i as f64), s.pose(i as f64));
             assert!((p.x - q.x).abs() < 1e-11 && (p.y - q.y).abs() < 1e-11);
@@ -316,7 +313,7 @@ mod tests {
     #[test]
     fn straight_param_poly3_at_arc_length() {
         // U = p², V = 0 over normalized p: the point at arc length σ is at u = σ.
-        let g = geom(Shape::poly([0.0, 0.0, 10.0, 0.0], [0.0; 4], 1.0), 10.0);
+        let g = geom(Shape::poly([0.0, 0.0, 10.0, 0.0], [0.0; 4], 1.0));
         let p = g.pose(2.5);
         assert!((p.x - (1.0 + 2.5 * 0.3f64.cos())).abs() < 1e-12);
         assert!((p.y - (2.0 + 2.5 * 0.3f64.sin())).abs() < 1e-12);

@@ -79,8 +79,6 @@ pub(crate) struct Connection {
 /// One `<junction>`.
 #[derive(Debug, Clone)]
 pub(crate) struct Junction {
-    #[allow(dead_code)]
-    pub id: String,
     pub connections: Vec<Connection>,
 }
 

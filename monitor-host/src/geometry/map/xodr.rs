@@ -313,7 +313,7 @@ fn parse_road(
                     ))
                 }
             };
-            geometries.push(Geometry::new(s0, x, y, hdg, glen, shape));
+            geometries.push(Geometry::new(s0, x, y, hdg, shape));
         }
     }
     if geometries.is_empty() {
@@ -432,7 +432,7 @@ fn parse_junction(
     node: Node,
     roads: &HashMap<&str, usize>,
 ) -> Result<Junction, MapError> {
-    let id = node.attribute("id").unwrap_or_default().to_string();
+    let id = node.attribute("id").unwrap_or_default();
     let mut connections = Vec::new();
     for (ci, c) in children(node, "connection").enumerate() {
         let cid = c.attribute("id").unwrap_or("?");
@@ -459,5 +459,5 @@ fn parse_junction(
             lane_links,
         });
     }
-    Ok(Junction { id, connections })
+    Ok(Junction { connections })
 }

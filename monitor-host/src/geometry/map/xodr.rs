@@ -112,7 +112,7 @@ pub(crate) fn parse(xml: &str, file: &str) -> Result<Parsed, MapError> {
     let ctx = Ctx { file };
     let doc = roxmltree::Document::parse(xml).map_err(|e| MapError::Xml {
         file: file.to_string(),
-        message: e.to_string(),
+        message: format!("{e} (a truncated or damaged file?)"),
     })?;
     let root = doc.root_element();
     if root.tag_name().name() != "OpenDRIVE" {

@@ -38,6 +38,7 @@ mod xodr;
 
 use std::path::Path;
 
+pub use chain::{CHAIN_EXTRA, CHAIN_FACTOR, PIECE_MAX};
 pub use dense_route::{dense_route, DenseSample, DENSE_CUTOFF, DENSE_STEP};
 pub use error::MapError;
 pub use lookup::MapDir;

@@ -121,7 +121,7 @@ fn main() -> anyhow::Result<()> {
         acc[3].frames += frames as u64;
         acc[8].frames += frames as u64;
         let mut prepared = timed(&mut acc[4], frames, n, || {
-            prepare::prepare(record, &tel, Some(&routes), None, &settings)
+            prepare::prepare(record, &tel, Some(&routes), None, None, &settings)
         });
         let summary = timed(&mut acc[5], frames, n, || {
             replay::stream(&mut prepared, &settings.core)
@@ -132,7 +132,13 @@ fn main() -> anyhow::Result<()> {
         });
         agree &= reference.summary == summary;
         let out = timed(&mut acc[7], frames, n, || {
-            replay::replay(loaded, Some(&routes), Some(&telemetry_root), &settings)
+            replay::replay(
+                loaded,
+                Some(&routes),
+                None,
+                Some(&telemetry_root),
+                &settings,
+            )
         });
         agree &= out.batch_agrees == Some(true);
         drop((bytes, tel, prepared));

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use crate::aggregate::stored::check_inputs;
 use crate::error::Error;
+use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{deduplicate, DuplicatePolicy};
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
@@ -30,6 +31,8 @@ pub struct Inputs {
     /// Bench2Drive route XML: the lateral reference and the route set (missing and foreign
     /// routes, N).
     pub route_xml: Option<PathBuf>,
+    /// Folder of the towns' OpenDRIVE maps (§1.4).
+    pub maps: Option<PathBuf>,
 }
 
 impl Inputs {
@@ -170,13 +173,31 @@ pub fn score_run_with(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.threads.unwrap_or(0))
         .build()?;
+    let towns: Vec<Option<&str>> = records
+        .iter()
+        .map(|r| {
+            r.entry
+                .as_ref()
+                .ok()
+                .and_then(|rec| town_of(rec, routes.as_ref()))
+        })
+        .collect();
+    let maps = pool.install(|| {
+        TownMaps::load(
+            inputs.maps.as_deref(),
+            towns.iter().flatten().map(|t| t.to_string()),
+        )
+    })?;
+    warnings.extend(map_warnings(&maps, &towns, settings));
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
     let mut outcomes: Vec<_> = pool.install(|| {
         records
             .par_iter()
-            .map(|r| {
-                let o = replay(r, routes.as_ref(), telemetry, settings);
+            .zip(&towns)
+            .map(|(r, town)| {
+                let map = town.and_then(|t| maps.get(t).ok());
+                let o = replay(r, routes.as_ref(), map, telemetry, settings);
                 progress.route_done();
                 o
             })
@@ -336,11 +357,14 @@ pub fn route_frames(
             route: route_id.into(),
         });
     };
+    let town = town_of(record, routes.as_ref());
+    let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
     let mut warnings = Vec::new();
     let telemetry = read_telemetry(
         &loaded,
         record,
         routes.as_ref(),
+        town.and_then(|t| maps.get(t).ok()),
         inputs.telemetry.as_deref(),
         settings,
         &mut warnings,
@@ -353,4 +377,29 @@ pub fn route_frames(
         frames: telemetry.prepared.frames,
         warnings,
     })
+}
+
+/// One warning per town that has routes but no map, when a `--maps` folder is given or the
+/// `lane` reference is asked for (which needs one), naming how many routes fall back.
+fn map_warnings(maps: &TownMaps, towns: &[Option<&str>], settings: &Settings) -> Vec<Warning> {
+    let lane = settings.lateral_reference == crate::settings::LateralReference::Lane;
+    if !maps.given() && !lane {
+        return Vec::new();
+    }
+    let mut count: std::collections::BTreeMap<&str, usize> = Default::default();
+    for t in towns.iter().flatten() {
+        *count.entry(t).or_default() += 1;
+    }
+    count
+        .into_iter()
+        .filter_map(|(town, routes)| {
+            let reason = maps.get(town).err()?;
+            Some(Warning::NoMap {
+                town: town.to_string(),
+                routes,
+                reason,
+                lane_fallback: lane,
+            })
+        })
+        .collect()
 }

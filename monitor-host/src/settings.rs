@@ -59,6 +59,36 @@ pub enum SettingsError {
     },
 }
 
+/// What the lateral error is measured against (`SDS-SPEC.md` v1.2 §2) **\[decision\]**.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LateralReference {
+    /// The route polyline, its junction gaps filled by the map where the town has one (`route`).
+    #[default]
+    Route,
+    /// The nearest driving lane of the map, whichever it is (`lane`); routes in towns without a
+    /// map fall back to [`LateralReference::Route`] with a warning.
+    Lane,
+}
+
+impl LateralReference {
+    /// `route` or `lane`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LateralReference::Route => "route",
+            LateralReference::Lane => "lane",
+        }
+    }
+
+    /// The setting from its name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "route" => Some(LateralReference::Route),
+            "lane" => Some(LateralReference::Lane),
+            _ => None,
+        }
+    }
+}
+
 /// All settings of a run. Build from [`Settings::default`] (the spec's defaults), change fields
 /// or call [`Settings::set`], then [`Settings::validate`] (done again by [`crate::score_run`]).
 #[derive(Clone, Debug, PartialEq)]
@@ -69,6 +99,14 @@ pub struct Settings {
     pub gap_max: f64,
     /// Forward-search window of the lateral error, m of route length (10.0) **\[decision\]**.
     pub lookahead: f64,
+    /// What the lateral error is measured against (§2): the route (`route`, default) or the
+    /// nearest driving lane of the map (`lane`) **\[decision\]**.
+    pub lateral_reference: LateralReference,
+    /// Lane width where no map gives one, m (3.5) **\[decision\]**. Setting it (or
+    /// `ego_half_width`) sets `slack` to `lane_width / 2 - ego_half_width`.
+    pub lane_width: f64,
+    /// Half the ego's width, m (0.93): a frame's slack is `w_i / 2 - ego_half_width`.
+    pub ego_half_width: f64,
     /// Farthest a collision may be from its frame to be aligned, m, inclusive (1.0) **\[decision\]**.
     pub align_max_dist: f64,
     /// Frames within this of the smallest distance tie; ties go to the earliest, m (1e-3).
@@ -94,6 +132,9 @@ impl Default for Settings {
             core: Config::DEFAULT,
             gap_max: 8.0,
             lookahead: 10.0,
+            lateral_reference: LateralReference::Route,
+            lane_width: 3.5,
+            ego_half_width: 0.93,
             align_max_dist: 1.0,
             align_tie: 1e-3,
             penalty_flavour: PenaltyFlavour::Bench2Drive,
@@ -149,7 +190,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 32] = [
+    pub const NAMES: [&'static str; 35] = [
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -168,6 +209,7 @@ impl Settings {
         "dt",
         "dt_inference",
         "duplicates",
+        "ego_half_width",
         "expected_routes",
         "factors.anomalous",
         "factors.critical",
@@ -175,6 +217,8 @@ impl Settings {
         "factors.nodecel",
         "factors.workzone",
         "gap_max",
+        "lane_width",
+        "lateral_reference",
         "legacy_jerk_spacing",
         "lookahead",
         "min_chunk",
@@ -227,6 +271,24 @@ impl Settings {
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
             "lookahead" => self.lookahead = f64_of(key, v)?,
+            "lateral_reference" => {
+                self.lateral_reference =
+                    LateralReference::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "route or lane",
+                        value: v.into(),
+                    })?
+            }
+            "lane_width" | "ego_half_width" => {
+                let x = f64_of(key, v)?;
+                if key == "lane_width" {
+                    self.lane_width = x;
+                } else {
+                    self.ego_half_width = x;
+                }
+                // Without a map the core's slack is the default lane's (§2).
+                self.core.slack = (self.lane_width / 2.0 - self.ego_half_width) as f32;
+            }
             "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
             "dt_inference" => self.dt_inference = bool_of(key, v)?,
             "duplicates" => {
@@ -306,6 +368,9 @@ impl Settings {
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
             "lookahead" => self.lookahead.to_string(),
+            "lateral_reference" => self.lateral_reference.name().into(),
+            "lane_width" => self.lane_width.to_string(),
+            "ego_half_width" => self.ego_half_width.to_string(),
             "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
             "dt_inference" => self.dt_inference.to_string(),
             "duplicates" => self.duplicates.name().into(),
@@ -361,6 +426,18 @@ impl Settings {
                 self.lookahead,
                 "finite and not negative",
                 self.lookahead >= 0.0,
+            ),
+            (
+                "lane_width",
+                self.lane_width,
+                "finite and positive",
+                self.lane_width > 0.0,
+            ),
+            (
+                "ego_half_width",
+                self.ego_half_width,
+                "finite and not negative",
+                self.ego_half_width >= 0.0,
             ),
             (
                 "align_max_dist",
@@ -419,7 +496,7 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(22))?;
+        let mut m = s.serialize_map(Some(25))?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -432,9 +509,12 @@ impl serde::Serialize for Settings {
         m.serialize_entry("dt", &w(c.dt))?;
         m.serialize_entry("dt_inference", &self.dt_inference)?;
         m.serialize_entry("duplicates", self.duplicates.name())?;
+        m.serialize_entry("ego_half_width", &self.ego_half_width)?;
         m.serialize_entry("expected_routes", &self.expected_routes)?;
         m.serialize_entry("factors", &Group(&factors))?;
         m.serialize_entry("gap_max", &self.gap_max)?;
+        m.serialize_entry("lane_width", &self.lane_width)?;
+        m.serialize_entry("lateral_reference", self.lateral_reference.name())?;
         m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
         m.serialize_entry("lookahead", &self.lookahead)?;
         m.serialize_entry("min_chunk", &c.min_chunk)?;

@@ -176,6 +176,18 @@ pub enum Warning {
     },
     /// The route XML has no usable reference for this route.
     NoReference(RouteError),
+    /// A town with routes has no map in the `--maps` folder (once per town): its routes are
+    /// measured against the route XML (§1.4, §2).
+    NoMap {
+        /// The town.
+        town: String,
+        /// How many of the run's routes are in it.
+        routes: usize,
+        /// Where the map was looked for.
+        reason: String,
+        /// `lateral_reference = lane` was asked for and falls back to `route`.
+        lane_fallback: bool,
+    },
     /// A collision string that does not parse.
     UnparseableCollision {
         /// Its list.
@@ -351,6 +363,23 @@ impl std::fmt::Display for Warning {
                 file.display()
             ),
             Warning::NoReference(e) => write!(f, "{e}: lateral excess unknown for this route"),
+            Warning::NoMap {
+                town,
+                routes,
+                reason,
+                lane_fallback,
+            } => {
+                let s = if *routes == 1 { "" } else { "s" };
+                write!(
+                    f,
+                    "{reason}: the {routes} route{s} in {town} fall back to the route XML's \
+                     straight segments (junction gaps unscored, every lane `lane_width` wide)"
+                )?;
+                if *lane_fallback {
+                    f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
+                }
+                f.write_str("; add the town's .xodr to --maps to use its lanes")
+            }
             Warning::UnparseableCollision { list, reason } => write!(
                 f,
                 "{}: unparseable collision string ({reason}): counted, not aligned",

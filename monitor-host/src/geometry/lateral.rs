@@ -18,6 +18,8 @@
 //! # Ok::<(), monitor_host::input::route_xml::RouteError>(())
 //! ```
 
+use std::borrow::Cow;
+
 use crate::input::route_xml::RouteRef;
 
 /// Follows a drive along a route's reference polyline and yields the lateral error per frame
@@ -33,7 +35,7 @@ use crate::input::route_xml::RouteRef;
 /// computed once, in [`LateralTracker::new`]; each frame costs O(candidates).
 #[derive(Debug, Clone)]
 pub struct LateralTracker<'a> {
-    waypoints: &'a [[f64; 2]],
+    waypoints: Cow<'a, [[f64; 2]]>,
     /// `cum[i]` = route length from waypoint 0 to waypoint i (summed in order).
     cum: Vec<f64>,
     m: usize,
@@ -44,7 +46,13 @@ pub struct LateralTracker<'a> {
 impl<'a> LateralTracker<'a> {
     /// A tracker at the start of `route` (spec defaults: `gap_max = 8.0`, `lookahead = 10.0`).
     pub fn new(route: &'a RouteRef, gap_max: f64, lookahead: f64) -> Self {
-        let waypoints = &route.waypoints[..];
+        Self::along(Cow::Borrowed(&route.waypoints[..]), gap_max, lookahead)
+    }
+
+    /// A tracker along any reference polyline (the route with its junction gaps filled by a map,
+    /// [`crate::geometry::corridor::reference_polyline`]); a segment longer than `gap_max` is a
+    /// gap as in [`LateralTracker::new`].
+    pub fn along(waypoints: Cow<'a, [[f64; 2]]>, gap_max: f64, lookahead: f64) -> Self {
         let mut cum = Vec::with_capacity(waypoints.len());
         let mut total = 0.0f64;
         for (i, w) in waypoints.iter().enumerate() {
@@ -65,6 +73,12 @@ impl<'a> LateralTracker<'a> {
     /// The lateral error of a frame at `loc` (2-D), or `None` when unknown: the matched segment is
     /// a junction gap, or the route has fewer than 2 waypoints (no segment).
     pub fn next(&mut self, loc: [f64; 2]) -> Option<f64> {
+        self.next_with_point(loc).map(|(d, _)| d)
+    }
+
+    /// As [`LateralTracker::next`], with the *reference point*: the nearest point of the matched
+    /// segment, whose lane gives the frame's lane width with a map (§2).
+    pub fn next_with_point(&mut self, loc: [f64; 2]) -> Option<(f64, [f64; 2])> {
         let nseg = self.waypoints.len().checked_sub(1)?;
         if nseg == 0 {
             return None;
@@ -72,13 +86,14 @@ impl<'a> LateralTracker<'a> {
         let m = self.m;
         let limit = self.cum[m + 1] + self.lookahead;
         let mut best = m;
-        let mut best_d = self.dist_to_segment(m, loc);
+        let (mut best_d, mut best_p) = self.dist_to_segment(m, loc);
         let mut j = m + 1;
         while j < nseg && self.cum[j] <= limit {
-            let d = self.dist_to_segment(j, loc);
+            let (d, p) = self.dist_to_segment(j, loc);
             if d < best_d {
                 best = j;
                 best_d = d;
+                best_p = p;
             }
             j += 1;
         }
@@ -86,7 +101,7 @@ impl<'a> LateralTracker<'a> {
         if seg_len(self.waypoints[best], self.waypoints[best + 1]) > self.gap_max {
             None
         } else {
-            Some(best_d)
+            Some((best_d, best_p))
         }
     }
 
@@ -100,8 +115,9 @@ impl<'a> LateralTracker<'a> {
         self.cum.get(i).copied()
     }
 
-    /// Distance from `p` to the clamped segment `j`, relative to the segment start.
-    fn dist_to_segment(&self, j: usize, p: [f64; 2]) -> f64 {
+    /// Distance from `p` to the clamped segment `j`, relative to the segment start, and the
+    /// nearest point.
+    fn dist_to_segment(&self, j: usize, p: [f64; 2]) -> (f64, [f64; 2]) {
         let a = self.waypoints[j];
         let b = self.waypoints[j + 1];
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
@@ -113,7 +129,7 @@ impl<'a> LateralTracker<'a> {
             0.0
         };
         let (ex, ey) = (px - t * dx, py - t * dy);
-        (ex * ex + ey * ey).sqrt()
+        ((ex * ex + ey * ey).sqrt(), [a[0] + t * dx, a[1] + t * dy])
     }
 }
 

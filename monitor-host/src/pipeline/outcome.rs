@@ -4,6 +4,7 @@
 use monitor_core::{RouteSummary, SafeScore};
 
 use crate::aggregate::penalty::PenaltyCheck;
+use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
 use crate::pipeline::align::AlignedBy;
@@ -170,6 +171,8 @@ pub struct RouteOutcome {
     pub penalty: Option<PenaltyCheck>,
     /// The batch reference gave the same summary (spec section 9); `None` when not replayed.
     pub batch_agrees: Option<bool>,
+    /// What the lateral error is measured against (§2); `None` for an invalid record.
+    pub reference: Option<ReferenceKind>,
     /// Problems that did not stop the route from being scored (unreadable `infractions.json`,
     /// no reference route in the XML, unparseable collision strings).
     pub warnings: Vec<Warning>,

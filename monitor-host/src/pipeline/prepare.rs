@@ -6,8 +6,9 @@
 
 use monitor_core::{Collisions, Frame};
 
+use crate::geometry::corridor::{Corridor, ReferenceKind};
 use crate::geometry::kinematics;
-use crate::geometry::lateral::LateralTracker;
+use crate::geometry::map::Map;
 use crate::input::collision::{self, CollisionList};
 use crate::input::lead_infractions::StepInfraction;
 use crate::input::metric_info::Telemetry;
@@ -58,14 +59,18 @@ pub struct PreparedRoute {
     pub steps: Vec<u64>,
     /// Collision events, aligned where possible.
     pub events: Vec<CollisionEvent>,
+    /// What the lateral error was measured against.
+    pub reference: ReferenceKind,
 }
 
 /// Builds the monitor's frames: signals from the raw vectors (f32 kernels), speed, lateral error
-/// and alignment in f64, then rounded to f32 once.
+/// (against the route or, with the town's `map`, the lane corridor: [`Corridor`]) and alignment
+/// in f64, then rounded to f32 once.
 pub fn prepare(
     record: &Record,
     tel: &Telemetry,
     routes: Option<&RouteSet>,
+    map: Option<&Map>,
     infractions: Option<&[StepInfraction]>,
     settings: &Settings,
 ) -> PreparedRoute {
@@ -75,8 +80,7 @@ pub fn prepare(
     let speeds = kinematics::speeds(&tel.frames, f64::from(settings.core.dt));
 
     let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
-    let mut tracker =
-        reference.map(|r| LateralTracker::new(r, settings.gap_max, settings.lookahead));
+    let mut corridor = Corridor::new(reference, map, settings);
 
     let parsed = collision_events(record);
     let refs: Vec<EventRef> = parsed
@@ -121,14 +125,14 @@ pub fn prepare(
         .zip(&speeds)
         .zip(collisions)
         .map(|((f, &speed), c)| {
-            let lat_err = tracker.as_mut().and_then(|t| t.next(f.location));
+            let lat_err = corridor.next(f.location, f.z);
             Frame::from_vectors(
                 f.acc,
                 f.fwd,
                 f.right,
                 f.yaw_rate_deg,
                 speed as f32,
-                lat_err.map(|e| e as f32),
+                lat_err,
                 c,
             )
         })
@@ -137,5 +141,6 @@ pub fn prepare(
         frames,
         steps,
         events,
+        reference: corridor.kind(),
     }
 }

@@ -8,6 +8,8 @@ use monitor_core::{
 };
 
 use crate::aggregate::penalty;
+use crate::geometry::corridor::ReferenceKind;
+use crate::geometry::map::Map;
 use crate::input::discovery;
 use crate::input::lead_infractions;
 use crate::input::metric_info;
@@ -102,6 +104,7 @@ pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
     routes: Option<&RouteSet>,
+    map: Option<&Map>,
     telemetry_root: Option<&Path>,
     settings: &Settings,
     warnings: &mut Vec<Warning>,
@@ -160,6 +163,7 @@ pub fn read_telemetry(
         record,
         &tel,
         routes,
+        map,
         infractions.as_deref(),
         &route_settings,
     );
@@ -177,6 +181,7 @@ pub fn read_telemetry(
 pub fn replay(
     loaded: &LoadedRecord,
     routes: Option<&RouteSet>,
+    map: Option<&Map>,
     telemetry_root: Option<&Path>,
     settings: &Settings,
 ) -> RouteOutcome {
@@ -193,16 +198,26 @@ pub fn replay(
         workzone: 0,
         penalty: None,
         batch_agrees: None,
+        reference: None,
         warnings: Vec::new(),
     };
     let Ok(record) = &loaded.entry else {
         return out;
     };
+    let has_route = routes
+        .zip(record.xml_id())
+        .is_some_and(|(set, id)| set.get(id).is_some());
+    out.reference = Some(ReferenceKind::of(
+        has_route,
+        map.is_some(),
+        settings.lateral_reference,
+    ));
     out.penalty = Some(penalty::check_penalty(record, settings.penalty_flavour));
     let summary = match read_telemetry(
         loaded,
         record,
         routes,
+        map,
         telemetry_root,
         settings,
         &mut out.warnings,

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use crate::aggregate::stored::InputReport;
 use crate::aggregate::summary::{summarize, Summary};
+use crate::geometry::corridor::ReferenceKind;
 use crate::input::duplicates::{Dropped, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS};
 use crate::input::route_set::{MissingRoute, RunRouteSet};
@@ -50,6 +51,9 @@ pub struct LateralReport {
     pub anomalous: u32,
     /// `N_crit`.
     pub critical: u32,
+    /// What the lateral error was measured against (§2): `map-route`, `xml`, `map-lane` or
+    /// `none`; null for a route without a valid record.
+    pub reference: Option<ReferenceKind>,
 }
 
 /// Comfort of a route.
@@ -226,12 +230,16 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             exempt: s.map_or(0, |s| s.collisions.exempt),
             nodecel: s.map_or(0, |s| s.collisions.nodecel),
         },
-        lateral: s.map_or_else(LateralReport::default, |s| LateralReport {
-            chunks: s.lateral.chunks,
-            scored_chunks: s.lateral.scored_chunks,
-            anomalous: s.lateral.anomalous,
-            critical: s.lateral.critical,
-        }),
+        lateral: LateralReport {
+            reference: o.reference,
+            ..s.map_or_else(LateralReport::default, |s| LateralReport {
+                chunks: s.lateral.chunks,
+                scored_chunks: s.lateral.scored_chunks,
+                anomalous: s.lateral.anomalous,
+                critical: s.lateral.critical,
+                reference: None,
+            })
+        },
         comfort: s.map_or_else(ComfortReport::default, |s| ComfortReport {
             chunks: s.comfort.chunks,
             comfortable: s.comfort.comfortable,

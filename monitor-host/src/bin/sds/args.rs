@@ -88,6 +88,9 @@ pub struct ScoreArgs {
     /// record are reported as missing and count as 0 / failed; N defaults to its size).
     #[arg(long)]
     pub routes: Option<PathBuf>,
+    /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
+    #[arg(long)]
+    pub maps: Option<PathBuf>,
     /// Comfort profile.
     #[arg(long, value_enum, default_value = "physical")]
     pub profile: ProfileArg,

@@ -99,6 +99,7 @@ fn run(cli: Cli) -> Result<i32> {
                 results: vec![run.results],
                 telemetry: Some(run.telemetry),
                 routes: Some(run.routes),
+                maps: None,
                 profile: ProfileArg::Physical,
                 expected_routes: None,
                 duplicates: None,
@@ -123,6 +124,7 @@ fn run(cli: Cli) -> Result<i32> {
                 results: vec![results],
                 telemetry,
                 route_xml: routes,
+                maps: None,
             };
             let run = route_frames(&inputs, &route_id, &Settings::default())?;
             for w in &run.warnings {
@@ -203,6 +205,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         results: args.results.clone(),
         telemetry: args.telemetry.clone(),
         route_xml: args.routes.clone(),
+        maps: args.maps.clone(),
     };
     let bar = progress::Bar::new();
     let report = score_run_with(&inputs, &settings, &bar);

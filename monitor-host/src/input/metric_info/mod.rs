@@ -52,6 +52,8 @@ pub struct TelemetryFrame {
     pub step: u64,
     /// `location` x, y in metres.
     pub location: [f64; 2],
+    /// `location` z in metres: chooses the lane under an overpass when a map is given (§1.4).
+    pub z: f64,
     /// `acceleration` x, y in m/s².
     pub acc: [f32; 2],
     /// `forward_vector` x, y.
@@ -329,6 +331,7 @@ mod tests {
             vec![TelemetryFrame {
                 step: 1,
                 location: [100.25, -3.5],
+                z: 0.3,
                 acc: [1.5, -2.0],
                 fwd: [0.6, 0.8],
                 right: [-0.8, 0.6],

@@ -316,6 +316,7 @@ impl<'de> Visitor<'de> for FrameSeed<'_> {
         Ok(TelemetryFrame {
             step,
             location: [loc[0], loc[1]],
+            z: loc[2],
             acc: [acc[0] as f32, acc[1] as f32],
             fwd: [fwd[0] as f32, fwd[1] as f32],
             right: [right[0] as f32, right[1] as f32],

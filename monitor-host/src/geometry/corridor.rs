@@ -1,0 +1,228 @@
+//! The lane corridor (`SDS-SPEC.md` v1.2 §2): per frame, how far the ego is from its reference
+//! and how much room its lane leaves it, turned into the one lateral value the core takes.
+//!
+//! The reference is the route ([`LateralReference::Route`]: the route XML's polyline, its
+//! junction gaps filled with the map's lane chain where the town has a map) or the nearest
+//! driving lane ([`LateralReference::Lane`], with a map only). The slack of frame i is
+//! `w_i / 2 - ego_half_width`, `w_i` the width of the lane under the reference point (route) or
+//! of the nearest lane (lane), `lane_width` without a map.
+//!
+//! The core computes `excess = max(0, |v| - slack)` with the *configured* slack, in f32. So that
+//! the core and its firmware stay unchanged, a frame whose slack comes from the map is handed
+//! `v_i = max(0, |lat_err_i| - slack_i + slack)`, computed in f64 and rounded to f32 once
+//! ([`core_value`]); without a map `v_i = lat_err_i` as before. The streaming monitor and the
+//! batch reference take the same `v_i`, so they agree bit for bit as before.
+//!
+//! ```
+//! use monitor_host::geometry::corridor::{Corridor, ReferenceKind};
+//! use monitor_host::geometry::map::Map;
+//! use monitor_host::input::route_xml::parse_route_xml;
+//! use monitor_host::Settings;
+//!
+//! // One road along x, a 4 m driving lane right of it (CARLA y from 0 to 4, centre y = 2).
+//! let map = Map::parse(r#"<OpenDRIVE><road id="1" length="100" junction="-1">
+//!   <planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+//!   <lanes><laneSection s="0"><center><lane id="0" type="none"/></center>
+//!     <right><lane id="-1" type="driving"><width sOffset="0" a="4" b="0" c="0" d="0"/></lane></right>
+//!   </laneSection></lanes></road></OpenDRIVE>"#, "one-lane.xodr")?;
+//! // The route XML has a 40 m junction gap from x = 10 to x = 50.
+//! let set = parse_route_xml(r#"<routes><route id="1" town="T"><waypoints>
+//!   <position x="5" y="2" z="0"/><position x="10" y="2" z="0"/>
+//!   <position x="50" y="2" z="0"/><position x="55" y="2" z="0"/></waypoints></route></routes>"#)?;
+//! let route = set.get("1");
+//! let settings = Settings::default();
+//!
+//! let mut xml = Corridor::new(route, None, &settings);
+//! assert_eq!(xml.kind(), ReferenceKind::Xml);
+//! assert_eq!(xml.next([30.0, 2.5], 0.0), None); // inside the gap: unknown
+//!
+//! let mut corridor = Corridor::new(route, Some(&map), &settings);
+//! assert_eq!(corridor.kind(), ReferenceKind::MapRoute);
+//! // The gap is filled by the lane: 1.5 m off its centre, slack 4 / 2 - 0.93 = 1.07 m, so the
+//! // core's excess `|v| - 0.82` comes out at 1.5 - 1.07 = 0.43 m.
+//! let v = corridor.next([30.0, 3.5], 0.0).unwrap();
+//! assert!((f64::from(v) - (1.5 - 1.07 + 0.82)).abs() < 1e-6);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use std::borrow::Cow;
+
+use crate::geometry::lateral::LateralTracker;
+use crate::geometry::map::{Map, Projector};
+use crate::input::route_xml::RouteRef;
+use crate::settings::{LateralReference, Settings};
+
+/// What a route's lateral error was measured against (the report's `lateral.reference`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReferenceKind {
+    /// The route, junction gaps filled by the town's map (`map-route`).
+    MapRoute,
+    /// The route XML's straight segments, the town has no map (`xml`).
+    Xml,
+    /// The nearest driving lane of the town's map (`map-lane`).
+    MapLane,
+    /// No reference: no route XML entry and no usable map (`none`); the lateral error is unknown.
+    None,
+}
+
+impl ReferenceKind {
+    /// The report's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceKind::MapRoute => "map-route",
+            ReferenceKind::Xml => "xml",
+            ReferenceKind::MapLane => "map-lane",
+            ReferenceKind::None => "none",
+        }
+    }
+
+    /// The reference a route gets: `lane` needs a map (else it falls back to `route`); `route`
+    /// needs the route's XML entry.
+    pub fn of(has_route: bool, has_map: bool, setting: LateralReference) -> Self {
+        match (setting, has_route, has_map) {
+            (LateralReference::Lane, _, true) => ReferenceKind::MapLane,
+            (_, true, true) => ReferenceKind::MapRoute,
+            (_, true, false) => ReferenceKind::Xml,
+            (_, false, _) => ReferenceKind::None,
+        }
+    }
+}
+
+impl serde::Serialize for ReferenceKind {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+/// The reference polyline of a route (§1.3, §1.4): its waypoints, each junction gap (a segment
+/// longer than `gap_max`) replaced by the map's lane chain from P to Q when there is one. A gap
+/// without a chain stays a straight segment, which [`LateralTracker`] treats as a gap.
+///
+/// ```
+/// use monitor_host::geometry::corridor::reference_polyline;
+/// let pts = reference_polyline(&[[0.0, 0.0, 0.0], [20.0, 0.0, 0.0]], 8.0, None);
+/// assert_eq!(pts, vec![[0.0, 0.0], [20.0, 0.0]]);
+/// ```
+pub fn reference_polyline(
+    waypoints: &[[f64; 3]],
+    gap_max: f64,
+    map: Option<&Map>,
+) -> Vec<[f64; 2]> {
+    let mut out: Vec<[f64; 2]> = Vec::with_capacity(waypoints.len());
+    for (i, w) in waypoints.iter().enumerate() {
+        if i > 0 {
+            let p = waypoints[i - 1];
+            if (w[0] - p[0]).hypot(w[1] - p[1]) > gap_max {
+                if let Some(chain) = map.and_then(|m| m.fill_gap(p, *w)) {
+                    // From P onto the chain (its first point is P's projection), along it, and
+                    // off it to Q: every piece is scored like any other segment.
+                    out.extend(chain);
+                }
+            }
+        }
+        out.push([w[0], w[1]]);
+    }
+    out
+}
+
+/// The value handed to the core for a frame `lat_err_i` m from its reference whose slack is
+/// `slack_i` (from the map's lane width), when the core subtracts the configured `core_slack`:
+/// `max(0, |lat_err_i| - slack_i + core_slack)`, in f64, rounded to f32 once. Its excess in the
+/// core, `max(0, |v| - core_slack)`, is the frame's own excess to f32 rounding; a frame inside
+/// its lane stays at zero excess.
+///
+/// ```
+/// use monitor_host::geometry::corridor::core_value;
+/// assert_eq!(core_value(2.0, 1.07, 0.82), (2.0f64 - 1.07 + f64::from(0.82f32)) as f32);
+/// assert_eq!(core_value(0.5, 1.9, 0.82), 0.0); // deep inside a wide lane
+/// ```
+pub fn core_value(lat_err: f64, slack_i: f64, core_slack: f32) -> f32 {
+    (lat_err.abs() - slack_i + f64::from(core_slack)).max(0.0) as f32
+}
+
+/// Follows one route's frames and yields the core's lateral value per frame (see the module
+/// docs). Built once per route; each frame costs the tracker's bounded search plus, with a map,
+/// one [`Projector`] query.
+#[derive(Debug)]
+pub struct Corridor<'a> {
+    kind: ReferenceKind,
+    tracker: Option<LateralTracker<'a>>,
+    projector: Option<Projector<'a>>,
+    lane_width: f64,
+    ego_half_width: f64,
+    core_slack: f32,
+}
+
+impl<'a> Corridor<'a> {
+    /// The corridor of `route` (its XML entry, if any) in a town whose map is `map` (if any).
+    pub fn new(route: Option<&'a RouteRef>, map: Option<&'a Map>, settings: &Settings) -> Self {
+        let kind = ReferenceKind::of(route.is_some(), map.is_some(), settings.lateral_reference);
+        let tracker = match (kind, route) {
+            (ReferenceKind::MapRoute, Some(r)) => {
+                let polyline = reference_polyline(&waypoints_3d(r), settings.gap_max, map);
+                Some(LateralTracker::along(
+                    Cow::Owned(polyline),
+                    settings.gap_max,
+                    settings.lookahead,
+                ))
+            }
+            (ReferenceKind::Xml, Some(r)) => {
+                Some(LateralTracker::new(r, settings.gap_max, settings.lookahead))
+            }
+            _ => None,
+        };
+        Corridor {
+            kind,
+            tracker,
+            projector: map.map(Projector::new),
+            lane_width: settings.lane_width,
+            ego_half_width: settings.ego_half_width,
+            core_slack: settings.core.slack,
+        }
+    }
+
+    /// The reference this route uses.
+    pub fn kind(&self) -> ReferenceKind {
+        self.kind
+    }
+
+    /// The core's lateral value of a frame at `loc` (CARLA x, y) and height `z`, or `None` when
+    /// the lateral error is unknown (no reference, or an unfilled junction gap).
+    pub fn next(&mut self, loc: [f64; 2], z: f64) -> Option<f32> {
+        match self.kind {
+            ReferenceKind::None => None,
+            ReferenceKind::Xml => self.tracker.as_mut()?.next(loc).map(|d| d as f32),
+            ReferenceKind::MapRoute => {
+                let (d, foot) = self.tracker.as_mut()?.next_with_point(loc)?;
+                let w = self.width_at(foot, z);
+                Some(core_value(
+                    d,
+                    w / 2.0 - self.ego_half_width,
+                    self.core_slack,
+                ))
+            }
+            ReferenceKind::MapLane => {
+                let p = self.projector.as_mut()?.project(loc[0], loc[1], z)?;
+                Some(core_value(
+                    p.distance_2d,
+                    p.width / 2.0 - self.ego_half_width,
+                    self.core_slack,
+                ))
+            }
+        }
+    }
+
+    /// The width of the lane under `point` (with the frame's height): the map's, else
+    /// `lane_width`.
+    fn width_at(&mut self, point: [f64; 2], z: f64) -> f64 {
+        self.projector
+            .as_mut()
+            .and_then(|p| p.project(point[0], point[1], z))
+            .map_or(self.lane_width, |p| p.width)
+    }
+}
+
+// TODO(tables): the route XML's heights (RouteRef::waypoints_3d) once that branch lands.
+fn waypoints_3d(r: &RouteRef) -> Vec<[f64; 3]> {
+    r.waypoints.iter().map(|p| [p[0], p[1], 0.0]).collect()
+}

@@ -1,0 +1,116 @@
+//! The maps of a run (`SDS-SPEC.md` v1.2 §1.4): each town's OpenDRIVE map from the `--maps`
+//! folder, loaded once before the routes are replayed and shared by every worker thread.
+//!
+//! ```
+//! use monitor_host::geometry::town_maps::TownMaps;
+//! let maps = TownMaps::load(None, ["Town01".to_string()])?;
+//! assert_eq!(maps.get("Town01").unwrap_err(), "no map for Town01 (no --maps folder given)");
+//! # Ok::<(), monitor_host::geometry::map::MapError>(())
+//! ```
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::geometry::map::{Map, MapDir, MapError};
+use crate::input::record::Record;
+use crate::input::route_xml::RouteSet;
+
+/// The town maps of a run: for each town asked for, its map or why there is none.
+#[derive(Debug, Default)]
+pub struct TownMaps {
+    towns: BTreeMap<String, Result<Map, String>>,
+    given: bool,
+}
+
+impl TownMaps {
+    /// Loads the map of each of `towns` (each once, in parallel) from `dir` (§1.4's lookup).
+    ///
+    /// # Errors
+    /// A map that was found but cannot be read (the first by town name): a run never falls
+    /// back silently from a broken map. The error names the file and the element.
+    pub fn load(
+        dir: Option<&Path>,
+        towns: impl IntoIterator<Item = String>,
+    ) -> Result<TownMaps, MapError> {
+        let names: Vec<String> = towns
+            .into_iter()
+            .collect::<std::collections::BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        let Some(dir) = dir else {
+            let towns = names
+                .into_iter()
+                .map(|t| {
+                    let why = format!("no map for {t} (no --maps folder given)");
+                    (t, Err(why))
+                })
+                .collect();
+            return Ok(TownMaps {
+                towns,
+                given: false,
+            });
+        };
+        let dir = MapDir::new(dir);
+        let loaded: Vec<(String, Result<Result<Map, String>, MapError>)> = names
+            .into_par_iter()
+            .map(|town| {
+                let r = match dir.find(&town) {
+                    None => Ok(Err(absent(&dir, &town))),
+                    Some(path) => Map::load(&path).map(Ok),
+                };
+                (town, r)
+            })
+            .collect();
+        let mut towns = BTreeMap::new();
+        for (town, r) in loaded {
+            towns.insert(town, r?);
+        }
+        Ok(TownMaps { towns, given: true })
+    }
+
+    /// The map of `town`, or why there is none.
+    ///
+    /// # Errors
+    /// The reason (no `--maps` folder, or where the map was looked for).
+    pub fn get(&self, town: &str) -> Result<&Map, String> {
+        match self.towns.get(town) {
+            Some(Ok(m)) => Ok(m),
+            Some(Err(why)) => Err(why.clone()),
+            None if self.given => Err(format!("no map for {town} (town not loaded)")),
+            None => Err(format!("no map for {town} (no --maps folder given)")),
+        }
+    }
+
+    /// A `--maps` folder was given.
+    pub fn given(&self) -> bool {
+        self.given
+    }
+}
+
+fn absent(dir: &MapDir, town: &str) -> String {
+    let looked: Vec<String> = dir
+        .candidates(town)
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect();
+    format!(
+        "no map for {town} in {} (looked for {})",
+        dir.dir().display(),
+        looked.join(", ")
+    )
+}
+
+/// The town a record drove in: its own `town_name`, else its route XML entry's `town`.
+pub fn town_of<'a>(record: &'a Record, routes: Option<&'a RouteSet>) -> Option<&'a str> {
+    record
+        .town_name
+        .as_deref()
+        .filter(|t| !t.is_empty())
+        .or_else(|| {
+            let id = record.xml_id()?;
+            routes?.get(id).map(|r| r.town.as_str())
+        })
+        .filter(|t| !t.is_empty())
+}

@@ -74,7 +74,7 @@ fn demo_scores_as_worked_out_by_hand() {
     assert_eq!(code, 0, "a clean demo exits 0");
     assert_eq!(r["schema"], "sds-report/1");
     assert_eq!(r["profile"], "physical");
-    assert_eq!(r["routes"].as_array().unwrap().len(), 8);
+    assert_eq!(r["routes"].as_array().unwrap().len(), 9);
 
     // Cruising: 200 frames on the reference line at 10 m/s: 10 comfortable chunks, no excess.
     let cruise = route(&r, "RouteScenario_900001_rep0");
@@ -178,18 +178,27 @@ fn demo_scores_as_worked_out_by_hand() {
         .filter(|x| x["route_id"] != "RouteScenario_900008_rep0")
         .all(|x| x["dt"] == 0.05 && x["dt_source"] == "inferred"));
 
-    // Aggregates over N = 8: DS = (100+100+100+65+37.5+50+60+60)/8, SR = 3/8 (routes 1-3),
-    // mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4 + 0.8) / 8 = 0.8875, collision rate 5/8.
+    // The junction route (900009) without a map: its XML leaves out the junction, where it
+    // drifts, so it looks clean: DS 100, comfort 1, DS_safe 100 (see the maps test below).
+    let junction = route(&r, "RouteScenario_900009_rep0");
+    assert_eq!(junction["lateral"]["reference"], "xml");
+    assert_eq!(junction["lateral"]["scored_chunks"], 8);
+    assert_eq!(junction["lateral"]["anomalous"], 0);
+    assert!(close(&junction["ds_safe"], 100.0));
+
+    // Aggregates over N = 9: DS = (100+100+100+65+37.5+50+60+60+100)/9, SR = 4/9 (routes 1-3
+    // and 9), mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4 + 0.8 + 1) / 9 = 0.9,
+    // collision rate 5/9.
     let s = &r["summary"];
-    assert_eq!(s["routes"], 8);
-    assert!(close(&s["driving_score"], 572.5 / 8.0));
-    assert!(close(&s["success_rate"], 300.0 / 8.0));
-    assert!(close(&s["mean_comfort"], 0.8875));
-    assert!(close(&s["collision_rate"], 500.0 / 8.0));
+    assert_eq!(s["routes"], 9);
+    assert!(close(&s["driving_score"], 672.5 / 9.0));
+    assert!(close(&s["success_rate"], 400.0 / 9.0));
+    assert!(close(&s["mean_comfort"], 0.9));
+    assert!(close(&s["collision_rate"], 500.0 / 9.0));
     let mean_safe =
-        (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0 + 60.0) / 8.0;
+        (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0 + 60.0 + 100.0) / 9.0;
     assert!(close(&s["mean_ds_safe"], mean_safe));
-    assert!(close(&s["sds"], mean_safe * 0.8875));
+    assert!(close(&s["sds"], mean_safe * 0.9));
     assert_eq!(s["penalty_mismatches"].as_array().unwrap().len(), 0);
     assert!(s["batch_disagreements"].as_array().unwrap().is_empty());
 }
@@ -249,10 +258,10 @@ fn table_and_csv_formats() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("DS_safe") && text.contains("SDS"));
-    assert!(text.contains("Town01"), "{text}");
+    assert!(text.contains("DemoTown"), "{text}");
     let out = run_score(dir.path(), &["--format", "csv"]);
     let text = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(text.lines().count(), 9, "header + 8 routes");
+    assert_eq!(text.lines().count(), 10, "header + 9 routes");
     assert!(text
         .lines()
         .nth(1)
@@ -348,4 +357,107 @@ fn infractions_json_gives_the_step_exactly() {
     assert_eq!(ev["aligned_by"], "infractions.json");
     assert_eq!(ev["step"], 96);
     assert_eq!(ev["frame"], 95);
+}
+
+/// The demo with its own town map (`maps/DemoTown.xodr`): the junction route's gap is filled by
+/// the lane chain, so its drift inside the junction is scored; `lateral_reference=lane` measures
+/// against the nearest lane; a town without a map falls back with one warning; a broken map
+/// stops the run naming the file.
+#[test]
+fn demo_with_its_town_map() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let maps = dir.path().join("maps");
+    let maps_arg = maps.to_str().unwrap().to_string();
+
+    let (code, xml) = score_json(dir.path(), &[]);
+    assert_eq!(code, 0);
+    let (code, map) = score_json(dir.path(), &["--maps", &maps_arg]);
+    assert_eq!(code, 0);
+    assert!(
+        map["warnings"].as_array().unwrap().is_empty(),
+        "{}",
+        map["warnings"]
+    );
+    for r in map["routes"].as_array().unwrap() {
+        assert_eq!(r["lateral"]["reference"], "map-route", "{}", r["route_id"]);
+        assert_eq!(r["batch_agrees"], true);
+    }
+    // The junction route: 8 of 10 chunks scored from the XML, all 10 with the map; the 1.4 m
+    // drift (excess 1.4 - 0.82 = 0.58 m) makes 2 of them anomalous: DS_safe 100 * 0.95^2.
+    let (j_xml, j_map) = (
+        route(&xml, "RouteScenario_900009_rep0"),
+        route(&map, "RouteScenario_900009_rep0"),
+    );
+    assert_eq!(j_xml["lateral"]["scored_chunks"], 8);
+    assert_eq!(j_map["lateral"]["scored_chunks"], 10);
+    assert_eq!(j_map["lateral"]["anomalous"], 2);
+    assert!(close(&j_map["ds_safe"], 100.0 * 0.95 * 0.95));
+    // On 3.5 m lanes the map's slack is the default one: every other route scores as before.
+    for (a, b) in xml["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(map["routes"].as_array().unwrap())
+    {
+        if a["route_id"] != "RouteScenario_900009_rep0" {
+            assert_eq!(a["ds_safe"], b["ds_safe"], "{}", a["route_id"]);
+            assert_eq!(a["lateral"]["critical"], b["lateral"]["critical"]);
+        }
+    }
+
+    // lane: the lane change is only an excess while the car straddles the lane line.
+    let (code, lane) = score_json(
+        dir.path(),
+        &["--maps", &maps_arg, "--set", "lateral_reference=lane"],
+    );
+    assert_eq!(code, 0);
+    assert_eq!(lane["config"]["lateral_reference"], "lane");
+    let change = route(&lane, "RouteScenario_900003_rep0");
+    assert_eq!(change["lateral"]["reference"], "map-lane");
+    let before = route(&map, "RouteScenario_900003_rep0")["lateral"]["critical"]
+        .as_u64()
+        .unwrap();
+    let after = change["lateral"]["critical"].as_u64().unwrap();
+    assert!(after > 0 && after < before, "{after} vs {before}");
+
+    // A maps folder without the town: one warning naming the town and its 9 routes; lane falls
+    // back to the route XML.
+    let empty = dir.path().join("no-maps");
+    std::fs::create_dir_all(&empty).unwrap();
+    let (code, none) = score_json(
+        dir.path(),
+        &[
+            "--maps",
+            empty.to_str().unwrap(),
+            "--set",
+            "lateral_reference=lane",
+        ],
+    );
+    assert_eq!(code, 0);
+    let warnings = none["warnings"].as_array().unwrap();
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    let w = warnings[0].as_str().unwrap();
+    assert!(
+        w.contains("no map for DemoTown") && w.contains("9 routes") && w.contains("falls back"),
+        "{w}"
+    );
+    for r in none["routes"].as_array().unwrap() {
+        assert_eq!(r["lateral"]["reference"], "xml");
+    }
+    assert_eq!(none["summary"], xml["summary"]);
+
+    // A broken map stops the run, naming the file and the road.
+    let broken = dir.path().join("broken-maps");
+    std::fs::create_dir_all(&broken).unwrap();
+    let text = std::fs::read_to_string(maps.join("DemoTown.xodr")).unwrap();
+    let text = text.replacen("hdg=\"0\" length=\"110\"", "hdg=\"0\" length=\"-110\"", 1);
+    std::fs::write(broken.join("DemoTown.xodr"), text).unwrap();
+    let out = run_score(dir.path(), &["--maps", broken.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("DemoTown.xodr") && err.contains("road 1"),
+        "{err}"
+    );
 }

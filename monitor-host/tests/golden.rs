@@ -18,6 +18,7 @@ fn demo_report(settings: &Settings) -> String {
     let inputs = Inputs {
         telemetry: Some(run.telemetry),
         route_xml: Some(run.routes),
+        maps: Some(run.maps),
         ..Inputs::new([run.results])
     };
     let report = score_run(&inputs, settings).unwrap();

@@ -1,6 +1,6 @@
 //! End-to-end reliability of `sds score` on a corrupted copy of a run (`docs/RELIABILITY.md`).
 //!
-//! The run is built at test time in a temporary folder: the demo's 8 routes split into one raw
+//! The run is built at test time in a temporary folder: the demo's 9 routes split into one raw
 //! evaluator file per route (as a Bench2Drive farm leaves them), more copies of demo routes under
 //! new ids that are then broken in every way the issue lists, and the real single-route fixtures
 //! (a finished route without telemetry and a crashed run with no records) when
@@ -46,7 +46,7 @@ fn demo(dir: &Path) -> Demo {
     assert_eq!(code(&o), 0, "sds demo failed: {}", stderr(&o));
     let doc: Value = serde_json::from_slice(&fs::read(dir.join("results.json")).unwrap()).unwrap();
     let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
-    assert_eq!(records.len(), 8);
+    assert_eq!(records.len(), 9);
     Demo {
         records,
         telemetry: dir.join("telemetry"),
@@ -181,7 +181,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     let tel = run.join("telemetry");
     fs::create_dir_all(&tel).unwrap();
 
-    // --- the clean run: the demo's 8 routes, one raw file per route, as a farm writes them.
+    // --- the clean run: the demo's 9 routes, one raw file per route, as a farm writes them.
     let healthy_ids: Vec<String> = demo
         .records
         .iter()
@@ -203,7 +203,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     assert_eq!(code(&o), 0, "clean run: {}", stderr(&o));
     let clean = clean.expect("clean report");
     let clean_routes = routes_by_source(&clean);
-    assert_eq!(clean_routes.len(), 8);
+    assert_eq!(clean_routes.len(), 9);
 
     // --- break copies of demo routes, each in one way.
     let mut expect: Vec<Expect> = Vec::new();
@@ -509,10 +509,10 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         .collect();
     let all_warnings = warnings.join("\n");
 
-    // Every record of every readable file is in the report: 8 healthy + 11 broken + 11 variants
+    // Every record of every readable file is in the report: 9 healthy + 11 broken + 11 variants
     // (910011-910017 with a duplicate and 2 invalid records in `mixed`, and 910019), + 1 real,
     // + 1 entry for the truncated results file, whose routes cannot be known.
-    let expected_routes = 8 + 11 + 11 + usize::from(have_fixtures) + 1;
+    let expected_routes = 9 + 11 + 11 + usize::from(have_fixtures) + 1;
     assert_eq!(
         by_source.len(),
         expected_routes,
@@ -957,7 +957,7 @@ fn a_failed_write_leaves_no_partial_report() {
     let o = run(&old);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&fs::read(&old).unwrap()).unwrap();
-    assert_eq!(v["routes"].as_array().unwrap().len(), 8);
+    assert_eq!(v["routes"].as_array().unwrap().len(), 9);
 }
 
 #[test]

@@ -619,3 +619,73 @@ fn demo_10hz_route_streams_as_batch() {
         "the report used the 0.1 s period"
     );
 }
+
+/// The demo town's map and route XML, written once.
+fn demo_town() -> &'static (
+    monitor_host::geometry::map::Map,
+    monitor_host::input::route_xml::RouteSet,
+) {
+    use std::sync::OnceLock;
+    static TOWN: OnceLock<(
+        monitor_host::geometry::map::Map,
+        monitor_host::input::route_xml::RouteSet,
+    )> = OnceLock::new();
+    TOWN.get_or_init(|| {
+        let dir = tempfile::tempdir().unwrap();
+        let run = monitor_host::demo::write(dir.path()).unwrap();
+        let map = monitor_host::geometry::map::Map::load(
+            &run.maps.join(format!("{}.xodr", monitor_host::demo::TOWN)),
+        )
+        .unwrap();
+        let set = monitor_host::input::route_xml::read_route_xml(&run.routes).unwrap();
+        (map, set)
+    })
+}
+
+proptest! {
+    #![proptest_config(proptest_config(500))]
+
+    /// §9 with map-based lateral values (§2): drives along the demo's junction route (its gap
+    /// filled by the map) with random offsets, under both references and random settings.
+    /// The monitor gets the host's per-frame values (`corridor::core_value`); the batch
+    /// reference takes the same frames, and they agree bit for bit. Each frame's excess in the
+    /// core is the frame's own `max(0, |lat_err| - slack_i)` to f32 rounding.
+    #[test]
+    fn streaming_equals_batch_with_map_lateral_values(
+        offsets in vec(-4.0f64..4.0, 0..MAX_FRAMES),
+        start in 0.0f64..120.0,
+        step in 0.1f64..1.0,
+        lane in any::<bool>(),
+        config in config(),
+    ) {
+        use monitor_host::geometry::corridor::Corridor;
+        use monitor_host::settings::LateralReference;
+        let (map, set) = demo_town();
+        let route = set.get("900009");
+        let mut settings = monitor_host::Settings::default();
+        settings.core = config;
+        settings.lateral_reference = if lane { LateralReference::Lane } else { LateralReference::Route };
+        let mut corridor = Corridor::new(route, Some(map), &settings);
+        let (x0, y0) = (1520.0, -3310.0);
+        let mut frames = Vec::with_capacity(offsets.len());
+        for (i, dy) in offsets.iter().enumerate() {
+            let loc = [x0 + start + step * i as f64, y0 + dy];
+            let lat_err = corridor.next(loc, 0.0);
+            if lane {
+                // The frame's own excess against the nearest lane, in f64.
+                let p = map.project(loc[0], loc[1], 0.0).unwrap();
+                let want = (p.distance_2d - (p.width / 2.0 - settings.ego_half_width)).max(0.0);
+                let got = monitor_core::signal::excess(lat_err.unwrap(), config.slack);
+                prop_assert!((f64::from(got) - want).abs() <= 2e-6, "{} vs {}", got, want);
+            }
+            frames.push(Frame { speed: 10.0, lat_err, ..Frame::default() });
+        }
+        if !lane && !offsets.is_empty() {
+            // The junction is filled: every frame has a lateral value.
+            prop_assert!(frames.iter().all(|f| f.lat_err.is_some()));
+        }
+        let s = stream(&frames, &config)
+            .map_err(|e| TestCaseError::fail(format!("monitor refused a valid route: {e:?}")))?;
+        compare(&s, &frames, &config)?;
+    }
+}

@@ -1,18 +1,23 @@
 //! `sds demo`: a small synthetic Bench2Drive run of the project's own making.
 //!
 //! It writes what a real run leaves behind: a raw evaluator results file, one Bench2Drive
-//! `metric_info.json` per route under `telemetry/<save_name>/`, and a route XML. The routes are
-//! straight roads driven with simple kinematics, chosen so that every SDS term shows up once:
-//! cruising, hard braking, a lane change, a cone contact, collisions with and without braking,
-//! a hit while standing still, and a route whose agent writes telemetry at 10 Hz (one step per
-//! 0.1 s, as real published `metric_info.json` files do). `--large` writes a benchmark-sized run (220 routes x 4,000
+//! `metric_info.json` per route under `telemetry/<save_name>/`, a route XML, and the OpenDRIVE
+//! map of its town (`maps/DemoTown.xodr`, a road through a junction). The routes are straight
+//! roads driven with simple kinematics, chosen so that every SDS term shows up once: cruising,
+//! hard braking, a lane change, a cone contact, collisions with and without braking, a hit while
+//! standing still, a route whose agent writes telemetry at 10 Hz (one step per 0.1 s, as real
+//! published `metric_info.json` files do), and a drift inside a junction that the route XML
+//! leaves out and only the map lets the score see. `--large` writes a benchmark-sized run (220 routes x 4,000
 //! frames) of cruising routes for performance measurements.
 
 use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+mod map;
 mod telemetry;
+
+pub use map::TOWN;
 
 use telemetry::{write_metric_info, write_metric_info_realistic};
 
@@ -65,6 +70,9 @@ struct Script {
     collisions: &'static [(usize, &'static str, &'static str)],
     status: &'static str,
     score_route: f64,
+    /// The route XML leaves out its waypoints strictly between these (m from the origin), as
+    /// real route files leave out junctions.
+    xml_gap: Option<(f64, f64)>,
 }
 
 fn straight(_: f64) -> (f64, f64) {
@@ -90,6 +98,23 @@ fn lane_change(t: f64) -> (f64, f64) {
     )
 }
 
+/// A 1.4 m drift to the right and back between t = 4 s and t = 8.5 s (48-102 m at 12 m/s),
+/// smooth enough to stay comfortable: `y = A sin⁴(π s)`, `s = (t - 4) / 4.5`; lateral
+/// acceleration at most 2.73 m/s², and zero at both ends.
+fn junction_drift(t: f64) -> (f64, f64) {
+    let (t0, dur, a) = (4.0, 4.5, 1.4);
+    let s = (t - t0) / dur;
+    if !(0.0..=1.0).contains(&s) {
+        return (0.0, 0.0);
+    }
+    let w = std::f64::consts::PI;
+    let (sn, cs) = ((w * s).sin(), (w * s).cos());
+    (
+        a * sn.powi(4),
+        a * 4.0 * w * w * (3.0 * sn * sn * cs * cs - sn.powi(4)) / (dur * dur),
+    )
+}
+
 fn scripts() -> Vec<Script> {
     vec![
         Script {
@@ -103,6 +128,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "DemoHardBraking_1",
@@ -116,6 +142,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "DemoLaneChange_1",
@@ -128,6 +155,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "DemoConeContact_1",
@@ -140,6 +168,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[(90, "collisions_layout", "static.prop.constructioncone")],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "DemoCrashNoBrake_1",
@@ -153,6 +182,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[(120, "collisions_vehicle", "vehicle.lincoln.mkz_2020")],
             status: "Failed - Agent got blocked",
             score_route: 62.5,
+            xml_gap: None,
         },
         Script {
             name: "DemoCrashBraking_1",
@@ -166,6 +196,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[(110, "collisions_pedestrian", "walker.pedestrian.0012")],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "DemoStandingHit_1",
@@ -179,6 +210,7 @@ fn scripts() -> Vec<Script> {
             collisions: &[(130, "collisions_vehicle", "vehicle.audi.tt")],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         },
         Script {
             name: "Demo10HzBraking_1",
@@ -193,6 +225,22 @@ fn scripts() -> Vec<Script> {
             collisions: &[(55, "collisions_vehicle", "vehicle.tesla.model3")],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
+        },
+        Script {
+            name: "DemoJunction_1",
+            xml_id: 900009,
+            // 10 s at 12 m/s, straight through the junction (60-90 m), drifting 1.4 m right
+            // inside it. The route XML leaves out 56-94 m: only the map sees the drift.
+            frames: 200,
+            dt: DT,
+            v0: 12.0,
+            accel: |_| 0.0,
+            lateral: junction_drift,
+            collisions: &[],
+            status: "Completed",
+            score_route: 100.0,
+            xml_gap: Some((56.0, 94.0)),
         },
     ]
 }
@@ -257,7 +305,7 @@ fn py3(x: f64) -> String {
 /// let dir = tempfile::tempdir().unwrap();
 /// let run = monitor_host::demo::write(dir.path()).unwrap();
 /// assert!(run.results.exists() && run.routes.exists());
-/// assert_eq!(run.route_ids.len(), 8);
+/// assert_eq!(run.route_ids.len(), 9);
 /// ```
 pub fn write(dir: &Path) -> Result<DemoRun> {
     write_scripts(dir, &scripts(), Layout::Demo)
@@ -289,6 +337,7 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
             collisions: &[],
             status: "Completed",
             score_route: 100.0,
+            xml_gap: None,
         })
         .collect();
     write_scripts(dir, &list, Layout::Realistic)
@@ -312,6 +361,8 @@ pub struct DemoRun {
     pub telemetry: PathBuf,
     /// The route XML.
     pub routes: PathBuf,
+    /// The maps folder (`DemoTown.xodr`, the demo town's map with a junction).
+    pub maps: PathBuf,
     /// Route ids, in order.
     pub route_ids: Vec<String>,
 }
@@ -325,7 +376,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
     let mut route_ids = Vec::new();
     for (index, s) in scripts.iter().enumerate() {
         let route_id = format!("RouteScenario_{}_rep0", s.xml_id);
-        let save_name = format!("{route_id}_Town01_{}_1_11_22_06_00_00", s.name);
+        let save_name = format!("{route_id}_{TOWN}_{}_1_11_22_06_00_00", s.name);
         let sim = simulate(s);
 
         // Telemetry, in Bench2Drive's indented metric_info layout (steps start at 1).
@@ -348,11 +399,15 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
         let length = sim.last().map_or(0.0, |f| f.loc[0] - ORIGIN[0]) + 20.0;
         let _ = writeln!(
             xml,
-            "   <route id=\"{}\" town=\"Town01\">\n      <waypoints>",
+            "   <route id=\"{}\" town=\"{TOWN}\">\n      <waypoints>",
             s.xml_id
         );
         let mut x = -10.0;
         while x <= length {
+            if s.xml_gap.is_some_and(|(a, b)| x > a && x < b) {
+                x += spacing;
+                continue;
+            }
             let _ = writeln!(
                 xml,
                 "         <position x=\"{:.1}\" y=\"{:.1}\" z=\"0.0\"/>",
@@ -399,7 +454,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
                 "duration_system": s.frames as f64 * s.dt * 3.0,
             },
             "save_name": save_name,
-            "town_name": "Town01",
+            "town_name": TOWN,
             "scenario_name": s.name,
             "weather_id": "1",
         }));
@@ -408,6 +463,11 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
     xml.push_str("</routes>\n");
     let routes = dir.join("routes.xml");
     fs::write(&routes, xml).map_err(at(format_args!("cannot write {}", routes.display())))?;
+    let maps = dir.join("maps");
+    fs::create_dir_all(&maps).map_err(at(format_args!("cannot create {}", maps.display())))?;
+    let map_file = maps.join(format!("{TOWN}.xodr"));
+    fs::write(&map_file, map::xodr(ORIGIN))
+        .map_err(at(format_args!("cannot write {}", map_file.display())))?;
     let results = dir.join("results.json");
     let doc = serde_json::json!({
         "_checkpoint": {
@@ -428,6 +488,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
         results,
         telemetry,
         routes,
+        maps,
         route_ids,
     })
 }

@@ -85,12 +85,13 @@ fn run(cli: Cli) -> Result<i32> {
                 demo::write(&dir)?
             };
             eprintln!(
-                "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
+                "sds: wrote {} routes to {} (results {}, telemetry {}, routes {}, maps {})",
                 run.route_ids.len(),
                 dir.display(),
                 run.results.display(),
                 run.telemetry.display(),
-                run.routes.display()
+                run.routes.display(),
+                run.maps.display()
             );
             if !then_score {
                 return Ok(0);
@@ -99,7 +100,7 @@ fn run(cli: Cli) -> Result<i32> {
                 results: vec![run.results],
                 telemetry: Some(run.telemetry),
                 routes: Some(run.routes),
-                maps: None,
+                maps: Some(run.maps),
                 profile: ProfileArg::Physical,
                 expected_routes: None,
                 duplicates: None,

@@ -11,7 +11,7 @@ pub const TOWN: &str = "DemoTown";
 /// Where the junction starts and ends, m east of the demo origin.
 pub const JUNCTION: (f64, f64) = (60.0, 90.0);
 /// Length of the road east of the junction (long enough for the large run's routes), m.
-const EAST_LENGTH: f64 = 20_000.0;
+const EAST_LENGTH: f64 = 4_000.0;
 /// Radius of the right turn, m.
 const TURN_RADIUS: f64 = 12.0;
 

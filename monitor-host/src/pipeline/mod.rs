@@ -1,8 +1,9 @@
-//! The per-route pipeline: [`prepare`] (record + telemetry → frames, with [`align`]ed collision
-//! events) → [`replay`] (frames → `Monitor` → summary, checked against the batch reference) →
+//! The per-route pipeline: [`prepare`] (record + telemetry → frames built by [`frame`], with
+//! [`align`]ed collision events) → [`replay`] (frames → `Monitor` → summary, checked against the batch reference) →
 //! [`outcome`] (what became of the route).
 
 pub mod align;
+pub mod frame;
 pub mod outcome;
 pub mod prepare;
 pub mod replay;

@@ -5,6 +5,7 @@
 use monitor_core::score::{self, RecordScores};
 use monitor_core::{Collisions, Event, Events, Frame, MonitorError};
 use monitor_host::cli::error_message;
+use monitor_host::geometry::lateral::LateralTracker;
 use monitor_host::input::collision::{is_workzone, CollisionList};
 use monitor_host::input::metric_info::{FieldProblem, TelemetryError, TelemetryFrame};
 use monitor_host::pipeline::frame::FrameBuilder;
@@ -22,6 +23,8 @@ pub struct Monitor {
     builder: FrameBuilder,
     last: Option<Frame>,
     settings: Settings,
+    /// The route reference, when given: the lateral error of each frame.
+    route: Option<LateralTracker<'static>>,
 }
 
 /// `name=value` pairs of a settings mapping, as `--set` takes them (`True` → `true`).
@@ -97,6 +100,19 @@ fn vec3(
         }
     }
     Ok(out)
+}
+
+/// A waypoint: `(x, y, ...)` or an object with `x` and `y` (`carla.Location`), finite.
+fn vec2(w: &Bound<'_, PyAny>) -> Option<[f64; 2]> {
+    let p = if w.hasattr("x").unwrap_or(false) {
+        [
+            number(&w.getattr("x").ok()?)?,
+            number(&w.getattr("y").ok()?)?,
+        ]
+    } else {
+        [number(&w.get_item(0).ok()?)?, number(&w.get_item(1).ok()?)?]
+    };
+    p.iter().all(|v| v.is_finite()).then_some(p)
 }
 
 /// The five raw vectors of a `get_metric_info()` entry.
@@ -206,9 +222,20 @@ impl Monitor {
         let t = raw(step)
             .and_then(|r| TelemetryFrame::from_raw(step, r))
             .map_err(|e| InputError::new_err(error_message(&e)))?;
+        let segment = self.route.as_ref().map(LateralTracker::segment);
+        let from_route = self.route.as_mut().and_then(|r| r.next(t.location));
         let mut builder = self.builder.clone();
-        let frame = builder.push(&t, lat_err, collisions);
-        let events = self.core.push(&frame).map_err(|e| monitor_error(step, e))?;
+        let frame = builder.push(&t, lat_err.or(from_route), collisions);
+        let events = match self.core.push(&frame) {
+            Ok(events) => events,
+            Err(e) => {
+                // Nothing changes for a refused frame: the route search goes back too.
+                if let (Some(r), Some(m)) = (self.route.as_mut(), segment) {
+                    r.set_segment(m);
+                }
+                return Err(monitor_error(step, e));
+            }
+        };
         self.builder = builder;
         self.last = Some(frame);
         Ok(events)
@@ -218,8 +245,13 @@ impl Monitor {
 #[pymethods]
 impl Monitor {
     #[new]
-    #[pyo3(signature = (profile="physical", dt=0.05, settings=None))]
-    fn new(profile: &str, dt: f64, settings: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    #[pyo3(signature = (profile="physical", dt=0.05, settings=None, *, route=None))]
+    fn new(
+        profile: &str,
+        dt: f64,
+        settings: Option<&Bound<'_, PyAny>>,
+        route: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
         let config_err = |e: monitor_host::SettingsError| ConfigError::new_err(error_message(&e));
         let mut s = Settings::default();
         s.set("profile", profile).map_err(config_err)?;
@@ -227,11 +259,27 @@ impl Monitor {
         s.apply(&setting_pairs(settings)?).map_err(config_err)?;
         let core = monitor_core::Monitor::new(s.core)
             .map_err(|e| ConfigError::new_err(format!("invalid configuration: {e}")))?;
+        let route = match route {
+            None => None,
+            Some(r) => {
+                let mut waypoints = Vec::new();
+                for (i, w) in r.try_iter()?.enumerate() {
+                    let p = vec2(&w?).ok_or_else(|| {
+                        InputError::new_err(format!(
+                            "route: waypoint {i}: expected (x, y) or an object with x and y"
+                        ))
+                    })?;
+                    waypoints.push(p);
+                }
+                Some(LateralTracker::owned(waypoints, s.gap_max, s.lookahead))
+            }
+        };
         Ok(Monitor {
             core,
             builder: FrameBuilder::new(s.core.dt),
             last: None,
             settings: s,
+            route,
         })
     }
 

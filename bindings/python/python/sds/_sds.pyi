@@ -1,6 +1,6 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 __version__: str
 FIELDS: List[str]
@@ -43,6 +43,8 @@ class Monitor:
         profile: str = "physical",
         dt: float = 0.05,
         settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+        *,
+        route: Optional[Iterable[Any]] = None,
     ) -> "Monitor": ...
     def push(
         self,

@@ -70,9 +70,14 @@ class Monitor(_sds.Monitor):
         profile: ``"physical"`` or ``"b2d-legacy"``.
         dt: The simulator step in seconds (Bench2Drive: 0.05).
         settings: Overrides by the report's ``config`` names, e.g. ``{"slack": 0.9}``.
+        route: The route's reference waypoints, ``(x, y)`` pairs or ``carla.Location``-like
+            objects (e.g. the route XML's ``<position>`` elements): each frame's lateral error
+            is then measured against it as ``sds score --routes`` does. Without it, pass
+            ``lat_err`` to :meth:`push` (or the lateral terms see no frame).
 
     Raises:
         ConfigError: An unknown profile or setting, or an invalid value.
+        InputError: A route waypoint is not two finite numbers.
 
     Example:
         >>> m = sds.Monitor()

@@ -29,6 +29,7 @@ _FIELDS: List[str] = list(_sds.FIELDS)
 def _f64_bytes(columns: Sequence[Any], n: int, width: int) -> bytes:
     """``columns`` (each ``n`` rows of at least ``width`` numbers, or ``n`` numbers when
     ``width`` is 0) side by side, as native f64 bytes."""
+    np: Any
     try:
         import numpy as np
     except ImportError:  # pragma: no cover - numpy is optional

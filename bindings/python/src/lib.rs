@@ -1,11 +1,11 @@
 //! `sds._sds`: the extension module of the Python package `sds`, a thin layer over
 //! `monitor-host` and `monitor-core` (no scoring logic here).
 //!
-//! - [`score::score_json`]: `sds score` through the library's [`monitor_host::score_run`], the
+//! - `score_json` (`score.rs`): `sds score` through the library's [`monitor_host::score_run`], the
 //!   report as the CLI's JSON text (the Python layer parses it), GIL released while scoring;
-//! - [`monitor::Monitor`]: the streaming monitor fed one `get_metric_info()` dict per tick;
-//! - [`cli_main`]: the package's `sds` command, the same command line as the binary;
-//! - [`errors`]: the exception classes.
+//! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick;
+//! - `cli_main`: the package's `sds` command, the same command line as the binary;
+//! - `errors.rs`: the exception classes.
 #![deny(missing_docs)]
 
 mod convert;

@@ -21,7 +21,7 @@
 //!               │                      geometry/  kinematics (speed, yaw unit),
 //!               │                                 lateral (polyline, forward search)
 //!               v                                  │
-//! pipeline/  prepare → align → Frame (f32) → replay: Monitor::push / finish → outcome
+//! pipeline/  prepare → align → frame (f32) → replay: Monitor::push / finish → outcome
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
 //! aggregate/ summary (§8.1), penalty re-check (§8), groups (§8.3)

@@ -200,6 +200,15 @@ fn append_events(py: Python<'_>, out: &Bound<'_, PyList>, events: &Events) -> Py
 }
 
 impl Monitor {
+    /// The step of the next frame: `step`, or the previous step + 1 (0 for the first frame).
+    fn next_step(&self, step: Option<u64>) -> u64 {
+        match (step, self.builder.last_step()) {
+            (Some(s), _) => s,
+            (None, Some(l)) => l.saturating_add(1),
+            (None, None) => 0,
+        }
+    }
+
     /// Builds and pushes one frame; nothing changes when the frame is refused.
     fn push_frame(
         &mut self,
@@ -209,11 +218,7 @@ impl Monitor {
         lat_err: Option<f64>,
     ) -> PyResult<Events> {
         let last = self.builder.last_step();
-        let step = match (step, last) {
-            (Some(s), _) => s,
-            (None, Some(l)) => l.saturating_add(1),
-            (None, None) => 0,
-        };
+        let step = self.next_step(step);
         if let Some(l) = last.filter(|&l| step <= l) {
             return Err(InputError::new_err(format!(
                 "step {step}: not after the previous step {l} (steps must increase)"
@@ -293,8 +298,9 @@ impl Monitor {
         collisions: Option<&Bound<'py, PyAny>>,
         lat_err: Option<f64>,
     ) -> PyResult<Bound<'py, PyList>> {
-        let c = collisions_of(collisions, step.unwrap_or_default())?;
-        let events = self.push_frame(step, |s| raw_frame(entry, s), c, lat_err)?;
+        let step = self.next_step(step);
+        let c = collisions_of(collisions, step)?;
+        let events = self.push_frame(Some(step), |s| raw_frame(entry, s), c, lat_err)?;
         let out = PyList::empty(py);
         append_events(py, &out, &events)?;
         Ok(out)
@@ -329,18 +335,18 @@ impl Monitor {
         }
         let out = PyList::empty(py);
         for i in 0..n {
-            let step = steps.as_ref().map(|s| s[i]);
+            let step = self.next_step(steps.as_ref().map(|s| s[i]));
             let kinds = match collisions {
                 Some(d) => d.get_item(i)?,
                 None => None,
             };
-            let c = collisions_of(kinds.as_ref(), step.unwrap_or(i as u64))?;
+            let c = collisions_of(kinds.as_ref(), step)?;
             let mut raw = [[0.0; 3]; 5];
             for (k, v) in raw.iter_mut().enumerate() {
                 v.copy_from_slice(&data[i * 15 + k * 3..i * 15 + k * 3 + 3]);
             }
             let l = lat.as_ref().map(|l| l[i]).filter(|x| !x.is_nan());
-            let events = self.push_frame(step, |_| Ok(raw), c, l)?;
+            let events = self.push_frame(Some(step), |_| Ok(raw), c, l)?;
             append_events(py, &out, &events)?;
         }
         Ok(out)

@@ -107,8 +107,8 @@ def test_monitor_misuse() -> None:
         m.push(TICK, step=3)
     with pytest.raises(sds.InputError, match="lat_err"):
         m.push(TICK, step=4, lat_err=math.inf)
-    with pytest.raises(sds.InputError, match='collision "sensor.other.collision"'):
-        m.push(TICK, step=4, collisions=["sensor.other.collision"])
+    with pytest.raises(sds.InputError, match='^step 4: collision "sensor.other.collision"'):
+        m.push(TICK, collisions=["sensor.other.collision"])  # the step defaults to 3 + 1
     assert m.frames == 1
     m.finish()
     with pytest.raises(sds.SdsError):

@@ -2,7 +2,7 @@
 //! text the `sds` command prints after `sds: error: `.
 
 use monitor_host::cli::error_message;
-use monitor_host::{Error, LabelsError, ResultsError, RouteError};
+use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
 use pyo3::PyErr;
@@ -40,10 +40,27 @@ pub fn run_error(e: &Error) -> PyErr {
         Error::Results(ResultsError::Io { .. }) | Error::RouteXml(RouteError::Io { .. }) => {
             IoError::new_err(msg)
         }
-        Error::Settings(_) => ConfigError::new_err(msg),
+        Error::TelemetryRoot { .. } => IoError::new_err(msg),
+        Error::Settings(_) | Error::TooFewRoutes { .. } => ConfigError::new_err(msg),
         Error::Threads(_) => SdsError::new_err(msg),
         _ => InputError::new_err(msg),
     }
+}
+
+/// The exception for an error of `sds score` ([`monitor_host::cli::score_report`]): the typed
+/// error inside tells the class.
+pub fn score_error(e: &anyhow::Error) -> PyErr {
+    if let Some(e) = e.downcast_ref::<Error>() {
+        return run_error(e);
+    }
+    if let Some(e) = e.downcast_ref::<LabelsError>() {
+        return labels_error(e);
+    }
+    let msg = error_message(&**e);
+    if e.downcast_ref::<SettingsError>().is_some() {
+        return ConfigError::new_err(msg);
+    }
+    SdsError::new_err(msg)
 }
 
 /// The exception for a labels file that cannot be used.

@@ -5,36 +5,32 @@ use std::ffi::OsString;
 
 use monitor_host::cli::{self, error_message, progress::Bar};
 use monitor_host::report::json;
-use monitor_host::{score_run, score_run_with};
+use monitor_host::NoProgress;
 use pyo3::prelude::*;
 
-use crate::errors::{labels_error, run_error, ConfigError, SdsError};
+use crate::errors::{score_error, ConfigError, SdsError};
 
-/// Scores a run given the arguments of `sds score` (without `sds score`); returns the report as
-/// the JSON text `sds score --format json` writes. The GIL is released while scoring; a progress
+/// Scores a run given the arguments of `sds score` (without `sds score`), as the command does
+/// ([`cli::score_report`]); returns the report as the JSON text `sds score --format json` writes. The GIL is released while scoring; a progress
 /// bar is drawn on standard error when `progress` is true (and standard error is a terminal).
 #[pyfunction]
 #[pyo3(signature = (args, progress=false))]
 pub fn score_json(py: Python<'_>, args: Vec<OsString>, progress: bool) -> PyResult<String> {
     let args = cli::parse_score_args(args)
         .map_err(|e| ConfigError::new_err(e.render().to_string().trim_end().to_string()))?;
-    let settings = cli::settings(&args).map_err(|e| ConfigError::new_err(error_message(&e)))?;
-    // The breakdown's labels are checked as the CLI checks them, even though the JSON report
-    // does not use them.
-    cli::breakdown(&args).map_err(|e| labels_error(&e))?;
-    let inputs = cli::inputs(&args);
-    let report = py
+    let scored = py
         .detach(|| {
             if progress {
                 let bar = Bar::new();
-                let r = score_run_with(&inputs, &settings, &bar);
+                let r = cli::score_report(&args, &bar);
                 bar.finish();
                 r
             } else {
-                score_run(&inputs, &settings)
+                cli::score_report(&args, &NoProgress)
             }
         })
-        .map_err(|e| run_error(&e))?;
+        .map_err(|e| score_error(&e))?;
+    let report = scored.report;
     let bytes = json::json(&report).map_err(|e| SdsError::new_err(error_message(&e)))?;
     String::from_utf8(bytes).map_err(|e| SdsError::new_err(e.to_string()))
 }

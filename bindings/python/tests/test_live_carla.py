@@ -130,7 +130,7 @@ def test_stand_in_world_replays_the_demo(demo: Demo, demo_report: Dict[str, Any]
         agent = Agent(ego, with_metric_info)
         seen: List[str] = []
         wrapper = live_carla.SdsMonitoredAgent(
-            agent, world, ego, route=demo.waypoints(route["route_id"]), carla_module=FAKE_CARLA,
+            agent, world, ego, route=demo.waypoints(route["route_id"]), dt=route["dt"], carla_module=FAKE_CARLA,
             on_alarm=lambda message, event: seen.append(message),
         )
         blueprint, attached, sensor = world.sensors[0]

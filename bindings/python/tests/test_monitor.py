@@ -55,7 +55,8 @@ def replay(demo: Demo, route: Dict[str, Any], record: Dict[str, Any], use_route:
 ]:
     ticks = demo.metric_info(record["save_name"])
     hits = collisions_by_frame(route)
-    m = sds.Monitor(route=demo.waypoints(route["route_id"]) if use_route else None)
+    # The route's step period as the report found it (a 10 Hz route has dt = 0.1).
+    m = sds.Monitor(dt=route["dt"], route=demo.waypoints(route["route_id"]) if use_route else None)
     frames: List[Dict[str, Any]] = []
     events: List[Dict[str, Any]] = []
     for i, (step, entry) in enumerate(ticks):
@@ -105,7 +106,7 @@ def test_lat_err_given_equals_route_given(demo: Demo, sds_bin: Path, demo_report
     route = next(r for r in demo_report["routes"] if r["lateral"]["anomalous"] + r["lateral"]["critical"] > 0)
     record = next(r for r in demo.records() if r["route_id"] == route["route_id"])
     cli_frames = demo.frames(sds_bin, route["route_id"])
-    m = sds.Monitor()
+    m = sds.Monitor(dt=route["dt"])
     for (step, entry), cli in zip(demo.metric_info(record["save_name"]), cli_frames):
         m.push(entry, step=step, lat_err=cli.get("lat_err"))
         assert m.last_frame is not None and f32(m.last_frame["lat_err"]) == f32(cli.get("lat_err"))
@@ -120,7 +121,7 @@ def test_push_arrays_equals_push(demo: Demo, demo_report: Dict[str, Any]) -> Non
         done = m.finish()
         ticks = demo.metric_info(record["save_name"])
         cols = {f: np.array([e[f] for _, e in ticks], dtype=np.float64) for f in sds._sds.FIELDS}
-        a = sds.Monitor(route=np.array(demo.waypoints(route["route_id"])))
+        a = sds.Monitor(dt=route["dt"], route=np.array(demo.waypoints(route["route_id"])))
         arr_events = a.push_arrays(
             cols["acceleration"], cols["angular_velocity"], cols["forward_vector"],
             cols["right_vector"], cols["location"],
@@ -129,7 +130,7 @@ def test_push_arrays_equals_push(demo: Demo, demo_report: Dict[str, Any]) -> Non
         assert same(arr_events, events)
         assert same(a.finish(), done)
         # Plain sequences (no numpy) give the same.
-        b = sds.Monitor(route=demo.waypoints(route["route_id"]))
+        b = sds.Monitor(dt=route["dt"], route=demo.waypoints(route["route_id"]))
         seq_events = b.push_arrays(
             *[cols[f].tolist() for f in sds._sds.FIELDS],
             steps=[s for s, _ in ticks], collisions=collisions_by_frame(route),

@@ -100,3 +100,18 @@ def test_labels_are_checked_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Pa
         sds.score(demo.results, group_by="nope")
     with pytest.raises(sds.ConfigError):
         sds.score(demo.results, labels=labels)
+
+
+def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    if "duplicates" not in sds._sds.score_options():
+        pytest.skip("this build of sds score has no --duplicates")
+    twice = ["--results", str(demo.results), "--results", str(demo.results), "--telemetry", str(demo.telemetry)]
+    with pytest.raises(sds.InputError) as e:
+        sds.score([demo.results, demo.results], telemetry=demo.telemetry)
+    code, _, err = run_cli(sds_bin, ["score", *twice])
+    assert code == 2 and f"sds: error: {e.value}\n" in err  # a multi-line message
+    for policy in ("first", "last", "all"):
+        expected = cli_report(sds_bin, twice + ["--duplicates", policy], tmp_path)
+        report = sds.score([demo.results, demo.results], telemetry=demo.telemetry, duplicates=policy)
+        assert same(report, expected), policy
+    assert len(report["routes"]) == 2 * len(demo.records())  # "all" scores every copy

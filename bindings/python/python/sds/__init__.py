@@ -93,7 +93,8 @@ def score(
         routes: Bench2Drive's route XML, the lateral reference (``--routes``).
         maps: A folder of CARLA OpenDRIVE maps (``--maps``).
         profile: ``"physical"`` or ``"b2d-legacy"`` (``--profile``).
-        duplicates: What to do with routes recorded more than once (``--duplicates``).
+        duplicates: Routes recorded more than once: ``"error"`` (score nothing, name them),
+            keep the ``"first"`` or ``"last"`` copy, or score ``"all"`` (``--duplicates``).
         expected_routes: The benchmark's size N, e.g. 220 (``--expected-routes``).
         allow_missing_telemetry: Score routes without telemetry without telemetry terms.
         settings: Overrides, e.g. ``{"slack": 0.9, "bounds.yaw_rate": 1.0}`` (``--set``; names
@@ -110,9 +111,10 @@ def score(
         Routes with problems are in it with their ``state``; the CLI would exit with 3.
 
     Raises:
-        InputError: A results file or the route XML is invalid.
-        IoError: A file or folder cannot be read.
-        ConfigError: An option or setting is invalid.
+        InputError: A results file, the route XML or a labels file is invalid; route ids are
+            duplicated under ``duplicates="error"``; the inputs hold no record.
+        IoError: A file or folder cannot be read (a ``telemetry`` folder that does not exist).
+        ConfigError: An option or setting is invalid (``expected_routes`` below the routes found).
         FeatureUnavailableError: ``maps`` or ``duplicates`` given where this build lacks them.
 
     Example:

@@ -670,7 +670,8 @@ proptest! {
         let mut frames = Vec::with_capacity(offsets.len());
         for (i, dy) in offsets.iter().enumerate() {
             let loc = [x0 + start + step * i as f64, y0 + dy];
-            let lat_err = corridor.next(loc, 0.0);
+            // Rounded to f32 once, as the frame builder does.
+            let lat_err = corridor.next(loc, 0.0).map(|v| v as f32);
             if lane {
                 // The frame's own excess against the nearest lane, in f64.
                 let p = map.project(loc[0], loc[1], 0.0).unwrap();

@@ -9,8 +9,8 @@
 //!
 //! The core computes `excess = max(0, |v| - slack)` with the *configured* slack, in f32. So that
 //! the core and its firmware stay unchanged, a frame whose slack comes from the map is handed
-//! `v_i = max(0, |lat_err_i| - slack_i + slack)`, computed in f64 and rounded to f32 once
-//! ([`core_value`]); without a map `v_i = lat_err_i` as before. The streaming monitor and the
+//! `v_i = max(0, |lat_err_i| - slack_i + slack)`, computed in f64 and rounded to f32 once by
+//! the frame builder ([`core_value`]); without a map `v_i = lat_err_i` as before. The streaming monitor and the
 //! batch reference take the same `v_i`, so they agree bit for bit as before.
 //!
 //! ```
@@ -41,11 +41,9 @@
 //! // The gap is filled by the lane: 1.5 m off its centre, slack 4 / 2 - 0.93 = 1.07 m, so the
 //! // core's excess `|v| - 0.82` comes out at 1.5 - 1.07 = 0.43 m.
 //! let v = corridor.next([30.0, 3.5], 0.0).unwrap();
-//! assert!((f64::from(v) - (1.5 - 1.07 + 0.82)).abs() < 1e-6);
+//! assert!((v - (1.5 - 1.07 + 0.82)).abs() < 1e-6);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
-
-use std::borrow::Cow;
 
 use crate::geometry::lateral::LateralTracker;
 use crate::geometry::map::{Map, Projector};
@@ -127,17 +125,17 @@ pub fn reference_polyline(
 
 /// The value handed to the core for a frame `lat_err_i` m from its reference whose slack is
 /// `slack_i` (from the map's lane width), when the core subtracts the configured `core_slack`:
-/// `max(0, |lat_err_i| - slack_i + core_slack)`, in f64, rounded to f32 once. Its excess in the
-/// core, `max(0, |v| - core_slack)`, is the frame's own excess to f32 rounding; a frame inside
-/// its lane stays at zero excess.
+/// `max(0, |lat_err_i| - slack_i + core_slack)`, in f64 (the frame builder rounds it to f32
+/// once). Its excess in the core, `max(0, |v| - core_slack)`, is the frame's own excess to f32
+/// rounding; a frame inside its lane stays at zero excess.
 ///
 /// ```
 /// use monitor_host::geometry::corridor::core_value;
-/// assert_eq!(core_value(2.0, 1.07, 0.82), (2.0f64 - 1.07 + f64::from(0.82f32)) as f32);
+/// assert_eq!(core_value(2.0, 1.07, 0.82), 2.0 - 1.07 + f64::from(0.82f32));
 /// assert_eq!(core_value(0.5, 1.9, 0.82), 0.0); // deep inside a wide lane
 /// ```
-pub fn core_value(lat_err: f64, slack_i: f64, core_slack: f32) -> f32 {
-    (lat_err.abs() - slack_i + f64::from(core_slack)).max(0.0) as f32
+pub fn core_value(lat_err: f64, slack_i: f64, core_slack: f32) -> f64 {
+    (lat_err.abs() - slack_i + f64::from(core_slack)).max(0.0)
 }
 
 /// Follows one route's frames and yields the core's lateral value per frame (see the module
@@ -160,8 +158,8 @@ impl<'a> Corridor<'a> {
         let tracker = match (kind, route) {
             (ReferenceKind::MapRoute, Some(r)) => {
                 let polyline = reference_polyline(&waypoints_3d(r), settings.gap_max, map);
-                Some(LateralTracker::along(
-                    Cow::Owned(polyline),
+                Some(LateralTracker::owned(
+                    polyline,
                     settings.gap_max,
                     settings.lookahead,
                 ))
@@ -186,12 +184,13 @@ impl<'a> Corridor<'a> {
         self.kind
     }
 
-    /// The core's lateral value of a frame at `loc` (CARLA x, y) and height `z`, or `None` when
-    /// the lateral error is unknown (no reference, or an unfilled junction gap).
-    pub fn next(&mut self, loc: [f64; 2], z: f64) -> Option<f32> {
+    /// The core's lateral value of a frame at `loc` (CARLA x, y) and height `z`, in f64 (to be
+    /// rounded to f32 once), or `None` when the lateral error is unknown (no reference, or an
+    /// unfilled junction gap).
+    pub fn next(&mut self, loc: [f64; 2], z: f64) -> Option<f64> {
         match self.kind {
             ReferenceKind::None => None,
-            ReferenceKind::Xml => self.tracker.as_mut()?.next(loc).map(|d| d as f32),
+            ReferenceKind::Xml => self.tracker.as_mut()?.next(loc),
             ReferenceKind::MapRoute => {
                 let (d, foot) = self.tracker.as_mut()?.next_with_point(loc)?;
                 let w = self.width_at(foot, z);

@@ -662,9 +662,11 @@ proptest! {
         use monitor_host::settings::LateralReference;
         let (map, set) = demo_town();
         let route = set.get("900009");
-        let mut settings = monitor_host::Settings::default();
-        settings.core = config;
-        settings.lateral_reference = if lane { LateralReference::Lane } else { LateralReference::Route };
+        let settings = monitor_host::Settings {
+            core: config,
+            lateral_reference: if lane { LateralReference::Lane } else { LateralReference::Route },
+            ..Default::default()
+        };
         let mut corridor = Corridor::new(route, Some(map), &settings);
         let (x0, y0) = (1520.0, -3310.0);
         let mut frames = Vec::with_capacity(offsets.len());

@@ -53,7 +53,9 @@ impl TownMaps {
             });
         };
         let dir = MapDir::new(dir);
-        let loaded: Vec<(String, Result<Result<Map, String>, MapError>)> = names
+        // Per town: the map or why it is absent, or the error of a broken map.
+        type Loaded = Result<Result<Map, String>, MapError>;
+        let loaded: Vec<(String, Loaded)> = names
             .into_par_iter()
             .map(|town| {
                 let r = match dir.find(&town) {

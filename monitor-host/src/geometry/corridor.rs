@@ -32,16 +32,18 @@
 //! let route = set.get("1");
 //! let settings = Settings::default();
 //!
+//! // A drive 1.5 m right of the lane centre, from x = 5 to x = 30 (inside the gap).
+//! let drive = |c: &mut Corridor| (5..=30).map(|x| c.next([x as f64, 3.5], 0.0)).last().unwrap();
 //! let mut xml = Corridor::new(route, None, &settings);
 //! assert_eq!(xml.kind(), ReferenceKind::Xml);
-//! assert_eq!(xml.next([30.0, 2.5], 0.0), None); // inside the gap: unknown
+//! assert_eq!(drive(&mut xml), None); // inside the gap: unknown
 //!
 //! let mut corridor = Corridor::new(route, Some(&map), &settings);
 //! assert_eq!(corridor.kind(), ReferenceKind::MapRoute);
 //! // The gap is filled by the lane: 1.5 m off its centre, slack 4 / 2 - 0.93 = 1.07 m, so the
 //! // core's excess `|v| - 0.82` comes out at 1.5 - 1.07 = 0.43 m.
-//! let v = corridor.next([30.0, 3.5], 0.0).unwrap();
-//! assert!((v - (1.5 - 1.07 + 0.82)).abs() < 1e-6);
+//! let v = drive(&mut corridor).unwrap();
+//! assert!((v - (1.5 - 1.07 + 0.82)).abs() < 1e-6, "{v}");
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

@@ -52,10 +52,11 @@ pub enum LabelsError {
 /// # Errors
 /// [`LabelsError`], naming the file.
 pub fn read_labels(path: &Path) -> Result<Labels, LabelsError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LabelsError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = crate::input::read::read_input_text(path, crate::input::read::FileKind::Labels)
+        .map_err(|source| LabelsError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
     parse_labels(&text, &path.display().to_string())
 }
 

@@ -11,12 +11,14 @@
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
 //! | collision strings (§5, §7) | [`collision`] |
 //! | label maps for the breakdown (§8.3) | [`labels`] |
+//! | the one guarded file reader: regular files, bounded size | [`read`] |
 
 pub mod collision;
 pub mod discovery;
 pub mod labels;
 pub mod lead_infractions;
 pub mod metric_info;
+pub mod read;
 pub mod record;
 pub mod results_file;
 pub mod route_xml;

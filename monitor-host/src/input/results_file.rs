@@ -171,7 +171,7 @@ enum Parsed {
 }
 
 fn parse_file(path: &Path) -> Parsed {
-    let bytes = match fs::read(path) {
+    let bytes = match crate::input::read::read_input(path, crate::input::read::FileKind::Results) {
         Ok(b) => b,
         Err(source) => {
             return Parsed::Broken(ResultsError::Io {

@@ -193,10 +193,11 @@ impl RouteSet {
 /// # Errors
 /// [`RouteError::Io`] if unreadable, otherwise as [`parse_route_xml`] (naming this file).
 pub fn read_route_xml(path: &Path) -> Result<RouteSet, RouteError> {
-    let bytes = std::fs::read(path).map_err(|source| RouteError::Io {
-        path: path.to_path_buf(),
-        source: IoError(std::sync::Arc::new(source)),
-    })?;
+    let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::RouteXml)
+        .map_err(|source| RouteError::Io {
+            path: path.to_path_buf(),
+            source: IoError(std::sync::Arc::new(source)),
+        })?;
     let file = path.display().to_string();
     let text = match std::str::from_utf8(&bytes) {
         Ok(t) => t,

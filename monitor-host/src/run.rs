@@ -132,7 +132,7 @@ pub fn score_run_with(
     }
 
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(settings.threads.unwrap_or(0))
+        .num_threads(settings.worker_threads(records.len()))
         .build()?;
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
@@ -146,7 +146,14 @@ pub fn score_run_with(
             })
             .collect()
     });
-    Ok(build(&outcomes, settings, warnings))
+    let mut report = build(&outcomes, settings, warnings);
+    let mut files: Vec<PathBuf> = records.iter().map(|r| r.source.clone()).collect();
+    files.extend(inputs.route_xml.iter().cloned());
+    files.append(&mut report.files_read);
+    files.sort();
+    files.dedup();
+    report.files_read = files;
+    Ok(report)
 }
 
 /// The monitor's input frames of one route, as [`score_run`] would stream them, and the warnings
@@ -157,6 +164,9 @@ pub struct RouteFrames {
     pub frames: Vec<Frame>,
     /// Problems that did not stop the frames from being made.
     pub warnings: Vec<Warning>,
+    /// Every input file read (results files, route XML, telemetry files), for front ends that
+    /// must never write over an input.
+    pub files_read: Vec<PathBuf>,
 }
 
 /// The frames of the route `route_id` (`RouteScenario_<id>_rep<k>`): the first valid record
@@ -174,6 +184,8 @@ pub fn route_frames(
     for path in &inputs.results {
         records.extend(read_results(path)?.records);
     }
+    let mut files_read: Vec<PathBuf> = records.iter().map(|r| r.source.clone()).collect();
+    files_read.extend(inputs.route_xml.iter().cloned());
     let routes = inputs
         .route_xml
         .as_deref()
@@ -199,6 +211,7 @@ pub fn route_frames(
         inputs.telemetry.as_deref(),
         settings,
         &mut warnings,
+        &mut files_read,
     )
     .map_err(|state| Error::Telemetry {
         route: route_id.into(),
@@ -207,5 +220,6 @@ pub fn route_frames(
     Ok(RouteFrames {
         frames: telemetry.prepared.frames,
         warnings,
+        files_read,
     })
 }

@@ -112,8 +112,6 @@ fn score_json(d: &Demo, extra: &[&dyn AsRef<std::ffi::OsStr>]) -> (Output, Optio
         &d.telemetry,
         &"--routes",
         &d.routes,
-        &"--jobs",
-        &"2",
     ];
     args.extend_from_slice(extra);
     let o = run_bounded(&args, 60);
@@ -261,6 +259,318 @@ fn a_device_or_huge_input_is_refused_not_read() {
     let o = run_bounded(&[&"score", &"--results", &zero], 20);
     assert_eq!(code(&o), 1);
     assert!(stderr(&o).contains("a character device, not a regular file"));
-    let _ = route_with_source;
-    let _ = fs::Permissions::from_mode(0o644);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output: only regular files, never an input, umask mode, no temporary file left, no lost report.
+
+fn score_to(d: &Demo, out: &Path) -> Output {
+    run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &d.results,
+            &"--telemetry",
+            &d.telemetry,
+            &"--routes",
+            &d.routes,
+            &"-o",
+            &out,
+        ],
+        60,
+    )
+}
+
+#[test]
+fn output_never_replaces_a_special_file() {
+    use std::os::unix::fs::FileTypeExt;
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+
+    // A FIFO: refused (not replaced, and no hang waiting for a reader).
+    let fifo = tmp.path().join("out.fifo");
+    mkfifo(&fifo);
+    let o = score_to(&d, &fifo);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("a FIFO, not a regular file"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+
+    // A link like /dev/stdout (to /proc/self/fd/1: here a pipe): refused, the link stays.
+    let link = tmp.path().join("stdout");
+    std::os::unix::fs::symlink("/proc/self/fd/1", &link).unwrap();
+    let o = score_to(&d, &link);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("not a regular file"), "{}", stderr(&o));
+    assert!(fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+
+    // A directory: refused.
+    let o = score_to(&d, tmp.path());
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("a directory, not a regular file"));
+
+    // A null device node made here (not the real /dev/null): refused, still a device.
+    let null = tmp.path().join("null");
+    // SAFETY: a valid NUL-terminated path.
+    let made = unsafe {
+        libc::mknod(
+            cstr(&null).as_ptr(),
+            libc::S_IFCHR | 0o666,
+            libc::makedev(1, 3),
+        )
+    } == 0;
+    if made {
+        let o = score_to(&d, &null);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        assert!(stderr(&o).contains("a character device, not a regular file"));
+        assert!(fs::symlink_metadata(&null)
+            .unwrap()
+            .file_type()
+            .is_char_device());
+    } else {
+        eprintln!("skipped the device node case: cannot create a device node here");
+    }
+
+    // A link to a regular file: the link stays, its target gets the report.
+    let target = tmp.path().join("target.json");
+    fs::write(&target, "old").unwrap();
+    let link = tmp.path().join("report-link.json");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let o = score_to(&d, &link);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(fs::read_to_string(&target)
+        .unwrap()
+        .contains("sds-report/1"));
+}
+
+#[test]
+fn output_never_writes_over_an_input() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let mi = first_telemetry(&d).join("metric_info.json");
+    let families = tmp.path().join("families.json");
+    fs::write(&families, "{}").unwrap();
+    let linked = tmp.path().join("results-link.json");
+    std::os::unix::fs::symlink(&d.results, &linked).unwrap();
+    let before: Vec<Vec<u8>> = [&d.results, &d.routes, &mi, &families]
+        .iter()
+        .map(|p| fs::read(p).unwrap())
+        .collect();
+    for out in [&d.results, &d.routes, &mi, &linked] {
+        let o = score_to(&d, out);
+        assert_eq!(code(&o), 1, "{}: {}", out.display(), stderr(&o));
+        assert!(
+            stderr(&o).contains("is one of the run's inputs"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    let o = run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &d.results,
+            &"--telemetry",
+            &d.telemetry,
+            &"--format",
+            &"table",
+            &"--group-by",
+            &"family",
+            &"--families",
+            &families,
+            &"-o",
+            &families,
+        ],
+        60,
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("is one of the run's inputs"));
+    let id = "RouteScenario_900001_rep0";
+    for out in [&d.results, &mi] {
+        let o = run_bounded(
+            &[
+                &"frames",
+                &"--results",
+                &d.results,
+                &"--telemetry",
+                &d.telemetry,
+                &"--route-id",
+                &id,
+                &"-o",
+                &out,
+            ],
+            60,
+        );
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        assert!(stderr(&o).contains("is one of the run's inputs"));
+    }
+    let after: Vec<Vec<u8>> = [&d.results, &d.routes, &mi, &families]
+        .iter()
+        .map(|p| fs::read(p).unwrap())
+        .collect();
+    assert!(before == after, "an input was changed");
+}
+
+#[test]
+fn demo_refuses_to_overwrite_a_run_without_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("run");
+    demo(&dir);
+    fs::write(dir.join("results.json"), "my precious run").unwrap();
+    let o = run_bounded(&[&"demo", &dir], 60);
+    assert_eq!(code(&o), 1);
+    assert!(stderr(&o).contains("already holds a run"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--force"));
+    assert_eq!(
+        fs::read_to_string(dir.join("results.json")).unwrap(),
+        "my precious run"
+    );
+    let o = run_bounded(&[&"demo", &dir, &"--force"], 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(fs::read_to_string(dir.join("results.json"))
+        .unwrap()
+        .contains("_checkpoint"));
+}
+
+/// Runs `sds` through `sh -c` (umask, closed descriptors), bounded.
+fn run_sh(script: &str, args: &[&dyn AsRef<std::ffi::OsStr>], env: &[(&str, &str)]) -> Child {
+    let mut c = Command::new("sh");
+    c.arg("-c").arg(script).arg(SDS);
+    for a in args {
+        c.arg(a);
+    }
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run sh")
+}
+
+#[test]
+fn report_mode_follows_the_umask_and_an_existing_file_keeps_its_mode() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let out = tmp.path().join("report.json");
+    let args: [&dyn AsRef<std::ffi::OsStr>; 9] = [
+        &"score",
+        &"--results",
+        &d.results,
+        &"--telemetry",
+        &d.telemetry,
+        &"--routes",
+        &d.routes,
+        &"-o",
+        &out,
+    ];
+    let o = wait_bounded(run_sh("umask 027; exec \"$0\" \"$@\"", &args, &[]), 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(
+        fs::metadata(&out).unwrap().permissions().mode() & 0o777,
+        0o640
+    );
+    fs::set_permissions(&out, fs::Permissions::from_mode(0o604)).unwrap();
+    let o = wait_bounded(run_sh("umask 077; exec \"$0\" \"$@\"", &args, &[]), 60);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert_eq!(
+        fs::metadata(&out).unwrap().permissions().mode() & 0o777,
+        0o604
+    );
+}
+
+#[test]
+fn a_signal_during_the_final_write_leaves_no_temporary_file() {
+    for (sig, name) in [(libc::SIGTERM, "SIGTERM"), (libc::SIGINT, "SIGINT")] {
+        let tmp = tempfile::tempdir().unwrap();
+        let d = demo(&tmp.path().join("run"));
+        let outdir = tmp.path().join("out");
+        fs::create_dir(&outdir).unwrap();
+        let out = outdir.join("report.json");
+        let args: [&dyn AsRef<std::ffi::OsStr>; 9] = [
+            &"score",
+            &"--results",
+            &d.results,
+            &"--telemetry",
+            &d.telemetry,
+            &"--routes",
+            &d.routes,
+            &"-o",
+            &out,
+        ];
+        let child = run_sh(
+            "exec \"$0\" \"$@\"",
+            &args,
+            &[("SDS_TEST_WRITE_DELAY_MS", "20000")],
+        );
+        // Wait until the temporary file is written, then interrupt.
+        let start = Instant::now();
+        while fs::read_dir(&outdir).unwrap().next().is_none() {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no temporary file appeared"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        // SAFETY: signalling our own child.
+        assert_eq!(unsafe { libc::kill(child.id() as i32, sig) }, 0);
+        let o = wait_bounded(child, 15);
+        assert!(!o.status.success(), "{name}: {:?}", o.status);
+        let left: Vec<_> = fs::read_dir(&outdir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        assert!(left.is_empty(), "{name} left {left:?}");
+    }
+}
+
+#[test]
+fn a_closed_standard_output_is_an_error() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let args: [&dyn AsRef<std::ffi::OsStr>; 7] = [
+        &"score",
+        &"--results",
+        &d.results,
+        &"--telemetry",
+        &d.telemetry,
+        &"--routes",
+        &d.routes,
+    ];
+    let o = wait_bounded(run_sh("exec \"$0\" \"$@\" >&-", &args, &[]), 60);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("standard output is closed"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn jobs_are_bounded_by_the_work() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let (o, _) = score_json(&d, &[&"--jobs", &"0"]);
+    assert_eq!(code(&o), 1);
+    assert!(
+        stderr(&o).contains("--jobs") && stderr(&o).contains("at least 1"),
+        "{}",
+        stderr(&o)
+    );
+    // 7 routes: 7 threads, not 100,000 (which aborted with a panic message).
+    let (o, report) = score_json(&d, &[&"--jobs", &"100000"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"));
+    assert_eq!(report.unwrap()["routes"].as_array().unwrap().len(), 7);
 }

@@ -92,6 +92,8 @@ pub struct RouteTelemetry {
 
 /// Locates and reads a record's telemetry (and `infractions.json` beside it) and prepares its
 /// frames. Problems that do not stop the route are pushed to `warnings`.
+///
+/// Every file located (read or not) is pushed to `files`.
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
@@ -99,6 +101,7 @@ pub fn read_telemetry(
     telemetry_root: Option<&Path>,
     settings: &Settings,
     warnings: &mut Vec<Warning>,
+    files: &mut Vec<PathBuf>,
 ) -> Result<RouteTelemetry, TelemetryState> {
     let path = record
         .save_name
@@ -112,11 +115,15 @@ pub fn read_telemetry(
             )
         })
         .ok_or(TelemetryState::Missing)?;
+    files.push(path.clone());
     let tel = metric_info::read_metric_info(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
         None => None,
-        Some(p) => match lead_infractions::read_lead_infractions(&p) {
+        Some(p) => match lead_infractions::read_lead_infractions({
+            files.push(p.clone());
+            &p
+        }) {
             Ok(list) => Some(list),
             Err(e) => {
                 warnings.push(Warning::LeadInfractions {
@@ -160,6 +167,7 @@ pub fn replay(
         penalty: None,
         batch_agrees: None,
         warnings: Vec::new(),
+        files_read: Vec::new(),
     };
     let Ok(record) = &loaded.entry else {
         return out;
@@ -172,6 +180,7 @@ pub fn replay(
         telemetry_root,
         settings,
         &mut out.warnings,
+        &mut out.files_read,
     ) {
         Ok(RouteTelemetry {
             mut prepared,

@@ -136,6 +136,10 @@ pub struct Report {
     pub summary: Summary,
     /// Warnings met while reading (duplicates, skipped files, crashed runs...).
     pub warnings: Vec<Warning>,
+    /// Every input file of the run (results files, route XML, located telemetry files), for
+    /// front ends that must never write over an input. Not part of the JSON report.
+    #[serde(skip)]
+    pub files_read: Vec<std::path::PathBuf>,
 }
 
 /// Turns one outcome into its report entry.
@@ -206,6 +210,10 @@ pub fn build(outcomes: &[RouteOutcome], settings: &Settings, warnings: Vec<Warni
         routes: outcomes.iter().map(route_report).collect(),
         summary: summarize(outcomes, settings.expected_routes),
         warnings,
+        files_read: outcomes
+            .iter()
+            .flat_map(|o| o.files_read.iter().cloned())
+            .collect(),
     }
 }
 

@@ -12,7 +12,7 @@ mod args;
 mod output;
 mod progress;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use clap::Parser;
 
 use monitor_host::aggregate::groups::{GroupBy, Labels};
@@ -28,7 +28,7 @@ const EXIT_ROUTE_PROBLEMS: i32 = 3;
 
 fn main() {
     let cli = Cli::parse();
-    let code = match run(cli) {
+    let code = match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("sds: error: {e:#}");
@@ -47,7 +47,17 @@ fn run(cli: Cli) -> Result<i32> {
             large,
             large_routes,
             large_frames,
+            force,
         } => {
+            let existing = demo::existing_run(&dir);
+            if !existing.is_empty() && !force {
+                let names: Vec<String> = existing.iter().map(|p| p.display().to_string()).collect();
+                bail!(
+                    "{} already holds a run ({}); pass --force to overwrite it",
+                    dir.display(),
+                    names.join(", ")
+                );
+            }
             let run = if large {
                 demo::write_large(&dir, large_routes, large_frames)?
             } else {
@@ -104,7 +114,7 @@ fn run(cli: Cli) -> Result<i32> {
                 out.extend_from_slice(&buf[..n]);
                 out.push(b'\n');
             }
-            write_output(output.as_deref(), &out)?;
+            write_output(output.as_deref(), &out, &run.files_read)?;
             Ok(0)
         }
     }
@@ -145,6 +155,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
             eprintln!("sds: warning: {id}: {w}");
         }
     }
+    let mut inputs_read = report.files_read.clone();
     let bytes = match args.format {
         Format::Json => json::json(&report)?,
         Format::Csv => csv::csv(&report),
@@ -160,10 +171,12 @@ fn score(args: &ScoreArgs) -> Result<i32> {
                 (GroupBy::Weather, _, Some(w)) => read_labels(w)?,
                 _ => Labels::new(),
             };
+            inputs_read.extend(args.families.iter().cloned());
+            inputs_read.extend(args.weathers.iter().cloned());
             table::table(&report, group, &labels).into_bytes()
         }
     };
-    write_output(args.output.as_deref(), &bytes)?;
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {

@@ -40,6 +40,18 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    /// A record whose `score_composed` is not `score_route * score_penalty` (see
+    /// [`crate::input::record::Record::composed_mismatch`]).
+    ComposedScore {
+        /// The results file.
+        file: PathBuf,
+        /// The record's index in it.
+        index: usize,
+        /// The route id.
+        route: String,
+        /// `score_route`, `score_penalty`, `score_composed`.
+        scores: [f64; 3],
+    },
     /// A record with a status the evaluator does not write.
     UnknownStatus {
         /// The results file.
@@ -159,6 +171,17 @@ impl std::fmt::Display for Warning {
                 "{}: record {index} ({route}): unknown status {status:?} (counted as not \
                  successful)",
                 file.display()
+            ),
+            Warning::ComposedScore {
+                file,
+                index,
+                route,
+                scores: [r, p, c],
+            } => write!(
+                f,
+                "{}: record {index} ({route}): score_composed {c} is not score_route {r} x                  score_penalty {p} = {} (edited record? SDS uses score_route and score_penalty)",
+                file.display(),
+                r * p
             ),
             Warning::UnreadableResults { reason } => {
                 write!(f, "skipped unreadable results file: {reason}")

@@ -574,3 +574,133 @@ fn jobs_are_bounded_by_the_work() {
     assert!(!stderr(&o).contains("panicked"));
     assert_eq!(report.unwrap()["routes"].as_array().unwrap().len(), 7);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Scores and keys: range-checked, never resolved silently.
+
+/// The demo's results as text, with `f` applied to the parsed document.
+fn edit_results(d: &Demo, f: impl FnOnce(&mut Value)) {
+    let mut doc: Value = serde_json::from_slice(&fs::read(&d.results).unwrap()).unwrap();
+    f(&mut doc);
+    fs::write(&d.results, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+}
+
+#[test]
+fn out_of_range_scores_make_the_record_invalid() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let cases = [
+        (
+            "score_route",
+            serde_json::json!(1e308),
+            "scores.score_route: 1e308 is outside 0..=100",
+        ),
+        (
+            "score_route",
+            serde_json::json!(-50),
+            "scores.score_route: -50.0 is outside 0..=100",
+        ),
+        (
+            "score_penalty",
+            serde_json::json!(-3),
+            "scores.score_penalty: -3.0 is outside 0..=1",
+        ),
+        (
+            "score_penalty",
+            serde_json::json!(5),
+            "scores.score_penalty: 5.0 is outside 0..=1",
+        ),
+    ];
+    edit_results(&d, |doc| {
+        let recs = doc["_checkpoint"]["records"].as_array_mut().unwrap();
+        for (i, (field, v, _)) in cases.iter().enumerate() {
+            recs[i]["scores"][*field] = v.clone();
+        }
+        // A composed score that is not route x penalty: warned, still scored.
+        let r = &mut recs[5]["scores"];
+        r["score_composed"] = serde_json::json!(12.5);
+    });
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let report = report.unwrap();
+    let routes = report["routes"].as_array().unwrap();
+    for (i, (_, _, reason)) in cases.iter().enumerate() {
+        let state = routes[i]["state"].as_str().unwrap();
+        assert!(
+            state.starts_with("invalid") && state.contains(reason),
+            "{state}"
+        );
+    }
+    assert_eq!(routes[5]["state"], "ok");
+    // Aggregates stay finite and in range.
+    for key in ["driving_score", "mean_ds_safe", "sds"] {
+        let v = &report["summary"][key];
+        assert!(
+            v.is_null() || (0.0..=100.0).contains(&v.as_f64().unwrap()),
+            "{key}: {v}"
+        );
+    }
+    let text = serde_json::to_string(&report["warnings"]).unwrap();
+    assert!(
+        text.contains("score_composed 12.5 is not score_route"),
+        "{text}"
+    );
+}
+
+#[test]
+fn duplicate_keys_are_refused_naming_the_key() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let text = fs::read_to_string(&d.results).unwrap();
+    let cases = [
+        (
+            text.replacen("{", "{\n  \"_checkpoint\": {\"records\": []},", 1),
+            "field _checkpoint: duplicate key",
+        ),
+        (
+            text.replacen("\"records\": [", "\"records\": [], \"records\": [", 1),
+            "field _checkpoint.records: duplicate key",
+        ),
+        (
+            text.replacen(
+                "\"route_id\": \"RouteScenario_900001_rep0\",",
+                "\"route_id\": \"RouteScenario_900001_rep0\", \"route_id\": \"RouteScenario_1_rep0\",",
+                1,
+            ),
+            "field _checkpoint.records[0].route_id: duplicate key",
+        ),
+    ];
+    for (bad, want) in cases {
+        assert_ne!(bad, text);
+        fs::write(&d.results, &bad).unwrap();
+        let (o, _) = score_json(&d, &[]);
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{want}: {}", stderr(&o));
+    }
+    // Label files too.
+    fs::write(&d.results, &text).unwrap();
+    for (name, body) in [
+        ("f.json", "{\"A\": \"x\", \"A\": \"y\"}"),
+        ("f.csv", "A,x\nA,y\n"),
+    ] {
+        let f = tmp.path().join(name);
+        fs::write(&f, body).unwrap();
+        let (o, _) = score_json(
+            &d,
+            &[
+                &"--format",
+                &"table",
+                &"--group-by",
+                &"family",
+                &"--families",
+                &f,
+            ],
+        );
+        assert_eq!(code(&o), 1, "{}", stderr(&o));
+        assert!(
+            stderr(&o).contains("key \"A\" is given twice"),
+            "{}",
+            stderr(&o)
+        );
+    }
+}

@@ -37,6 +37,14 @@ pub enum LabelsError {
         /// The parser's message.
         message: String,
     },
+    /// A key given twice (which label is meant is unknown).
+    #[error("{file}: key {key:?} is given twice")]
+    Duplicate {
+        /// The file.
+        file: String,
+        /// The key.
+        key: String,
+    },
     /// A CSV line without a label.
     #[error("{file}:{line}: expected `key,label`")]
     Line {
@@ -66,6 +74,12 @@ pub fn read_labels(path: &Path) -> Result<Labels, LabelsError> {
 /// [`LabelsError::Json`] or [`LabelsError::Line`].
 pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
     if text.trim_start().starts_with('{') {
+        if let Ok(Some(key)) = crate::input::json_keys::first_duplicate_key(text.as_bytes()) {
+            return Err(LabelsError::Duplicate {
+                file: file.into(),
+                key,
+            });
+        }
         let map: std::collections::BTreeMap<String, serde_json::Value> = serde_json::from_str(text)
             .map_err(|e| LabelsError::Json {
                 file: file.into(),
@@ -109,10 +123,13 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
         };
         // An unquoted label may itself hold the delimiter: keep the rest of the line.
         let label: Vec<&str> = record.iter().skip(1).collect();
-        map.insert(
-            key.to_string(),
-            label.join(if delimiter == b'\t' { "\t" } else { "," }),
-        );
+        let label = label.join(if delimiter == b'\t' { "\t" } else { "," });
+        if map.insert(key.to_string(), label).is_some() {
+            return Err(LabelsError::Duplicate {
+                file: file.into(),
+                key: key.to_string(),
+            });
+        }
     }
     Ok(map)
 }

@@ -39,8 +39,8 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
-use crate::input::discovery;
 use crate::input::record::{expected, kind, LoadedRecord, Record};
+use crate::input::{discovery, json_keys};
 use crate::warning::Warning;
 
 /// The totals stored in a Bench2Drive merged file.
@@ -205,6 +205,15 @@ fn parse_file(path: &Path) -> Parsed {
         field: field.to_string(),
         reason,
     };
+    // Valid JSON by now; a key written twice would be resolved silently (last one wins).
+    if let Ok(Some(key)) = json_keys::first_duplicate_key(&bytes) {
+        return Parsed::Broken(format(
+            &key,
+            "duplicate key: an object holds it twice, so the file is ambiguous (the evaluator \
+             never writes a key twice)"
+                .to_string(),
+        ));
+    }
     let Value::Object(mut top) = value else {
         return Parsed::NotCheckpoint(format(
             "(top level)",
@@ -296,6 +305,14 @@ fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile, read_totals:
     for (index, value) in file.records.iter().enumerate() {
         let entry = Record::from_value(value);
         if let Ok(r) = &entry {
+            if r.composed_mismatch() {
+                set.warnings.push(Warning::ComposedScore {
+                    file: path.to_path_buf(),
+                    index,
+                    route: r.route_id.clone(),
+                    scores: [r.score_route, r.score_penalty, r.score_composed],
+                });
+            }
             let known = matches!(r.status.as_str(), "Completed" | "Perfect" | "Failed")
                 || r.status.starts_with("Failed - ");
             if !known {

@@ -90,6 +90,14 @@ pub enum Warning {
         /// The OS error.
         reason: String,
     },
+    /// A folder link under a results root that leads out of it (not followed: it would pull in
+    /// another run's results).
+    LinkLeavesRoot {
+        /// The link.
+        link: PathBuf,
+        /// Where it leads.
+        target: PathBuf,
+    },
     /// Two records with the same route id (both are kept as separate routes).
     DuplicateRoute {
         /// The route id.
@@ -195,6 +203,12 @@ impl std::fmt::Display for Warning {
             Warning::CannotList { dir, reason } => {
                 write!(f, "{}: cannot list: {reason}", dir.display())
             }
+            Warning::LinkLeavesRoot { link, target } => write!(
+                f,
+                "{}: a folder link leading out of the results folder (to {}): not followed",
+                link.display(),
+                target.display()
+            ),
             Warning::CannotRead { path, reason } => {
                 write!(f, "{}: cannot read: {reason}", path.display())
             }

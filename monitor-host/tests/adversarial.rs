@@ -704,3 +704,125 @@ fn duplicate_keys_are_refused_naming_the_key() {
         );
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// A results directory: nothing lost without an entry, nothing pulled in from outside.
+
+/// Runs `sds score` on a results directory; as root, as user `nobody` (root ignores mode bits,
+/// so an unreadable folder is only unreadable to someone else).
+fn score_dir_as_user(results: &Path, telemetry: &Path) -> (Output, Value) {
+    use std::os::unix::process::CommandExt;
+    let mut c = Command::new(SDS);
+    c.args(["score", "--results"])
+        .arg(results)
+        .arg("--telemetry")
+        .arg(telemetry)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } == 0 {
+        c.uid(65534).gid(65534);
+    }
+    let o = wait_bounded(c.spawn().expect("run sds"), 60);
+    let report = serde_json::from_slice(&o.stdout)
+        .unwrap_or_else(|_| panic!("no report; stderr: {}", stderr(&o)));
+    (o, report)
+}
+
+#[test]
+fn a_results_directory_loses_nothing_silently() {
+    let tmp = tempfile::tempdir().unwrap();
+    fs::set_permissions(tmp.path(), fs::Permissions::from_mode(0o755)).unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let doc: Value = serde_json::from_slice(&fs::read(&d.results).unwrap()).unwrap();
+    let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
+    let res = tmp.path().join("run/res");
+    let write = |dir: &Path, recs: &[Value]| {
+        fs::create_dir_all(dir).unwrap();
+        let doc = serde_json::json!({"_checkpoint": {"progress": [1, 1], "records": recs},
+                                     "entry_status": "Finished"});
+        fs::write(dir.join("checkpoint.json"), doc.to_string()).unwrap();
+    };
+    for (i, r) in records.iter().enumerate().take(4) {
+        write(&res.join(format!("r{i}")), std::slice::from_ref(r));
+    }
+    // Folders with results that cannot be listed (no r) or searched (no x).
+    write(&res.join("r4_unlistable"), &records[4..5]);
+    fs::set_permissions(res.join("r4_unlistable"), fs::Permissions::from_mode(0o300)).unwrap();
+    write(&res.join("r5_unsearchable"), &records[5..6]);
+    fs::set_permissions(
+        res.join("r5_unsearchable"),
+        fs::Permissions::from_mode(0o644),
+    )
+    .unwrap();
+    // A dangling and two looping *.json links.
+    std::os::unix::fs::symlink("gone.json", res.join("dangling.json")).unwrap();
+    std::os::unix::fs::symlink("loop_b.json", res.join("loop_a.json")).unwrap();
+    std::os::unix::fs::symlink("loop_a.json", res.join("loop_b.json")).unwrap();
+    // Another run beside this one, reachable through a link leading out of the root.
+    write(&tmp.path().join("other"), &records[6..7]);
+    std::os::unix::fs::symlink("../..", res.join("up")).unwrap();
+    // Everything readable by others, except the two locked folders.
+    for dir in [
+        tmp.path().join("run"),
+        tmp.path().join("other"),
+        d.telemetry.clone(),
+    ] {
+        for e in walk(&dir) {
+            let m = fs::symlink_metadata(&e).unwrap();
+            let name = e.to_string_lossy();
+            if m.is_symlink() || name.contains("r4_unlistable") || name.contains("r5_unsearchable")
+            {
+                continue;
+            }
+            let mode = if m.is_dir() { 0o755 } else { 0o644 };
+            fs::set_permissions(&e, fs::Permissions::from_mode(mode)).unwrap();
+        }
+    }
+
+    let (o, report) = score_dir_as_user(&res, &d.telemetry);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let routes = report["routes"].as_array().unwrap();
+    let by_source = |part: &str| -> Vec<&Value> {
+        routes
+            .iter()
+            .filter(|r| r["source"].as_str().unwrap().contains(part))
+            .collect()
+    };
+    for (part, reason) in [
+        ("r4_unlistable", "cannot list this folder"),
+        ("r5_unsearchable", "Permission denied"),
+        ("dangling.json", "a symbolic link that cannot be followed"),
+        ("loop_a.json", "a symbolic link that cannot be followed"),
+        ("loop_b.json", "a symbolic link that cannot be followed"),
+    ] {
+        let found = by_source(part);
+        assert_eq!(found.len(), 1, "{part}: {routes:?}");
+        let state = found[0]["state"].as_str().unwrap();
+        assert!(
+            state.starts_with("invalid") && state.contains(reason),
+            "{part}: {state}"
+        );
+    }
+    // The four healthy routes are scored; the other run is not pulled in.
+    let ok = routes.iter().filter(|r| r["state"] == "ok").count();
+    assert_eq!(ok, 4, "{routes:?}");
+    let other_id = records[6]["route_id"].as_str().unwrap();
+    assert!(routes.iter().all(|r| r["route_id"] != other_id));
+    let warnings = serde_json::to_string(&report["warnings"]).unwrap();
+    assert!(
+        warnings.contains("a folder link leading out of the results folder"),
+        "{warnings}"
+    );
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = vec![dir.to_path_buf()];
+    if fs::symlink_metadata(dir).is_ok_and(|m| m.is_dir()) {
+        for e in fs::read_dir(dir).unwrap() {
+            out.extend(walk(&e.unwrap().path()));
+        }
+    }
+    out
+}

@@ -365,7 +365,9 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
         path: root.to_path_buf(),
         source,
     })?;
-    let files = discovery::json_files(root, &mut set.warnings);
+    let found = discovery::json_files(root, &mut set.warnings);
+    set.broken_files.extend(found.broken);
+    let files = found.files;
 
     let mut raw = Vec::new();
     let mut merged = Vec::new();

@@ -121,6 +121,16 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    /// Every segment of the route's reference is longer than `gap_max`: the lateral error is
+    /// unknown on the whole route.
+    AllGaps {
+        /// The route XML.
+        file: String,
+        /// The XML route id.
+        route: String,
+        /// The `gap_max` setting.
+        gap_max: f64,
+    },
     /// The route XML has no usable reference for this route.
     NoReference(RouteError),
     /// A collision string that does not parse.
@@ -233,6 +243,16 @@ impl std::fmt::Display for Warning {
                 f,
                 "{}: {reason}; collisions aligned by position instead",
                 file.display()
+            ),
+            Warning::AllGaps {
+                file,
+                route,
+                gap_max,
+            } => write!(
+                f,
+                "{file}: route {route}: every segment is longer than gap_max = {gap_max} m (all \
+                 junction gaps): lateral excess unknown for this route (denser waypoints, or \
+                 --set gap_max=<metres>)"
             ),
             Warning::NoReference(e) => write!(f, "{e}: lateral excess unknown for this route"),
             Warning::UnparseableCollision { list, reason } => write!(

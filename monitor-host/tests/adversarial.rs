@@ -826,3 +826,56 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     }
     out
 }
+
+// ---------------------------------------------------------------------------------------------
+// Route XML problems are reported on their routes, never a silent loss of the lateral term.
+
+fn replace_route(xml: &str, id: &str, with: &str) -> String {
+    let start = xml.find(&format!("<route id=\"{id}\"")).unwrap();
+    let end = start + xml[start..].find("</route>").unwrap() + "</route>".len();
+    format!("{}{with}{}", &xml[..start], &xml[end..])
+}
+
+#[test]
+fn route_xml_problems_are_reported() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let xml = fs::read_to_string(&d.routes).unwrap();
+    let xml = replace_route(
+        &xml,
+        "900002",
+        r#"<route id="900002" town="Town01"><waypoints><position x="1" y="2" z="0"/></waypoints></route>"#,
+    );
+    let xml = replace_route(
+        &xml,
+        "900003",
+        r#"<route id="900003" town="Town01"><waypoints><position x="0" y="0" z="0"/><position x="50" y="0" z="0"/><position x="100" y="0" z="0"/></waypoints></route>"#,
+    );
+    let xml = xml.replace(
+        "</routes>",
+        r#"<route id="900001" town="Town01"><waypoints><position x="0" y="0" z="0"/><position x="1" y="0" z="0"/></waypoints></route></routes>"#,
+    );
+    fs::write(&d.routes, xml).unwrap();
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let report = report.unwrap();
+    for (id, want) in [
+        (
+            "RouteScenario_900001_rep0",
+            "route 900001: id appears twice (ambiguous",
+        ),
+        (
+            "RouteScenario_900002_rep0",
+            "route 900002: a single waypoint",
+        ),
+        (
+            "RouteScenario_900003_rep0",
+            "route 900003: every segment is longer than gap_max = 8 m",
+        ),
+    ] {
+        let r = route_with_source(&report, id);
+        let w = serde_json::to_string(&r["warnings"]).unwrap();
+        assert!(w.contains(want), "{id}: {w}");
+        assert!(stderr(&o).contains(want), "{}", stderr(&o));
+    }
+}

@@ -135,8 +135,14 @@ pub fn read_telemetry(
         },
     };
     if let (Some(set), Some(id)) = (routes, record.xml_id()) {
-        if let Err(e) = set.get_checked(id) {
-            warnings.push(Warning::NoReference(e));
+        match set.get_checked(id) {
+            Err(e) => warnings.push(Warning::NoReference(e)),
+            Ok(r) if r.all_gaps(settings.gap_max) => warnings.push(Warning::AllGaps {
+                file: set.file().to_string(),
+                route: id.to_string(),
+                gap_max: settings.gap_max,
+            }),
+            Ok(_) => {}
         }
     }
     let prepared = prepare(record, &tel, routes, infractions.as_deref(), settings);

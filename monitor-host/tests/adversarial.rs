@@ -879,3 +879,26 @@ fn route_xml_problems_are_reported() {
         assert!(stderr(&o).contains(want), "{}", stderr(&o));
     }
 }
+
+#[test]
+fn a_save_name_pointing_at_another_route_is_detected() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let mut other = String::new();
+    edit_results(&d, |doc| {
+        let recs = doc["_checkpoint"]["records"].as_array_mut().unwrap();
+        other = recs[1]["save_name"].as_str().unwrap().to_string();
+        recs[0]["save_name"] = Value::String(other.clone());
+    });
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let report = report.unwrap();
+    let r = route_with_source(&report, "RouteScenario_900001_rep0");
+    let state = r["state"].as_str().unwrap();
+    assert!(
+        state.starts_with("invalid")
+            && state.contains(&format!("save_name {other:?} names the telemetry of route RouteScenario_900002_rep0, not of this record's RouteScenario_900001_rep0")),
+        "{state}"
+    );
+    assert_eq!(r["frames"], 0);
+}

@@ -157,6 +157,32 @@ pub fn locate_metric_info(
     None
 }
 
+/// The route id a `save_name` belongs to: its `RouteScenario_<id>_rep<k>` prefix (the evaluator
+/// names telemetry folders `<route_id>_<Town>_<scenario>_<weather>_<timestamp>`). `None` for a
+/// name of another form.
+///
+/// ```
+/// use monitor_host::input::discovery::save_name_route;
+/// let s = "RouteScenario_24206_rep3_Town12_ConstructionObstacle_12_7_06_17_06_49_04";
+/// assert_eq!(save_name_route(s), Some("RouteScenario_24206_rep3"));
+/// assert_eq!(save_name_route("RouteScenario_1_rep0"), Some("RouteScenario_1_rep0"));
+/// assert_eq!(save_name_route("my_run_3"), None);
+/// ```
+pub fn save_name_route(save_name: &str) -> Option<&str> {
+    let rest = save_name.strip_prefix("RouteScenario_")?;
+    let id_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+    let rest = rest[id_len..].strip_prefix("_rep")?;
+    let rep_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+    if id_len == 0 || rep_len == 0 {
+        return None;
+    }
+    let end = "RouteScenario_".len() + id_len + "_rep".len() + rep_len;
+    match save_name.as_bytes().get(end) {
+        None | Some(b'_') => Some(&save_name[..end]),
+        _ => None,
+    }
+}
+
 /// The `infractions.json` beside a located `metric_info.json`, if it exists.
 pub fn lead_infractions_beside(metric_info: &Path) -> Option<PathBuf> {
     let p = metric_info

@@ -103,6 +103,23 @@ pub fn read_telemetry(
     warnings: &mut Vec<Warning>,
     files: &mut Vec<PathBuf>,
 ) -> Result<RouteTelemetry, TelemetryState> {
+    // A save_name naming another route's folder would score this record with that telemetry.
+    if let Some(other) = record
+        .save_name
+        .as_deref()
+        .and_then(discovery::save_name_route)
+    {
+        if other != record.route_id {
+            return Err(TelemetryState::Invalid(format!(
+                "{}: record {}: save_name {:?} names the telemetry of route {other}, not of this \
+                 record's {}",
+                loaded.source.display(),
+                loaded.index,
+                record.save_name.as_deref().unwrap_or_default(),
+                record.route_id
+            )));
+        }
+    }
     let path = record
         .save_name
         .as_deref()

@@ -53,7 +53,7 @@ pub enum FrameError {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ConfigError {
-    /// `dt` must be finite and positive.
+    /// `dt` must lie in `Config::DT_MIN ..= Config::DT_MAX` (1 ms to 1 s).
     Dt,
     /// `legacy_jerk_spacing` must be finite and positive.
     LegacySpacing,
@@ -108,7 +108,7 @@ impl core::fmt::Display for FrameError {
 impl core::fmt::Display for ConfigError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let s = match self {
-            ConfigError::Dt => "dt must be finite and positive",
+            ConfigError::Dt => "dt must lie in 0.001..=1 s",
             ConfigError::LegacySpacing => "legacy_jerk_spacing must be finite and positive",
             ConfigError::MinChunk => "min_chunk must be at least the filter window (7)",
             ConfigError::ChunkLen => "chunk_len must lie in min_chunk..=capacity",

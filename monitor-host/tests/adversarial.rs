@@ -902,3 +902,76 @@ fn a_save_name_pointing_at_another_route_is_detected() {
     );
     assert_eq!(r["frames"], 0);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Invalid telemetry names the field of the file; dt is bounded.
+
+#[test]
+fn an_overflowing_derived_value_names_the_files_field() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let mi = first_telemetry(&d).join("metric_info.json");
+    let mut doc: Value = serde_json::from_slice(&fs::read(&mi).unwrap()).unwrap();
+    let mut steps: Vec<u64> = doc
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.parse().unwrap())
+        .collect();
+    steps.sort();
+    let step = steps[12];
+    // Finite f32 values whose magnitude |a| overflows f32.
+    doc[step.to_string()]["acceleration"] = serde_json::json!([3e38, 3e38, 0.0]);
+    fs::write(&mi, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let (o, report) = score_json(&d, &[]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let r = route_with_source(&report.unwrap(), "RouteScenario_900001_rep0").clone();
+    let state = r["state"].as_str().unwrap();
+    assert!(
+        state.contains(&format!(
+            "acceleration at step {step} is too large: |a| overflows f32"
+        )),
+        "{state}"
+    );
+}
+
+#[test]
+fn dt_is_bounded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    for dt in ["1e-45", "0.0009", "1.5", "-0.05"] {
+        let set = format!("dt={dt}");
+        let (o, _) = score_json(&d, &[&"--set", &set]);
+        assert_eq!(code(&o), 1, "dt={dt}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("dt must lie in 0.001..=1 s"),
+            "{}",
+            stderr(&o)
+        );
+    }
+    for dt in ["0.001", "0.1", "1"] {
+        let set = format!("dt={dt}");
+        let (o, _) = score_json(&d, &[&"--set", &set]);
+        assert_ne!(code(&o), 1, "dt={dt}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn host_settings_are_validated_like_core_settings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    for (set, want) in [
+        ("gap_max=-1", "gap_max must be finite and positive"),
+        ("gap_max=inf", "gap_max must be finite and positive"),
+        ("lookahead=-1", "lookahead must be finite and not negative"),
+        (
+            "align_max_dist=-1",
+            "align_max_dist must be finite and not negative",
+        ),
+        ("align_tie=NaN", "align_tie must be finite and not negative"),
+    ] {
+        let (o, _) = score_json(&d, &[&"--set", &set]);
+        assert_eq!(code(&o), 1, "{set}: {}", stderr(&o));
+        assert!(stderr(&o).contains(want), "{set}: {}", stderr(&o));
+    }
+}

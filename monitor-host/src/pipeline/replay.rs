@@ -79,6 +79,60 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
     Ok(done.summary)
 }
 
+/// Why the monitor refused a frame, said in the file's own fields: the frame's numbers are
+/// derived (a_mag from `acceleration`, speed from `location` and `dt`), and a reader looking for
+/// `a_mag` in `metric_info.json` would not find it.
+///
+/// ```
+/// use monitor_core::{Field, FrameError, MonitorError};
+/// use monitor_host::pipeline::replay::{refusal_in_file_terms, Refused};
+/// let r = Refused::Frame { index: 3, error: MonitorError::Frame(FrameError::NonFinite(Field::AMag)) };
+/// assert_eq!(
+///     refusal_in_file_terms(&r, 12, 0.05),
+///     "acceleration at step 12 is too large: |a| overflows f32 (a_mag is not finite)"
+/// );
+/// ```
+pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
+    use monitor_core::{Field, FrameError};
+    let Refused::Frame {
+        error: MonitorError::Frame(FrameError::NonFinite(field)),
+        ..
+    } = refused
+    else {
+        return format!("step {step}: {refused}");
+    };
+    let (what, why) = match field {
+        Field::AMag => ("acceleration", "is too large: |a| overflows f32"),
+        Field::ALon => (
+            "acceleration",
+            "is too large: its component along forward_vector overflows f32",
+        ),
+        Field::ALat => (
+            "acceleration",
+            "is too large: its component along right_vector overflows f32",
+        ),
+        Field::YawRate => (
+            "angular_velocity",
+            "is too large: the yaw rate overflows f32",
+        ),
+        Field::Speed => {
+            return format!(
+                "location at step {step} jumps too far from the previous step: the distance / \
+                 dt ({dt} s) overflows f32 ({})",
+                FrameError::NonFinite(*field)
+            )
+        }
+        Field::LatErr => (
+            "location",
+            "is too far from the route XML's reference: the lateral error overflows f32",
+        ),
+    };
+    format!(
+        "{what} at step {step} {why} ({})",
+        FrameError::NonFinite(*field)
+    )
+}
+
 /// A route's telemetry, read and turned into frames.
 #[derive(Clone, Debug)]
 pub struct RouteTelemetry {
@@ -221,14 +275,15 @@ pub fn replay(
                     Some(summary)
                 }
                 Err(refused) => {
+                    let step = prepared
+                        .steps
+                        .get(refused.index())
+                        .copied()
+                        .unwrap_or_default();
                     out.telemetry = TelemetryState::Invalid(format!(
-                        "{}: step {}: {refused}",
+                        "{}: {}",
                         path.display(),
-                        prepared
-                            .steps
-                            .get(refused.index())
-                            .copied()
-                            .unwrap_or_default()
+                        refusal_in_file_terms(&refused, step, settings.core.dt)
                     ));
                     None
                 }

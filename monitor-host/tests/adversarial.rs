@@ -975,3 +975,73 @@ fn host_settings_are_validated_like_core_settings() {
         assert!(stderr(&o).contains(want), "{set}: {}", stderr(&o));
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// Output that could be turned against its reader: CSV and terminal.
+
+#[test]
+fn csv_cells_are_quoted_and_neutralised() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    edit_results(&d, |doc| {
+        let recs = doc["_checkpoint"]["records"].as_array_mut().unwrap();
+        recs[0]["scenario_name"] = Value::String("=HYPERLINK(\"http://x\",\"a,b\")_1".into());
+        recs[1]["status"] = Value::String("Failed\r- Agent\ncrashed".into());
+        recs[2]["town_name"] = Value::String("@SUM(A1)".into());
+        recs[3]["weather_id"] = Value::String("-2+3".into());
+        recs[4]["scenario_name"] = Value::String("+cmd|' /C calc'!A0_1".into());
+        recs[5]["town_name"] = Value::String("\tTown".into());
+    });
+    let (o, _) = score_json(&d, &[&"--format", &"csv"]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let mut r = csv::ReaderBuilder::new().from_reader(&o.stdout[..]);
+    let header = r.headers().unwrap().clone();
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    // Every row is whole: CR and LF inside a cell did not split it.
+    assert_eq!(rows.len(), 7);
+    assert!(rows.iter().all(|row| row.len() == header.len()));
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    assert_eq!(
+        &rows[0][col("scenario_type")],
+        "'=HYPERLINK(\"http://x\",\"a,b\")"
+    );
+    assert_eq!(&rows[1][col("status")], "Failed\r- Agent\ncrashed");
+    assert_eq!(&rows[2][col("town")], "'@SUM(A1)");
+    assert_eq!(&rows[3][col("weather_id")], "'-2+3");
+    assert_eq!(&rows[4][col("scenario_type")], "'+cmd|' /C calc'!A0");
+    assert_eq!(&rows[5][col("town")], "'\tTown");
+    // Numbers stay numbers, negative ones included (none are strings from the inputs).
+    for row in &rows {
+        let v = &row[col("score_route")];
+        assert!(v.parse::<f64>().is_ok(), "{v}");
+    }
+    let raw = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        raw.contains("\"Failed\r- Agent\ncrashed\""),
+        "CR/LF cell not quoted"
+    );
+}
+
+#[test]
+fn strings_from_inputs_reach_the_terminal_escaped() {
+    let tmp = tempfile::tempdir().unwrap();
+    let d = demo(&tmp.path().join("run"));
+    let evil = "RouteScenario_9_rep0\u{1b}[2K\r\u{1b}[1Aall fine";
+    edit_results(&d, |doc| {
+        let recs = doc["_checkpoint"]["records"].as_array_mut().unwrap();
+        recs[0]["route_id"] = Value::String(evil.into());
+        recs[0]["scores"] = Value::String("broken".into()); // an invalid record: printed
+        recs[1]["scenario_name"] = Value::String("Evil\u{1b}]0;owned\u{7}_1".into());
+    });
+    let (o, _) = score_json(&d, &[&"--format", &"table"]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(!err.contains('\u{1b}') && !err.contains('\r'), "{err:?}");
+    assert!(
+        err.contains("RouteScenario_9_rep0\\u{1b}[2K\\r\\u{1b}[1Aall fine"),
+        "{err}"
+    );
+    let out = String::from_utf8(o.stdout).unwrap();
+    assert!(!out.contains('\u{1b}') && !out.contains('\u{7}'), "{out:?}");
+    assert!(out.contains("Evil\\u{1b}]0;owned\\u{7}"), "{out}");
+}

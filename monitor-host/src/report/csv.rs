@@ -1,5 +1,8 @@
-//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting).
+//! The CSV rendering: one line per route. The `csv` crate quotes what needs quoting (`"`, `,`,
+//! CR, LF); string cells from the inputs are neutralised against formula injection
+//! ([`crate::report::escape::csv_cell`]); numbers are written as numbers.
 
+use crate::report::escape::csv_cell;
 use crate::report::model::{Report, RouteReport};
 
 /// The header line's columns.
@@ -33,7 +36,7 @@ pub const COLUMNS: [&str; 26] = [
 ];
 
 fn row(r: &RouteReport) -> [String; 26] {
-    let s = |x: &Option<String>| x.clone().unwrap_or_default();
+    let s = |x: &Option<String>| csv_cell(x.as_deref().unwrap_or_default()).into_owned();
     let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
     let c = &r.collisions;
     [
@@ -42,7 +45,7 @@ fn row(r: &RouteReport) -> [String; 26] {
         s(&r.town),
         s(&r.weather_id),
         s(&r.status),
-        r.state.to_string(),
+        csv_cell(&r.state.to_string()).into_owned(),
         o(r.score_route),
         o(r.score_penalty),
         o(r.score_composed),

@@ -23,6 +23,15 @@ use monitor_host::{demo, route_frames, score_run_with, Inputs, Settings};
 use args::{Cli, Command, Format, GroupArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
+/// Prints one message line on standard error, escaped: it may hold strings from the inputs
+/// (route ids, paths, reasons), which must not reach the terminal raw
+/// ([`monitor_host::report::escape::printable`]).
+macro_rules! say {
+    ($($t:tt)*) => {
+        eprintln!("{}", monitor_host::report::escape::printable(&format!($($t)*)))
+    };
+}
+
 /// Exit code: the report was written, but some route has a problem.
 const EXIT_ROUTE_PROBLEMS: i32 = 3;
 
@@ -31,7 +40,7 @@ fn main() {
     let code = match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("sds: error: {e:#}");
+            say!("sds: error: {e:#}");
             1
         }
     };
@@ -63,7 +72,7 @@ fn run(cli: Cli) -> Result<i32> {
             } else {
                 demo::write(&dir)?
             };
-            eprintln!(
+            say!(
                 "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
                 run.route_ids.len(),
                 dir.display(),
@@ -104,7 +113,7 @@ fn run(cli: Cli) -> Result<i32> {
             };
             let run = route_frames(&inputs, &route_id, &Settings::default())?;
             for w in &run.warnings {
-                eprintln!("sds: warning: {route_id}: {w}");
+                say!("sds: warning: {route_id}: {w}");
             }
             let mut out = Vec::new();
             let mut buf = [0u8; 512];
@@ -147,12 +156,12 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let report = report?;
 
     for w in &report.warnings {
-        eprintln!("sds: warning: {w}");
+        say!("sds: warning: {w}");
     }
     for r in &report.routes {
         for w in &r.warnings {
             let id = r.route_id.as_deref().unwrap_or("<no route_id>");
-            eprintln!("sds: warning: {id}: {w}");
+            say!("sds: warning: {id}: {w}");
         }
     }
     let mut inputs_read = report.files_read.clone();
@@ -183,10 +192,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         return Ok(0);
     }
     if report.routes.is_empty() {
-        eprintln!("sds: no route found in the results: nothing was scored");
+        say!("sds: no route found in the results: nothing was scored");
     }
     for r in report.problem_routes() {
-        eprintln!(
+        say!(
             "sds: {} ({}): {}",
             r.route_id.as_deref().unwrap_or("<no route_id>"),
             r.source,
@@ -195,14 +204,15 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     }
     let s = &report.summary;
     if !s.batch_disagreements.is_empty() {
-        eprintln!(
+        say!(
             "sds: streaming and batch disagree on {:?} (please report this bug)",
             s.batch_disagreements
         );
     }
-    eprintln!(
+    say!(
         "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
-        s.telemetry_problems, s.invalid_records
+        s.telemetry_problems,
+        s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
 }

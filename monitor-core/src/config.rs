@@ -190,6 +190,9 @@ impl Config {
     /// ```
     pub const fn validate(&self, capacity: usize) -> Result<(), ConfigError> {
         let c = self;
+        if capacity > crate::MAX_CAPACITY {
+            return Err(ConfigError::Capacity);
+        }
         if !(c.dt >= Config::DT_MIN && c.dt <= Config::DT_MAX) {
             return Err(ConfigError::Dt);
         }

@@ -61,6 +61,9 @@ pub enum ConfigError {
     MinChunk,
     /// `chunk_len` must lie in `min_chunk ..= capacity`.
     ChunkLen,
+    /// The monitor's capacity `N` is over [`crate::MAX_CAPACITY`] (its chunk-end stack would be
+    /// unbounded).
+    Capacity,
     /// `decel_window` must be at most the capacity.
     DecelWindow,
     /// Bounds must be finite, positive, and `lon_acc_min < lon_acc_max`.
@@ -112,6 +115,7 @@ impl core::fmt::Display for ConfigError {
             ConfigError::LegacySpacing => "legacy_jerk_spacing must be finite and positive",
             ConfigError::MinChunk => "min_chunk must be at least the filter window (7)",
             ConfigError::ChunkLen => "chunk_len must lie in min_chunk..=capacity",
+            ConfigError::Capacity => "the monitor capacity must be at most 1024 frames",
             ConfigError::DecelWindow => "decel_window must be at most the capacity",
             ConfigError::Bounds => "bounds must be finite and positive, lon_acc_min < lon_acc_max",
             ConfigError::Slack => "slack must be finite and not negative",

@@ -113,6 +113,23 @@ def main():
     for f in frames:
         put("decode_frame", f)
 
+    # --- labels: JSON objects and CSV / TSV lines, duplicates included.
+    put("labels", '{"ParkingExit": "Merging", "Accident": "Emergency braking"}')
+    put("labels", '{"7": "ClearNoon", "7": "WetNoon"}')
+    put("labels", "# type,family\nAccident, obstacles\n\"Hazard\",\"obstacles, static\"\n")
+    put("labels", "1\tClear\n2\tRain\n1\tSun\n")
+    put("labels", "=cmd|' /C calc'!A0,\u001b[2Kx\n")
+
+    # --- settings: NAME=VALUE lines as --set takes them.
+    put("settings", "slack=0.9\nbounds.yaw_rate=1.0\ngap_max=6\n")
+    put("settings", "dt=1e-45\ngap_max=-1\nalign_tie=NaN\nchunk_len=65535\n")
+    put("settings", "profile=b2d-legacy\nfactors.layout=0\nnope=1\nlookahead\n")
+
+    # --- json_keys: nested objects, duplicates at each depth.
+    put("json_keys", '{"_checkpoint": {"records": [{"route_id": "a", "route_id": "b"}]}}')
+    put("json_keys", '{"a": 1, "\\u0061": 2}')
+    put("json_keys", "[" * 200 + "]" * 200)
+
 
 if __name__ == "__main__":
     main()

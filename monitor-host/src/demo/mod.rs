@@ -236,7 +236,7 @@ pub fn write(dir: &Path) -> Result<DemoRun> {
     write_scripts(dir, &scripts(), Layout::Demo)
 }
 
-/// The files of an earlier run in `dir` that [`write`] or [`write_large`] would overwrite
+/// The files of an earlier run in `dir` that [`write()`] or [`write_large`] would overwrite
 /// (`results.json`, `routes.xml`, `telemetry`), so that a front end can refuse to destroy a run.
 ///
 /// ```

@@ -205,6 +205,19 @@ fn a_fifo_input_never_blocks() {
     let text = serde_json::to_string(&report).unwrap();
     assert!(text.contains("a FIFO, not a regular file"), "{text}");
     let _ = d.dir;
+
+    // An OpenDRIVE map that is a FIFO (the library's map reader goes through the same guard).
+    let (tx, rx) = std::sync::mpsc::channel();
+    let map_fifo = tmp.path().join("Town01.xodr");
+    mkfifo(&map_fifo);
+    std::thread::spawn(move || {
+        let _ = tx.send(monitor_host::geometry::map::Map::load(&map_fifo).map(|_| ()));
+    });
+    let e = rx
+        .recv_timeout(Duration::from_secs(20))
+        .expect("Map::load hung on a FIFO")
+        .unwrap_err();
+    assert!(e.to_string().contains("a FIFO, not a regular file"), "{e}");
 }
 
 #[test]

@@ -97,8 +97,10 @@ pub fn score_run_with(
     settings.validate()?;
     let mut records = Vec::new();
     let mut warnings = Vec::new();
+    let mut files_read = Vec::new();
     for path in &inputs.results {
         let set = read_results(path)?;
+        files_read.extend(set.files_read);
         warnings.extend(set.warnings);
         records.extend(set.records);
         // A results file that cannot be read still appears, as an invalid entry: its routes
@@ -147,7 +149,7 @@ pub fn score_run_with(
             .collect()
     });
     let mut report = build(&outcomes, settings, warnings);
-    let mut files: Vec<PathBuf> = records.iter().map(|r| r.source.clone()).collect();
+    let mut files = files_read;
     files.extend(inputs.route_xml.iter().cloned());
     files.append(&mut report.files_read);
     files.sort();
@@ -181,10 +183,12 @@ pub fn route_frames(
 ) -> Result<RouteFrames, Error> {
     settings.validate()?;
     let mut records = Vec::new();
+    let mut files_read = Vec::new();
     for path in &inputs.results {
-        records.extend(read_results(path)?.records);
+        let set = read_results(path)?;
+        records.extend(set.records);
+        files_read.extend(set.files_read);
     }
-    let mut files_read: Vec<PathBuf> = records.iter().map(|r| r.source.clone()).collect();
     files_read.extend(inputs.route_xml.iter().cloned());
     let routes = inputs
         .route_xml

@@ -427,6 +427,35 @@ fn output_never_writes_over_an_input() {
         assert_eq!(code(&o), 1, "{}", stderr(&o));
         assert!(stderr(&o).contains("is one of the run's inputs"));
     }
+    // A results file without records (a crashed run) in a --results folder is an input too.
+    let folder = tmp.path().join("results-folder");
+    fs::create_dir(&folder).unwrap();
+    fs::copy(&d.results, folder.join("run.json")).unwrap();
+    let crashed = folder.join("crashed.json");
+    fs::write(
+        &crashed,
+        r#"{"_checkpoint": {"records": []}, "entry_status": "Crashed"}"#,
+    )
+    .unwrap();
+    let o = run_bounded(
+        &[
+            &"score",
+            &"--results",
+            &folder,
+            &"--telemetry",
+            &d.telemetry,
+            &"-o",
+            &crashed,
+        ],
+        60,
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is one of the run's inputs"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(fs::read_to_string(&crashed).unwrap().contains("Crashed"));
     let after: Vec<Vec<u8>> = [&d.results, &d.routes, &mi, &families]
         .iter()
         .map(|p| fs::read(p).unwrap())

@@ -68,6 +68,9 @@ pub struct ResultSet {
     pub merged_totals: Vec<MergedTotals>,
     /// Files in a directory that looked like results but could not be read, with the reason.
     pub broken_files: Vec<(PathBuf, String)>,
+    /// Every file read as a candidate results file (with records or not, skipped or not), so
+    /// that a front end never writes over one of them.
+    pub files_read: Vec<PathBuf>,
 }
 
 impl ResultSet {
@@ -148,6 +151,7 @@ pub fn read_results(path: &Path) -> Result<ResultSet, ResultsError> {
             Parsed::NotCheckpoint(e) | Parsed::Broken(e) => return Err(e),
         };
         add_file(&mut set, path, file, true);
+        set.files_read.push(path.to_path_buf());
     }
     warn_duplicates(&mut set);
     Ok(set)
@@ -368,6 +372,7 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
     let found = discovery::json_files(root, &mut set.warnings);
     set.broken_files.extend(found.broken);
     let files = found.files;
+    set.files_read.extend(files.iter().cloned());
 
     let mut raw = Vec::new();
     let mut merged = Vec::new();

@@ -1,18 +1,22 @@
-//! The CSV rendering: one line per route. The `csv` crate quotes what needs quoting (`"`, `,`,
-//! CR, LF); string cells from the inputs are neutralised against formula injection
+//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting: `"`, `,`,
+//! CR, LF). Numbers are printed as the JSON report prints them (`100.0`, `0.39`); `source` is
+//! `file#index`. String cells from the inputs are neutralised against formula injection
 //! ([`crate::report::escape::csv_cell`]); numbers are written as numbers.
 
 use crate::report::escape::csv_cell;
 use crate::report::model::{Report, RouteReport};
 
 /// The header line's columns.
-pub const COLUMNS: [&str; 26] = [
+pub const COLUMNS: [&str; 30] = [
     "route_id",
     "scenario_type",
     "town",
     "weather_id",
     "status",
     "state",
+    "success",
+    "source",
+    "dt",
     "score_route",
     "score_penalty",
     "score_composed",
@@ -33,11 +37,18 @@ pub const COLUMNS: [&str; 26] = [
     "comfort",
     "p_safe",
     "ds_safe",
+    "reason",
 ];
 
-fn row(r: &RouteReport) -> [String; 26] {
+/// A float as JSON prints it (`100.0`, `0.05`); empty when absent.
+fn num(x: Option<f64>) -> String {
+    x.and_then(|v| serde_json::to_string(&v).ok())
+        .unwrap_or_default()
+}
+
+fn row(r: &RouteReport) -> [String; 30] {
     let s = |x: &Option<String>| csv_cell(x.as_deref().unwrap_or_default()).into_owned();
-    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let o = num;
     let c = &r.collisions;
     [
         s(&r.route_id),
@@ -45,7 +56,12 @@ fn row(r: &RouteReport) -> [String; 26] {
         s(&r.town),
         s(&r.weather_id),
         s(&r.status),
-        csv_cell(&r.state.to_string()).into_owned(),
+        r.state.name().to_string(),
+        r.success.to_string(),
+        r.source.as_ref().map_or_else(String::new, |x| {
+            csv_cell(&format!("{}#{}", x.file.display(), x.index)).into_owned()
+        }),
+        o(r.dt),
         o(r.score_route),
         o(r.score_penalty),
         o(r.score_composed),
@@ -66,6 +82,7 @@ fn row(r: &RouteReport) -> [String; 26] {
         o(r.comfort.score),
         o(r.p_safe),
         o(r.ds_safe),
+        s(&r.reason),
     ]
 }
 

@@ -38,6 +38,18 @@ pub fn printable(s: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// [`printable`] for a message of several lines: each line escaped, the line breaks kept (a
+/// message the tool writes over several lines stays readable; CR, ESC and every other control
+/// character are still escaped, so no line can be erased or rewritten).
+///
+/// ```
+/// use monitor_host::report::escape::printable_lines;
+/// assert_eq!(printable_lines("a\u{1b}[2K\nb\r"), "a\\u{1b}[2K\nb\\r");
+/// ```
+pub fn printable_lines(s: &str) -> String {
+    s.split('\n').map(printable).collect::<Vec<_>>().join("\n")
+}
+
 /// A string cell of a CSV rendering, neutralised against formula injection (see the module
 /// docs).
 pub fn csv_cell(s: &str) -> Cow<'_, str> {

@@ -33,7 +33,7 @@ use output::write_output;
 /// ([`monitor_host::report::escape::printable`]).
 macro_rules! say {
     ($($t:tt)*) => {
-        eprintln!("{}", monitor_host::report::escape::printable(&format!($($t)*)))
+        eprintln!("{}", monitor_host::report::escape::printable_lines(&format!($($t)*)))
     };
 }
 

@@ -729,9 +729,9 @@ fn duplicate_keys_are_refused_naming_the_key() {
     }
     // Label files too.
     fs::write(&d.results, &text).unwrap();
-    for (name, body) in [("f.json", "{\"A\": \"x\", \"A\": \"y\"}")] {
-        let f = tmp.path().join(name);
-        fs::write(&f, body).unwrap();
+    {
+        let f = tmp.path().join("f.json");
+        fs::write(&f, "{\"A\": \"x\", \"A\": \"y\"}").unwrap();
         let (o, _) = score_json(
             &d,
             &[
@@ -941,7 +941,7 @@ fn a_save_name_pointing_at_another_route_is_detected() {
     assert_eq!(code(&o), 3, "{}", stderr(&o));
     let report = report.unwrap();
     let r = route_with_source(&report, "RouteScenario_900001_rep0");
-    let state = state_of(&r);
+    let state = state_of(r);
     assert!(
         state.starts_with("invalid")
             && state.contains(&format!("save_name {other:?} names the telemetry of route RouteScenario_900002_rep0, not of this record's RouteScenario_900001_rep0")),

@@ -126,7 +126,7 @@ pub struct ScoreArgs {
     /// Names are those of the report's `config` block.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
 }
@@ -152,6 +152,9 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
+        /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
+        #[arg(long)]
+        force: bool,
     },
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
     Frames {

@@ -618,11 +618,11 @@ fn jobs_are_bounded_by_the_work() {
         "{}",
         stderr(&o)
     );
-    // 8 routes: 8 threads, not 100,000 (which aborted with a panic message).
+    // 9 routes: 9 threads, not 100,000 (which aborted with a panic message).
     let (o, report) = score_json(&d, &[&"--jobs", &"100000"]);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     assert!(!stderr(&o).contains("panicked"));
-    assert_eq!(report.unwrap()["routes"].as_array().unwrap().len(), 8);
+    assert_eq!(report.unwrap()["routes"].as_array().unwrap().len(), 9);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1045,7 +1045,7 @@ fn csv_cells_are_quoted_and_neutralised() {
     let header = r.headers().unwrap().clone();
     let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
     // Every row is whole: CR and LF inside a cell did not split it.
-    assert_eq!(rows.len(), 8);
+    assert_eq!(rows.len(), 9);
     assert!(rows.iter().all(|row| row.len() == header.len()));
     let col = |name: &str| header.iter().position(|h| h == name).unwrap();
     assert_eq!(

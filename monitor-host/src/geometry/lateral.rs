@@ -392,10 +392,10 @@ mod tests {
         locs.iter()
             .map(|&p| {
                 let limit = cum[m + 1] + lookahead;
-                let (mut best, mut best_d) = (m, probe.dist_to_segment(m, p));
+                let (mut best, mut best_d) = (m, probe.dist_to_segment(m, p).0);
                 let mut j = m + 1;
                 while j < nseg && cum[j] <= limit {
-                    let d = probe.dist_to_segment(j, p);
+                    let d = probe.dist_to_segment(j, p).0;
                     if d < best_d {
                         (best, best_d) = (j, d);
                     }

@@ -156,6 +156,7 @@ pub struct RouteTelemetry {
 /// `warnings`.
 ///
 /// Every file located (read or not) is pushed to `files`.
+#[allow(clippy::too_many_arguments)] // the route XML and the town map are the route's reference
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,

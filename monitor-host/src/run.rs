@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use rayon::prelude::*;
 
 use crate::error::Error;
+use crate::geometry::junctions::TownMaps;
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::read_results;
 use crate::input::route_xml::read_route_xml;
@@ -23,8 +24,11 @@ pub struct Inputs {
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML (the lateral reference).
+    /// Bench2Drive route XML (the lateral reference, the route set and the abilities' scenario
+    /// types).
     pub route_xml: Option<PathBuf>,
+    /// Folder of the towns' OpenDRIVE maps (§1.4).
+    pub maps: Option<PathBuf>,
 }
 
 impl Inputs {
@@ -146,7 +150,8 @@ pub fn score_run_with(
             })
             .collect()
     });
-    Ok(build(&outcomes, settings, warnings))
+    let maps = TownMaps::new(inputs.maps.clone());
+    Ok(build(&outcomes, settings, warnings, routes.as_ref(), &maps))
 }
 
 /// The monitor's input frames of one route, as [`score_run`] would stream them, and the warnings

@@ -259,9 +259,25 @@ fn breakdown_by_family_uses_the_families_file() {
         .unwrap_or_else(|| panic!("no family row in\n{text}"));
     // 3 routes, DS = (37.5 + 50 + 60) / 3 = 49.1667, SR 0, collision rate 100.
     let cols: Vec<&str> = row.split_whitespace().collect();
-    assert_eq!(cols, ["collisions", "3", "49.17", "0.00", "100.00"]);
-    assert!(text.lines().any(|l| l.starts_with("DemoConeContact ")));
-    assert!(text.lines().any(|l| l.starts_with("DemoCruising ")));
+    assert_eq!(cols[..5], ["collisions", "3", "49.17", "0.00", "100.00"]);
+    // The other four types have no label: one "(unmapped)" group, and a warning naming them.
+    let unmapped = text
+        .lines()
+        .find(|l| l.starts_with("(unmapped) "))
+        .unwrap_or_else(|| panic!("no (unmapped) row in\n{text}"));
+    assert_eq!(unmapped.split_whitespace().nth(1), Some("4"));
+    assert!(!text.lines().any(|l| l.starts_with("DemoCruising ")));
+    let combined = text.lines().find(|l| l.starts_with("Combined ")).unwrap();
+    assert_eq!(combined.split_whitespace().nth(1), Some("7"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--group-by family: 4 route(s)") && stderr.contains("DemoCruising"),
+        "{stderr}"
+    );
+    // Without its label map, grouping by family is a usage error.
+    let out = run_score(dir.path(), &["--format", "table", "--group-by", "family"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--families"));
 }
 
 #[test]

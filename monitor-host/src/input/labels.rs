@@ -1,14 +1,17 @@
-//! Label maps for the breakdown table (`SDS-SPEC.md` v1.2 §8.3): scenario type → family, or
-//! weather id → label. A JSON object (`{"7": "ClearNoon"}`), or CSV / TSV lines `key,label`
-//! (`#` starts a comment line; cells are trimmed; quoted cells may hold commas).
+//! Label maps for the breakdown (`SDS-SPEC.md` v1.2 §8.3): scenario type → family, or weather
+//! id → label. A key may have several labels (the route then counts in each group). A JSON
+//! object (`{"7": "ClearNoon", "Accident": ["obstacle", "overtaking"]}`), or CSV / TSV lines
+//! `key,label` (`#` starts a comment line; cells are trimmed; quoted cells may hold commas; a key
+//! on several lines gets every label).
 //!
 //! ```
 //! use monitor_host::input::labels::parse_labels;
-//! let m = parse_labels("# type,family\nAccident, obstacles\n\"Hazard\",\"obstacles, static\"\n", "f.csv")?;
-//! assert_eq!(m["Accident"], "obstacles");
-//! assert_eq!(m["Hazard"], "obstacles, static");
-//! let m = parse_labels(r#"{"7": "ClearNoon", "8": 3}"#, "w.json")?;
-//! assert_eq!((m["7"].as_str(), m["8"].as_str()), ("ClearNoon", "3"));
+//! let m = parse_labels("# type,family\nAccident, obstacles\n\"Hazard\",\"obstacles, static\"\nAccident,overtaking\n", "f.csv")?;
+//! assert_eq!(m["Accident"], ["obstacles", "overtaking"]);
+//! assert_eq!(m["Hazard"], ["obstacles, static"]);
+//! let m = parse_labels(r#"{"7": "ClearNoon", "8": 3, "9": ["Wet", "Night"]}"#, "w.json")?;
+//! assert_eq!((m["7"][0].as_str(), m["8"][0].as_str()), ("ClearNoon", "3"));
+//! assert_eq!(m["9"], ["Wet", "Night"]);
 //! # Ok::<(), monitor_host::input::labels::LabelsError>(())
 //! ```
 
@@ -70,11 +73,15 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
                 file: file.into(),
                 message: e.to_string(),
             })?;
+        let text = |v: &serde_json::Value| v.as_str().map_or_else(|| v.to_string(), str::to_string);
         return Ok(map
             .into_iter()
             .map(|(k, v)| {
-                let label = v.as_str().map_or_else(|| v.to_string(), str::to_string);
-                (k, label)
+                let labels = match &v {
+                    serde_json::Value::Array(items) => items.iter().map(text).collect(),
+                    other => vec![text(other)],
+                };
+                (k, labels)
             })
             .collect());
     }
@@ -108,10 +115,9 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
         };
         // An unquoted label may itself hold the delimiter: keep the rest of the line.
         let label: Vec<&str> = record.iter().skip(1).collect();
-        map.insert(
-            key.to_string(),
-            label.join(if delimiter == b'\t' { "\t" } else { "," }),
-        );
+        map.entry(key.to_string())
+            .or_default()
+            .push(label.join(if delimiter == b'\t' { "\t" } else { "," }));
     }
     Ok(map)
 }

@@ -4,9 +4,11 @@
 //! |---|---|
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
-//! | table (Table 1 row, Table 2-style breakdown) | [`table`] |
+//! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
+//! | a table's text, Markdown and LaTeX renderings | [`grid`] |
 
 pub mod csv;
+pub mod grid;
 pub mod json;
 pub mod model;
 pub mod table;

@@ -7,7 +7,14 @@
 
 use serde::Serialize;
 
+use crate::aggregate::ability::{missing_routes, route_ability, RouteAbility};
+use crate::aggregate::aggregates::{Aggregates, Counts};
+use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
+use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
+use crate::geometry::junctions::TownMaps;
+use crate::input::record::MIN_SPEED_LIST;
+use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -100,6 +107,15 @@ pub struct RouteReport {
     pub lateral: LateralReport,
     /// Comfort.
     pub comfort: ComfortReport,
+    /// `C_route` under the `b2d-legacy` profile, whatever the run's profile (Bench2Drive's
+    /// per-route smoothness, §8.2); null when undefined.
+    pub smoothness: Option<f64>,
+    /// Entries per infraction list: the 12 known lists, then any unknown one (§10.1).
+    pub infractions: Counts<usize>,
+    /// Bench2Drive's efficiency of the route (§8.2); null when it has none.
+    pub efficiency: Option<f64>,
+    /// The abilities the route counts in (§8.2); null when the route has no route XML entry.
+    pub ability: Option<RouteAbility>,
     /// `p_safe`; null when not scored.
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
@@ -134,6 +150,9 @@ pub struct Report {
     pub routes: Vec<RouteReport>,
     /// Aggregates.
     pub summary: Summary,
+    /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub groups: Option<Groups>,
     /// Warnings met while reading (duplicates, skipped files, crashed runs...).
     pub warnings: Vec<Warning>,
 }
@@ -182,6 +201,17 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             score: s.comfort_score(),
             failed: s.comfort.failed,
         }),
+        smoothness: o.legacy_comfort.and_then(|c| {
+            (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))
+        }),
+        infractions: Counts(rec.map_or_else(Vec::new, |r| {
+            r.infractions
+                .all()
+                .map(|(n, l)| (n.to_string(), l.len()))
+                .collect()
+        })),
+        efficiency: rec.and_then(|r| route_efficiency(r.infractions.list(MIN_SPEED_LIST))),
+        ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
         telemetry: o.telemetry.clone(),
@@ -197,19 +227,60 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
     }
 }
 
-/// Builds the report from the outcomes (in input order), the settings and the run's warnings.
-pub fn build(outcomes: &[RouteOutcome], settings: &Settings, warnings: Vec<Warning>) -> Report {
+/// Builds the report from the outcomes (in input order), the settings, the run's warnings, the
+/// route XML (the abilities' scenario types and route set, §8.2) and the towns' maps (the
+/// junction credit).
+pub fn build(
+    outcomes: &[RouteOutcome],
+    settings: &Settings,
+    warnings: Vec<Warning>,
+    route_set: Option<&RouteSet>,
+    maps: &TownMaps,
+) -> Report {
+    let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
+    if let Some(set) = route_set {
+        for (r, o) in routes.iter_mut().zip(outcomes) {
+            let Some(rec) = o.record() else { continue };
+            let Some(xml) = rec.xml_id().and_then(|id| set.get(id)) else {
+                continue;
+            };
+            let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
+            let town = rec.town_name.as_deref().unwrap_or(&xml.town);
+            r.ability = Some(route_ability(rec, scenario, || {
+                maps.junction_samples(xml, town, settings.gap_max)
+            }));
+        }
+    }
+    let mut summary = summarize(outcomes, settings.expected_routes);
+    let counted: Vec<&RouteReport> = routes.iter().collect();
+    let all = Aggregates::over(&counted, summary.routes);
+    let missing = route_set.map_or_else(Vec::new, |set| {
+        missing_routes(set, routes.iter().filter_map(|r| r.route_id.as_deref()))
+    });
+    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, missing));
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),
         config: settings.clone(),
-        routes: outcomes.iter().map(route_report).collect(),
-        summary: summarize(outcomes, settings.expected_routes),
+        routes,
+        summary,
+        groups: None,
         warnings,
     }
 }
 
 impl Report {
+    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings.
+    ///
+    /// # Errors
+    /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.
+    pub fn group(&mut self, by: GroupBy, labels: Option<&Labels>) -> Result<(), NeedsLabels> {
+        let (g, warnings) = groups(&self.routes, self.summary.routes, by, labels)?;
+        self.warnings.extend(warnings);
+        self.groups = Some(g);
+        Ok(())
+    }
+
     /// The routes that make the run's exit status fail, with their state: every route not
     /// scored, except a valid record without usable telemetry when
     /// `allow_missing_telemetry` is set.

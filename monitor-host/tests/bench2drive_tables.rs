@@ -104,7 +104,12 @@ fn score_json(extra: &[&str]) -> Value {
     let mut args = vec!["score", "--allow-missing-telemetry", "--format", "json"];
     args.extend_from_slice(extra);
     let out = sds(&args);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     json_of(&out)
 }
 
@@ -117,7 +122,14 @@ fn abilities_reproduce_bench2drive_for_tfpp() {
     let maps = fx.join("maps");
     let theirs = read(&b2d.join("tfpp_raw_shards/merged_ability.json"));
 
-    let r = score_json(&["--results", s(&results), "--routes", s(&xml), "--maps", s(&maps)]);
+    let r = score_json(&[
+        "--results",
+        s(&results),
+        "--routes",
+        s(&xml),
+        "--maps",
+        s(&maps),
+    ]);
     let b = &r["summary"]["bench2drive"];
     // The four abilities without a junction credit: identical to Bench2Drive's output.
     for (name, k, n) in [
@@ -148,7 +160,9 @@ fn abilities_reproduce_bench2drive_for_tfpp() {
         .as_array()
         .unwrap()
         .iter()
-        .filter(|rec| TRAFFIC_SIGNS.contains(&routes[xml_id(rec["route_id"].as_str().unwrap())].1.as_str()))
+        .filter(|rec| {
+            TRAFFIC_SIGNS.contains(&routes[xml_id(rec["route_id"].as_str().unwrap())].1.as_str())
+        })
         .collect();
     assert_eq!(ts.len(), 95);
     let failed: Vec<&&Value> = ts.iter().filter(|rec| !success(rec)).collect();
@@ -167,8 +181,14 @@ fn abilities_reproduce_bench2drive_for_tfpp() {
     // Undecided: the failures in towns without a map whose credit is not already ruled out by
     // a red light or a stop sign; every one is named with its town.
     let eligible = |rec: &Value| {
-        rec["infractions"]["red_light"].as_array().unwrap().is_empty()
-            && rec["infractions"]["stop_infraction"].as_array().unwrap().is_empty()
+        rec["infractions"]["red_light"]
+            .as_array()
+            .unwrap()
+            .is_empty()
+            && rec["infractions"]["stop_infraction"]
+                .as_array()
+                .unwrap()
+                .is_empty()
     };
     let mut expected: Vec<&str> = unmapped
         .iter()
@@ -199,7 +219,10 @@ fn abilities_reproduce_bench2drive_for_tfpp() {
     ]);
     let text = String::from_utf8(text.stdout).unwrap();
     assert!(
-        text.contains(&format!("Traffic_Signs: {} failed route(s) whose junction credit is undecided", expected.len())),
+        text.contains(&format!(
+            "Traffic_Signs: {} failed route(s) whose junction credit is undecided",
+            expected.len()
+        )),
         "{text}"
     );
     assert!(text.contains("Overtaking 26/45, Merging 47/80, Emergency_Brake 50/60, Give_Way 4/10"));
@@ -242,14 +265,18 @@ fn efficiency_reproduces_bench2drive_for_pdm_lite() {
     ]);
     let b = &r["summary"]["bench2drive"];
     assert_eq!(b["efficiency"].as_f64(), Some(250.03924965239113));
-    assert_eq!(theirs["Driving Efficiency"].as_f64(), Some(250.03924965239113));
+    assert_eq!(
+        theirs["Driving Efficiency"].as_f64(),
+        Some(250.03924965239113)
+    );
     // Abilities without a junction credit are Bench2Drive's too.
     for name in ["Overtaking", "Merging", "Emergency_Brake", "Give_Way"] {
         assert_eq!(b["ability"][name].as_f64(), theirs[name].as_f64(), "{name}");
     }
     // Per route: the mean of its percentages up to 1000, worked out here for route 4937,
     // which has an outlier above 1000.
-    let rec = read(&b2d.join("carla_garage_pdm_lite_b2d_traj_merged.json"))["_checkpoint"]["records"]
+    let rec = read(&b2d.join("carla_garage_pdm_lite_b2d_traj_merged.json"))["_checkpoint"]
+        ["records"]
         .as_array()
         .unwrap()
         .iter()
@@ -299,7 +326,10 @@ fn weather_table_of_a_real_run_matches_counts_from_the_json() {
     ];
     let mut expected: BTreeMap<String, (usize, [usize; 5])> = BTreeMap::new();
     for rec in read(&results)["_checkpoint"]["records"].as_array().unwrap() {
-        let w = rec["weather_id"].as_str().map(str::to_string).unwrap_or_else(|| rec["weather_id"].to_string());
+        let w = rec["weather_id"]
+            .as_str()
+            .map(str::to_string)
+            .unwrap_or_else(|| rec["weather_id"].to_string());
         let e = expected.entry(w).or_default();
         e.0 += 1;
         for (i, l) in lists.iter().enumerate() {
@@ -329,7 +359,11 @@ fn weather_table_of_a_real_run_matches_counts_from_the_json() {
             .find(|l| l.split_whitespace().next() == Some(w.as_str()))
             .unwrap_or_else(|| panic!("no row for weather {w} in\n{table3}"));
         let want: Vec<String> = ks.iter().map(|k| cell(*k, *n)).collect();
-        let got: Vec<&str> = line.split("  ").map(str::trim).filter(|c| !c.is_empty()).collect();
+        let got: Vec<&str> = line
+            .split("  ")
+            .map(str::trim)
+            .filter(|c| !c.is_empty())
+            .collect();
         assert_eq!(got[1], n.to_string(), "{line}");
         assert_eq!(got[2..], want[..], "weather {w}");
         total.0 += n;
@@ -353,7 +387,10 @@ fn weather_table_of_a_real_run_matches_counts_from_the_json() {
         }
     }
     assert_eq!(g["combined"]["routes"], 220);
-    assert_eq!(g["combined"]["driving_score"], r["summary"]["driving_score"]);
+    assert_eq!(
+        g["combined"]["driving_score"],
+        r["summary"]["driving_score"]
+    );
     for (format, needle) in [("markdown", "| "), ("latex", " & ")] {
         let out = sds(&[
             "score",
@@ -369,7 +406,8 @@ fn weather_table_of_a_real_run_matches_counts_from_the_json() {
         let (w, (n, ks)) = expected.iter().next().unwrap();
         let c = cell(ks[0], *n).replace('%', if format == "latex" { "\\%" } else { "%" });
         assert!(
-            text.lines().any(|l| l.contains(&c) && l.contains(needle) && l.contains(w.as_str())),
+            text.lines()
+                .any(|l| l.contains(&c) && l.contains(needle) && l.contains(w.as_str())),
             "{format}: no {c} for weather {w} in\n{text}"
         );
         if format == "latex" {
@@ -387,7 +425,9 @@ fn ds_of(file: &Path, keep: impl Fn(&str) -> bool) -> (f64, usize) {
         .iter()
         .filter(|r| keep(r["route_id"].as_str().unwrap()))
         .collect();
-    let sum = recs.iter().fold(0.0, |a, r| a + r["scores"]["score_composed"].as_f64().unwrap());
+    let sum = recs.iter().fold(0.0, |a, r| {
+        a + r["scores"]["score_composed"].as_f64().unwrap()
+    });
     (sum / recs.len() as f64, recs.len())
 }
 
@@ -408,7 +448,12 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
         &arg("m_2", &b),
         &arg("m_3", &c),
     ]);
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let cmp = json_of(&out);
     // Only the routes present in every run, and the report says which were left out.
     assert_eq!(cmp["scope"]["kind"], "common");
@@ -418,25 +463,38 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
         .unwrap()
         .iter()
         .map(|e| {
-            let mut v: Vec<String> = e["routes"].as_array().unwrap().iter().map(|x| x.as_str().unwrap().to_string()).collect();
+            let mut v: Vec<String> = e["routes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_str().unwrap().to_string())
+                .collect();
             v.sort();
             v
         })
         .collect();
-    let gone = vec!["RouteScenario_23670_rep0".to_string(), "RouteScenario_3800_rep0".to_string()];
+    let gone = vec![
+        "RouteScenario_23670_rep0".to_string(),
+        "RouteScenario_3800_rep0".to_string(),
+    ];
     assert_eq!(left, vec![gone.clone(), gone.clone(), vec![]]);
     // By hand: each run's DS over the 218 common routes, then mean and sample std.
     let keep = |id: &str| !gone.iter().any(|g| g == id);
-    let ds: Vec<f64> = [&a, &b, &c].iter().map(|f| ds_of(f, keep)).map(|(d, n)| {
-        assert_eq!(n, 218);
-        d
-    }).collect();
+    let ds: Vec<f64> = [&a, &b, &c]
+        .iter()
+        .map(|f| ds_of(f, keep))
+        .map(|(d, n)| {
+            assert_eq!(n, 218);
+            d
+        })
+        .collect();
     for (row, d) in cmp["runs"].as_array().unwrap().iter().zip(&ds) {
         assert!((row["driving_score"].as_f64().unwrap() - d).abs() < 1e-9);
         assert_eq!(row["model"], "m");
     }
     let mean = (ds[0] + ds[1] + ds[2]) / 3.0;
-    let std = (((ds[0] - mean).powi(2) + (ds[1] - mean).powi(2) + (ds[2] - mean).powi(2)) / 2.0).sqrt();
+    let std =
+        (((ds[0] - mean).powi(2) + (ds[1] - mean).powi(2) + (ds[2] - mean).powi(2)) / 2.0).sqrt();
     let m = &cmp["models"][0];
     assert_eq!(m["model"], "m");
     assert_eq!(m["runs"], serde_json::json!(["m_1", "m_2", "m_3"]));
@@ -472,5 +530,7 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
     assert_eq!(cmp["scope"]["kind"], "route_set");
     assert_eq!(cmp["runs"][1]["model"], "uniad");
     let (d, n) = ds_of(&c, |_| true);
-    assert!((cmp["runs"][1]["driving_score"].as_f64().unwrap() - d * n as f64 / 220.0).abs() < 1e-9);
+    assert!(
+        (cmp["runs"][1]["driving_score"].as_f64().unwrap() - d * n as f64 / 220.0).abs() < 1e-9
+    );
 }

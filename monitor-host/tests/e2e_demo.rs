@@ -317,3 +317,56 @@ fn infractions_json_gives_the_step_exactly() {
     assert_eq!(ev["step"], 96);
     assert_eq!(ev["frame"], 95);
 }
+
+#[test]
+fn smoothness_is_the_legacy_comfort_whatever_the_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    // The cruising route turns at a steady 30 deg/s: 0.52 rad/s is within the physical yaw-rate
+    // bound (0.95), but the legacy profile compares deg/s against it and fails every chunk.
+    let tel = std::fs::read_dir(dir.path().join("telemetry"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("RouteScenario_900001_")
+        })
+        .unwrap()
+        .join("metric_info.json");
+    let mut steps: Value = serde_json::from_slice(&std::fs::read(&tel).unwrap()).unwrap();
+    for (_, step) in steps.as_object_mut().unwrap() {
+        step["angular_velocity"][2] = Value::from(30.0);
+    }
+    std::fs::write(&tel, serde_json::to_vec(&steps).unwrap()).unwrap();
+    let (code, physical) = score_json(dir.path(), &[]);
+    assert_eq!(code, 0);
+    let cruise = route(&physical, "RouteScenario_900001_rep0");
+    assert_eq!(cruise["comfort"]["score"], 1.0);
+    assert_eq!(cruise["smoothness"], 0.0);
+    let (code, legacy) = score_json(dir.path(), &["--profile", "b2d-legacy"]);
+    assert_eq!(code, 0);
+    // Bench2Drive's smoothness is the legacy profile's mean comfort, whichever profile the
+    // report uses; per route it is the legacy C_route.
+    let b = &physical["summary"]["bench2drive"];
+    assert_eq!(b["smoothness"], legacy["summary"]["mean_comfort"]);
+    assert_eq!(
+        legacy["summary"]["bench2drive"]["smoothness"],
+        legacy["summary"]["mean_comfort"]
+    );
+    assert_ne!(
+        physical["summary"]["mean_comfort"], legacy["summary"]["mean_comfort"],
+        "the demo's two profiles differ, so the test can tell them apart"
+    );
+    for (p, l) in physical["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(legacy["routes"].as_array().unwrap())
+    {
+        assert_eq!(p["smoothness"], l["comfort"]["score"], "{}", p["route_id"]);
+        assert_eq!(p["batch_agrees"], true);
+    }
+}

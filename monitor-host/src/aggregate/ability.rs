@@ -215,7 +215,8 @@ pub fn route_ability(
     let names = abilities_of(scenario_type);
     let mut junction = None;
     let eligible = |r: &Record| {
-        r.infractions.list("stop_infraction").is_empty() && r.infractions.list("red_light").is_empty()
+        r.infractions.list("stop_infraction").is_empty()
+            && r.infractions.list("red_light").is_empty()
     };
     if !success && names.contains(&TRAFFIC_SIGNS) && eligible(record) {
         let score = record.score_route / 100.0;
@@ -266,7 +267,10 @@ pub fn route_ability(
 /// assert_eq!(missing_routes(&set, ["RouteScenario_1_rep3"]), vec!["RouteScenario_2_rep0"]);
 /// # Ok::<(), monitor_host::input::route_xml::RouteError>(())
 /// ```
-pub fn missing_routes<'a>(set: &RouteSet, route_ids: impl IntoIterator<Item = &'a str>) -> Vec<String> {
+pub fn missing_routes<'a>(
+    set: &RouteSet,
+    route_ids: impl IntoIterator<Item = &'a str>,
+) -> Vec<String> {
     let found: std::collections::HashSet<&str> = route_ids
         .into_iter()
         .filter_map(|id| {
@@ -334,7 +338,9 @@ mod tests {
         let a = route_ability(&at, "T_Junction", || Ok(vec![false; 5]));
         assert!(a.undecided());
         // Merging and Traffic_Signs: the credit only counts for Traffic_Signs.
-        let a = route_ability(&failed, "EnterActorFlow", || Ok((0..100).map(|i| i == 0).collect()));
+        let a = route_ability(&failed, "EnterActorFlow", || {
+            Ok((0..100).map(|i| i == 0).collect())
+        });
         assert!(!a.get("Merging").unwrap().success && a.get(TRAFFIC_SIGNS).unwrap().success);
     }
 }

@@ -130,7 +130,8 @@ impl Aggregates {
     /// exceeds `routes.len()` when routes are expected but absent (they count as 0 / failed).
     pub fn over(routes: &[&RouteReport], n: usize) -> Aggregates {
         let per = |total: f64| (n > 0).then(|| total / n as f64);
-        let (mut composed, mut ds_safe, mut comfort, mut eff, mut smooth) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut composed, mut ds_safe, mut comfort, mut eff, mut smooth) =
+            (0.0, 0.0, 0.0, 0.0, 0.0);
         let (mut successes, mut collided, mut comfort_n, mut eff_n, mut smooth_n) = (0, 0, 0, 0, 0);
         let mut all_safe = true;
         let mut has_ability = false;

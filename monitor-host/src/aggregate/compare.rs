@@ -212,7 +212,8 @@ pub fn compare(runs: &[NamedRun], route_set: bool) -> Comparison {
         let rows = runs
             .iter()
             .map(|r| {
-                let routes: Vec<&RouteReport> = counted(&r.report).filter(|x| is_common(x)).collect();
+                let routes: Vec<&RouteReport> =
+                    counted(&r.report).filter(|x| is_common(x)).collect();
                 Aggregates::over(&routes, routes.len())
             })
             .collect();

@@ -476,7 +476,12 @@ fn read_position(
             b"z" => {
                 // A height only helps choose a lane: an unreadable one is taken as 0.
                 let text = std::str::from_utf8(&a.value).unwrap_or("");
-                z = text.trim().parse::<f64>().ok().filter(|v| v.is_finite()).unwrap_or(0.0);
+                z = text
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .unwrap_or(0.0);
                 continue;
             }
             _ => continue,

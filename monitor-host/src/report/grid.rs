@@ -122,7 +122,12 @@ impl Grid {
 
     fn markdown(&self) -> String {
         let esc = |c: &String| c.replace('|', "\\|");
-        let line = |r: &Vec<String>| format!("| {} |\n", r.iter().map(esc).collect::<Vec<_>>().join(" | "));
+        let line = |r: &Vec<String>| {
+            format!(
+                "| {} |\n",
+                r.iter().map(esc).collect::<Vec<_>>().join(" | ")
+            )
+        };
         let mut out = format!("**{}**\n\n", self.title);
         out += &line(&self.header);
         let align: Vec<&str> = (0..self.header.len())
@@ -160,7 +165,12 @@ impl Grid {
             }
             s
         };
-        let line = |r: &Vec<String>| format!("{} \\\\\n", r.iter().map(esc).collect::<Vec<_>>().join(" & "));
+        let line = |r: &Vec<String>| {
+            format!(
+                "{} \\\\\n",
+                r.iter().map(esc).collect::<Vec<_>>().join(" & ")
+            )
+        };
         let spec: String = (0..self.header.len())
             .map(|i| if i == 0 { 'l' } else { 'r' })
             .collect();
@@ -207,7 +217,10 @@ mod tests {
         let mut g = Grid::new("50% & more", ["a|b", "c"]);
         g.row(["x_1", "1 ± 2"]);
         let md = g.render(Style::Markdown);
-        assert!(md.contains("| a\\|b | c |\n| :-- | --: |\n| x_1 | 1 ± 2 |"), "{md}");
+        assert!(
+            md.contains("| a\\|b | c |\n| :-- | --: |\n| x_1 | 1 ± 2 |"),
+            "{md}"
+        );
         let tex = g.render(Style::Latex);
         assert!(tex.starts_with("% 50\\% \\& more\n"), "{tex}");
         assert!(tex.contains("\\begin{tabular}{lr}"));

@@ -201,9 +201,9 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             score: s.comfort_score(),
             failed: s.comfort.failed,
         }),
-        smoothness: o.legacy_comfort.and_then(|c| {
-            (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))
-        }),
+        smoothness: o
+            .legacy_comfort
+            .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
         infractions: Counts(rec.map_or_else(Vec::new, |r| {
             r.infractions
                 .all()

@@ -149,7 +149,9 @@ pub fn table2(report: &Report) -> Option<Grid> {
     let groups = report.groups.as_ref()?;
     let mut g = Grid::new(
         &format!("Safe2Drive Table 2-style breakdown by {}", groups.by),
-        [groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS"],
+        [
+            groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS",
+        ],
     );
     for r in &groups.rows {
         g.rows.push(table2_cells(&r.label, &r.aggregates));
@@ -247,8 +249,17 @@ fn stat(s: &Stat, digits: usize, scale: f64) -> String {
 /// per model with mean ± sample std over its runs.
 pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     let header = [
-        "run", "routes", "DS", "SR(%)", "DS_safe", "Comfort", "SDS", "Coll.(%)", "Efficiency",
-        "Comfortness", "Ability(%)",
+        "run",
+        "routes",
+        "DS",
+        "SR(%)",
+        "DS_safe",
+        "Comfort",
+        "SDS",
+        "Coll.(%)",
+        "Efficiency",
+        "Comfortness",
+        "Ability(%)",
     ];
     let mut runs = Grid::new("Runs", header);
     for r in &c.runs {
@@ -268,9 +279,13 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         ]);
     }
     match &c.scope {
-        Scope::RouteSet => runs.note("every run over the route set (absent routes count as 0 / failed)"),
+        Scope::RouteSet => {
+            runs.note("every run over the route set (absent routes count as 0 / failed)")
+        }
         Scope::Common { routes, excluded } => {
-            runs.note(format!("compared on the {routes} route(s) present in every run"));
+            runs.note(format!(
+                "compared on the {routes} route(s) present in every run"
+            ));
             for e in excluded.iter().filter(|e| !e.routes.is_empty()) {
                 runs.note(format!("{}: {} route(s) left out", e.run, e.routes.len()));
             }

@@ -144,7 +144,10 @@ fn settings(
 /// Adds the breakdown the options ask for; the tables default to scenario types. `Ok(false)`
 /// for a usage error (already printed).
 fn add_groups(report: &mut Report, args: &ScoreArgs) -> Result<bool> {
-    let tables = matches!(args.format, Format::Table | Format::Markdown | Format::Latex);
+    let tables = matches!(
+        args.format,
+        Format::Table | Format::Markdown | Format::Latex
+    );
     let by = match (args.group_by, tables) {
         (Some(g), _) => g,
         (None, true) => GroupArg::Scenario,
@@ -302,7 +305,10 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
             eprintln!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
             return Ok(EXIT_USAGE);
         };
-        seeds.extend(runs.split(',').map(|r| (r.trim().to_string(), model.to_string())));
+        seeds.extend(
+            runs.split(',')
+                .map(|r| (r.trim().to_string(), model.to_string())),
+        );
     }
     let mut runs = Vec::new();
     let mut problems = false;
@@ -329,7 +335,10 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
                 report.problem_routes().count()
             );
         }
-        let model = seeds.iter().find(|(r, _)| *r == name).map(|(_, m)| m.clone());
+        let model = seeds
+            .iter()
+            .find(|(r, _)| *r == name)
+            .map(|(_, m)| m.clone());
         runs.push(NamedRun {
             name,
             model,

@@ -367,8 +367,8 @@ fn weather_table_of_a_real_run_matches_counts_from_the_json() {
         assert_eq!(got[1], n.to_string(), "{line}");
         assert_eq!(got[2..], want[..], "weather {w}");
         total.0 += n;
-        for i in 0..5 {
-            total.1[i] += ks[i];
+        for (t, k) in total.1.iter_mut().zip(ks) {
+            *t += k;
         }
     }
     let combined = table3.lines().find(|l| l.starts_with("Combined")).unwrap();

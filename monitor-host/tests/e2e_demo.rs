@@ -370,3 +370,76 @@ fn smoothness_is_the_legacy_comfort_whatever_the_profile() {
         assert_eq!(p["batch_agrees"], true);
     }
 }
+
+#[test]
+fn groups_in_the_json_and_csv_with_list_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    // Two collision types belong to two families each; DemoCruising to none listed.
+    let families = dir.path().join("families.json");
+    std::fs::write(
+        &families,
+        r#"{"DemoCrashNoBrake": ["collisions", "no-brake"], "DemoCrashBraking": ["collisions"],
+            "DemoStandingHit": ["collisions", "standing"], "DemoHardBraking": "dynamics",
+            "DemoLaneChange": "dynamics", "DemoConeContact": "workzone"}"#,
+    )
+    .unwrap();
+    let f = families.to_str().unwrap();
+    let (code, r) = score_json(dir.path(), &["--group-by", "family", "--families", f]);
+    assert_eq!(code, 0);
+    let g = &r["groups"];
+    assert_eq!(g["by"], "family");
+    let rows: Vec<(&str, u64)> = g["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| (x["label"].as_str().unwrap(), x["routes"].as_u64().unwrap()))
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("collisions", 3),
+            ("dynamics", 2),
+            ("no-brake", 1),
+            ("standing", 1),
+            ("workzone", 1),
+            ("(unmapped)", 1)
+        ]
+    );
+    // A group's aggregates are over its own routes: the crash with braking, the one without
+    // and the standing hit (DS 37.5, 50, 60 by the demo's scripts).
+    let coll = &g["rows"][0];
+    assert!(close(&coll["driving_score"], (37.5 + 50.0 + 60.0) / 3.0));
+    assert_eq!(coll["collision_rate"], 100.0);
+    assert_eq!(
+        coll["infraction_routes"]["collisions_vehicle"]
+            .as_u64()
+            .unwrap()
+            + coll["infraction_routes"]["collisions_pedestrian"]
+                .as_u64()
+                .unwrap(),
+        3
+    );
+    // combined: every route once, with the run's N, and the summary's numbers.
+    assert_eq!(g["combined"]["routes"], 7);
+    assert_eq!(
+        g["combined"]["driving_score"],
+        r["summary"]["driving_score"]
+    );
+    assert_eq!(g["combined"]["sds"], r["summary"]["sds"]);
+    let warnings = r["warnings"].as_array().unwrap();
+    assert!(warnings
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("DemoCruising")));
+    // CSV: a header, one line per group, and the combined line.
+    let out = run_score(
+        dir.path(),
+        &["--format", "csv", "--group-by", "family", "--families", f],
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1 + 6 + 1, "{text}");
+    assert!(lines[0].starts_with("by,label,routes,driving_score,"));
+    assert!(lines[1].starts_with("family,collisions,3,"));
+    assert!(lines[7].starts_with("family,combined,7,"));
+}

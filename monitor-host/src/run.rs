@@ -151,7 +151,11 @@ pub fn score_run_with(
             .collect()
     });
     let maps = TownMaps::new(inputs.maps.clone());
-    Ok(build(&outcomes, settings, warnings, routes.as_ref(), &maps))
+    let report = build(&outcomes, settings, warnings, routes.as_ref(), &maps);
+    match maps.into_broken() {
+        Some(e) => Err(e.into()),
+        None => Ok(report),
+    }
 }
 
 /// The monitor's input frames of one route, as [`score_run`] would stream them, and the warnings

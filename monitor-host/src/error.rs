@@ -1,6 +1,7 @@
 //! The error of a run: why [`crate::score_run`] produced no report at all. Problems of single
 //! routes are not errors: they are route states and warnings in the report.
 
+use crate::geometry::map::MapError;
 use crate::input::duplicates::DuplicatesError;
 use crate::input::results_file::ResultsError;
 use crate::input::route_xml::RouteError;
@@ -16,6 +17,9 @@ pub enum Error {
     /// The route XML could not be read.
     #[error(transparent)]
     RouteXml(#[from] RouteError),
+    /// A town's OpenDRIVE map was found but cannot be read (naming the file and element).
+    #[error(transparent)]
+    Map(#[from] MapError),
     /// The settings are invalid.
     #[error(transparent)]
     Settings(#[from] SettingsError),

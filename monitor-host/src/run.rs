@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use crate::aggregate::stored::check_inputs;
 use crate::error::Error;
+use crate::geometry::junctions::TownMaps;
 use crate::input::duplicates::{deduplicate, DuplicatePolicy};
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
@@ -27,9 +28,11 @@ pub struct Inputs {
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML: the lateral reference and the route set (missing and foreign
-    /// routes, N).
+    /// Bench2Drive route XML: the lateral reference, the route set (missing and foreign routes,
+    /// N) and the abilities' scenario types.
     pub route_xml: Option<PathBuf>,
+    /// Folder of the towns' OpenDRIVE maps (§1.4).
+    pub maps: Option<PathBuf>,
 }
 
 impl Inputs {
@@ -223,6 +226,7 @@ pub fn score_run_with(
             example,
         });
     }
+    let maps = TownMaps::new(inputs.maps.clone());
     let mut report = build(
         &outcomes,
         settings,
@@ -233,6 +237,8 @@ pub fn score_run_with(
             dropped: kept.dropped,
             warnings,
         },
+        routes.as_ref(),
+        &maps,
     );
     // Every input file, for front ends that must never write over one.
     let mut files = files_read;
@@ -241,7 +247,11 @@ pub fn score_run_with(
     files.sort();
     files.dedup();
     report.files_read = files;
-    Ok(report)
+    // A map found but unreadable is an error, never a silent fallback (§1.4).
+    match maps.into_broken() {
+        Some(e) => Err(e.into()),
+        None => Ok(report),
+    }
 }
 
 /// A telemetry root that does not exist is a mistyped path, not a run without telemetry.

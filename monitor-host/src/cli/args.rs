@@ -18,9 +18,14 @@ pub struct Cli {
 pub enum Format {
     /// The JSON report of spec section 10.
     Json,
-    /// The paper's Table 1 row and a Table 2-style breakdown.
+    /// The papers' tables as text: Bench2Drive's main table, Safe2Drive Table 1, Table 2-style
+    /// breakdown, and with `--group-by weather` the Table 3-style infraction table.
     Table,
-    /// One line per route.
+    /// The same tables in Markdown.
+    Markdown,
+    /// The same tables in LaTeX (booktabs).
+    Latex,
+    /// One line per route (with `--group-by`: one line per group, then `combined`).
     Csv,
 }
 
@@ -84,10 +89,14 @@ pub struct ScoreArgs {
     /// Telemetry root holding `<save_name>/metric_info.json`.
     #[arg(long)]
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML: the lateral reference and the route set (its routes without a
-    /// record are reported as missing and count as 0 / failed; N defaults to its size).
+    /// Bench2Drive route XML: the lateral reference, the route set (its routes without a
+    /// record are reported as missing and count as 0 / failed; N defaults to its size) and the
+    /// scenario types of the ability rates.
     #[arg(long)]
     pub routes: Option<PathBuf>,
+    /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
+    #[arg(long)]
+    pub maps: Option<PathBuf>,
     /// Comfort profile.
     #[arg(long, value_enum, default_value = "physical")]
     pub profile: ProfileArg,
@@ -108,9 +117,9 @@ pub struct ScoreArgs {
     /// Write the report here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// Group the table's breakdown by this.
-    #[arg(long, value_enum, default_value = "scenario")]
-    pub group_by: GroupArg,
+    /// Break the routes down by this (the report's `groups`; the tables default to scenario).
+    #[arg(long, value_enum)]
+    pub group_by: Option<GroupArg>,
     /// Scenario type -> family label(s): a JSON object whose values are a label or a list of
     /// labels, or CSV `type,label` lines.
     #[arg(long)]
@@ -119,6 +128,9 @@ pub struct ScoreArgs {
     /// `weather.xml` (labels from its preset names).
     #[arg(long)]
     pub weathers: Option<PathBuf>,
+    /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.
+    #[arg(long = "infraction", value_name = "LIST")]
+    pub infractions: Vec<String>,
     /// Override a setting, e.g. `--set slack=0.9 --set bounds.yaw_rate=1.0 --set gap_max=6`.
     /// Names are those of the report's `config` block.
     #[arg(long = "set", value_name = "NAME=VALUE")]
@@ -128,11 +140,53 @@ pub struct ScoreArgs {
     pub jobs: Option<usize>,
 }
 
+/// Arguments of `sds compare`.
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name). Each PATH is a results
+    /// file or folder; its telemetry is looked for in that folder.
+    #[arg(required = true, value_name = "RUN")]
+    pub runs: Vec<String>,
+    /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs not
+    /// named here are grouped by name without a seed suffix (`tfpp_1`, `tfpp_2` -> `tfpp`).
+    #[arg(long, value_name = "MODEL=RUNS")]
+    pub seeds: Vec<String>,
+    /// Route XML shared by every run (then each run is scored over the route set).
+    #[arg(long)]
+    pub routes: Option<PathBuf>,
+    /// Maps folder shared by every run.
+    #[arg(long)]
+    pub maps: Option<PathBuf>,
+    /// Comfort profile.
+    #[arg(long, value_enum, default_value = "physical")]
+    pub profile: ProfileArg,
+    /// Benchmark size N of every run (then each run is scored over N routes).
+    #[arg(long)]
+    pub expected_routes: Option<usize>,
+    /// Score routes without telemetry without telemetry terms.
+    #[arg(long)]
+    pub allow_missing_telemetry: bool,
+    /// Output format (`csv` is not available here).
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+    /// Write here (atomically) instead of standard output.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// Override a setting (as for `sds score`).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+}
+
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Score a run: every route through the streaming monitor, then the report.
     Score(ScoreArgs),
+    /// Compare several runs: one row per run, seeds of one model as mean ± std.
+    Compare(CompareArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.

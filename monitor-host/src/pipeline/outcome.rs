@@ -1,7 +1,7 @@
 //! What became of one route: its state, its collision events and its scores (`SDS-SPEC.md`
 //! v1.2 §10). Typed here; the report turns them into text.
 
-use monitor_core::{RouteSummary, SafeScore};
+use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
 
 use crate::aggregate::penalty::PenaltyCheck;
 use crate::input::collision::CollisionList;
@@ -162,6 +162,9 @@ pub struct RouteOutcome {
     pub summary: Option<RouteSummary>,
     /// DS_safe; `None` when the route could not be scored.
     pub safe: Option<SafeScore>,
+    /// Comfort under the `b2d-legacy` profile, whatever the run's profile: Bench2Drive's
+    /// smoothness (§8.2); `None` when the telemetry was not replayed.
+    pub legacy_comfort: Option<ComfortSummary>,
     /// Collision events in list order (pedestrian, vehicle, layout).
     pub events: Vec<CollisionEvent>,
     /// `N_wz`.

@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use monitor_core::{
-    score, Config, ConfigError, Event, Monitor, MonitorError, RecordScores, RouteSummary,
+    score, ComfortSummary, Config, ConfigError, Event, Frame, Monitor, MonitorError, Profile,
+    RecordScores, RouteSummary,
 };
 
 use crate::aggregate::penalty;
@@ -132,6 +133,42 @@ pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
         "{what} at step {step} {why} ({})",
         FrameError::NonFinite(*field)
     )
+}
+
+/// The route's comfort under the `b2d-legacy` profile (Bench2Drive's smoothness, §8.2), and
+/// whether the batch reference agrees. Under that profile it is the run's own comfort; under
+/// another, the frames (profile-free: the yaw rate stays in deg/s until the monitor converts it)
+/// go once more through a legacy monitor and the legacy batch reference, so that the smoothness
+/// obeys §9 like every other count.
+///
+/// # Errors
+/// The frame the legacy monitor refused (never one the run's own monitor accepted: validation
+/// does not depend on the profile).
+pub fn legacy_comfort(
+    frames: &[Frame],
+    summary: &RouteSummary,
+    config: &Config,
+) -> Result<(ComfortSummary, bool), Refused> {
+    if config.profile == Profile::B2dLegacy {
+        return Ok((summary.comfort, true));
+    }
+    let legacy = Config {
+        profile: Profile::B2dLegacy,
+        ..*config
+    };
+    let mut monitor: Monitor = Monitor::new(legacy).map_err(Refused::Config)?;
+    for (index, f) in frames.iter().enumerate() {
+        monitor
+            .push(f)
+            .map_err(|error| Refused::Frame { index, error })?;
+    }
+    let done = monitor.finish().map_err(|error| Refused::Frame {
+        index: frames.len(),
+        error,
+    })?;
+    let reference = batch::compute(frames, &legacy);
+    let comfort = done.summary.comfort;
+    Ok((comfort, reference.summary.comfort == comfort))
 }
 
 /// A route's telemetry, read and turned into frames.
@@ -273,6 +310,7 @@ pub fn replay(
         gaps: 0,
         summary: None,
         safe: None,
+        legacy_comfort: None,
         events: Vec::new(),
         workzone: 0,
         penalty: None,
@@ -306,7 +344,14 @@ pub fn replay(
             match stream(&mut prepared, &route_settings.core) {
                 Ok(summary) => {
                     let reference = batch::compute(&prepared.frames, &route_settings.core);
-                    out.batch_agrees = Some(reference.summary == summary);
+                    let mut agrees = reference.summary == summary;
+                    if let Ok((legacy, legacy_agrees)) =
+                        legacy_comfort(&prepared.frames, &summary, &route_settings.core)
+                    {
+                        out.legacy_comfort = Some(legacy);
+                        agrees &= legacy_agrees;
+                    }
+                    out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;
                     Some(summary)

@@ -4,12 +4,14 @@
 //! |---|---|
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
-//! | table (Table 1 row, Table 2-style breakdown) | [`table`] |
+//! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
+//! | a table's text, Markdown and LaTeX renderings | [`grid`] |
 //!
 //! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
 
 pub mod csv;
 pub mod escape;
+pub mod grid;
 pub mod json;
 pub mod model;
 pub mod table;

@@ -24,6 +24,15 @@ pub enum Format {
     Csv,
 }
 
+/// Telemetry layouts of `sds demo --large`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    /// Bench2Drive's six keys per frame (what its agents write).
+    B2d,
+    /// Thirteen keys per frame (the six plus velocity, speed, controls, gps, compass).
+    Wide,
+}
+
 /// Comfort profiles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ProfileArg {
@@ -114,6 +123,9 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
+        /// Keys per frame of the large run's telemetry.
+        #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
+        layout: LayoutArg,
     },
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
     Frames {

@@ -20,7 +20,7 @@ use monitor_host::input::labels::read_labels;
 use monitor_host::report::{csv, json, table};
 use monitor_host::{demo, route_frames, score_run_with, Inputs, Settings};
 
-use args::{Cli, Command, Format, GroupArg, ProfileArg, ScoreArgs};
+use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -47,9 +47,14 @@ fn run(cli: Cli) -> Result<i32> {
             large,
             large_routes,
             large_frames,
+            layout,
         } => {
             let run = if large {
-                demo::write_large(&dir, large_routes, large_frames)?
+                let layout = match layout {
+                    LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
+                    LayoutArg::Wide => demo::LargeLayout::Wide,
+                };
+                demo::write_large_with(&dir, large_routes, large_frames, layout)?
             } else {
                 demo::write(&dir)?
             };

@@ -36,6 +36,7 @@ use std::path::{Path, PathBuf};
 
 use serde::de::{Deserializer, IgnoredAny};
 
+mod fast;
 mod visitor;
 
 #[cfg(test)]
@@ -225,6 +226,29 @@ pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
 /// Every invalid-telemetry case of the spec, as a [`TelemetryError`] whose `Display` names the
 /// step and the field.
 pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
+    // The fast path reads what it is sure of; every other input, and every error, is the
+    // serde_json visitor's to decide (see `fast.rs`).
+    if let Some(t) = fast::parse(bytes).and_then(|(frames, sorted)| finish(frames, sorted).ok()) {
+        return Ok(t);
+    }
+    parse_metric_info_serde(bytes)
+}
+
+/// [`parse_metric_info`] without the fast path: serde_json and the streaming visitor alone. The
+/// reference the fast path is tested against; the results are identical by construction (see
+/// the test `metric_info_fast_path`).
+///
+/// ```
+/// use monitor_host::input::metric_info::{parse_metric_info, parse_metric_info_serde};
+/// let json = br#"{"1": {"acceleration": [0, 0, 0], "angular_velocity": [0, 0, 0],
+///     "forward_vector": [1, 0, 0], "right_vector": [0, 1, 0], "location": [-0, 2.5, 0]}}"#;
+/// assert_eq!(parse_metric_info_serde(json)?, parse_metric_info(json)?);
+/// # Ok::<(), monitor_host::input::metric_info::TelemetryError>(())
+/// ```
+///
+/// # Errors
+/// As [`parse_metric_info`].
+pub fn parse_metric_info_serde(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
     let first = bytes
         .iter()
         .position(|b| !matches!(b, b' ' | b'\t' | b'\n' | b'\r'));
@@ -280,6 +304,11 @@ pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
             },
         });
     }
+    finish(frames, sorted)
+}
+
+/// Sorts the frames by step (stable), rejects a repeated step and counts the gaps.
+fn finish(mut frames: Vec<TelemetryFrame>, sorted: bool) -> Result<Telemetry, TelemetryError> {
     if frames.is_empty() {
         return Err(TelemetryError::NoFrames);
     }

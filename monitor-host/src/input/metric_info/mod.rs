@@ -36,7 +36,7 @@ use std::path::{Path, PathBuf};
 
 use serde::de::{Deserializer, IgnoredAny};
 
-mod fast;
+mod scan;
 mod visitor;
 
 #[cfg(test)]
@@ -227,11 +227,19 @@ pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
 /// step and the field.
 pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
     // The fast path reads what it is sure of; every other input, and every error, is the
-    // serde_json visitor's to decide (see `fast.rs`).
-    if let Some(t) = fast::parse(bytes).and_then(|(frames, sorted)| finish(frames, sorted).ok()) {
+    // serde_json visitor's to decide (see `scan.rs`).
+    if let Some(t) = parse_metric_info_fast(bytes) {
         return Ok(t);
     }
     parse_metric_info_serde(bytes)
+}
+
+/// The fast path alone: `Some` where it is sure of the answer, `None` where
+/// [`parse_metric_info`] defers to serde_json. Public for the equivalence test
+/// (`tests/tests/metric_info_fast_path.rs`), not for users.
+#[doc(hidden)]
+pub fn parse_metric_info_fast(bytes: &[u8]) -> Option<Telemetry> {
+    scan::parse(bytes).and_then(|(frames, sorted)| finish(frames, sorted).ok())
 }
 
 /// [`parse_metric_info`] without the fast path: serde_json and the streaming visitor alone. The

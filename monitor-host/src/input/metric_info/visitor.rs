@@ -197,8 +197,8 @@ pub(super) const FIELD_NAMES: [&str; 5] = [
 ];
 
 /// The index in [`FIELD_NAMES`] of a frame key, `None` for a key that is ignored.
-pub(super) fn field_index(name: &str) -> Option<usize> {
-    FIELD_NAMES.iter().position(|&n| n == name)
+pub(super) fn field_index(name: &[u8]) -> Option<usize> {
+    FIELD_NAMES.iter().position(|n| n.as_bytes() == name)
 }
 
 /// A frame key: `Some(index in FIELD_NAMES)` or `None` (ignored).
@@ -219,7 +219,7 @@ impl<'de> Visitor<'de> for FieldKey {
     }
 
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Option<usize>, E> {
-        Ok(field_index(v))
+        Ok(field_index(v.as_bytes()))
     }
 }
 

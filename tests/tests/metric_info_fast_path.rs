@@ -323,8 +323,17 @@ fn mutate(mut bytes: Vec<u8>, ms: &[Mutation]) -> Vec<u8> {
     bytes
 }
 
+/// Cases per property: 1,000 on every run; `SDS_FAST_PATH_CASES` for a longer soak.
+fn cases() -> PropConfig {
+    let n = std::env::var("SDS_FAST_PATH_CASES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(1000);
+    PropConfig::with_cases(n)
+}
+
 proptest! {
-    #![proptest_config(PropConfig { cases: 600, ..PropConfig::default() })]
+    #![proptest_config(cases())]
 
     #[test]
     fn generated_files_agree(text in file()) {

@@ -112,6 +112,18 @@ def main():
     put("decode_frame", "\n".join(frames * 8))
     for f in frames:
         put("decode_frame", f)
+    map_seeds()
+
+
+def map_seeds():
+    """--- map: the hand-made OpenDRIVE maps of the map tests (a few KB each), broken ones too."""
+    maps = ROOT.parent / "monitor-host" / "tests" / "data" / "maps"
+    for path in sorted(maps.glob("*.xodr")):
+        put("map", path.read_bytes())
+    put("map", '<OpenDRIVE><road id="1" length="10" junction="-1"><planView><geometry s="0" x="0" '
+               'y="0" hdg="0" length="10"><line/></geometry></planView><lanes><laneSection s="0">'
+               '<right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/>'
+               '</lane></right></laneSection></lanes></road></OpenDRIVE>')
 
 
 if __name__ == "__main__":

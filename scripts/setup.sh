@@ -32,12 +32,18 @@ fi
 
 # apt packages: qemu-system-arm >= 9 from bookworm-backports (bookworm's 7.2 is too old for the
 # insncount plugin's API and would remove the preinstalled qemu-utils), binutils-arm-none-eabi for
-# section sizes, gcc to build the plugin.
+# section sizes, gcc to build the plugin;
 need_apt=()
 qemu_major=$(qemu-system-arm --version 2>/dev/null | sed -n '1s/.*version \([0-9]*\)\..*/\1/p')
 [ "${qemu_major:-0}" -ge 9 ] || need_apt+=(qemu-system-arm)
 command -v arm-none-eabi-size >/dev/null 2>&1 || need_apt+=(binutils-arm-none-eabi)
 command -v gcc >/dev/null 2>&1 || need_apt+=(gcc)
+# C API tests (bindings/c/run-tests.sh): arm-none-eabi-gcc links the Cortex-M4F C firmware (GCC's
+# own headers and libgcc only: newlib, a recommendation, is not needed); valgrind and pkg-config
+# for the host tests.
+command -v arm-none-eabi-gcc >/dev/null 2>&1 || need_apt+=(gcc-arm-none-eabi)
+command -v valgrind >/dev/null 2>&1 || need_apt+=(valgrind)
+command -v pkg-config >/dev/null 2>&1 || need_apt+=(pkg-config)
 if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   if grep -qs bookworm /etc/os-release && ! grep -rqs bookworm-backports /etc/apt/sources.list /etc/apt/sources.list.d/; then

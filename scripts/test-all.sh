@@ -34,6 +34,10 @@ if [ -x firmware-example/run-tests.sh ]; then
   step "firmware under QEMU"
   bash firmware-example/run-tests.sh
 fi
+step "C API: C/C++ tests, valgrind, Cortex-M4F C firmware under QEMU" && bash bindings/c/run-tests.sh
+step "map cross-check against CARLA's map code (skips without PyPI)"
+bash scripts/map-crosscheck.sh
+
 step "fuzz smoke (each target briefly, from the committed corpus)"
 FUZZ_SECONDS="${FUZZ_SECONDS:-10}" bash scripts/fuzz-smoke.sh
 

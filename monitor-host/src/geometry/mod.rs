@@ -1,5 +1,7 @@
-//! Host geometry, in f64: [`kinematics`] (speed, the yaw-rate unit) and the [`lateral`] tracker
-//! (the reference polyline and its bounded forward search).
+//! Host geometry, in f64: [`kinematics`] (speed, the yaw-rate unit), the [`lateral`] tracker
+//! (the reference polyline and its bounded forward search) and OpenDRIVE [`map`]s (`SDS-SPEC.md`
+//! §1.4, §2).
 
 pub mod kinematics;
 pub mod lateral;
+pub mod map;

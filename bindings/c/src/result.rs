@@ -1,0 +1,262 @@
+//! `sds_result`: the outcome of every fallible call, one code per failure.
+
+use core::ffi::c_char;
+
+use monitor_core::{ConfigError, Field, FrameError, MonitorError};
+
+/// The outcome of every fallible `sds_` function: `SDS_RESULT_OK` (0), or why it refused.
+/// Nothing changes when a call fails (a failed push leaves the monitor as it was).
+///
+/// The numbers are part of the ABI and never reused: configuration errors are 100..199, frame
+/// errors 200..299.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[allow(non_camel_case_types)]
+pub enum sds_result {
+    /// Success.
+    Ok = 0,
+    /// A pointer argument was NULL.
+    NullPointer = 1,
+    /// The monitor buffer is smaller than `sds_monitor_size()`.
+    BufferTooSmall = 2,
+    /// The monitor buffer is not aligned to `sds_monitor_align()`.
+    BufferMisaligned = 3,
+    /// The monitor was never initialised with `sds_monitor_init` (or was overwritten).
+    NotInitialized = 4,
+    /// The route is finished: `sds_monitor_reset` starts the next one.
+    Finished = 5,
+    /// The route already has 2^32 - 1 frames.
+    TooManyFrames = 6,
+    /// A text output buffer is too small.
+    OutputTooSmall = 7,
+    /// The value is undefined (a comfort score of a route without a comfort chunk).
+    Undefined = 8,
+    /// A Rust panic was caught at the boundary (a bug: please report it). Host builds only;
+    /// on a microcontroller there is no unwinding and a panic traps instead.
+    Panic = 9,
+    /// A pointer argument is not aligned for its type (a cast from a byte buffer?).
+    MisalignedPointer = 10,
+    /// An error this version of the C API does not know (the core is newer).
+    Unknown = 99,
+    /// `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
+    ConfigProfile = 100,
+    /// `dt` must be finite and positive.
+    ConfigDt = 101,
+    /// `legacy_jerk_spacing` must be finite and positive.
+    ConfigLegacySpacing = 102,
+    /// `min_chunk` must be at least the filter window (7).
+    ConfigMinChunk = 103,
+    /// `chunk_len` must lie in `min_chunk ..= SDS_CAPACITY`.
+    ConfigChunkLen = 104,
+    /// `decel_window` must be at most `SDS_CAPACITY`.
+    ConfigDecelWindow = 105,
+    /// Bounds must be finite and positive, and `lon_acc_min < lon_acc_max`.
+    ConfigBounds = 106,
+    /// `slack` must be finite and not negative.
+    ConfigSlack = 107,
+    /// Need `0 <= anomalous_excess <= critical_excess`, both finite.
+    ConfigExcessBands = 108,
+    /// `decel_threshold` must be finite.
+    ConfigDecelThreshold = 109,
+    /// `stationary_speed` must be finite and not negative.
+    ConfigStationarySpeed = 110,
+    /// Factors must lie in `0 ..= 1` and the layout factor must be positive.
+    ConfigFactor = 111,
+    /// `a_lon` is NaN or infinite.
+    FrameALonNotFinite = 200,
+    /// `a_lat` is NaN or infinite.
+    FrameALatNotFinite = 201,
+    /// `a_mag` is NaN or infinite.
+    FrameAMagNotFinite = 202,
+    /// `yaw_rate` is NaN or infinite.
+    FrameYawRateNotFinite = 203,
+    /// `speed` is NaN or infinite.
+    FrameSpeedNotFinite = 204,
+    /// `lat_err` is NaN or infinite (and `has_lat_err` is set).
+    FrameLatErrNotFinite = 205,
+    /// `speed` is negative.
+    FrameSpeedNegative = 206,
+    /// `a_mag` is negative.
+    FrameAMagNegative = 207,
+}
+
+impl From<ConfigError> for sds_result {
+    fn from(e: ConfigError) -> Self {
+        // The wildcard keeps this building when the core adds a variant.
+        #[allow(unreachable_patterns)]
+        match e {
+            ConfigError::Dt => sds_result::ConfigDt,
+            ConfigError::LegacySpacing => sds_result::ConfigLegacySpacing,
+            ConfigError::MinChunk => sds_result::ConfigMinChunk,
+            ConfigError::ChunkLen => sds_result::ConfigChunkLen,
+            ConfigError::DecelWindow => sds_result::ConfigDecelWindow,
+            ConfigError::Bounds => sds_result::ConfigBounds,
+            ConfigError::Slack => sds_result::ConfigSlack,
+            ConfigError::ExcessBands => sds_result::ConfigExcessBands,
+            ConfigError::DecelThreshold => sds_result::ConfigDecelThreshold,
+            ConfigError::StationarySpeed => sds_result::ConfigStationarySpeed,
+            ConfigError::Factor => sds_result::ConfigFactor,
+            _ => sds_result::Unknown,
+        }
+    }
+}
+
+impl From<FrameError> for sds_result {
+    fn from(e: FrameError) -> Self {
+        #[allow(unreachable_patterns)]
+        match e {
+            FrameError::NonFinite(field) => match field {
+                Field::ALon => sds_result::FrameALonNotFinite,
+                Field::ALat => sds_result::FrameALatNotFinite,
+                Field::AMag => sds_result::FrameAMagNotFinite,
+                Field::YawRate => sds_result::FrameYawRateNotFinite,
+                Field::Speed => sds_result::FrameSpeedNotFinite,
+                Field::LatErr => sds_result::FrameLatErrNotFinite,
+                _ => sds_result::Unknown,
+            },
+            FrameError::Negative(Field::Speed) => sds_result::FrameSpeedNegative,
+            FrameError::Negative(Field::AMag) => sds_result::FrameAMagNegative,
+            _ => sds_result::Unknown,
+        }
+    }
+}
+
+impl From<MonitorError> for sds_result {
+    fn from(e: MonitorError) -> Self {
+        #[allow(unreachable_patterns)]
+        match e {
+            MonitorError::Frame(f) => f.into(),
+            MonitorError::Finished => sds_result::Finished,
+            MonitorError::TooManyFrames => sds_result::TooManyFrames,
+            _ => sds_result::Unknown,
+        }
+    }
+}
+
+/// `Ok(())` as `SDS_RESULT_OK`, an error as its code.
+pub(crate) fn code(r: Result<(), sds_result>) -> sds_result {
+    match r {
+        Ok(()) => sds_result::Ok,
+        Err(e) => e,
+    }
+}
+
+/// A static, NUL-terminated English description of a result code (any number: unknown codes
+/// give "unknown result code"). Never NULL; the caller must not free it.
+///
+/// ```c
+/// sds_result r = sds_monitor_push(m, &f, &ev);
+/// if (r != SDS_RESULT_OK) fprintf(stderr, "frame skipped: %s\n", sds_result_str(r));
+/// ```
+#[no_mangle]
+pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
+    let s: &'static core::ffi::CStr = match result {
+        0 => c"ok",
+        1 => c"a pointer argument is NULL",
+        2 => c"the monitor buffer is smaller than sds_monitor_size()",
+        3 => c"the monitor buffer is not aligned to sds_monitor_align()",
+        4 => c"the monitor was not initialised with sds_monitor_init",
+        5 => c"the route is already finished (sds_monitor_reset starts the next one)",
+        6 => c"too many frames in one route",
+        7 => c"the output buffer is too small",
+        8 => c"undefined: the route has no comfort chunk",
+        9 => c"a Rust panic was caught at the C boundary (a bug: please report it)",
+        10 => c"a pointer argument is not aligned for its type",
+        99 => c"an error this version of the C API does not know",
+        100 => c"config: profile must be SDS_PROFILE_PHYSICAL or SDS_PROFILE_B2D_LEGACY",
+        101 => c"config: dt must be finite and positive",
+        102 => c"config: legacy_jerk_spacing must be finite and positive",
+        103 => c"config: min_chunk must be at least the filter window (7)",
+        104 => c"config: chunk_len must lie in min_chunk..=SDS_CAPACITY",
+        105 => c"config: decel_window must be at most SDS_CAPACITY",
+        106 => c"config: bounds must be finite and positive, lon_acc_min < lon_acc_max",
+        107 => c"config: slack must be finite and not negative",
+        108 => c"config: need 0 <= anomalous_excess <= critical_excess",
+        109 => c"config: decel_threshold must be finite",
+        110 => c"config: stationary_speed must be finite and not negative",
+        111 => c"config: factors must lie in 0..=1 and layout must be positive",
+        200 => c"frame: a_lon is not finite",
+        201 => c"frame: a_lat is not finite",
+        202 => c"frame: a_mag is not finite",
+        203 => c"frame: yaw_rate is not finite",
+        204 => c"frame: speed is not finite",
+        205 => c"frame: lat_err is not finite",
+        206 => c"frame: speed is negative",
+        207 => c"frame: a_mag is negative",
+        _ => c"unknown result code",
+    };
+    s.as_ptr()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_code_has_its_own_text() {
+        let codes = [
+            sds_result::Ok,
+            sds_result::NullPointer,
+            sds_result::BufferTooSmall,
+            sds_result::BufferMisaligned,
+            sds_result::NotInitialized,
+            sds_result::Finished,
+            sds_result::TooManyFrames,
+            sds_result::OutputTooSmall,
+            sds_result::Undefined,
+            sds_result::Panic,
+            sds_result::MisalignedPointer,
+            sds_result::Unknown,
+            sds_result::ConfigProfile,
+            sds_result::ConfigDt,
+            sds_result::ConfigLegacySpacing,
+            sds_result::ConfigMinChunk,
+            sds_result::ConfigChunkLen,
+            sds_result::ConfigDecelWindow,
+            sds_result::ConfigBounds,
+            sds_result::ConfigSlack,
+            sds_result::ConfigExcessBands,
+            sds_result::ConfigDecelThreshold,
+            sds_result::ConfigStationarySpeed,
+            sds_result::ConfigFactor,
+            sds_result::FrameALonNotFinite,
+            sds_result::FrameALatNotFinite,
+            sds_result::FrameAMagNotFinite,
+            sds_result::FrameYawRateNotFinite,
+            sds_result::FrameSpeedNotFinite,
+            sds_result::FrameLatErrNotFinite,
+            sds_result::FrameSpeedNegative,
+            sds_result::FrameAMagNegative,
+        ];
+        let unknown = sds_result_str(12345);
+        let mut seen = std::vec::Vec::new();
+        for c in codes {
+            let p = sds_result_str(c as u32);
+            assert_ne!(p, unknown, "{c:?} has no text");
+            // SAFETY: sds_result_str returns static NUL-terminated strings.
+            let s = unsafe { core::ffi::CStr::from_ptr(p) };
+            assert!(!seen.contains(&s), "{c:?} shares its text");
+            seen.push(s);
+        }
+    }
+
+    #[test]
+    fn core_errors_map_to_their_codes() {
+        assert_eq!(
+            sds_result::from(MonitorError::Frame(FrameError::NonFinite(Field::LatErr))),
+            sds_result::FrameLatErrNotFinite
+        );
+        assert_eq!(
+            sds_result::from(MonitorError::Frame(FrameError::Negative(Field::AMag))),
+            sds_result::FrameAMagNegative
+        );
+        assert_eq!(
+            sds_result::from(MonitorError::Finished),
+            sds_result::Finished
+        );
+        assert_eq!(
+            sds_result::from(ConfigError::Factor),
+            sds_result::ConfigFactor
+        );
+    }
+}

@@ -1,0 +1,465 @@
+//! OpenDRIVE maps (`SDS-SPEC.md` §1.4): the lane network of a town, the exact 3-D projection of
+//! a point onto it, junction gaps filled with the shortest lane chain, and the 1 m dense route.
+//!
+//! Everything here is f64 and takes and returns CARLA coordinates (OpenDRIVE's with y negated);
+//! the flip happens inside. The reader, the geometry and the search are our own (see
+//! `docs/MAPS.md` for why, and for the checks against CARLA's own map code).
+//!
+//! ```
+//! use monitor_host::geometry::map::Map;
+//! // One straight road along x with one driving lane on each side, 3.5 m wide.
+//! let xodr = r#"<OpenDRIVE><road id="1" length="100" junction="-1">
+//!   <planView><geometry s="0" x="0" y="0" hdg="0" length="100"><line/></geometry></planView>
+//!   <lanes><laneSection s="0">
+//!     <left><lane id="1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></left>
+//!     <center><lane id="0" type="none"/></center>
+//!     <right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right>
+//!   </laneSection></lanes></road></OpenDRIVE>"#;
+//! let map = Map::parse(xodr, "straight.xodr").unwrap();
+//! // CARLA's y is OpenDRIVE's -y: CARLA y = +2 is right of the reference line, lane -1.
+//! let p = map.project(30.0, 2.0, 0.0).unwrap();
+//! assert_eq!((map.road_id(p.lane.road), p.lane.lane), ("1", -1));
+//! assert!((p.distance_2d - 0.25).abs() < 1e-12 && (p.width - 3.5).abs() < 1e-12);
+//! assert_eq!(p.foot, [30.0, 1.75]);
+//! ```
+
+mod chain;
+mod cubic;
+mod dense_route;
+mod error;
+mod gauss;
+mod lanes;
+mod lookup;
+mod network;
+mod projection;
+mod reference_line;
+mod road;
+mod xodr;
+
+use std::path::Path;
+
+pub use chain::{CHAIN_EXTRA, CHAIN_FACTOR, PIECE_MAX};
+pub use dense_route::{dense_route, DenseSample, DENSE_CUTOFF, DENSE_STEP};
+pub use error::MapError;
+pub use lookup::MapDir;
+
+use network::Network;
+use projection::{Candidate, Index};
+use road::{road_id_key, Road};
+
+/// Lanes whose centre lines lie within this distance (m) of the nearest one are *tied*.
+pub const TIE_TOLERANCE: f64 = 1e-3;
+
+/// A driving lane in one lane section: the road (an index into the map, see [`Map::road_id`]),
+/// the lane section's index in the road, and the OpenDRIVE lane id.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LaneRef {
+    /// Index of the road in the map (file order).
+    pub road: u32,
+    /// Index of the lane section in the road.
+    pub section: u32,
+    /// OpenDRIVE lane id (negative: right of the reference line).
+    pub lane: i32,
+}
+
+/// The projection of a point onto the lane network.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    /// The lane (among tied lanes: the smallest road id, then the smallest lane id).
+    pub lane: LaneRef,
+    /// Road `s` of the nearest point.
+    pub s: f64,
+    /// The lane's width there (m).
+    pub width: f64,
+    /// 2-D distance from the point to the nearest point (m).
+    pub distance_2d: f64,
+    /// 3-D distance, with the road's elevation, that chose the lane (m).
+    pub distance_3d: f64,
+    /// The lane belongs to a junction road (`junction` attribute not -1).
+    pub junction: bool,
+    /// The nearest point, CARLA x/y.
+    pub foot: [f64; 2],
+    /// Height of the nearest point (the road's elevation at `s`).
+    pub foot_z: f64,
+    /// How many lanes are tied (within [`TIE_TOLERANCE`] of the nearest distance), this one
+    /// included.
+    pub tied: usize,
+}
+
+/// One lane of the network (a driving lane of positive width in one lane section).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LaneSpan {
+    /// The lane.
+    pub lane: LaneRef,
+    /// Road `s` where the lane section starts.
+    pub s0: f64,
+    /// Road `s` where it ends.
+    pub s1: f64,
+    /// Centre-line length (m, 2-D).
+    pub length: f64,
+    /// The lane drives along increasing `s`.
+    pub forward: bool,
+    /// The road belongs to a junction.
+    pub junction: bool,
+}
+
+/// A town's OpenDRIVE map, ready for projections.
+#[derive(Debug, Clone)]
+pub struct Map {
+    file: String,
+    roads: Vec<Road>,
+    net: Network,
+    index: Index,
+}
+
+impl Map {
+    /// Reads and checks a map file.
+    ///
+    /// ```
+    /// use monitor_host::geometry::map::Map;
+    /// let err = Map::load(std::path::Path::new("no/such/Town01.xodr")).unwrap_err();
+    /// assert!(err.to_string().contains("Town01.xodr"));
+    /// ```
+    pub fn load(path: &Path) -> Result<Map, MapError> {
+        let file = path.display().to_string();
+        let bytes = std::fs::read(path).map_err(|source| MapError::Io {
+            file: file.clone(),
+            source,
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| MapError::Xml {
+            file: file.clone(),
+            message: format!("not UTF-8 text (byte {})", e.utf8_error().valid_up_to()),
+        })?;
+        Map::parse(&text, &file)
+    }
+
+    /// Builds a map from the XML text of an OpenDRIVE file; `file` names it in errors.
+    ///
+    /// ```
+    /// use monitor_host::geometry::map::Map;
+    /// let err = Map::parse("<OpenDRIVE><road id=\"7\" length=\"-1\"/></OpenDRIVE>", "t.xodr");
+    /// assert_eq!(err.unwrap_err().to_string(), "t.xodr: road 7: negative length -1");
+    /// ```
+    pub fn parse(xml: &str, file: &str) -> Result<Map, MapError> {
+        let parsed = xodr::parse(xml, file)?;
+        let net = Network::build(&parsed.roads, &parsed.junctions);
+        let index = Index::build(&parsed.roads, &net);
+        Ok(Map {
+            file: file.to_string(),
+            roads: parsed.roads,
+            net,
+            index,
+        })
+    }
+
+    /// The file the map was read from.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert_eq!(map.file(), "empty.xodr");
+    /// ```
+    pub fn file(&self) -> &str {
+        &self.file
+    }
+
+    /// The OpenDRIVE id of road `road` (an index, as in [`LaneRef::road`]).
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert_eq!(map.road_id(0), "");  // out of range: empty
+    /// ```
+    pub fn road_id(&self, road: u32) -> &str {
+        self.roads.get(road as usize).map_or("", |r| r.id.as_str())
+    }
+
+    /// Number of lanes (driving lanes of positive width, per lane section) in the network.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert_eq!(map.lane_count(), 0);
+    /// ```
+    pub fn lane_count(&self) -> usize {
+        self.net.nodes.len()
+    }
+
+    /// Every lane of the network, in map order.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.lanes().is_empty());
+    /// ```
+    pub fn lanes(&self) -> Vec<LaneSpan> {
+        self.net
+            .nodes
+            .iter()
+            .map(|n| LaneSpan {
+                lane: LaneRef {
+                    road: n.road,
+                    section: n.section,
+                    lane: n.lane,
+                },
+                s0: n.s0,
+                s1: n.s1,
+                length: n.length(),
+                forward: n.forward,
+                junction: self.roads[n.road as usize].junction.is_some(),
+            })
+            .collect()
+    }
+
+    /// The exact projection of CARLA point `(x, y, z)` onto the lane network; `None` for a map
+    /// without driving lanes or a non-finite point.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.project(1.0, 2.0, 0.0).is_none());
+    /// ```
+    pub fn project(&self, x: f64, y: f64, z: f64) -> Option<Projection> {
+        let mut scratch = Vec::with_capacity(8);
+        self.project_with(x, y, z, None, &mut scratch)
+            .map(|(p, _)| p)
+    }
+
+    /// Every lane whose centre line lies within `margin` (m, 3-D) of the nearest one, nearest
+    /// first (ties: road id, lane id). With `margin = TIE_TOLERANCE` these are the tied lanes.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, TIE_TOLERANCE};
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.project_within(0.0, 0.0, 0.0, TIE_TOLERANCE).is_empty());
+    /// ```
+    pub fn project_within(&self, x: f64, y: f64, z: f64, margin: f64) -> Vec<Projection> {
+        let mut out = Vec::new();
+        let p = [x, -y, z];
+        self.index
+            .search(&self.roads, &self.net, &p, margin.max(0.0), None, &mut out);
+        let mut all: Vec<Projection> = self
+            .dedup(&mut out)
+            .iter()
+            .map(|c| self.describe(c, &p, 1))
+            .collect();
+        let n = all.len();
+        for a in &mut all {
+            a.tied = n;
+        }
+        all.sort_by(|a, b| {
+            a.distance_3d
+                .total_cmp(&b.distance_3d)
+                .then_with(|| self.tie_order(&a.lane, &b.lane))
+        });
+        all
+    }
+
+    /// The lanes tied for nearest (within [`TIE_TOLERANCE`]), in tie-break order: smallest road
+    /// id, then smallest lane id.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.project_tied(0.0, 0.0, 0.0).is_empty());
+    /// ```
+    pub fn project_tied(&self, x: f64, y: f64, z: f64) -> Vec<Projection> {
+        let mut all = self.project_within(x, y, z, TIE_TOLERANCE);
+        all.sort_by(|a, b| self.tie_order(&a.lane, &b.lane));
+        all
+    }
+
+    fn tie_order(&self, a: &LaneRef, b: &LaneRef) -> std::cmp::Ordering {
+        road_id_key(self.road_id(a.road))
+            .cmp(&road_id_key(self.road_id(b.road)))
+            .then(a.lane.cmp(&b.lane))
+            .then(a.section.cmp(&b.section))
+    }
+
+    /// Removes the copies of one point found at a lane section boundary (the end of one
+    /// section is the start of the next: the later section holds it).
+    fn dedup<'c>(&self, cands: &'c mut Vec<Candidate>) -> &'c [Candidate] {
+        let nodes = &self.net.nodes;
+        let mut i = 0;
+        while i < cands.len() {
+            let a = cands[i];
+            let na = &nodes[a.node as usize];
+            let dup = cands.iter().any(|b| {
+                let nb = &nodes[b.node as usize];
+                nb.road == na.road
+                    && nb.section > na.section
+                    && (b.s - a.s).abs() < 1e-9
+                    && (b.d - a.d).abs() < 1e-9
+            });
+            if dup {
+                cands.swap_remove(i);
+            } else {
+                i += 1;
+            }
+        }
+        cands
+    }
+
+    fn describe(&self, c: &Candidate, p: &[f64; 3], tied: usize) -> Projection {
+        let node = &self.net.nodes[c.node as usize];
+        let road = &self.roads[node.road as usize];
+        let sec = node.section as usize;
+        let piece = &self.index.pieces[c.piece as usize];
+        let sel = 0.5 * (piece.s_a + piece.s_b);
+        let at = road.centre_in(sec, node.lane, c.s, sel).p;
+        Projection {
+            lane: LaneRef {
+                road: node.road,
+                section: node.section,
+                lane: node.lane,
+            },
+            s: c.s,
+            width: road.lane_width_in(sec, node.lane, c.s, sel)[0],
+            distance_2d: (at[0] - p[0]).hypot(at[1] - p[1]),
+            distance_3d: c.d,
+            junction: road.junction.is_some(),
+            foot: [at[0], -at[1]],
+            foot_z: at[2],
+            tied,
+        }
+    }
+
+    /// Projection with an optional hint piece; returns the piece that held the answer.
+    fn project_with(
+        &self,
+        x: f64,
+        y: f64,
+        z: f64,
+        hint: Option<u32>,
+        scratch: &mut Vec<Candidate>,
+    ) -> Option<(Projection, u32)> {
+        let p = [x, -y, z];
+        self.index
+            .search(&self.roads, &self.net, &p, TIE_TOLERANCE, hint, scratch);
+        let cands = self.dedup(scratch);
+        let chosen = cands.iter().min_by(|a, b| {
+            let (na, nb) = (
+                &self.net.nodes[a.node as usize],
+                &self.net.nodes[b.node as usize],
+            );
+            self.tie_order(
+                &LaneRef {
+                    road: na.road,
+                    section: na.section,
+                    lane: na.lane,
+                },
+                &LaneRef {
+                    road: nb.road,
+                    section: nb.section,
+                    lane: nb.lane,
+                },
+            )
+        })?;
+        let nearest = cands.iter().min_by(|a, b| a.d.total_cmp(&b.d))?.piece;
+        Some((self.describe(chosen, &p, cands.len()), nearest))
+    }
+
+    /// The centre point of `lane` at road `s`, CARLA x/y.
+    fn centre_carla(&self, lane: &LaneRef, s: f64) -> [f64; 2] {
+        let road = &self.roads[lane.road as usize];
+        let p = road.centre(lane.section as usize, lane.lane, s).p;
+        [p[0], -p[1]]
+    }
+
+    /// The centre point of `lane` at road `s` (CARLA x, y, z), or `None` if the lane is not in
+    /// the map.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, LaneRef};
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.lane_point(&LaneRef { road: 0, section: 0, lane: -1 }, 0.0).is_none());
+    /// ```
+    pub fn lane_point(&self, lane: &LaneRef, s: f64) -> Option<[f64; 3]> {
+        let road = self.roads.get(lane.road as usize)?;
+        let sec = road.sections.get(lane.section as usize)?;
+        sec.find(lane.lane)?;
+        let p = road.centre(lane.section as usize, lane.lane, s).p;
+        Some([p[0], -p[1], p[2]])
+    }
+
+    /// The lane section holding road `s` of road `road` and the lane there, as a [`LaneRef`].
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::Map;
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.lane_at("1", -1, 0.0).is_none());
+    /// ```
+    pub fn lane_at(&self, road_id: &str, lane: i32, s: f64) -> Option<LaneRef> {
+        let (ri, road) = self
+            .roads
+            .iter()
+            .enumerate()
+            .find(|(_, r)| r.id == road_id)?;
+        let sec = road.section_at(s);
+        road.sections.get(sec)?.find(lane)?;
+        Some(LaneRef {
+            road: ri as u32,
+            section: sec as u32,
+            lane,
+        })
+    }
+
+    /// The width of `lane` at road `s`.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, LaneRef};
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(map.lane_width(&LaneRef { road: 0, section: 0, lane: -1 }, 0.0).is_none());
+    /// ```
+    pub fn lane_width(&self, lane: &LaneRef, s: f64) -> Option<f64> {
+        let road = self.roads.get(lane.road as usize)?;
+        road.sections.get(lane.section as usize)?.find(lane.lane)?;
+        Some(road.lane_width(lane.section as usize, lane.lane, s)[0])
+    }
+}
+
+/// Projects consecutive points (a route's frames) faster: it starts each search from the lane
+/// piece that held the previous answer. The result is the same as [`Map::project`]'s.
+///
+/// ```
+/// use monitor_host::geometry::map::{Map, Projector};
+/// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+/// let mut projector = Projector::new(&map);
+/// assert_eq!(projector.project(0.0, 0.0, 0.0), map.project(0.0, 0.0, 0.0));
+/// ```
+#[derive(Debug)]
+pub struct Projector<'m> {
+    map: &'m Map,
+    hint: Option<u32>,
+    scratch: Vec<Candidate>,
+}
+
+impl<'m> Projector<'m> {
+    /// A projector over `map` with no history.
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, Projector};
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// let _p = Projector::new(&map);
+    /// ```
+    pub fn new(map: &'m Map) -> Self {
+        Projector {
+            map,
+            hint: None,
+            scratch: Vec::with_capacity(8),
+        }
+    }
+
+    /// The exact projection of CARLA point `(x, y, z)`, as [`Map::project`].
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, Projector};
+    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
+    /// assert!(Projector::new(&map).project(f64::NAN, 0.0, 0.0).is_none());
+    /// ```
+    pub fn project(&mut self, x: f64, y: f64, z: f64) -> Option<Projection> {
+        let r = self.map.project_with(x, y, z, self.hint, &mut self.scratch);
+        self.hint = r.map(|(_, piece)| piece);
+        r.map(|(p, _)| p)
+    }
+}

@@ -1,0 +1,463 @@
+//! Reading an OpenDRIVE file (`roxmltree`) into [`Road`]s and [`Junction`]s, checking what the
+//! geometry needs: finite numbers, non-negative lengths, `width` (not `border`) lanes, and links
+//! that name roads and junctions of the file.
+
+use std::collections::HashMap;
+
+use roxmltree::Node;
+
+use super::cubic::{Cubic, Piecewise};
+use super::error::MapError;
+use super::reference_line::{Geometry, ReferenceLine, Shape};
+use super::road::{Connection, Contact, Junction, Lane, LaneSection, Road, RoadLink};
+
+/// Longest road or geometry accepted (m): a town's roads are far shorter, and the lane network
+/// samples every lane every few metres.
+pub(crate) const MAX_LENGTH: f64 = 100_000.0;
+
+/// The roads and junctions of a file, links resolved to indices.
+pub(crate) struct Parsed {
+    pub roads: Vec<Road>,
+    pub junctions: Vec<Junction>,
+}
+
+struct Ctx<'a> {
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, element: impl Into<String>, problem: impl Into<String>) -> MapError {
+        MapError::Invalid {
+            file: self.file.to_string(),
+            element: element.into(),
+            problem: problem.into(),
+        }
+    }
+
+    /// A required finite number.
+    fn num(&self, node: Node, name: &str, element: &dyn Fn() -> String) -> Result<f64, MapError> {
+        match node.attribute(name) {
+            None => Err(self.err(element(), format!("attribute `{name}` is missing"))),
+            Some(text) => match text.trim().parse::<f64>() {
+                Ok(v) if v.is_finite() => Ok(v),
+                _ => Err(self.err(
+                    element(),
+                    format!("attribute `{name}` = {text:?} is not a finite number"),
+                )),
+            },
+        }
+    }
+
+    /// An optional finite number, `default` when absent.
+    fn num_or(
+        &self,
+        node: Node,
+        name: &str,
+        default: f64,
+        element: &dyn Fn() -> String,
+    ) -> Result<f64, MapError> {
+        if node.attribute(name).is_some() {
+            self.num(node, name, element)
+        } else {
+            Ok(default)
+        }
+    }
+
+    fn int(&self, node: Node, name: &str, element: &dyn Fn() -> String) -> Result<i32, MapError> {
+        let text = node
+            .attribute(name)
+            .ok_or_else(|| self.err(element(), format!("attribute `{name}` is missing")))?;
+        text.trim().parse::<i32>().map_err(|_| {
+            self.err(
+                element(),
+                format!("attribute `{name}` = {text:?} is not an integer"),
+            )
+        })
+    }
+
+    fn cubics(
+        &self,
+        parent: Node,
+        tag: &'static str,
+        start: &str,
+        element: &dyn Fn(usize) -> String,
+    ) -> Result<Vec<Cubic>, MapError> {
+        children(parent, tag)
+            .enumerate()
+            .map(|(i, n)| {
+                let el = || element(i);
+                Ok(Cubic {
+                    start: self.num(n, start, &el)?,
+                    a: self.num_or(n, "a", 0.0, &el)?,
+                    b: self.num_or(n, "b", 0.0, &el)?,
+                    c: self.num_or(n, "c", 0.0, &el)?,
+                    d: self.num_or(n, "d", 0.0, &el)?,
+                })
+            })
+            .collect()
+    }
+}
+
+fn children<'a, 'i>(node: Node<'a, 'i>, tag: &'static str) -> impl Iterator<Item = Node<'a, 'i>> {
+    node.children()
+        .filter(move |c| c.is_element() && c.tag_name().name() == tag)
+}
+
+fn child<'a, 'i>(node: Node<'a, 'i>, tag: &'static str) -> Option<Node<'a, 'i>> {
+    children(node, tag).next()
+}
+
+/// Parses the XML text of a map.
+pub(crate) fn parse(xml: &str, file: &str) -> Result<Parsed, MapError> {
+    let ctx = Ctx { file };
+    let doc = roxmltree::Document::parse(xml).map_err(|e| MapError::Xml {
+        file: file.to_string(),
+        message: format!("{e} (a truncated or damaged file?)"),
+    })?;
+    let root = doc.root_element();
+    if root.tag_name().name() != "OpenDRIVE" {
+        return Err(ctx.err(
+            format!("root element <{}>", root.tag_name().name()),
+            "an OpenDRIVE map starts with <OpenDRIVE>",
+        ));
+    }
+    let road_nodes: Vec<Node> = children(root, "road").collect();
+    let junction_nodes: Vec<Node> = children(root, "junction").collect();
+
+    let mut road_index = HashMap::new();
+    for (i, r) in road_nodes.iter().enumerate() {
+        let id = r.attribute("id").ok_or_else(|| {
+            ctx.err(
+                format!("road #{i} (in file order)"),
+                "attribute `id` is missing",
+            )
+        })?;
+        if road_index.insert(id, i).is_some() {
+            return Err(ctx.err(format!("road {id}"), "a second road has the same id"));
+        }
+    }
+    let mut junction_index = HashMap::new();
+    for (i, j) in junction_nodes.iter().enumerate() {
+        let id = j.attribute("id").ok_or_else(|| {
+            ctx.err(
+                format!("junction #{i} (in file order)"),
+                "attribute `id` is missing",
+            )
+        })?;
+        if junction_index.insert(id, i).is_some() {
+            return Err(ctx.err(
+                format!("junction {id}"),
+                "a second junction has the same id",
+            ));
+        }
+    }
+
+    let mut roads = Vec::with_capacity(road_nodes.len());
+    for r in &road_nodes {
+        roads.push(parse_road(&ctx, *r, &road_index, &junction_index)?);
+    }
+    let mut junctions = Vec::with_capacity(junction_nodes.len());
+    for j in &junction_nodes {
+        junctions.push(parse_junction(&ctx, *j, &road_index)?);
+    }
+    Ok(Parsed { roads, junctions })
+}
+
+fn contact(ctx: &Ctx, node: Node, element: &str) -> Result<Contact, MapError> {
+    match node.attribute("contactPoint") {
+        Some("start") => Ok(Contact::Start),
+        Some("end") => Ok(Contact::End),
+        other => Err(ctx.err(
+            element,
+            format!("contactPoint {other:?} is neither \"start\" nor \"end\""),
+        )),
+    }
+}
+
+fn parse_link(
+    ctx: &Ctx,
+    node: Node,
+    road_id: &str,
+    which: &str,
+    roads: &HashMap<&str, usize>,
+    junctions: &HashMap<&str, usize>,
+) -> Result<Option<RoadLink>, MapError> {
+    let element = format!("road {road_id}, {which}");
+    let target = node.attribute("elementId").unwrap_or("");
+    match node.attribute("elementType") {
+        Some("road") => {
+            let road = *roads.get(target).ok_or_else(|| {
+                ctx.err(
+                    &element,
+                    format!("links to road {target:?}, which is not in the map"),
+                )
+            })?;
+            Ok(Some(RoadLink::Road {
+                road,
+                contact: contact(ctx, node, &element)?,
+            }))
+        }
+        Some("junction") => {
+            let junction = *junctions.get(target).ok_or_else(|| {
+                ctx.err(
+                    &element,
+                    format!("links to junction {target:?}, which is not in the map"),
+                )
+            })?;
+            Ok(Some(RoadLink::Junction { junction }))
+        }
+        // Other element types (e.g. a virtual junction of 1.8) carry no lane links here.
+        _ => Ok(None),
+    }
+}
+
+fn parse_road(
+    ctx: &Ctx,
+    node: Node,
+    roads: &HashMap<&str, usize>,
+    junctions: &HashMap<&str, usize>,
+) -> Result<Road, MapError> {
+    let id = node.attribute("id").unwrap_or_default().to_string();
+    let rid = id.as_str();
+    let here = || format!("road {rid}");
+    let length = ctx.num(node, "length", &here)?;
+    if length < 0.0 {
+        return Err(ctx.err(here(), format!("negative length {length}")));
+    }
+    if length > MAX_LENGTH {
+        return Err(ctx.err(
+            here(),
+            format!("length {length} m is longer than {MAX_LENGTH} m"),
+        ));
+    }
+    let junction = match node.attribute("junction").map(str::trim) {
+        None | Some("-1") | Some("") => None,
+        Some(j) => Some(j.to_string()),
+    };
+
+    let (mut predecessor, mut successor) = (None, None);
+    if let Some(link) = child(node, "link") {
+        if let Some(p) = child(link, "predecessor") {
+            predecessor = parse_link(ctx, p, rid, "predecessor", roads, junctions)?;
+        }
+        if let Some(s) = child(link, "successor") {
+            successor = parse_link(ctx, s, rid, "successor", roads, junctions)?;
+        }
+    }
+
+    // Reference line.
+    let mut geometries = Vec::new();
+    if let Some(pv) = child(node, "planView") {
+        for (gi, g) in children(pv, "geometry").enumerate() {
+            let el = || format!("road {rid}, geometry {gi}");
+            let s0 = ctx.num(g, "s", &el)?;
+            let x = ctx.num(g, "x", &el)?;
+            let y = ctx.num(g, "y", &el)?;
+            let hdg = ctx.num(g, "hdg", &el)?;
+            let glen = ctx.num(g, "length", &el)?;
+            if glen < 0.0 {
+                return Err(ctx.err(el(), format!("negative length {glen}")));
+            }
+            if glen > MAX_LENGTH {
+                return Err(ctx.err(
+                    el(),
+                    format!("length {glen} m is longer than {MAX_LENGTH} m"),
+                ));
+            }
+            let kind = g.children().find(|c| c.is_element()).ok_or_else(|| {
+                ctx.err(el(), "has no shape (line, arc, spiral, poly3, paramPoly3)")
+            })?;
+            let shape = match kind.tag_name().name() {
+                "line" => Shape::Line,
+                "arc" => Shape::Arc {
+                    k: ctx.num(kind, "curvature", &el)?,
+                },
+                "spiral" => {
+                    let k0 = ctx.num(kind, "curvStart", &el)?;
+                    let k1 = ctx.num(kind, "curvEnd", &el)?;
+                    Shape::spiral(hdg, glen, k0, k1)
+                }
+                "poly3" => {
+                    let v = [
+                        ctx.num(kind, "a", &el)?,
+                        ctx.num(kind, "b", &el)?,
+                        ctx.num(kind, "c", &el)?,
+                        ctx.num(kind, "d", &el)?,
+                    ];
+                    Shape::poly([0.0, 1.0, 0.0, 0.0], v, glen)
+                }
+                "paramPoly3" => {
+                    let mut c = [0.0; 8];
+                    for (k, name) in ["aU", "bU", "cU", "dU", "aV", "bV", "cV", "dV"]
+                        .iter()
+                        .enumerate()
+                    {
+                        c[k] = ctx.num(kind, name, &el)?;
+                    }
+                    let p_end = match kind.attribute("pRange") {
+                        Some("normalized") => 1.0,
+                        None | Some("arcLength") => glen,
+                        Some(other) => {
+                            return Err(ctx.err(
+                                el(),
+                                format!("pRange {other:?} is neither \"arcLength\" nor \"normalized\""),
+                            ))
+                        }
+                    };
+                    Shape::poly([c[0], c[1], c[2], c[3]], [c[4], c[5], c[6], c[7]], p_end)
+                }
+                other => {
+                    return Err(ctx.err(
+                        el(),
+                        format!("unknown geometry <{other}> (expected line, arc, spiral, poly3 or paramPoly3)"),
+                    ))
+                }
+            };
+            geometries.push(Geometry::new(s0, x, y, hdg, shape));
+        }
+    }
+    if geometries.is_empty() {
+        return Err(ctx.err(here(), "has no <planView> geometry"));
+    }
+    geometries.sort_by(|a, b| a.s0.total_cmp(&b.s0));
+
+    let elevation = match child(node, "elevationProfile") {
+        Some(ep) => ctx.cubics(ep, "elevation", "s", &|i| {
+            format!("road {rid}, elevation {i}")
+        })?,
+        None => Vec::new(),
+    };
+
+    let lanes = child(node, "lanes").ok_or_else(|| ctx.err(here(), "has no <lanes>"))?;
+    let lane_offset = ctx.cubics(lanes, "laneOffset", "s", &|i| {
+        format!("road {rid}, laneOffset {i}")
+    })?;
+    let mut sections = Vec::new();
+    for (si, sec) in children(lanes, "laneSection").enumerate() {
+        let el = || format!("road {rid}, lane section {si}");
+        let s0 = ctx.num(sec, "s", &el)?;
+        if let Some(prev) = sections.last() {
+            let prev: &LaneSection = prev;
+            if s0 < prev.s0 {
+                return Err(ctx.err(
+                    el(),
+                    format!(
+                        "starts at s = {s0}, before the previous section ({})",
+                        prev.s0
+                    ),
+                ));
+            }
+        }
+        let mut left = Vec::new();
+        let mut right = Vec::new();
+        for (side_tag, positive) in [("left", true), ("right", false)] {
+            let Some(side) = children(sec, side_tag).next() else {
+                continue;
+            };
+            for lane in children(side, "lane") {
+                let id = ctx.int(lane, "id", &el)?;
+                let lel = || format!("road {rid}, lane section {si}, lane {id}");
+                if (id > 0) != positive || id == 0 {
+                    return Err(ctx.err(lel(), format!("lane id {id} on the <{side_tag}> side")));
+                }
+                let widths = ctx.cubics(lane, "width", "sOffset", &|i| {
+                    format!("road {rid}, lane section {si}, lane {id}, width {i}")
+                })?;
+                if widths.is_empty() && child(lane, "border").is_some() {
+                    return Err(ctx.err(
+                        lel(),
+                        "the lane is given by <border> records; only <width> records are supported (convert its borders to widths)",
+                    ));
+                }
+                let (mut predecessor, mut successor) = (None, None);
+                if let Some(link) = child(lane, "link") {
+                    if let Some(p) = child(link, "predecessor") {
+                        predecessor = Some(ctx.int(p, "id", &lel)?);
+                    }
+                    if let Some(s) = child(link, "successor") {
+                        successor = Some(ctx.int(s, "id", &lel)?);
+                    }
+                }
+                let driving = lane
+                    .attribute("type")
+                    .is_some_and(|t| t.eq_ignore_ascii_case("driving"));
+                let l = Lane {
+                    id,
+                    driving,
+                    widths: Piecewise::new(widths),
+                    predecessor,
+                    successor,
+                };
+                if positive {
+                    left.push(l);
+                } else {
+                    right.push(l);
+                }
+            }
+        }
+        left.sort_by_key(|l| l.id);
+        right.sort_by_key(|l| -l.id);
+        for side in [&left, &right] {
+            if let Some(w) = side.windows(2).find(|w| w[0].id == w[1].id) {
+                return Err(ctx.err(el(), format!("two lanes have id {}", w[0].id)));
+            }
+        }
+        sections.push(LaneSection {
+            s0,
+            s1: length,
+            left,
+            right,
+        });
+    }
+    for i in 1..sections.len() {
+        sections[i - 1].s1 = sections[i].s0;
+    }
+
+    Ok(Road {
+        id: id.clone(),
+        length,
+        junction,
+        reference: ReferenceLine { geometries },
+        elevation: Piecewise::new(elevation),
+        lane_offset: Piecewise::new(lane_offset),
+        sections,
+        predecessor,
+        successor,
+        left_hand: node.attribute("rule") == Some("LHT"),
+    })
+}
+
+fn parse_junction(
+    ctx: &Ctx,
+    node: Node,
+    roads: &HashMap<&str, usize>,
+) -> Result<Junction, MapError> {
+    let id = node.attribute("id").unwrap_or_default();
+    let mut connections = Vec::new();
+    for (ci, c) in children(node, "connection").enumerate() {
+        let cid = c.attribute("id").unwrap_or("?");
+        let el = format!("junction {id}, connection {cid} (#{ci})");
+        let road = |attr: &str| -> Result<usize, MapError> {
+            let r = c.attribute(attr).unwrap_or("");
+            roads
+                .get(r)
+                .copied()
+                .ok_or_else(|| ctx.err(&el, format!("{attr} {r:?} is not a road of the map")))
+        };
+        let incoming = road("incomingRoad")?;
+        let connecting = road("connectingRoad")?;
+        let contact = contact(ctx, c, &el)?;
+        let mut lane_links = Vec::new();
+        for l in children(c, "laneLink") {
+            let f = || el.clone();
+            lane_links.push((ctx.int(l, "from", &f)?, ctx.int(l, "to", &f)?));
+        }
+        connections.push(Connection {
+            incoming,
+            connecting,
+            contact,
+            lane_links,
+        });
+    }
+    Ok(Junction { connections })
+}

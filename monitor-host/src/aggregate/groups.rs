@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::pipeline::outcome::RouteState;
 use crate::report::model::RouteReport;
 
 /// What to group the breakdown table by.
@@ -31,8 +32,8 @@ impl GroupBy {
 }
 
 /// Labels of scenario types (families) or weather ids, read by
-/// [`crate::input::labels::read_labels`].
-pub type Labels = BTreeMap<String, String>;
+/// [`crate::input::labels::read_labels`]: a key may have several labels.
+pub type Labels = BTreeMap<String, Vec<String>>;
 
 /// One group's totals; the denominator of its rates is its own route count.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -64,20 +65,21 @@ impl Group {
     }
 }
 
-/// The group key of a route: its scenario type, family, town or weather label; `(unknown)` when
-/// the route has none.
-pub fn key(route: &RouteReport, by: GroupBy, labels: &Labels) -> String {
-    let label = |k: &String| labels.get(k).cloned().unwrap_or_else(|| k.clone());
+/// The group keys of a route: its scenario type, town, or its family / weather labels (the key
+/// itself when unlabelled); `(unknown)` when the route has none.
+pub fn keys(route: &RouteReport, by: GroupBy, labels: &Labels) -> Vec<String> {
+    let label = |k: &String| labels.get(k).cloned().unwrap_or_else(|| vec![k.clone()]);
     match by {
-        GroupBy::Scenario => route.scenario_type.clone(),
+        GroupBy::Scenario => route.scenario_type.clone().map(|k| vec![k]),
         GroupBy::Family => route.scenario_type.as_ref().map(label),
-        GroupBy::Town => route.town.clone(),
+        GroupBy::Town => route.town.clone().map(|k| vec![k]),
         GroupBy::Weather => route.weather_id.as_ref().map(label),
     }
-    .unwrap_or_else(|| "(unknown)".into())
+    .unwrap_or_else(|| vec!["(unknown)".into()])
 }
 
-/// The routes grouped by `by`, groups in key order, routes summed in input order.
+/// The routes counted in the aggregates (foreign ones left out) grouped by `by`, groups in key
+/// order, routes summed in input order; a route with several labels counts in each group.
 ///
 /// ```
 /// use monitor_host::aggregate::groups::{group, Group, GroupBy, Labels};
@@ -86,12 +88,14 @@ pub fn key(route: &RouteReport, by: GroupBy, labels: &Labels) -> String {
 /// ```
 pub fn group(routes: &[RouteReport], by: GroupBy, labels: &Labels) -> BTreeMap<String, Group> {
     let mut groups: BTreeMap<String, Group> = BTreeMap::new();
-    for r in routes {
-        let g = groups.entry(key(r, by, labels)).or_default();
-        g.routes += 1;
-        g.composed += r.score_composed.unwrap_or(0.0);
-        g.successes += usize::from(r.success);
-        g.collided += usize::from(!r.collision_events.is_empty());
+    for r in routes.iter().filter(|r| r.state != RouteState::Foreign) {
+        for k in keys(r, by, labels) {
+            let g = groups.entry(k).or_default();
+            g.routes += 1;
+            g.composed += r.score_composed.unwrap_or(0.0);
+            g.successes += usize::from(r.success);
+            g.collided += usize::from(!r.collision_events.is_empty());
+        }
     }
     groups
 }

@@ -131,6 +131,7 @@ mod tests {
             id: "r".into(),
             town: "Town01".into(),
             waypoints: points.to_vec(),
+            scenario_type: None,
         }
     }
 

@@ -29,6 +29,8 @@ pub struct RouteRef {
     pub town: String,
     /// The waypoints in document order.
     pub waypoints: Vec<[f64; 2]>,
+    /// The `type` of the route's first `<scenario>` (Bench2Drive routes have one), if any.
+    pub scenario_type: Option<String>,
 }
 
 /// Why a route file or one of its routes cannot be used. Names the file and the route id.
@@ -398,6 +400,7 @@ fn handle_element(
                     id,
                     town,
                     waypoints: Vec::new(),
+                    scenario_type: None,
                 },
                 error: None,
                 depth,
@@ -409,6 +412,12 @@ fn handle_element(
                 if o.depth + 1 == depth && !empty {
                     o.waypoints_depth = Some(depth);
                 }
+            }
+        }
+        b"scenario" => {
+            if let Some(o) = open.as_mut().filter(|o| o.route.scenario_type.is_none()) {
+                o.route.scenario_type =
+                    attr_string(reader, e, b"type").map_err(|m| xml_error_at(reader, file, m))?;
             }
         }
         b"position" => {

@@ -15,7 +15,7 @@ use crate::input::record::Record;
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::align::{self, EventRef};
 use crate::pipeline::outcome::CollisionEvent;
-use crate::settings::Settings;
+use crate::settings::{decimal, Settings};
 
 /// Parses a record's collision lists into events (not yet aligned).
 pub fn collision_events(record: &Record) -> Vec<CollisionEvent> {
@@ -36,6 +36,7 @@ pub fn collision_events(record: &Record) -> Vec<CollisionEvent> {
                 frame: None,
                 step: None,
                 aligned_by: None,
+                time_s: None,
                 impact_speed: None,
                 decelerated: None,
                 exempt: None,
@@ -108,6 +109,7 @@ pub fn prepare(
             ev.frame = Some(k);
             ev.step = Some(steps[k]);
             ev.aligned_by = a.by;
+            ev.time_s = Some((steps[k] - steps[0]) as f64 * decimal(settings.core.dt));
             ev.impact_speed = Some(speeds[k] as f32);
         }
         events.push(ev);

@@ -15,6 +15,7 @@ use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
+use crate::pipeline::step_period::{self, StepPeriod};
 use crate::reference::batch;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -84,14 +85,19 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
 pub struct RouteTelemetry {
     /// The frames and aligned events.
     pub prepared: PreparedRoute,
+    /// The route's step period (spec section 1.2).
+    pub period: StepPeriod,
+    /// The settings of this route: the run's, with the route's `dt`.
+    pub settings: Settings,
     /// Missing step numbers.
     pub gaps: u64,
     /// The `metric_info.json` read.
     pub path: PathBuf,
 }
 
-/// Locates and reads a record's telemetry (and `infractions.json` beside it) and prepares its
-/// frames. Problems that do not stop the route are pushed to `warnings`.
+/// Locates and reads a record's telemetry (and `infractions.json` beside it), infers its step
+/// period, and prepares its frames. Problems that do not stop the route are pushed to
+/// `warnings`.
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
@@ -111,7 +117,15 @@ pub fn read_telemetry(
                 loaded.records_in_file == 1,
             )
         })
-        .ok_or(TelemetryState::Missing)?;
+        .ok_or_else(|| {
+            TelemetryState::Missing(discovery::missing_reason(
+                telemetry_root,
+                record.save_name.as_deref(),
+                &record.route_id,
+                &loaded.source,
+                loaded.records_in_file == 1,
+            ))
+        })?;
     let tel = metric_info::read_metric_info(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
@@ -132,9 +146,27 @@ pub fn read_telemetry(
             warnings.push(Warning::NoReference(e));
         }
     }
-    let prepared = prepare(record, &tel, routes, infractions.as_deref(), settings);
+    let (first, last) = match (tel.frames.first(), tel.frames.last()) {
+        (Some(a), Some(b)) => (a.step, b.step),
+        _ => (0, 0),
+    };
+    let (period, period_warnings) =
+        step_period::infer(first, last, tel.gaps, record.meta.duration_game, settings);
+    warnings.extend(period_warnings);
+    // The period is configuration, set once for the route: the per-frame work is unchanged.
+    let mut route_settings = settings.clone();
+    route_settings.core.dt = period.as_f32(settings);
+    let prepared = prepare(
+        record,
+        &tel,
+        routes,
+        infractions.as_deref(),
+        &route_settings,
+    );
     Ok(RouteTelemetry {
         prepared,
+        period,
+        settings: route_settings,
         gaps: tel.gaps,
         path,
     })
@@ -150,7 +182,9 @@ pub fn replay(
 ) -> RouteOutcome {
     let mut out = RouteOutcome {
         loaded: loaded.clone(),
-        telemetry: TelemetryState::Missing,
+        telemetry: TelemetryState::Missing(String::new()),
+        period: None,
+        foreign: false,
         frames: 0,
         gaps: 0,
         summary: None,
@@ -175,14 +209,17 @@ pub fn replay(
     ) {
         Ok(RouteTelemetry {
             mut prepared,
+            period,
+            settings: route_settings,
             gaps,
             path,
         }) => {
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
-            match stream(&mut prepared, &settings.core) {
+            out.period = Some(period);
+            match stream(&mut prepared, &route_settings.core) {
                 Ok(summary) => {
-                    let reference = batch::compute(&prepared.frames, &settings.core);
+                    let reference = batch::compute(&prepared.frames, &route_settings.core);
                     out.batch_agrees = Some(reference.summary == summary);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;

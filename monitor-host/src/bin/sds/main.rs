@@ -4,9 +4,11 @@
 //! library's [`monitor_host::score_run`].
 //!
 //! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
-//! 2 usage error; 3 the report was written but some route has a problem (missing or invalid
-//! telemetry without `--allow-missing-telemetry`, an invalid record, or a streaming/batch
-//! disagreement) — every such route is in the report with its state.
+//! 2 usage error (bad option, a `--telemetry` folder that does not exist, duplicated route ids
+//! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
+//! route); 3 the report was written but some route has a problem (missing or invalid telemetry
+//! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
+//! every such route is in the report with its state; 4 the inputs hold no record at all.
 
 mod args;
 mod output;
@@ -16,15 +18,22 @@ use anyhow::Result;
 use clap::Parser;
 
 use monitor_host::aggregate::groups::{GroupBy, Labels};
-use monitor_host::input::labels::read_labels;
+use monitor_host::input::labels::{check_coverage, read_labels};
 use monitor_host::report::{csv, json, table};
-use monitor_host::{demo, route_frames, score_run_with, Inputs, Settings};
+use monitor_host::{
+    demo, route_frames, score_run_with, Inputs, Report, Settings, TelemetryState, Warning,
+};
+use std::path::Path;
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
 const EXIT_ROUTE_PROBLEMS: i32 = 3;
+/// Exit code: a usage error (clap's own code too).
+const EXIT_USAGE: i32 = 2;
+/// Exit code: the inputs hold no record at all.
+const EXIT_EMPTY_RUN: i32 = 4;
 
 fn main() {
     let cli = Cli::parse();
@@ -32,10 +41,32 @@ fn main() {
         Ok(code) => code,
         Err(e) => {
             eprintln!("sds: error: {e:#}");
-            1
+            exit_code(&e)
         }
     };
     std::process::exit(code);
+}
+
+/// The exit code of an error: usage errors 2, an empty run 4, anything else 1.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    use monitor_host::Error;
+    if let Some(e) = e.downcast_ref::<Error>() {
+        return match e {
+            Error::Duplicates(_)
+            | Error::TooFewRoutes { .. }
+            | Error::TelemetryRoot { .. }
+            | Error::Settings(_) => EXIT_USAGE,
+            Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
+            _ => 1,
+        };
+    }
+    if e.downcast_ref::<monitor_host::SettingsError>().is_some()
+        || e.downcast_ref::<monitor_host::LabelsError>()
+            .is_some_and(|l| matches!(l, monitor_host::LabelsError::NoMatch { .. }))
+    {
+        return EXIT_USAGE;
+    }
+    1
 }
 
 fn run(cli: Cli) -> Result<i32> {
@@ -75,6 +106,7 @@ fn run(cli: Cli) -> Result<i32> {
                 routes: Some(run.routes),
                 profile: ProfileArg::Physical,
                 expected_routes: None,
+                duplicates: None,
                 allow_missing_telemetry: false,
                 format: Format::Table,
                 output: None,
@@ -115,6 +147,44 @@ fn run(cli: Cli) -> Result<i32> {
     }
 }
 
+/// What a label file's keys are.
+#[derive(Clone, Copy)]
+enum LabelKey {
+    Family,
+    Weather,
+}
+
+/// Reads a label file and checks it against the report's routes: no key matching is an error,
+/// keys of some routes without a label a warning (added to the report).
+fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
+    let labels = read_labels(file)?;
+    let counted = report
+        .routes
+        .iter()
+        .filter(|r| r.state != monitor_host::RouteState::Foreign);
+    let (keys, name, option): (Vec<&str>, _, _) = match what {
+        LabelKey::Family => (
+            counted.filter_map(|r| r.scenario_type.as_deref()).collect(),
+            "scenario type",
+            "--families",
+        ),
+        LabelKey::Weather => (
+            counted.filter_map(|r| r.weather_id.as_deref()).collect(),
+            "weather id",
+            "--weathers",
+        ),
+    };
+    let unlabelled = check_coverage(&labels, keys, file, name, option)?;
+    if !unlabelled.is_empty() {
+        report.warnings.push(Warning::LabelsMissKeys {
+            file: file.to_path_buf(),
+            count: unlabelled.len(),
+            keys: unlabelled.into_iter().take(8).collect(),
+        });
+    }
+    Ok(labels)
+}
+
 /// The settings of `sds score`: its options, then `--set` overrides in order.
 fn settings(args: &ScoreArgs) -> Result<Settings> {
     let mut s = Settings::default();
@@ -123,6 +193,9 @@ fn settings(args: &ScoreArgs) -> Result<Settings> {
         ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
     };
     s.expected_routes = args.expected_routes;
+    if let Some(d) = args.duplicates {
+        s.duplicates = d.policy();
+    }
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
     s.apply(&args.set)?;
@@ -139,16 +212,21 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let bar = progress::Bar::new();
     let report = score_run_with(&inputs, &settings, &bar);
     bar.finish();
-    let report = report?;
+    let mut report = report?;
+    let families = args
+        .families
+        .as_deref()
+        .map(|f| label_file(&mut report, f, LabelKey::Family))
+        .transpose()?;
+    let weathers = args
+        .weathers
+        .as_deref()
+        .map(|f| label_file(&mut report, f, LabelKey::Weather))
+        .transpose()?;
 
+    // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
         eprintln!("sds: warning: {w}");
-    }
-    for r in &report.routes {
-        for w in &r.warnings {
-            let id = r.route_id.as_deref().unwrap_or("<no route_id>");
-            eprintln!("sds: warning: {id}: {w}");
-        }
     }
     let bytes = match args.format {
         Format::Json => json::json(&report)?,
@@ -160,9 +238,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
                 GroupArg::Town => GroupBy::Town,
                 GroupArg::Weather => GroupBy::Weather,
             };
-            let labels = match (group, &args.families, &args.weathers) {
-                (GroupBy::Family, Some(f), _) => read_labels(f)?,
-                (GroupBy::Weather, _, Some(w)) => read_labels(w)?,
+            let labels = match group {
+                GroupBy::Family => families.unwrap_or_default(),
+                GroupBy::Weather => weathers.unwrap_or_default(),
                 _ => Labels::new(),
             };
             table::table(&report, group, &labels).into_bytes()
@@ -177,11 +255,19 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     if report.routes.is_empty() {
         eprintln!("sds: no route found in the results: nothing was scored");
     }
+    // When no route has telemetry, the warning above said so once: no line per route.
+    let no_telemetry = report.no_telemetry();
     for r in report.problem_routes() {
+        if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
+            continue;
+        }
         eprintln!(
             "sds: {} ({}): {}",
             r.route_id.as_deref().unwrap_or("<no route_id>"),
-            r.source,
+            r.source.as_ref().map_or_else(
+                || "-".into(),
+                |s| format!("{}#{}", s.file.display(), s.index)
+            ),
             r.state
         );
     }

@@ -1,8 +1,10 @@
-//! The per-route pipeline: [`prepare`] (record + telemetry → frames, with [`align`]ed collision
-//! events) → [`replay`] (frames → `Monitor` → summary, checked against the batch reference) →
-//! [`outcome`] (what became of the route); [`step_period`] gives each route's `dt`.
+//! The per-route pipeline: [`prepare`] (record + telemetry → frames built by [`frame`], with
+//! [`align`]ed collision events) → [`replay`] (frames → `Monitor` → summary, checked against the
+//! batch reference) → [`outcome`] (what became of the route); [`step_period`] gives each
+//! route's `dt`.
 
 pub mod align;
+pub mod frame;
 pub mod outcome;
 pub mod prepare;
 pub mod replay;

@@ -17,7 +17,7 @@
 //! their messages. The test `metric_info_fast_path` checks both paths on the fuzz corpus and on
 //! generated, mutated and arbitrary inputs: same frames bit for bit, never accepting more.
 
-use super::visitor::{field_index, frame_from, step_number};
+use super::visitor::{field_index, step_number};
 use super::TelemetryFrame;
 
 /// A position in the bytes.
@@ -203,7 +203,7 @@ impl<'a> Cursor<'a> {
         if seen != 0b1_1111 {
             return None;
         }
-        frame_from(step, vals).ok()
+        TelemetryFrame::from_raw(step, vals).ok()
     }
 }
 

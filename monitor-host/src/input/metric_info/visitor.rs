@@ -188,7 +188,7 @@ pub(super) fn step_number(v: &str) -> Result<u64, TelemetryError> {
     Ok(n)
 }
 
-pub(super) const FIELD_NAMES: [&str; 5] = [
+pub(crate) const FIELD_NAMES: [&str; 5] = [
     "acceleration",
     "angular_velocity",
     "forward_vector",
@@ -221,32 +221,6 @@ impl<'de> Visitor<'de> for FieldKey {
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Option<usize>, E> {
         Ok(field_index(v.as_bytes()))
     }
-}
-
-/// A frame from its five vectors (in [`FIELD_NAMES`] order), or the index of the field whose
-/// value does not fit the monitor's f32 (shared by both parse paths).
-pub(super) fn frame_from(step: u64, vals: [[f64; 3]; 5]) -> Result<TelemetryFrame, usize> {
-    let [acc, angvel, fwd, right, loc] = vals;
-    // Values stored as f32 must stay finite after rounding.
-    let f32_checks: [(usize, &[f64]); 4] = [
-        (0, &acc[..2]),
-        (1, &angvel[2..]),
-        (2, &fwd[..2]),
-        (3, &right[..2]),
-    ];
-    for (i, vs) in f32_checks {
-        if vs.iter().any(|&v| !(v as f32).is_finite()) {
-            return Err(i);
-        }
-    }
-    Ok(TelemetryFrame {
-        step,
-        location: [loc[0], loc[1]],
-        acc: [acc[0] as f32, acc[1] as f32],
-        fwd: [fwd[0] as f32, fwd[1] as f32],
-        right: [right[0] as f32, right[1] as f32],
-        yaw_rate_deg: angvel[2] as f32,
-    })
 }
 
 struct FrameSeed<'c> {
@@ -308,13 +282,7 @@ impl<'de> Visitor<'de> for FrameSeed<'_> {
                 }
             }
         }
-        frame_from(step, out).map_err(|i| {
-            ctx.fail(TelemetryError::Field {
-                step,
-                field: FIELD_NAMES[i],
-                problem: FieldProblem::OutOfF32Range,
-            })
-        })
+        TelemetryFrame::from_raw(step, out).map_err(|e| ctx.fail(e))
     }
 }
 

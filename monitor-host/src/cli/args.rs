@@ -58,8 +58,8 @@ pub enum DuplicatesArg {
 
 impl DuplicatesArg {
     /// The library's policy.
-    pub fn policy(self) -> monitor_host::input::duplicates::DuplicatePolicy {
-        use monitor_host::input::duplicates::DuplicatePolicy as P;
+    pub fn policy(self) -> crate::input::duplicates::DuplicatePolicy {
+        use crate::input::duplicates::DuplicatePolicy as P;
         match self {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,

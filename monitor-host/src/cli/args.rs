@@ -132,7 +132,7 @@ pub struct ScoreArgs {
     /// Names are those of the report's `config` block.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
 }
@@ -161,6 +161,9 @@ pub enum Command {
         /// Keys per frame of the large run's telemetry.
         #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
         layout: LayoutArg,
+        /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
+        #[arg(long)]
+        force: bool,
     },
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
     Frames {

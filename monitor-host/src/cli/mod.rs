@@ -13,6 +13,15 @@ pub mod args;
 pub mod output;
 pub mod progress;
 
+/// Prints one message on standard error, escaped: it may hold strings from the inputs (route
+/// ids, paths, reasons), which must not reach the terminal raw
+/// ([`crate::report::escape::printable_lines`]).
+macro_rules! say {
+    ($($t:tt)*) => {
+        eprintln!("{}", crate::report::escape::printable_lines(&format!($($t)*)))
+    };
+}
+
 use std::ffi::OsString;
 use std::path::Path;
 
@@ -57,10 +66,10 @@ where
             return e.exit_code();
         }
     };
-    match run(cli) {
+    match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("sds: error: {}", error_message(&*e));
+            say!("sds: error: {}", error_message(&*e));
             exit_code(&e)
         }
     }
@@ -122,7 +131,17 @@ fn run(cli: Cli) -> Result<i32> {
             large_routes,
             large_frames,
             layout,
+            force,
         } => {
+            let existing = demo::existing_run(&dir);
+            if !existing.is_empty() && !force {
+                let names: Vec<String> = existing.iter().map(|p| p.display().to_string()).collect();
+                anyhow::bail!(
+                    "{} already holds a run ({}); pass --force to overwrite it",
+                    dir.display(),
+                    names.join(", ")
+                );
+            }
             let run = if large {
                 let layout = match layout {
                     LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
@@ -132,7 +151,7 @@ fn run(cli: Cli) -> Result<i32> {
             } else {
                 demo::write(&dir)?
             };
-            eprintln!(
+            say!(
                 "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
                 run.route_ids.len(),
                 dir.display(),
@@ -174,7 +193,7 @@ fn run(cli: Cli) -> Result<i32> {
             };
             let run = route_frames(&inputs, &route_id, &Settings::default())?;
             for w in &run.warnings {
-                eprintln!("sds: warning: {route_id}: {w}");
+                say!("sds: warning: {route_id}: {w}");
             }
             let mut out = Vec::new();
             let mut buf = [0u8; 512];
@@ -184,7 +203,7 @@ fn run(cli: Cli) -> Result<i32> {
                 out.extend_from_slice(&buf[..n]);
                 out.push(b'\n');
             }
-            write_output(output.as_deref(), &out)?;
+            write_output(output.as_deref(), &out, &run.files_read)?;
             Ok(0)
         }
     }
@@ -347,7 +366,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 
     // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
-        eprintln!("sds: warning: {w}");
+        say!("sds: warning: {w}");
     }
     let bytes = match args.format {
         Format::Json => json::json(&report)?,
@@ -367,14 +386,17 @@ fn score(args: &ScoreArgs) -> Result<i32> {
             table::table(&report, group, &labels).into_bytes()
         }
     };
-    write_output(args.output.as_deref(), &bytes)?;
+    let mut inputs_read = report.files_read.clone();
+    inputs_read.extend(args.families.iter().cloned());
+    inputs_read.extend(args.weathers.iter().cloned());
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
         return Ok(0);
     }
     if report.routes.is_empty() {
-        eprintln!("sds: no route found in the results: nothing was scored");
+        say!("sds: no route found in the results: nothing was scored");
     }
     // When no route has telemetry, the warning above said so once: no line per route.
     let no_telemetry = report.no_telemetry();
@@ -382,7 +404,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
             continue;
         }
-        eprintln!(
+        say!(
             "sds: {} ({}): {}",
             r.route_id.as_deref().unwrap_or("<no route_id>"),
             r.source.as_ref().map_or_else(
@@ -394,14 +416,15 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     }
     let s = &report.summary;
     if !s.batch_disagreements.is_empty() {
-        eprintln!(
+        say!(
             "sds: streaming and batch disagree on {:?} (please report this bug)",
             s.batch_disagreements
         );
     }
-    eprintln!(
+    say!(
         "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
-        s.telemetry_problems, s.invalid_records
+        s.telemetry_problems,
+        s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
 }

@@ -44,6 +44,8 @@ pub fn table(report: &Report, group_by: GroupBy, labels: &Labels) -> String {
         "Coll."
     );
     for (k, g) in groups::group(&report.routes, group_by, labels) {
+        // Group keys come from the inputs (scenario names, labels).
+        let k = crate::report::escape::printable(&k);
         let _ = writeln!(
             out,
             "{k:<40} {:>6} {:>8.2} {:>8.2} {:>8.2}",

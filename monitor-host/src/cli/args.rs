@@ -29,6 +29,15 @@ pub enum Format {
     Csv,
 }
 
+/// Telemetry layouts of `sds demo --large`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    /// Bench2Drive's six keys per frame (what its agents write).
+    B2d,
+    /// Thirteen keys per frame (the six plus velocity, speed, controls, gps, compass).
+    Wide,
+}
+
 /// Comfort profiles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ProfileArg {
@@ -203,6 +212,9 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
+        /// Keys per frame of the large run's telemetry.
+        #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
+        layout: LayoutArg,
         /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
         #[arg(long)]
         force: bool,

@@ -39,7 +39,7 @@ use crate::{
     TelemetryState, Warning,
 };
 
-use args::{Cli, Command, CompareArgs, Format, GroupArg, ProfileArg, ScoreArgs};
+use args::{Cli, Command, CompareArgs, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -136,6 +136,7 @@ fn run(cli: Cli) -> Result<i32> {
             large,
             large_routes,
             large_frames,
+            layout,
             force,
         } => {
             let existing = demo::existing_run(&dir);
@@ -148,7 +149,11 @@ fn run(cli: Cli) -> Result<i32> {
                 );
             }
             let run = if large {
-                demo::write_large(&dir, large_routes, large_frames)?
+                let layout = match layout {
+                    LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
+                    LayoutArg::Wide => demo::LargeLayout::Wide,
+                };
+                demo::write_large_with(&dir, large_routes, large_frames, layout)?
             } else {
                 demo::write(&dir)?
             };

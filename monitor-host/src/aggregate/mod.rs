@@ -1,6 +1,7 @@
 //! Aggregates over the routes: the benchmark [`summary`] (§8.1), the [`penalty`] re-check (§8),
 //! Bench2Drive's metrics ([`bench2drive`], [`ability`], §8.2), every aggregate of a set of routes
-//! ([`aggregates`]), the breakdown [`groups`] (§8.3) and the comparison of runs ([`compare`]).
+//! ([`aggregates`]), the breakdown [`groups`] (§8.3), the comparison of runs ([`compare`]) and
+//! the collision [`trace`]s (§10.2).
 
 pub mod ability;
 pub mod aggregates;
@@ -9,3 +10,4 @@ pub mod compare;
 pub mod groups;
 pub mod penalty;
 pub mod summary;
+pub mod trace;

@@ -16,6 +16,7 @@ use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
+use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -53,12 +54,25 @@ impl Refused {
 /// # Errors
 /// The first frame (or the configuration) the monitor refused.
 pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSummary, Refused> {
+    stream_logged(prepared, config, &mut ChunkLog::default())
+}
+
+/// [`stream`], keeping the monitor's per-chunk verdicts in `log`.
+///
+/// # Errors
+/// As [`stream`].
+pub fn stream_logged(
+    prepared: &mut PreparedRoute,
+    config: &Config,
+    log: &mut ChunkLog,
+) -> Result<RouteSummary, Refused> {
     let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
     let mut verdicts = Vec::new();
     for (index, f) in prepared.frames.iter().enumerate() {
         let events = monitor
             .push(f)
             .map_err(|error| Refused::Frame { index, error })?;
+        log.record(&events);
         for e in &events {
             if let Event::Collision(v) = e {
                 verdicts.push(*v);
@@ -69,6 +83,7 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
         index: prepared.frames.len(),
         error,
     })?;
+    log.record(&done.events);
     for ev in &mut prepared.events {
         if let Some(k) = ev.frame {
             if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
@@ -193,6 +208,7 @@ pub fn replay(
         summary: None,
         safe: None,
         legacy_comfort: None,
+        timeline: None,
         events: Vec::new(),
         workzone: 0,
         penalty: None,
@@ -218,7 +234,8 @@ pub fn replay(
         }) => {
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
-            match stream(&mut prepared, &settings.core) {
+            let mut chunks = ChunkLog::default();
+            match stream_logged(&mut prepared, &settings.core, &mut chunks) {
                 Ok(summary) => {
                     let reference = batch::compute(&prepared.frames, &settings.core);
                     let mut agrees = reference.summary == summary;
@@ -231,6 +248,18 @@ pub fn replay(
                     out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;
+                    out.timeline = Some(RouteTimeline {
+                        frames: prepared.frames,
+                        steps: prepared.steps,
+                        // The decimal the user wrote (0.05), not the f32's binary value.
+                        dt: settings
+                            .core
+                            .dt
+                            .to_string()
+                            .parse()
+                            .unwrap_or(f64::from(settings.core.dt)),
+                        chunks,
+                    });
                     Some(summary)
                 }
                 Err(refused) => {

@@ -6,11 +6,17 @@
 //! | CSV (one line per route) | [`mod@csv`] |
 //! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
 //! | a table's text, Markdown and LaTeX renderings | [`grid`] |
+//! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
+//! | a collision trace as CSV | [`trace_csv`] |
+//! | the whole run (or runs side by side) as one HTML page | [`html`] |
 
 pub mod csv;
+pub mod figure;
 pub mod grid;
+pub mod html;
 pub mod json;
 pub mod model;
 pub mod table;
+pub mod trace_csv;
 
 pub use model::{Report, RouteReport};

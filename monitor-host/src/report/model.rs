@@ -12,10 +12,12 @@ use crate::aggregate::aggregates::{Aggregates, Counts};
 use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
 use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
+use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::junctions::TownMaps;
 use crate::input::record::MIN_SPEED_LIST;
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
+use crate::pipeline::timeline::ChunkLog;
 use crate::settings::Settings;
 use crate::warning::Warning;
 
@@ -135,6 +137,14 @@ pub struct RouteReport {
     /// Problems that did not stop the route from being scored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<Warning>,
+    /// The traces of its aligned collisions (§10.2): rendered as CSV and SVG files and in the
+    /// HTML report, not in the JSON report.
+    #[serde(skip)]
+    pub traces: Vec<CollisionTrace>,
+    /// The monitor's per-chunk verdicts (the HTML report's timelines); `None` when not
+    /// replayed. Not in the JSON report.
+    #[serde(skip)]
+    pub chunks: Option<ChunkLog>,
 }
 
 /// The whole report.
@@ -224,6 +234,8 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         }),
         batch_agrees: o.batch_agrees,
         warnings: o.warnings.clone(),
+        traces: Vec::new(),
+        chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
     }
 }
 
@@ -238,6 +250,17 @@ pub fn build(
     maps: &TownMaps,
 ) -> Report {
     let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
+    for (r, o) in routes.iter_mut().zip(outcomes) {
+        if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
+            r.traces = collision_traces(
+                id,
+                t,
+                &o.events,
+                settings.core.decel_window,
+                settings.core.decel_threshold,
+            );
+        }
+    }
     if let Some(set) = route_set {
         for (r, o) in routes.iter_mut().zip(outcomes) {
             let Some(rec) = o.record() else { continue };

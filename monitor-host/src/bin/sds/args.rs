@@ -27,6 +27,9 @@ pub enum Format {
     Latex,
     /// One line per route (with `--group-by`: one line per group, then `combined`).
     Csv,
+    /// One self-contained HTML page: the tables, a sortable route table, per route its
+    /// collision figures and chunk timelines, the warnings (`sds compare`: runs side by side).
+    Html,
 }
 
 /// Comfort profiles.
@@ -102,6 +105,10 @@ pub struct ScoreArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Also write every aligned collision's trace (§10.2) into DIR, as
+    /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
+    #[arg(long, value_name = "DIR")]
+    pub traces: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare`.

@@ -22,7 +22,7 @@ use monitor_host::aggregate::groups::GroupBy;
 use monitor_host::input::labels::read_labels;
 use monitor_host::report::grid::Style;
 use monitor_host::report::table::{self, TableOptions};
-use monitor_host::report::{csv, json, Report};
+use monitor_host::report::{csv, html, json, Report};
 use monitor_host::{demo, route_frames, score_run_with, Inputs, Settings};
 
 use args::{Cli, Command, CompareArgs, Format, GroupArg, ProfileArg, ScoreArgs};
@@ -72,23 +72,18 @@ fn run(cli: Cli) -> Result<i32> {
             if !then_score {
                 return Ok(0);
             }
-            score(&ScoreArgs {
-                results: vec![run.results],
-                telemetry: Some(run.telemetry),
-                routes: Some(run.routes),
-                maps: None,
-                profile: ProfileArg::Physical,
-                expected_routes: None,
-                allow_missing_telemetry: false,
-                format: Format::Table,
-                output: None,
-                group_by: None,
-                families: None,
-                weathers: None,
-                infractions: vec![],
-                set: vec![],
-                jobs: None,
-            })
+            let html = dir.join("report.html");
+            let code = score(&ScoreArgs {
+                format: Format::Html,
+                output: Some(html.clone()),
+                traces: Some(dir.join("traces")),
+                ..demo_args(&run)
+            })?;
+            eprintln!("sds: the demo's HTML report: {}", html.display());
+            if code != 0 {
+                return Ok(code);
+            }
+            score(&demo_args(&run))
         }
         Command::Frames {
             results,
@@ -118,6 +113,28 @@ fn run(cli: Cli) -> Result<i32> {
             write_output(output.as_deref(), &out)?;
             Ok(0)
         }
+    }
+}
+
+/// `sds score` of the demo run: the table on standard output.
+fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
+    ScoreArgs {
+        results: vec![run.results.clone()],
+        telemetry: Some(run.telemetry.clone()),
+        routes: Some(run.routes.clone()),
+        maps: None,
+        profile: ProfileArg::Physical,
+        expected_routes: None,
+        allow_missing_telemetry: false,
+        format: Format::Table,
+        output: None,
+        group_by: None,
+        families: None,
+        weathers: None,
+        infractions: vec![],
+        set: vec![],
+        jobs: None,
+        traces: None,
     }
 }
 
@@ -172,7 +189,7 @@ fn style(format: Format) -> Option<Style> {
         Format::Table => Some(Style::Text),
         Format::Markdown => Some(Style::Markdown),
         Format::Latex => Some(Style::Latex),
-        Format::Json | Format::Csv => None,
+        Format::Json | Format::Csv | Format::Html => None,
     }
 }
 
@@ -214,16 +231,35 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
         (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
+        (Format::Html, _) => {
+            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
+        }
         (_, Some(style)) => {
-            let options = TableOptions {
-                extra_infractions: args.infractions.clone(),
-            };
-            table::render(&table::report_tables(&report, &options), style).into_bytes()
+            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
         }
         (_, None) => unreachable!("every table format has a style"),
     };
     write_output(args.output.as_deref(), &bytes)?;
+    if let Some(dir) = &args.traces {
+        let n = output::write_traces(dir, &report)?;
+        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    }
     report_problems(&report)
+}
+
+fn table_options(args: &ScoreArgs) -> TableOptions {
+    TableOptions {
+        extra_infractions: args.infractions.clone(),
+    }
+}
+
+/// The run's name in the HTML page: the results argument(s).
+fn run_name(args: &ScoreArgs) -> String {
+    args.results
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Tells what makes the exit status fail (from the report's data, never its rendering) and
@@ -287,9 +323,10 @@ fn telemetry_of(path: &Path) -> PathBuf {
 }
 
 fn compare_runs(args: &CompareArgs) -> Result<i32> {
-    let Some(style) = style(args.format).or((args.format == Format::Json).then_some(Style::Text))
+    let Some(style) = style(args.format)
+        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
     else {
-        eprintln!("sds: error: sds compare writes json, table, markdown or latex, not csv");
+        eprintln!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
         return Ok(EXIT_USAGE);
     };
     let settings = settings(
@@ -357,6 +394,8 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
         let mut v = serde_json::to_vec_pretty(&comparison)?;
         v.push(b'\n');
         v
+    } else if args.format == Format::Html {
+        html::compare_page(&comparison, &runs).into_bytes()
     } else {
         table::render(&table::compare_tables(&comparison), style).into_bytes()
     };

@@ -29,3 +29,24 @@ pub fn write_output(path: Option<&Path>, bytes: &[u8]) -> Result<()> {
     }
     Ok(())
 }
+
+/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG;
+/// returns the number of traces.
+pub fn write_traces(dir: &Path, report: &monitor_host::report::Report) -> Result<usize> {
+    use monitor_host::report::{figure, trace_csv};
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut n = 0;
+    for t in report.routes.iter().flat_map(|r| &r.traces) {
+        let stem = trace_csv::file_stem(t);
+        write_output(
+            Some(&dir.join(format!("{stem}.csv"))),
+            trace_csv::csv(t).as_bytes(),
+        )?;
+        write_output(
+            Some(&dir.join(format!("{stem}.svg"))),
+            figure::svg(t).as_bytes(),
+        )?;
+        n += 1;
+    }
+    Ok(n)
+}

@@ -250,6 +250,29 @@ pub fn write(dir: &Path) -> Result<DemoRun> {
 /// assert_eq!(run.route_ids.len(), 2);
 /// ```
 pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> {
+    write_large_with(dir, routes, frames, 0)
+}
+
+/// [`write_large`] where `collisions` of the routes (spread evenly) hit a vehicle at frame
+/// 2,000 (routes of more than 2,000 frames): the HTML report's size and load-time benchmark
+/// (220 routes, 100 collisions).
+///
+/// ```
+/// let dir = tempfile::tempdir().unwrap();
+/// let run = monitor_host::demo::write_large_with(dir.path(), 4, 2100, 2).unwrap();
+/// assert_eq!(run.route_ids.len(), 4);
+/// ```
+pub fn write_large_with(
+    dir: &Path,
+    routes: usize,
+    frames: usize,
+    collisions: usize,
+) -> Result<DemoRun> {
+    const HIT: &[(usize, &str, &str)] = &[(2000, "collisions_vehicle", "vehicle.tesla.model3")];
+    // Route i collides when the running count of collisions steps up at i.
+    let hits = |i: usize| {
+        frames > 2000 && (i + 1) * collisions / routes.max(1) > i * collisions / routes.max(1)
+    };
     let list: Vec<Script> = (0..routes)
         .map(|i| Script {
             name: "DemoLargeCruising_1",
@@ -258,7 +281,7 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
             v0: 8.0 + (i % 7) as f64,
             accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
             lateral: straight,
-            collisions: &[],
+            collisions: if hits(i) { HIT } else { &[] },
             status: "Completed",
             score_route: 100.0,
         })

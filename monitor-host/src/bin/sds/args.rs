@@ -174,6 +174,9 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
+        /// Routes of the large run that collide (at frame 2,000).
+        #[arg(long, default_value_t = 0)]
+        large_collisions: usize,
     },
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
     Frames {

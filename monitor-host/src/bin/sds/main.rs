@@ -55,9 +55,10 @@ fn run(cli: Cli) -> Result<i32> {
             large,
             large_routes,
             large_frames,
+            large_collisions,
         } => {
             let run = if large {
-                demo::write_large(&dir, large_routes, large_frames)?
+                demo::write_large_with(&dir, large_routes, large_frames, large_collisions)?
             } else {
                 demo::write(&dir)?
             };

@@ -77,6 +77,7 @@
       .map(function (r) { return r.getAttribute("data-route"); }).join("\n");
     document.body.appendChild(out);
   }
-  status.textContent = "ok: " + rows.length + " routes, " + figs + " figures";
+  status.textContent = "ok: " + rows.length + " routes, " + figs + " figures; checked " +
+    Math.round(performance.now()) + " ms after navigation start";
   document.title += " [ready]";
 })();

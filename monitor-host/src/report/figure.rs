@@ -120,6 +120,19 @@ fn draw(
     shade_window(&mut top, t, lo.max(-0.5), hi)?;
     impact_line(&mut top, lo.max(-0.5), hi)?;
     top.draw_series(LineSeries::new(speed, SPEED.stroke_width(2)))?;
+    let note = (FONT, 11).into_font();
+    top.draw_series(std::iter::once(Text::new(
+        "collision",
+        (0.03, hi),
+        note.clone().color(&IMPACT),
+    )))?;
+    if let Some((a, _)) = t.window {
+        top.draw_series(std::iter::once(Text::new(
+            "deceleration window",
+            (a.max(-BEFORE_S) + 0.03, hi),
+            note.color(&RGBColor(150, 110, 0)),
+        )))?;
+    }
 
     let (alo, ahi) = range(acc.iter().map(|p| p.1), &[thr - 0.5, 0.5]);
     let mut bottom = ChartBuilder::on(&lower)

@@ -76,7 +76,7 @@ pub(super) fn route_table(out: &mut String, report: &Report) {
     }
     out.push_str("</select><span id=\"shown\"></span></div>\n");
     out.push_str(&format!(
-        "<table id=\"routes\" data-routes=\"{}\" data-figures=\"{figures}\">\n<thead><tr>",
+        "<div class=\"wide\"><table id=\"routes\" data-routes=\"{}\" data-figures=\"{figures}\">\n<thead><tr>",
         report.routes.len()
     ));
     for (key, head) in COLUMNS {
@@ -119,7 +119,7 @@ pub(super) fn route_table(out: &mut String, report: &Report) {
         out.push_str(&count(r.warnings.len()));
         out.push_str("</tr>\n");
     }
-    out.push_str("</tbody></table>\n");
+    out.push_str("</tbody></table></div>\n");
 }
 
 /// `scored`, `missing`, ... without an invalid route's reason.

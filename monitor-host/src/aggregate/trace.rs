@@ -10,10 +10,7 @@ use serde::Serialize;
 use crate::pipeline::outcome::CollisionEvent;
 use crate::pipeline::timeline::RouteTimeline;
 
-/// Seconds of trace before the collision.
-pub const BEFORE_S: f64 = 3.0;
-/// Seconds of trace after the collision.
-pub const AFTER_S: f64 = 1.0;
+pub use crate::pipeline::timeline::{AFTER_S, BEFORE_S};
 
 /// The verdict on a collision, as the figure's title names it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -95,10 +92,9 @@ pub struct CollisionTrace {
 /// run's `decel_window` and `decel_threshold`.
 ///
 /// ```
-/// use monitor_host::aggregate::trace::{collision_traces, Verdict};
+/// use monitor_host::aggregate::trace::collision_traces;
 /// use monitor_host::pipeline::timeline::RouteTimeline;
-/// let t = RouteTimeline { frames: vec![monitor_core::Frame::default(); 200],
-///                         steps: (0..200).collect(), dt: 0.05, ..Default::default() };
+/// let t = RouteTimeline { dt: 0.05, ..Default::default() };
 /// assert!(collision_traces("r", &t, &[], 20, -0.5).is_empty());
 /// ```
 pub fn collision_traces(
@@ -112,38 +108,41 @@ pub fn collision_traces(
         .iter()
         .enumerate()
         .filter_map(|(i, e)| {
-            let k = e.frame.filter(|&k| k < timeline.frames.len())?;
+            let k = e.frame?;
             let verdict = Verdict::of(e)?;
-            let tk = timeline.time_s(k);
-            // Steps may have gaps: select by time, not by frame count; the step difference is
-            // exact, so t - t_k has a single rounding.
-            let rel =
-                |j: usize| (timeline.steps[j] as f64 - timeline.steps[k] as f64) * timeline.dt;
-            let points = (0..timeline.frames.len())
-                .map(|j| (j, rel(j)))
-                .skip_while(|&(_, t)| t < -BEFORE_S - 1e-9)
-                .take_while(|&(_, t)| t <= AFTER_S + 1e-9)
-                .map(|(j, t)| {
-                    let f = &timeline.frames[j];
-                    TracePoint {
-                        frame: j,
-                        t,
-                        speed: f.speed,
-                        a_lon: f.a_lon,
-                        lat_err: f.lat_err,
-                    }
+            let at = timeline.frame(k)?;
+            // The step difference is exact, so t - t_k has a single rounding; steps may have
+            // gaps: select by time, not by frame count.
+            let rel = |step: u64| (step as f64 - at.step as f64) * timeline.dt;
+            let points = timeline
+                .kept
+                .iter()
+                .map(|f| (f, rel(f.step)))
+                .filter(|&(_, t)| (-BEFORE_S - 1e-9..=AFTER_S + 1e-9).contains(&t))
+                .map(|(f, t)| TracePoint {
+                    frame: f.index,
+                    t,
+                    speed: f.frame.speed,
+                    a_lon: f.frame.a_lon,
+                    lat_err: f.frame.lat_err,
                 })
                 .collect();
             let first = k.saturating_sub(usize::from(decel_window));
-            let window = (k > 0).then(|| (rel(first), rel(k - 1)));
+            let window = match (
+                timeline.frame(first),
+                k.checked_sub(1).and_then(|p| timeline.frame(p)),
+            ) {
+                (Some(a), Some(b)) if k > 0 => Some((rel(a.step), rel(b.step))),
+                _ => None,
+            };
             Some(CollisionTrace {
                 route_id: route_id.to_string(),
                 event: i,
                 list: e.list.name(),
                 type_id: e.type_id.clone(),
                 frame: k,
-                time_s: tk,
-                impact_speed: timeline.frames[k].speed,
+                time_s: timeline.time_s(at.step),
+                impact_speed: at.frame.speed,
                 verdict,
                 window,
                 threshold,

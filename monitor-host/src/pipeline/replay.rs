@@ -248,18 +248,21 @@ pub fn replay(
                     out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;
-                    out.timeline = Some(RouteTimeline {
-                        frames: prepared.frames,
-                        steps: prepared.steps,
+                    let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
+                    out.timeline = Some(RouteTimeline::around(
+                        &prepared.frames,
+                        &prepared.steps,
                         // The decimal the user wrote (0.05), not the f32's binary value.
-                        dt: settings
+                        settings
                             .core
                             .dt
                             .to_string()
                             .parse()
                             .unwrap_or(f64::from(settings.core.dt)),
+                        &at,
+                        settings.core.decel_window,
                         chunks,
-                    });
+                    ));
                     Some(summary)
                 }
                 Err(refused) => {

@@ -93,7 +93,7 @@ impl RouteTimeline {
             let from = k.saturating_sub(usize::from(decel_window));
             for (j, flag) in keep.iter_mut().enumerate() {
                 let t = rel(j, k);
-                if (j >= from && j <= k) || (t >= -BEFORE_S - 1e-9 && t <= AFTER_S + 1e-9) {
+                if (from..=k).contains(&j) || (-BEFORE_S - 1e-9..=AFTER_S + 1e-9).contains(&t) {
                     *flag = true;
                 }
             }

@@ -63,7 +63,7 @@ const COLUMNS: [(&str, &str); 15] = [
 /// The route table with its filter controls.
 pub(super) fn route_table(out: &mut String, report: &Report) {
     let figures: usize = report.routes.iter().map(|r| r.traces.len()).sum();
-    let mut states: Vec<String> = report.routes.iter().map(|r| state_name(r)).collect();
+    let mut states: Vec<String> = report.routes.iter().map(state_name).collect();
     states.sort();
     states.dedup();
     out.push_str(

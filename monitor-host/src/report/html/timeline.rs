@@ -20,7 +20,10 @@ fn chunk_w(chunks: u32) -> f64 {
 }
 
 /// The bounds, in the report's order.
-const BOUNDS: [(&str, fn(&Failures) -> bool); 6] = [
+/// Whether a chunk failed a bound.
+type Test = fn(&Failures) -> bool;
+
+const BOUNDS: [(&str, Test); 6] = [
     ("lon_acc", |f| f.lon_acc),
     ("lat_acc", |f| f.lat_acc),
     ("mag_jerk", |f| f.mag_jerk),
@@ -86,10 +89,11 @@ pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16) {
         .collect();
     let _ = write!(
         out,
-        "<div class=\"timeline comfort\" data-chunks=\"{n}\" data-failed=\"{}\"><b>Comfort</b>: {n} chunk(s) of {chunk_len} frames, {} failed (red: the chunk failed that bound)\n",
+        "<div class=\"timeline comfort\" data-chunks=\"{n}\" data-failed=\"{}\"><b>Comfort</b>: {n} chunk(s) of {chunk_len} frames, {} failed (red: the chunk failed that bound)",
         failed.len(),
         failed.len()
     );
+    out.push('\n');
     if n > 0 {
         open_svg(out, n, 7);
         row(out, 0, "failed", n, "failed", "#e88", &failed);
@@ -128,12 +132,13 @@ pub(super) fn lateral(out: &mut String, log: &ChunkLog, chunks: u32, chunk_len: 
     let (anomalous, critical) = (band(Band::Anomalous), band(Band::Critical));
     let _ = write!(
         out,
-        "<div class=\"timeline lateral\" data-chunks=\"{chunks}\" data-anomalous=\"{}\" data-critical=\"{}\"><b>Lateral excess</b>: {chunks} chunk(s) of {chunk_len} frames, {} anomalous (orange), {} critical (red)\n",
+        "<div class=\"timeline lateral\" data-chunks=\"{chunks}\" data-anomalous=\"{}\" data-critical=\"{}\"><b>Lateral excess</b>: {chunks} chunk(s) of {chunk_len} frames, {} anomalous (orange), {} critical (red)",
         anomalous.len(),
         critical.len(),
         anomalous.len(),
         critical.len()
     );
+    out.push('\n');
     if chunks > 0 {
         open_svg(out, chunks, 2);
         row(out, 0, "anomalous", chunks, "anomalous", "#f90", &anomalous);

@@ -2,8 +2,9 @@
 # Installs what scripts/test-all.sh uses, and nothing else, idempotently: rustfmt, clippy and the
 # thumb targets; cargo-fuzz only beside an already installed nightly toolchain (the fuzz smoke run
 # needs both and skips without them; nightly itself is never installed); qemu-system-arm >= 9
-# (Debian bookworm-backports), arm binutils and gcc for the firmware tests; Debian chromium for the
-# HTML report's browser test. Safe to run again;
+# (Debian bookworm-backports), arm binutils and gcc for the firmware tests; pinned Python tools
+# (maturin, pytest, mypy, numpy) in a venv inside the build folder; Debian chromium for the HTML
+# report's browser test. Safe to run again;
 # prints one line for each thing it installs or skips.
 set -euo pipefail
 
@@ -61,5 +62,27 @@ if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $release "${need_apt[@]}" >/dev/null 2>&1 \
     || log "WARNING: apt-get install ${need_apt[*]} failed"
 fi
+# Python tools for bindings/python/run-tests.sh, pinned, in a venv inside the build folder:
+# maturin builds the wheel; the test requirements are downloaded once into a local wheelhouse so
+# each test run installs into a fresh venv without the network. Without PyPI the Python tests
+# skip, loudly.
+py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
+py_tools="$py_target/py-tools"
+py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6"
+if ! command -v python3 >/dev/null 2>&1; then
+  log "WARNING: no python3: the Python package tests will skip"
+elif [ "$(cat "$py_tools/pins" 2>/dev/null)" != "$py_pins" ]; then
+  log "installing $py_pins into $py_tools (venv) and its wheelhouse"
+  rm -rf "$py_tools"
+  # shellcheck disable=SC2086
+  if python3 -m venv "$py_tools" \
+    && "$py_tools/bin/pip" install -q $py_pins \
+    && "$py_tools/bin/pip" download -q -d "$py_tools/wheelhouse" pytest==9.2.0 mypy==2.4.1 numpy==2.4.6; then
+    echo "$py_pins" > "$py_tools/pins"
+  else
+    log "WARNING: could not install the Python tools (is PyPI reachable?): the Python package tests will skip"
+  fi
+fi
+
 [ -n "$acted" ] || log "everything the tests use is installed"
 exit 0

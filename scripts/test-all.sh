@@ -36,6 +36,9 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 step "monitor-core for Cortex-M (no std, no alloc)"
 bash scripts/core-nostd.sh
 
+step "Python package (wheel, pytest, mypy --strict)"
+bash bindings/python/run-tests.sh
+
 if [ -x firmware-example/run-tests.sh ]; then
   step "firmware under QEMU"
   bash firmware-example/run-tests.sh

@@ -2,6 +2,7 @@
 //! routes are not errors: they are route states and warnings in the report.
 
 use crate::geometry::map::MapError;
+use crate::input::duplicates::DuplicatesError;
 use crate::input::results_file::ResultsError;
 use crate::input::route_xml::RouteError;
 use crate::settings::SettingsError;
@@ -43,6 +44,45 @@ pub enum Error {
         route: String,
         /// What is wrong with it.
         state: crate::pipeline::outcome::TelemetryState,
+    },
+    /// Route ids appear more than once under `duplicates: error` (spec section 1.5).
+    #[error(transparent)]
+    Duplicates(#[from] DuplicatesError),
+    /// N is smaller than the routes counted in the aggregates (spec section 1.5).
+    #[error(
+        "N = {n} is smaller than the {counted} routes counted in the aggregates (a mean over N \
+         would exceed its scale){}",
+        if *from_option { "; raise --expected-routes or leave it out" } else { "" }
+    )]
+    TooFewRoutes {
+        /// N.
+        n: usize,
+        /// Routes counted (kept records that are not foreign, and missing routes).
+        counted: usize,
+        /// N came from `--expected-routes`.
+        from_option: bool,
+    },
+    /// The telemetry root does not exist or is not a folder.
+    #[error(
+        "--telemetry {}: {reason}; give the folder that holds the <save_name>/metric_info.json \
+         folders",
+        path.display()
+    )]
+    TelemetryRoot {
+        /// The path given.
+        path: std::path::PathBuf,
+        /// Why it cannot be used.
+        reason: String,
+    },
+    /// The inputs hold no record at all: nothing to score.
+    #[error(
+        "no records in {}: every results file is empty (a run that crashed before any route \
+         finished?); nothing was scored",
+        inputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+    )]
+    EmptyRun {
+        /// The results inputs.
+        inputs: Vec<std::path::PathBuf>,
     },
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]

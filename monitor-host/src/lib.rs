@@ -7,6 +7,8 @@
 //!
 //! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress).
 //! The `sds` binary, the tests and the bindings all call it; none of them holds scoring logic.
+//! The command line itself is [`cli`] (feature `cli`, on by default), a library module so that
+//! the `sds` binary and the Python package's `sds` command run the same code.
 //!
 //! Data flows one way, through folders named after the stages:
 //!
@@ -19,7 +21,7 @@
 //!               │                      geometry/  kinematics (speed, yaw unit),
 //!               │                                 lateral (polyline, forward search)
 //!               v                                  │
-//! pipeline/  prepare → align → Frame (f32) → replay: Monitor::push / finish → outcome
+//! pipeline/  prepare → align → frame (f32) → replay: Monitor::push / finish → outcome
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
 //! aggregate/ summary (§8.1), penalty re-check (§8), groups (§8.3)
@@ -50,6 +52,8 @@
 #![deny(missing_docs)]
 
 pub mod aggregate;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod demo;
 pub mod error;
 pub mod geometry;

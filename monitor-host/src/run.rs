@@ -1,17 +1,21 @@
 //! Scoring a run: the one entry point every front end calls (the `sds` binary, tests, and the
 //! Python and C bindings to come).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
+use crate::aggregate::stored::check_inputs;
 use crate::error::Error;
 use crate::geometry::junctions::TownMaps;
+use crate::input::duplicates::{deduplicate, DuplicatePolicy};
 use crate::input::record::{InvalidRecord, LoadedRecord};
-use crate::input::results_file::read_results;
+use crate::input::results_file::{read_results, ResultSet};
+use crate::input::route_set::{benchmark_size, route_set};
 use crate::input::route_xml::read_route_xml;
+use crate::pipeline::outcome::TelemetryState;
 use crate::pipeline::replay::{read_telemetry, replay};
-use crate::report::model::{build, Report};
+use crate::report::model::{build, Report, RunFacts};
 use crate::settings::Settings;
 use crate::warning::Warning;
 use monitor_core::Frame;
@@ -20,12 +24,12 @@ use monitor_core::Frame;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Inputs {
     /// Results: raw evaluator files, merged files, or directories of per-route files, read in
-    /// this order.
+    /// this order (spec section 1.5's input order).
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML (the lateral reference, the route set and the abilities' scenario
-    /// types).
+    /// Bench2Drive route XML: the lateral reference, the route set (missing and foreign routes,
+    /// N) and the abilities' scenario types.
     pub route_xml: Option<PathBuf>,
     /// Folder of the towns' OpenDRIVE maps (§1.4).
     pub maps: Option<PathBuf>,
@@ -99,48 +103,79 @@ pub fn score_run_with(
     progress: &dyn Progress,
 ) -> Result<Report, Error> {
     settings.validate()?;
-    let mut records = Vec::new();
-    let mut warnings = Vec::new();
-    for path in &inputs.results {
-        let set = read_results(path)?;
-        warnings.extend(set.warnings);
-        records.extend(set.records);
-        // A results file that cannot be read still appears, as an invalid entry: its routes
-        // are unknown, but nothing found is silently lost.
-        records.extend(
-            set.broken_files
-                .into_iter()
-                .map(|(source, reason)| LoadedRecord {
-                    source,
-                    index: 0,
-                    records_in_file: 0,
-                    entry: Err(InvalidRecord {
-                        route_id: None,
-                        reason,
-                    }),
-                }),
-        );
+    if let Some(root) = &inputs.telemetry {
+        check_telemetry_root(root)?;
     }
+    let mut warnings = Vec::new();
+    let (sets, all) = read_inputs(&inputs.results, &mut warnings)?;
+    if all.is_empty() {
+        return Err(Error::EmptyRun {
+            inputs: inputs.results.clone(),
+        });
+    }
+    let kept = deduplicate(all.clone(), settings.duplicates)?;
+    if settings.duplicates == DuplicatePolicy::All && !kept.duplicates.is_empty() {
+        warnings.push(Warning::DuplicatesScored {
+            ids: kept.duplicates.len(),
+            first: kept.duplicates.iter().take(5).cloned().collect(),
+        });
+    }
+    if !kept.dropped.is_empty() {
+        warnings.push(Warning::DuplicatesDropped {
+            copies: kept.dropped.len(),
+            ids: kept.duplicates.len(),
+            policy: settings.duplicates.name(),
+        });
+    }
+    let records = kept.records;
     let routes = inputs
         .route_xml
         .as_deref()
         .map(read_route_xml)
         .transpose()?;
-    if let Some(expected) = settings.expected_routes {
-        if expected < records.len() {
-            warnings.push(Warning::ExpectedRoutesTooSmall {
-                expected,
-                found: records.len(),
-            });
-        }
+    let set = routes
+        .as_ref()
+        .map(|xml| route_set(xml, records.iter().filter_map(|r| route_id_of(r))));
+    let foreign: Vec<bool> = records
+        .iter()
+        .map(|r| {
+            set.as_ref()
+                .zip(route_id_of(r))
+                .is_some_and(|(s, id)| !s.contains(id))
+        })
+        .collect();
+    let missing = set.as_ref().map_or(0, |s| s.missing.len());
+    // Under a route set, an entry without a route id (an unreadable file) is most likely one of
+    // the missing routes: it is reported, but not counted against N a second time.
+    let counted = records
+        .iter()
+        .zip(&foreign)
+        .filter(|(r, f)| !**f && (set.is_none() || route_id_of(r).is_some()))
+        .count()
+        + missing;
+    // Under `duplicates: all` every copy counts in N.
+    let extra_copies = records.len() - kept_ids(&records);
+    let n = benchmark_size(settings.expected_routes, set.as_ref(), counted)
+        + if settings.expected_routes.is_none() && set.is_some() {
+            extra_copies
+        } else {
+            0
+        };
+    if n < counted {
+        return Err(Error::TooFewRoutes {
+            n,
+            counted,
+            from_option: settings.expected_routes.is_some(),
+        });
     }
+    let input_reports = check_inputs(&sets, &all, n, &mut warnings);
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.threads.unwrap_or(0))
         .build()?;
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let outcomes: Vec<_> = pool.install(|| {
+    let mut outcomes: Vec<_> = pool.install(|| {
         records
             .par_iter()
             .map(|r| {
@@ -150,12 +185,124 @@ pub fn score_run_with(
             })
             .collect()
     });
+    for (o, f) in outcomes.iter_mut().zip(foreign) {
+        if f {
+            o.foreign = true;
+            warnings.push(Warning::ForeignRoute {
+                route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
+                routes_file: inputs.route_xml.clone().unwrap_or_default(),
+            });
+        }
+    }
+    let without = outcomes
+        .iter()
+        .filter(|o| o.counted() && o.record().is_some())
+        .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
+        .count();
+    let with = outcomes
+        .iter()
+        .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
+        .count();
+    if without > 0 && with == 0 && !settings.allow_missing_telemetry {
+        // With a root given, one route's reason shows what was looked for (and the closest
+        // folder); without one, the message itself says so.
+        let example = inputs.telemetry.as_ref().and_then(|_| {
+            outcomes
+                .iter()
+                .find_map(|o| match (&o.telemetry, o.record()) {
+                    (TelemetryState::Missing(why), Some(r)) => {
+                        Some((r.route_id.clone(), why.clone()))
+                    }
+                    _ => None,
+                })
+        });
+        warnings.push(Warning::NoTelemetry {
+            root: inputs.telemetry.clone(),
+            routes: without,
+            example,
+        });
+    }
     let maps = TownMaps::new(inputs.maps.clone());
-    let report = build(&outcomes, settings, warnings, routes.as_ref(), &maps);
+    let report = build(
+        &outcomes,
+        settings,
+        RunFacts {
+            n,
+            route_set: set,
+            inputs: input_reports,
+            dropped: kept.dropped,
+            warnings,
+        },
+        routes.as_ref(),
+        &maps,
+    );
+    // A map found but unreadable is an error, never a silent fallback (§1.4).
     match maps.into_broken() {
         Some(e) => Err(e.into()),
         None => Ok(report),
     }
+}
+
+/// A telemetry root that does not exist is a mistyped path, not a run without telemetry.
+fn check_telemetry_root(root: &Path) -> Result<(), Error> {
+    let reason = match std::fs::metadata(root) {
+        Ok(m) if m.is_dir() => return Ok(()),
+        Ok(_) => "not a folder".to_string(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "no such folder".to_string(),
+        Err(e) => e.to_string(),
+    };
+    Err(Error::TelemetryRoot {
+        path: root.to_path_buf(),
+        reason,
+    })
+}
+
+/// Reads every results input in the order given: the sets (one per input) and every record
+/// (an unreadable file in a directory is an invalid entry: its routes are unknown, but nothing
+/// found is silently lost).
+fn read_inputs(
+    paths: &[PathBuf],
+    warnings: &mut Vec<Warning>,
+) -> Result<(Vec<ResultSet>, Vec<LoadedRecord>), Error> {
+    let mut sets = Vec::new();
+    let mut records = Vec::new();
+    for path in paths {
+        let mut set = read_results(path)?;
+        warnings.append(&mut set.warnings);
+        records.extend(set.records.iter().cloned());
+        records.extend(
+            set.broken_files
+                .iter()
+                .map(|(source, reason)| LoadedRecord {
+                    source: source.clone(),
+                    index: 0,
+                    records_in_file: 0,
+                    entry: Err(InvalidRecord {
+                        route_id: None,
+                        reason: reason.clone(),
+                    }),
+                }),
+        );
+        sets.push(set);
+    }
+    Ok((sets, records))
+}
+
+/// A record's route id, valid or not.
+fn route_id_of(r: &LoadedRecord) -> Option<&str> {
+    match &r.entry {
+        Ok(rec) => Some(&rec.route_id),
+        Err(e) => e.route_id.as_deref(),
+    }
+}
+
+/// Distinct route ids among the records (records without one count once each).
+fn kept_ids(records: &[LoadedRecord]) -> usize {
+    let mut ids = std::collections::HashSet::new();
+    records
+        .iter()
+        .filter(|r| route_id_of(r).is_none_or(|id| ids.insert(id)))
+        .count()
 }
 
 /// The monitor's input frames of one route, as [`score_run`] would stream them, and the warnings

@@ -21,6 +21,7 @@
 use monitor_core::{Config, ConfigError, Profile};
 
 use crate::aggregate::penalty::PenaltyFlavour;
+use crate::input::duplicates::DuplicatePolicy;
 
 /// Why a setting was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -76,6 +77,11 @@ pub struct Settings {
     pub penalty_flavour: PenaltyFlavour,
     /// Benchmark size N: routes not found count as 0 / failed (§8.1).
     pub expected_routes: Option<usize>,
+    /// Which copy of a duplicated route id is scored (§1.5) **\[decision\]**.
+    pub duplicates: DuplicatePolicy,
+    /// Infer each route's step period from its record (§1.2); `false` uses `dt` for every
+    /// route. Setting `dt` turns it off.
+    pub dt_inference: bool,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
@@ -92,6 +98,8 @@ impl Default for Settings {
             align_tie: 1e-3,
             penalty_flavour: PenaltyFlavour::Bench2Drive,
             expected_routes: None,
+            duplicates: DuplicatePolicy::Error,
+            dt_inference: true,
             allow_missing_telemetry: false,
             threads: None,
         }
@@ -111,6 +119,26 @@ fn f64_of(name: &'static str, v: &str) -> Result<f64, SettingsError> {
     })
 }
 
+fn bool_of(name: &'static str, v: &str) -> Result<bool, SettingsError> {
+    v.trim().parse().map_err(|_| SettingsError::Value {
+        name,
+        expected: "true or false",
+        value: v.to_string(),
+    })
+}
+
+/// An f32 setting as the decimal a person writes: the shortest text that reads back as the same
+/// f32 (`0.05`, not its f64 widening `0.05000000074505806`), as an f64.
+///
+/// ```
+/// use monitor_host::settings::decimal;
+/// assert_eq!(decimal(0.05), 0.05);
+/// assert_ne!(f64::from(0.05f32), 0.05);
+/// ```
+pub fn decimal(x: f32) -> f64 {
+    x.to_string().parse().unwrap_or(f64::from(x))
+}
+
 fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
     v.trim().parse().map_err(|_| SettingsError::Value {
         name,
@@ -121,7 +149,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 30] = [
+    pub const NAMES: [&'static str; 32] = [
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -138,6 +166,8 @@ impl Settings {
         "decel_threshold",
         "decel_window",
         "dt",
+        "dt_inference",
+        "duplicates",
         "expected_routes",
         "factors.anomalous",
         "factors.critical",
@@ -197,11 +227,13 @@ impl Settings {
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
             "lookahead" => self.lookahead = f64_of(key, v)?,
-            "allow_missing_telemetry" => {
-                self.allow_missing_telemetry =
-                    v.trim().parse().map_err(|_| SettingsError::Value {
+            "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
+            "dt_inference" => self.dt_inference = bool_of(key, v)?,
+            "duplicates" => {
+                self.duplicates =
+                    DuplicatePolicy::from_name(v.trim()).ok_or(SettingsError::Value {
                         name: key,
-                        expected: "true or false",
+                        expected: "error, first, last or all",
                         value: v.into(),
                     })?
             }
@@ -236,7 +268,11 @@ impl Settings {
             "anomalous_excess" => c.anomalous_excess = f32_of(key, v)?,
             "critical_excess" => c.critical_excess = f32_of(key, v)?,
             "decel_threshold" => c.decel_threshold = f32_of(key, v)?,
-            "dt" => c.dt = f32_of(key, v)?,
+            "dt" => {
+                // A fixed step period: every route uses it (spec section 1.2).
+                c.dt = f32_of(key, v)?;
+                self.dt_inference = false;
+            }
             "legacy_jerk_spacing" => c.legacy_jerk_spacing = f32_of(key, v)?,
             "slack" => c.slack = f32_of(key, v)?,
             "stationary_speed" => c.stationary_speed = f32_of(key, v)?,
@@ -271,6 +307,8 @@ impl Settings {
             "gap_max" => self.gap_max.to_string(),
             "lookahead" => self.lookahead.to_string(),
             "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
+            "dt_inference" => self.dt_inference.to_string(),
+            "duplicates" => self.duplicates.name().into(),
             "expected_routes" => self
                 .expected_routes
                 .map_or_else(|| "null".into(), |n| n.to_string()),
@@ -357,14 +395,14 @@ impl std::fmt::Display for Settings {
 }
 
 /// The report's `config` block: every setting by name, keys in alphabetical order, the groups
-/// `bounds` and `factors` as objects, f32 values widened to f64 (as the report has always
-/// printed them). `threads` is not part of it.
+/// `bounds` and `factors` as objects, f32 values printed as the decimal a person writes
+/// ([`decimal`]). `threads` is not part of it.
 impl serde::Serialize for Settings {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
         let c = &self.core;
         let (b, f) = (&c.bounds, &c.factors);
-        let w = f64::from;
+        let w = decimal;
         let bounds: [(&str, f64); 7] = [
             ("lat_acc", w(b.lat_acc)),
             ("lon_acc_max", w(b.lon_acc_max)),
@@ -381,7 +419,7 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(20))?;
+        let mut m = s.serialize_map(Some(22))?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -392,6 +430,8 @@ impl serde::Serialize for Settings {
         m.serialize_entry("decel_threshold", &w(c.decel_threshold))?;
         m.serialize_entry("decel_window", &c.decel_window)?;
         m.serialize_entry("dt", &w(c.dt))?;
+        m.serialize_entry("dt_inference", &self.dt_inference)?;
+        m.serialize_entry("duplicates", self.duplicates.name())?;
         m.serialize_entry("expected_routes", &self.expected_routes)?;
         m.serialize_entry("factors", &Group(&factors))?;
         m.serialize_entry("gap_max", &self.gap_max)?;
@@ -427,8 +467,29 @@ mod tests {
             let mut t = Settings::default();
             t.set(name, &v)
                 .unwrap_or_else(|e| panic!("{name}={v}: {e}"));
+            if name == "dt" {
+                // A fixed dt turns the per-route inference off.
+                assert!(!t.dt_inference);
+                t.dt_inference = true;
+            }
             assert_eq!(t, s, "{name}");
         }
+        let json = serde_json::to_value(&s).unwrap();
+        assert_eq!(json["dt"], serde_json::json!(0.05));
+        assert_eq!(
+            json["bounds"]["yaw_rate"].to_string(),
+            s.get("bounds.yaw_rate").unwrap()
+        );
+        assert_eq!(json["duplicates"], "error");
+        // Every name of the config block can be set.
+        let mut keys = Vec::new();
+        for (k, v) in json.as_object().unwrap() {
+            match v.as_object() {
+                Some(group) => keys.extend(group.keys().map(|g| format!("{k}.{g}"))),
+                None => keys.push(k.clone()),
+            }
+        }
+        assert_eq!(keys, Settings::NAMES);
         assert_eq!(s.get("dt").as_deref(), Some("0.05"));
         assert_eq!(s.get("nope"), None);
     }
@@ -443,6 +504,15 @@ mod tests {
         assert_eq!(s.expected_routes, Some(220));
         s.set("allow_missing_telemetry", "true").unwrap();
         assert!(s.allow_missing_telemetry);
+        s.set("duplicates", "last").unwrap();
+        assert_eq!(s.duplicates, DuplicatePolicy::Last);
+        s.set("penalty_flavour", "leaderboard20").unwrap();
+        assert_eq!(s.penalty_flavour, PenaltyFlavour::Leaderboard20);
+        s.set("dt", "0.1").unwrap();
+        assert_eq!(
+            (s.core.dt, s.dt_inference, s.get("dt").as_deref()),
+            (0.1, false, Some("0.1"))
+        );
         let before = s.clone();
         let e = s.set("slack", "-1").unwrap_err();
         assert!(e.to_string().contains("slack"), "{e}");

@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 
 use crate::input::collision::CollisionList;
+use crate::input::duplicates::Duplicate;
 use crate::input::route_xml::RouteError;
 
 /// One warning. Run-level warnings sit in [`crate::Report::warnings`], route-level ones in
@@ -78,21 +79,93 @@ pub enum Warning {
         /// The OS error.
         reason: String,
     },
-    /// Two records with the same route id (both are kept as separate routes).
-    DuplicateRoute {
+    /// Under `duplicates: all`, route ids scored more than once.
+    DuplicatesScored {
+        /// How many ids have more than one copy.
+        ids: usize,
+        /// The first few of them, with the sources of each copy.
+        first: Vec<Duplicate>,
+    },
+    /// Copies of duplicated routes left out by `duplicates: first|last` (listed in `dropped`).
+    DuplicatesDropped {
+        /// Copies left out.
+        copies: usize,
+        /// Route ids concerned.
+        ids: usize,
+        /// `first` or `last`.
+        policy: &'static str,
+    },
+    /// A record whose route is not in the route set of `--routes` (spec section 1.5).
+    ForeignRoute {
         /// The route id.
         route: String,
-        /// The first record: file and index.
-        first: (PathBuf, usize),
-        /// The later record: file and index.
-        second: (PathBuf, usize),
+        /// The route XML.
+        routes_file: PathBuf,
     },
-    /// `expected_routes` is smaller than the routes found.
-    ExpectedRoutesTooSmall {
-        /// The setting.
-        expected: usize,
-        /// Routes found.
-        found: usize,
+    /// An input file's stored figures differ from the ones computed over its records.
+    StoredFigures {
+        /// The file.
+        file: PathBuf,
+        /// `driving score` or `success rate`.
+        what: &'static str,
+        /// The stored value (success rate in percent).
+        stored: f64,
+        /// What the stored value's denominator seems to be.
+        stored_denominator: String,
+        /// The computed value with the run's N.
+        computed: f64,
+        /// The run's N.
+        n: usize,
+    },
+    /// A route whose step period fits no multiple of the 0.05 s tick (spec section 1.2).
+    StepPeriodUnknown {
+        /// Step span `last - first + 1`.
+        span: u64,
+        /// `meta.duration_game`, s.
+        duration_game: f64,
+        /// The `dt` used instead.
+        dt: f64,
+    },
+    /// A route whose missing steps exceed 10 % of its span.
+    LargeGaps {
+        /// Missing step numbers.
+        gaps: u64,
+        /// Step span.
+        span: u64,
+    },
+    /// No route of the run has telemetry (said once instead of once per route).
+    NoTelemetry {
+        /// The telemetry root given, if any.
+        root: Option<PathBuf>,
+        /// Routes without telemetry.
+        routes: usize,
+        /// The first such route and why its telemetry was not found.
+        example: Option<(String, String)>,
+    },
+    /// A label file that misses some routes' keys.
+    LabelsMissKeys {
+        /// The label file.
+        file: PathBuf,
+        /// The keys without a label (the first few).
+        keys: Vec<String>,
+        /// How many keys in all.
+        count: usize,
+    },
+    /// A warning about one route.
+    Route {
+        /// The route id (or the source when the record has none).
+        route: String,
+        /// The warning.
+        warning: Box<Warning>,
+    },
+    /// A merge output whose `eval num` is not its number of records.
+    EvalNum {
+        /// The file.
+        file: PathBuf,
+        /// Its `eval num`.
+        eval_num: u64,
+        /// Its records.
+        records: usize,
     },
     /// LEAD's `infractions.json` beside the telemetry is unreadable.
     LeadInfractions {
@@ -184,22 +257,102 @@ impl std::fmt::Display for Warning {
             Warning::CannotRead { path, reason } => {
                 write!(f, "{}: cannot read: {reason}", path.display())
             }
-            Warning::DuplicateRoute {
-                route,
-                first,
-                second,
+            Warning::DuplicatesScored { ids, first } => write!(
+                f,
+                "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
+                 (--duplicates first|last keeps one): {}{}",
+                first
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join("; "),
+                if *ids > first.len() { "; ..." } else { "" }
+            ),
+            Warning::DuplicatesDropped {
+                copies,
+                ids,
+                policy,
             } => write!(
                 f,
-                "duplicate route id {route}: record {} of {} and record {} of {} (both kept as \
-                 separate routes)",
-                first.1,
-                first.0.display(),
-                second.1,
-                second.0.display()
+                "duplicates: {policy}: {copies} copies of {ids} route id(s) left out; the \
+                 report's `dropped` lists each with the copy kept"
             ),
-            Warning::ExpectedRoutesTooSmall { expected, found } => write!(
+            Warning::ForeignRoute { route, routes_file } => write!(
                 f,
-                "--expected-routes {expected} is smaller than the {found} routes found"
+                "{route} is not in the route set of {} (a foreign route): reported, left out of \
+                 every aggregate",
+                routes_file.display()
+            ),
+            Warning::StoredFigures {
+                file,
+                what,
+                stored,
+                stored_denominator,
+                computed,
+                n,
+            } => write!(
+                f,
+                "{}: stored {what} {stored} ({stored_denominator}) differs from the computed \
+                 {computed} over the file's records divided by N = {n}",
+                file.display()
+            ),
+            Warning::StepPeriodUnknown {
+                span,
+                duration_game,
+                dt,
+            } => write!(
+                f,
+                "step period unknown: {span} steps for duration_game {duration_game} s fit no \
+                 multiple of 0.05 s; dt {dt} s used (fix it with --set dt=SECONDS)"
+            ),
+            Warning::LargeGaps { gaps, span } => write!(
+                f,
+                "{gaps} of {span} step numbers missing (over 10 %): its chunks span missing time"
+            ),
+            Warning::NoTelemetry {
+                root,
+                routes,
+                example,
+            } => {
+                match root {
+                    Some(r) => write!(
+                        f,
+                        "no route has telemetry: none of the {routes} route(s) has \
+                         <save_name>/metric_info.json under {}",
+                        r.display()
+                    )?,
+                    None => write!(
+                        f,
+                        "no route has telemetry: none of the {routes} route(s) has a \
+                         metric_info.json beside its results file, and no --telemetry was given"
+                    )?,
+                }
+                if let Some((route, reason)) = example {
+                    write!(f, " (e.g. {route}: {reason})")?;
+                }
+                f.write_str(
+                    "; give --telemetry DIR (the folder holding <save_name>/metric_info.json) \
+                     or --allow-missing-telemetry to score without telemetry terms",
+                )
+            }
+            Warning::LabelsMissKeys { file, keys, count } => write!(
+                f,
+                "{}: no label for {count} key(s) ({}{}): those routes fall in \"(unmapped)\"",
+                file.display(),
+                keys.join(", "),
+                if *count > keys.len() { ", ..." } else { "" }
+            ),
+            Warning::Route { route, warning } => write!(f, "{route}: {warning}"),
+            Warning::EvalNum {
+                file,
+                eval_num,
+                records,
+            } => write!(
+                f,
+                "{}: eval num {eval_num} but {records} records in the file: the merge counted \
+                 route(s) whose record it did not keep (with --routes, every route of the set \
+                 without a record is listed as missing)",
+                file.display()
             ),
             Warning::LeadInfractions { file, reason } => write!(
                 f,

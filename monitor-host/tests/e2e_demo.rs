@@ -74,7 +74,7 @@ fn demo_scores_as_worked_out_by_hand() {
     assert_eq!(code, 0, "a clean demo exits 0");
     assert_eq!(r["schema"], "sds-report/1");
     assert_eq!(r["profile"], "physical");
-    assert_eq!(r["routes"].as_array().unwrap().len(), 7);
+    assert_eq!(r["routes"].as_array().unwrap().len(), 8);
 
     // Cruising: 200 frames on the reference line at 10 m/s: 10 comfortable chunks, no excess.
     let cruise = route(&r, "RouteScenario_900001_rep0");
@@ -150,17 +150,46 @@ fn demo_scores_as_worked_out_by_hand() {
     assert_eq!(standing["collisions"]["exempt"], 1);
     assert!(close(&standing["ds_safe"], 60.0));
 
-    // Aggregates over N = 7: DS = (100+100+100+65+37.5+50+60)/7, SR = 3/7 (routes 1-3),
-    // mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4) / 7 = 0.9, collision rate 4/7.
+    // The 10 Hz route: 100 steps for duration_game 10.0 s, so dt = 0.1 (inferred). Braking at
+    // -4 m/s² from t = 4.0 s, it touches a car at frame 55 (step 56, t = 5.5 s) at 10 - 4 * 1.5
+    // = 4 m/s: physical units (at an assumed 0.05 s it would read 8 m/s). Decelerated, so only
+    // the evaluator's 0.6: DS_safe = 60. Comfort: 5 chunks of 2 s; only the one holding the
+    // braking (frames 40..59) fails: 0.8.
+    let hz10 = route(&r, "RouteScenario_900008_rep0");
+    assert_eq!(hz10["dt"], 0.1);
+    assert_eq!(hz10["dt_source"], "inferred");
+    assert_eq!(hz10["frames"], 100);
+    let ev = &hz10["collision_events"][0];
+    assert_eq!(
+        (ev["frame"].clone(), ev["step"].clone()),
+        (55.into(), 56.into())
+    );
+    assert!(close(&ev["time_s"], 5.5));
+    assert!((ev["impact_speed"].as_f64().unwrap() - 4.0).abs() < 1e-3);
+    assert_eq!(ev["decelerated"], true);
+    assert!(close(&hz10["ds_safe"], 60.0));
+    assert_eq!(hz10["comfort"]["chunks"], 5);
+    assert!(close(&hz10["comfort"]["score"], 0.8));
+    // Every 20 Hz route's period is inferred too.
+    assert!(r["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|x| x["route_id"] != "RouteScenario_900008_rep0")
+        .all(|x| x["dt"] == 0.05 && x["dt_source"] == "inferred"));
+
+    // Aggregates over N = 8: DS = (100+100+100+65+37.5+50+60+60)/8, SR = 3/8 (routes 1-3),
+    // mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4 + 0.8) / 8 = 0.8875, collision rate 5/8.
     let s = &r["summary"];
-    assert_eq!(s["routes"], 7);
-    assert!(close(&s["driving_score"], 512.5 / 7.0));
-    assert!(close(&s["success_rate"], 300.0 / 7.0));
-    assert!(close(&s["mean_comfort"], 0.9));
-    assert!(close(&s["collision_rate"], 400.0 / 7.0));
-    let mean_safe = (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0) / 7.0;
+    assert_eq!(s["routes"], 8);
+    assert!(close(&s["driving_score"], 572.5 / 8.0));
+    assert!(close(&s["success_rate"], 300.0 / 8.0));
+    assert!(close(&s["mean_comfort"], 0.8875));
+    assert!(close(&s["collision_rate"], 500.0 / 8.0));
+    let mean_safe =
+        (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0 + 60.0) / 8.0;
     assert!(close(&s["mean_ds_safe"], mean_safe));
-    assert!(close(&s["sds"], mean_safe * 0.9));
+    assert!(close(&s["sds"], mean_safe * 0.8875));
     assert_eq!(s["penalty_mismatches"].as_array().unwrap().len(), 0);
     assert!(s["batch_disagreements"].as_array().unwrap().is_empty());
 }
@@ -194,6 +223,25 @@ fn missing_telemetry_exits_3_and_keeps_the_route() {
 }
 
 #[test]
+fn a_fixed_dt_turns_inference_off() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    // Forcing 20 Hz on the 10 Hz route doubles its speeds: what the inference prevents.
+    let (code, r) = score_json(dir.path(), &["--set", "dt=0.05"]);
+    assert_eq!(code, 0);
+    assert_eq!(r["config"]["dt"], 0.05);
+    assert_eq!(r["config"]["dt_inference"], false);
+    let hz10 = route(&r, "RouteScenario_900008_rep0");
+    assert_eq!(
+        (hz10["dt"].clone(), hz10["dt_source"].clone()),
+        (0.05.into(), "config".into())
+    );
+    let ev = &hz10["collision_events"][0];
+    assert!((ev["impact_speed"].as_f64().unwrap() - 8.0).abs() < 1e-3);
+    assert!(close(&ev["time_s"], 2.75));
+}
+
+#[test]
 fn table_and_csv_formats() {
     let dir = tempfile::tempdir().unwrap();
     demo(dir.path());
@@ -204,7 +252,7 @@ fn table_and_csv_formats() {
     assert!(text.contains("Town01"), "{text}");
     let out = run_score(dir.path(), &["--format", "csv"]);
     let text = String::from_utf8(out.stdout).unwrap();
-    assert_eq!(text.lines().count(), 8, "header + 7 routes");
+    assert_eq!(text.lines().count(), 9, "header + 8 routes");
     assert!(text
         .lines()
         .nth(1)
@@ -224,7 +272,7 @@ fn bad_setting_is_an_error_naming_it() {
         "--set",
         "chunk_len=99",
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("chunk_len"));
 }
 
@@ -260,18 +308,18 @@ fn breakdown_by_family_uses_the_families_file() {
     // 3 routes, DS = (37.5 + 50 + 60) / 3 = 49.1667, SR 0, collision rate 100.
     let cols: Vec<&str> = row.split_whitespace().collect();
     assert_eq!(cols[..5], ["collisions", "3", "49.17", "0.00", "100.00"]);
-    // The other four types have no label: one "(unmapped)" group, and a warning naming them.
+    // The other five types have no label: one "(unmapped)" group, and a warning naming them.
     let unmapped = text
         .lines()
         .find(|l| l.starts_with("(unmapped) "))
         .unwrap_or_else(|| panic!("no (unmapped) row in\n{text}"));
-    assert_eq!(unmapped.split_whitespace().nth(1), Some("4"));
+    assert_eq!(unmapped.split_whitespace().nth(1), Some("5"));
     assert!(!text.lines().any(|l| l.starts_with("DemoCruising ")));
     let combined = text.lines().find(|l| l.starts_with("Combined ")).unwrap();
-    assert_eq!(combined.split_whitespace().nth(1), Some("7"));
+    assert_eq!(combined.split_whitespace().nth(1), Some("8"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("--group-by family: 4 route(s)") && stderr.contains("DemoCruising"),
+        stderr.contains("--group-by family: 5 route(s)") && stderr.contains("DemoCruising"),
         "{stderr}"
     );
     // Without its label map, grouping by family is a usage error.
@@ -375,7 +423,8 @@ fn smoothness_is_the_legacy_comfort_whatever_the_profile() {
 fn groups_in_the_json_and_csv_with_list_labels() {
     let dir = tempfile::tempdir().unwrap();
     demo(dir.path());
-    // Two collision types belong to two families each; DemoCruising to none listed.
+    // Two collision types belong to two families each; DemoCruising and Demo10HzBraking to
+    // none listed.
     let families = dir.path().join("families.json");
     std::fs::write(
         &families,
@@ -403,7 +452,7 @@ fn groups_in_the_json_and_csv_with_list_labels() {
             ("no-brake", 1),
             ("standing", 1),
             ("workzone", 1),
-            ("(unmapped)", 1)
+            ("(unmapped)", 2)
         ]
     );
     // A group's aggregates are over its own routes: the crash with braking, the one without
@@ -421,7 +470,7 @@ fn groups_in_the_json_and_csv_with_list_labels() {
         3
     );
     // combined: every route once, with the run's N, and the summary's numbers.
-    assert_eq!(g["combined"]["routes"], 7);
+    assert_eq!(g["combined"]["routes"], 8);
     assert_eq!(
         g["combined"]["driving_score"],
         r["summary"]["driving_score"]
@@ -441,5 +490,5 @@ fn groups_in_the_json_and_csv_with_list_labels() {
     assert_eq!(lines.len(), 1 + 6 + 1, "{text}");
     assert!(lines[0].starts_with("by,label,routes,driving_score,"));
     assert!(lines[1].starts_with("family,collisions,3,"));
-    assert!(lines[7].starts_with("family,combined,7,"));
+    assert!(lines[7].starts_with("family,combined,8,"));
 }

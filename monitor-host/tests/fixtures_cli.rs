@@ -137,21 +137,30 @@ fn raw_files_and_the_crashed_run() {
     );
     assert_eq!(route["penalty_check"]["agrees"], true);
 
+    // An empty run: one clear message, its own exit code, no report.
     let crashed = dir.join("pdmlite_route24206_endpoint_crashed_empty.json");
     let (code, report, stderr) = score(&["--results", crashed.to_str().unwrap()]);
-    assert_eq!(code, 3, "nothing to score is a problem");
-    assert!(stderr.contains("no records"), "{stderr}");
-    assert!(stderr.contains("crashed"), "{stderr}");
-    let r = report.unwrap();
-    assert_eq!(r["routes"].as_array().unwrap().len(), 0);
-    assert!(r["summary"]["driving_score"].is_null());
+    assert_eq!(code, 4, "an empty run has its own exit code: {stderr}");
+    assert!(stderr.contains("no records in"), "{stderr}");
+    assert!(stderr.contains(crashed.to_str().unwrap()), "{stderr}");
+    assert!(stderr.contains("nothing was scored"), "{stderr}");
+    assert_eq!(stderr.matches("sds: error").count(), 1, "{stderr}");
+    assert!(report.is_none());
 
-    // With the benchmark size given, the crashed route counts as 0 / failed.
+    // Beside another file, the crashed route counts as 0 / failed with the benchmark size.
     let (_, report, _) = score(&[
         "--results",
         crashed.to_str().unwrap(),
+        "--results",
+        route3564.to_str().unwrap(),
         "--expected-routes",
-        "1",
+        "2",
+        "--allow-missing-telemetry",
     ]);
-    assert_eq!(report.unwrap()["summary"]["driving_score"], 0.0);
+    let r = report.unwrap();
+    assert_eq!(r["summary"]["routes"], 2);
+    assert_eq!(
+        r["summary"]["driving_score"].as_f64().unwrap(),
+        14.008621 / 2.0
+    );
 }

@@ -1,6 +1,6 @@
 //! End-to-end reliability of `sds score` on a corrupted copy of a run (`docs/RELIABILITY.md`).
 //!
-//! The run is built at test time in a temporary folder: the demo's 7 routes split into one raw
+//! The run is built at test time in a temporary folder: the demo's 8 routes split into one raw
 //! evaluator file per route (as a Bench2Drive farm leaves them), more copies of demo routes under
 //! new ids that are then broken in every way the issue lists, and the real single-route fixtures
 //! (a finished route without telemetry and a crashed run with no records) when
@@ -46,7 +46,7 @@ fn demo(dir: &Path) -> Demo {
     assert_eq!(code(&o), 0, "sds demo failed: {}", stderr(&o));
     let doc: Value = serde_json::from_slice(&fs::read(dir.join("results.json")).unwrap()).unwrap();
     let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
-    assert_eq!(records.len(), 7);
+    assert_eq!(records.len(), 8);
     Demo {
         records,
         telemetry: dir.join("telemetry"),
@@ -76,6 +76,8 @@ fn score(results: &Path, telemetry: &Path, routes: &Path, out: &Path) -> (Output
         &routes,
         &"--jobs",
         &"2",
+        &"--duplicates",
+        &"all",
         &"-o",
         &out,
     ]);
@@ -90,8 +92,20 @@ fn routes_by_source(report: &Value) -> BTreeMap<String, Value> {
         .as_array()
         .unwrap()
         .iter()
-        .map(|r| (r["source"].as_str().unwrap().to_string(), r.clone()))
+        .map(|r| {
+            let src = &r["source"];
+            let key = format!("{}#{}", src["file"].as_str().unwrap(), src["index"]);
+            (key, r.clone())
+        })
         .collect()
+}
+
+/// A route's state with its reason, as `invalid: <reason>` (the report gives them apart).
+fn full_state(r: &Value) -> String {
+    match (r["state"].as_str().unwrap(), r["reason"].as_str()) {
+        ("invalid", Some(reason)) => format!("invalid: {reason}"),
+        (state, _) => state.to_string(),
+    }
 }
 
 /// A copy of demo record `base` under a new xml id (and a new telemetry folder holding a copy of
@@ -167,7 +181,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     let tel = run.join("telemetry");
     fs::create_dir_all(&tel).unwrap();
 
-    // --- the clean run: the demo's 7 routes, one raw file per route, as a farm writes them.
+    // --- the clean run: the demo's 8 routes, one raw file per route, as a farm writes them.
     let healthy_ids: Vec<String> = demo
         .records
         .iter()
@@ -189,7 +203,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     assert_eq!(code(&o), 0, "clean run: {}", stderr(&o));
     let clean = clean.expect("clean report");
     let clean_routes = routes_by_source(&clean);
-    assert_eq!(clean_routes.len(), 7);
+    assert_eq!(clean_routes.len(), 8);
 
     // --- break copies of demo routes, each in one way.
     let mut expect: Vec<Expect> = Vec::new();
@@ -334,8 +348,8 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         &|r| {
             r.as_object_mut().unwrap().remove("save_name");
         },
-        "missing",
-        &[],
+        "invalid: telemetry missing",
+        &["the record has no save_name"],
     );
 
     // Healthy variants that must still score (flagged where it matters):
@@ -471,12 +485,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
             &crashed,
         )
         .unwrap();
-        expect.push(Expect {
-            source: format!("{}#0", real.display()),
-            state_prefix: "missing",
-            reason_has: vec![],
-            route_id: Some("RouteScenario_3564_rep0".into()),
-        });
+        // Not in the run's route XML: a foreign route (checked below), reported, not counted.
     } else {
         eprintln!("skipped: real fixtures absent ({FIXTURES}); the run uses demo routes only");
     }
@@ -500,22 +509,39 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         .collect();
     let all_warnings = warnings.join("\n");
 
-    // Every record of every readable file is in the report: 7 healthy + 11 broken + 11 variants
+    // Every record of every readable file is in the report: 8 healthy + 11 broken + 11 variants
     // (910011-910017 with a duplicate and 2 invalid records in `mixed`, and 910019), + 1 real,
     // + 1 entry for the truncated results file, whose routes cannot be known.
-    let expected_routes = 7 + 11 + 11 + usize::from(have_fixtures) + 1;
+    let expected_routes = 8 + 11 + 11 + usize::from(have_fixtures) + 1;
     assert_eq!(
         by_source.len(),
         expected_routes,
         "routes: {:#?}",
         by_source.keys()
     );
-    assert_eq!(report["summary"]["routes_found"], expected_routes);
+    // Routes whose id is not in the route XML are foreign: reported, not counted.
+    let foreign: Vec<&str> = report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["state"] == "foreign")
+        .map(|r| r["route_id"].as_str().unwrap())
+        .collect();
+    let mut want = vec!["RouteScenario_910014_rep0", "RouteScenario_910019_rep0"];
+    if have_fixtures {
+        want.insert(0, "RouteScenario_3564_rep0");
+    }
+    assert_eq!(foreign, want);
+    assert_eq!(
+        report["summary"]["routes_found"].as_u64().unwrap() as usize + foreign.len(),
+        expected_routes
+    );
+    assert_eq!(report["summary"]["foreign"], foreign.len());
 
     // Healthy routes: scored exactly as in the clean run (compare bits).
     for (id, clean_route) in healthy_ids.iter().zip(clean_routes.values()) {
         let r = &by_source[&src(id)];
-        assert_eq!(r["state"], "ok", "{id}");
+        assert_eq!(r["state"], "scored", "{id}");
         for key in ["ds_safe", "p_safe"] {
             let a = r[key].as_f64().unwrap().to_bits();
             let b = clean_route[key].as_f64().unwrap().to_bits();
@@ -531,15 +557,12 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         let r = by_source
             .get(&e.source)
             .unwrap_or_else(|| panic!("route {} lost", e.source));
-        let state = r["state"].as_str().unwrap();
+        let state = full_state(r);
         assert!(
             state.starts_with(e.state_prefix),
             "{}: state {state:?}",
             e.source
         );
-        if e.state_prefix == "missing" {
-            assert_eq!(state, "missing", "{}", e.source);
-        }
         for part in &e.reason_has {
             assert!(
                 state.contains(part.as_str()),
@@ -561,7 +584,7 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         let shown = e.route_id.as_deref().unwrap_or("<no route_id>");
         assert!(
             err.lines()
-                .any(|l| l.contains(shown) && l.contains(&e.source) && l.contains(state)),
+                .any(|l| l.contains(shown) && l.contains(&e.source) && l.contains(&state)),
             "no stderr line for {} {state}:\n{err}",
             e.source
         );
@@ -571,18 +594,18 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     let get = |id: &str| &by_source[&src(id)];
     let reversed = get("RouteScenario_910011_rep0");
     let original = &clean_routes[&src("RouteScenario_900002_rep0")];
-    assert_eq!(reversed["state"], "ok");
+    assert_eq!(reversed["state"], "scored");
     assert_eq!(
         reversed["ds_safe"].as_f64().unwrap().to_bits(),
         original["ds_safe"].as_f64().unwrap().to_bits()
     );
     assert_eq!(reversed["comfort"], original["comfort"]);
     let gappy = get("RouteScenario_910012_rep0");
-    assert_eq!(gappy["state"], "ok");
+    assert_eq!(gappy["state"], "scored");
     assert_eq!(gappy["frames"], 125);
     assert_eq!(gappy["gaps"], 200_000 - 125); // steps 1..=50, then 52_000..=200_000 by 2_000
     let odd = get("RouteScenario_910013_rep0");
-    assert_eq!(odd["state"], "ok");
+    assert_eq!(odd["state"], "scored");
     assert_eq!(odd["success"], false);
     assert!(
         all_warnings.contains("unknown status \"Exploded\""),
@@ -613,7 +636,9 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     assert_eq!(odd["collisions"]["unaligned"], 2);
     assert!(odd["ds_safe"].is_number());
     let no_xml = get("RouteScenario_910014_rep0");
-    assert_eq!(no_xml["state"], "ok");
+    // Not in the route XML: foreign (left out of the aggregates), but still replayed.
+    assert_eq!(no_xml["state"], "foreign");
+    assert!(no_xml["ds_safe"].is_number());
     assert_eq!(
         no_xml["lateral"]["scored_chunks"], 0,
         "no reference: no lateral error"
@@ -629,17 +654,16 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         .collect();
     assert!(dups
         .iter()
-        .all(|r| r["route_id"] == "RouteScenario_910015_rep0" && r["state"] == "ok"));
+        .all(|r| r["route_id"] == "RouteScenario_910015_rep0" && r["state"] == "scored"));
     assert!(
-        warnings.iter().any(
-            |w| w.contains("duplicate route id RouteScenario_910015_rep0")
-                && w.contains(&dup_a.display().to_string())
-                && w.contains(&dup_b.display().to_string())
-        ),
+        warnings.iter().any(|w| w.contains("scored more than once")
+            && w.contains("RouteScenario_910015_rep0")
+            && w.contains(&dup_a.display().to_string())
+            && w.contains(&dup_b.display().to_string())),
         "{all_warnings}"
     );
     let far_frames = get("RouteScenario_910016_rep0");
-    assert_eq!(far_frames["state"], "ok");
+    assert_eq!(far_frames["state"], "scored");
     assert_eq!(
         far_frames["lateral"]["scored_chunks"],
         far_frames["lateral"]["chunks"]
@@ -648,7 +672,10 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         far_frames["lateral"]["critical"],
         far_frames["lateral"]["chunks"]
     );
-    assert_eq!(by_source[&format!("{}#1", mixed.display())]["state"], "ok");
+    assert_eq!(
+        by_source[&format!("{}#1", mixed.display())]["state"],
+        "scored"
+    );
     // The truncated results file: named, with the reason, in the warnings and on stderr.
     let trunc_s = trunc.display().to_string();
     assert!(
@@ -660,14 +687,14 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
     assert!(err.contains(&trunc_s), "{err}");
     let trunc_entry = &by_source[&format!("{trunc_s}#0")];
     assert!(trunc_entry["route_id"].is_null());
-    let state = trunc_entry["state"].as_str().unwrap();
+    let state = full_state(trunc_entry);
     assert!(
         state.starts_with("invalid: ") && state.contains("truncated JSON"),
         "{state}"
     );
     // A directory where metric_info.json should be: not scored, never `ok`.
     let dir_tel = get("RouteScenario_910019_rep0");
-    assert_ne!(dir_tel["state"], "ok");
+    assert_ne!(dir_tel["state"], "scored");
     assert!(dir_tel["ds_safe"].is_null());
     if have_fixtures {
         assert!(
@@ -694,6 +721,8 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         &tel,
         &"--routes",
         &routes_xml,
+        &"--duplicates",
+        &"all",
         &"--format",
         &"csv",
     ]);
@@ -726,10 +755,7 @@ fn a_directory_named_metric_info_is_reported_as_such() {
         fs::create_dir(&path).unwrap();
     });
     assert_eq!(code(&o), 3);
-    let state = report.unwrap()["routes"][0]["state"]
-        .as_str()
-        .unwrap()
-        .to_string();
+    let state = full_state(&report.unwrap()["routes"][0]);
     assert!(
         state.starts_with("invalid: ") && state.contains(&path.display().to_string()),
         "a directory in place of metric_info.json is reported as {state:?}"
@@ -769,7 +795,7 @@ fn exit_codes() {
         .as_array()
         .unwrap()
         .iter()
-        .all(|r| r["state"] == "ok"));
+        .all(|r| r["state"] == "scored"));
     // 3: a route with invalid telemetry; the report is written and the route named.
     let (o, report) = demo_with(&tmp.path().join("bad"), |d| {
         let save = d.records[2]["save_name"].as_str().unwrap();
@@ -777,10 +803,7 @@ fn exit_codes() {
     });
     assert_eq!(code(&o), 3);
     let report = report.expect("report written");
-    assert!(report["routes"][2]["state"]
-        .as_str()
-        .unwrap()
-        .ends_with(": no frames"));
+    assert!(full_state(&report["routes"][2]).ends_with(": no frames"));
     assert!(stderr(&o).contains("RouteScenario_900003_rep0"));
     // 3 without telemetry; 0 with --allow-missing-telemetry (the route is scored without terms).
     let d = demo(&tmp.path().join("nt"));
@@ -858,7 +881,9 @@ fn exit_codes() {
         all.push(&out);
         let o = sds(&all);
         let err = stderr(&o);
-        assert_eq!(code(&o), 1, "{named}: {err}");
+        // A bad setting is a usage error (2); an unreadable input 1.
+        let settings = ["slack", "decel_window", "chunk_len"].contains(&named.as_str());
+        assert_eq!(code(&o), if settings { 2 } else { 1 }, "{named}: {err}");
         assert!(err.contains(&named), "stderr does not name {named}: {err}");
         assert!(
             !out.exists(),
@@ -932,7 +957,7 @@ fn a_failed_write_leaves_no_partial_report() {
     let o = run(&old);
     assert_eq!(code(&o), 0, "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&fs::read(&old).unwrap()).unwrap();
-    assert_eq!(v["routes"].as_array().unwrap().len(), 7);
+    assert_eq!(v["routes"].as_array().unwrap().len(), 8);
 }
 
 #[test]

@@ -1211,7 +1211,8 @@ fn results_records_kept_with_warnings() {
     let mut odd = healthy_record(2);
     odd["status"] = "Exploded".into();
     let a = write_results(dir.path(), "a.json", &[no_save, odd]);
-    // The same route id in a second file: kept twice, warned naming both files.
+    // The same route id in a second file: read twice; the duplicates policy (the run's business)
+    // names both files.
     let b = write_results(dir.path(), "b.json", &[healthy_record(1)]);
     let set = results::read_results(dir.path()).unwrap();
     assert_eq!(set.records.len(), 3);
@@ -1225,12 +1226,18 @@ fn results_records_kept_with_warnings() {
         w.contains("Exploded") && w.contains("RouteScenario_2_rep0"),
         "{w}"
     );
-    let dup = texts
-        .iter()
-        .find(|w| w.contains("duplicate route id RouteScenario_1_rep0"))
-        .unwrap_or_else(|| panic!("no duplicate warning: {w}"));
+    let e = monitor_host::input::duplicates::deduplicate(
+        set.records.clone(),
+        monitor_host::input::duplicates::DuplicatePolicy::Error,
+    )
+    .unwrap_err();
+    let dup = e.to_string();
     assert!(
-        dup.contains(&a.display().to_string()) && dup.contains(&b.display().to_string()),
+        dup.contains(&format!(
+            "RouteScenario_1_rep0: {} record 0, {} record 0",
+            a.display(),
+            b.display()
+        )),
         "{dup}"
     );
 }

@@ -240,12 +240,15 @@ fn config() -> impl Strategy<Value = Config> {
         lateral_thresholds(),
         prop_oneof![4 => Just(0.5f32), 1 => Just(0.0), 1 => Just(5.0)],
         prop_oneof![4 => Just(-0.5f32), 1 => Just(0.0), 1 => Just(-4.05)],
+        // Both step periods met in real telemetry (spec section 1.2): 20 Hz and 10 Hz.
+        prop_oneof![Just(0.05f32), Just(0.1f32)],
     )
         .prop_flat_map(
-            |(profile, chunk_len, decel_window, default, lateral, standing, decel)| {
+            |(profile, chunk_len, decel_window, default, lateral, standing, decel, dt)| {
                 (7u16..=chunk_len).prop_map(move |min_chunk| {
                     let base = Config {
                         profile,
+                        dt,
                         ..Config::DEFAULT
                     };
                     if default {
@@ -523,7 +526,7 @@ proptest! {
 fn generators_cover_every_outcome() {
     let mut runner = TestRunner::deterministic();
     let strategy = (route(), config());
-    let mut seen = [0u32; 12];
+    let mut seen = [0u32; 14];
     let names = [
         "comfortable chunk",
         "uncomfortable chunk",
@@ -537,6 +540,8 @@ fn generators_cover_every_outcome() {
         "unscored lateral chunk",
         "legacy profile with a comfortable chunk",
         "non-default chunk length",
+        "20 Hz route with comfort chunks",
+        "10 Hz route with comfort chunks",
     ];
     for _ in 0..3000 {
         let (frames, config) = strategy.new_tree(&mut runner).expect("strategy").current();
@@ -555,6 +560,8 @@ fn generators_cover_every_outcome() {
             b.lateral.scored_chunks < b.lateral.chunks,
             config.profile == Profile::B2dLegacy && b.comfort.comfortable > 0,
             config.chunk_len != 20 && b.comfort.chunks > 0,
+            config.dt == 0.05 && b.comfort.chunks > 0,
+            config.dt == 0.1 && b.comfort.chunks > 0,
         ];
         for (s, o) in seen.iter_mut().zip(outcomes) {
             *s += u32::from(o);
@@ -566,4 +573,49 @@ fn generators_cover_every_outcome() {
             "only {count} of 3000 generated routes had a {name}"
         );
     }
+}
+
+/// The demo's 10 Hz route (dt inferred as 0.1 s from its record): the frames `sds` streams
+/// give the batch reference's summary with the route's own period.
+#[test]
+fn demo_10hz_route_streams_as_batch() {
+    use monitor_host::{demo, route_frames, score_run, Inputs, Settings};
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let inputs = Inputs {
+        telemetry: Some(run.telemetry),
+        route_xml: Some(run.routes),
+        ..Inputs::new([run.results])
+    };
+    let id = "RouteScenario_900008_rep0";
+    let report = score_run(&inputs, &Settings::default()).unwrap();
+    let route = report
+        .routes
+        .iter()
+        .find(|r| r.route_id.as_deref() == Some(id))
+        .unwrap();
+    assert_eq!(route.dt, Some(0.1));
+    assert_eq!(route.batch_agrees, Some(true));
+    let frames = route_frames(&inputs, id, &Settings::default())
+        .unwrap()
+        .frames;
+    assert_eq!(frames.len(), 100);
+    for dt in [0.1f32, 0.05] {
+        let config = Config {
+            dt,
+            ..Config::DEFAULT
+        };
+        let s = stream(&frames, &config).unwrap();
+        compare(&s, &frames, &config).unwrap();
+    }
+    let config = Config {
+        dt: 0.1,
+        ..Config::DEFAULT
+    };
+    let b = batch::compute(&frames, &config).summary;
+    assert_eq!(
+        (b.comfort.chunks, b.comfort.comfortable),
+        (route.comfort.chunks, route.comfort.comfortable),
+        "the report used the 0.1 s period"
+    );
 }

@@ -13,7 +13,6 @@
 use serde::Serialize;
 
 use crate::input::record::Record;
-use crate::input::route_xml::RouteSet;
 
 /// The five abilities and their scenario types, in Bench2Drive's order (§8.2).
 pub const ABILITIES: [(&str, &[&str]); 5] = [
@@ -250,39 +249,6 @@ pub fn route_ability(
             .collect(),
         junction,
     }
-}
-
-/// The members of the route set without a record, in XML order, as `RouteScenario_<id>_rep0`
-/// (§8.2's `ability_missing`). `route_ids` are the records' route ids.
-///
-/// Until the route set of §1.5 is built, it is read here from the route XML: every XML route id
-/// with no record of any repetition.
-///
-/// ```
-/// use monitor_host::aggregate::ability::missing_routes;
-/// use monitor_host::input::route_xml::parse_route_xml;
-/// let set = parse_route_xml(r#"<routes>
-///   <route id="1" town="T"><waypoints><position x="0" y="0"/></waypoints></route>
-///   <route id="2" town="T"><waypoints><position x="0" y="0"/></waypoints></route></routes>"#)?;
-/// assert_eq!(missing_routes(&set, ["RouteScenario_1_rep3"]), vec!["RouteScenario_2_rep0"]);
-/// # Ok::<(), monitor_host::input::route_xml::RouteError>(())
-/// ```
-pub fn missing_routes<'a>(
-    set: &RouteSet,
-    route_ids: impl IntoIterator<Item = &'a str>,
-) -> Vec<String> {
-    let found: std::collections::HashSet<&str> = route_ids
-        .into_iter()
-        .filter_map(|id| {
-            let rest = id.strip_prefix("RouteScenario_")?;
-            Some(rest.rsplit_once("_rep")?.0)
-        })
-        .collect();
-    let mut seen = std::collections::HashSet::new();
-    set.iter()
-        .filter(|r| seen.insert(r.id.as_str()) && !found.contains(r.id.as_str()))
-        .map(|r| format!("RouteScenario_{}_rep0", r.id))
-        .collect()
 }
 
 #[cfg(test)]

@@ -223,7 +223,13 @@ pub fn compare(runs: &[NamedRun], route_set: bool) -> Comparison {
                 run: r.name.clone(),
                 routes: counted(&r.report)
                     .filter(|x| !is_common(x))
-                    .map(|x| x.route_id.clone().unwrap_or_else(|| x.source.clone()))
+                    .map(|x| {
+                        x.route_id.clone().unwrap_or_else(|| {
+                            x.source
+                                .as_ref()
+                                .map_or_else(String::new, ToString::to_string)
+                        })
+                    })
                     .collect(),
             })
             .collect();

@@ -8,10 +8,15 @@ use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 /// Benchmark aggregates (spec section 8).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct Summary {
-    /// N: routes found, or `--expected-routes`.
+    /// N (spec section 1.5): `--expected-routes`, else the route set's size, else the routes
+    /// kept.
     pub routes: usize,
-    /// Routes found in the input.
+    /// Routes found in the input and counted (foreign routes are not).
     pub routes_found: usize,
+    /// Members of the route set without a record (each counts as 0 / failed).
+    pub missing: usize,
+    /// Records whose route is not in the route set (left out of every aggregate).
+    pub foreign: usize,
     /// Routes with defined comfort.
     pub comfort_routes: usize,
     /// Σ score_composed / N.
@@ -39,10 +44,11 @@ pub struct Summary {
     pub bench2drive: Option<Bench2Drive>,
 }
 
-/// Computes the aggregates over the outcomes, in input order.
-pub fn summarize(outcomes: &[RouteOutcome], expected: Option<usize>) -> Summary {
+/// Computes the aggregates over the outcomes, in input order, with denominator `n`; `missing`
+/// routes of the route set add 0 to every sum. Foreign routes are left out.
+pub fn summarize(all: &[RouteOutcome], n: usize, missing: usize) -> Summary {
+    let outcomes: Vec<&RouteOutcome> = all.iter().filter(|o| o.counted()).collect();
     let found = outcomes.len();
-    let n = expected.unwrap_or(found);
     let per = |total: f64| (n > 0).then(|| total / n as f64);
     let mut composed = 0.0f64;
     let mut successes = 0usize;
@@ -51,7 +57,7 @@ pub fn summarize(outcomes: &[RouteOutcome], expected: Option<usize>) -> Summary 
     let mut comfort_sum = 0.0f64;
     let mut comfort_routes = 0usize;
     let mut collided = 0usize;
-    for o in outcomes {
+    for o in &outcomes {
         let Some(r) = o.record() else {
             all_scored = false;
             continue;
@@ -73,6 +79,8 @@ pub fn summarize(outcomes: &[RouteOutcome], expected: Option<usize>) -> Summary 
     Summary {
         routes: n,
         routes_found: found,
+        missing,
+        foreign: all.len() - found,
         comfort_routes,
         driving_score: per(composed),
         success_rate: per(100.0 * successes as f64),

@@ -4,7 +4,8 @@
 //! `metric_info.json` per route under `telemetry/<save_name>/`, and a route XML. The routes are
 //! straight roads driven with simple kinematics, chosen so that every SDS term shows up once:
 //! cruising, hard braking, a lane change, a cone contact, collisions with and without braking,
-//! and a hit while standing still. `--large` writes a benchmark-sized run (220 routes x 4,000
+//! a hit while standing still, and a route whose agent writes telemetry at 10 Hz (one step per
+//! 0.1 s, as real published `metric_info.json` files do). `--large` writes a benchmark-sized run (220 routes x 4,000
 //! frames) of cruising routes for performance measurements.
 
 use std::fmt::Write as _;
@@ -42,6 +43,8 @@ fn at(what: impl std::fmt::Display) -> impl FnOnce(std::io::Error) -> DemoError 
 
 /// Step period of the simulator (20 Hz).
 const DT: f64 = 0.05;
+/// Step period of an agent that writes telemetry every other tick (10 Hz).
+const DT_10HZ: f64 = 0.1;
 /// World origin of every demo road: large coordinates, as on real CARLA maps.
 const ORIGIN: [f64; 2] = [1520.0, -3310.0];
 
@@ -51,6 +54,8 @@ struct Script {
     name: &'static str,
     xml_id: u32,
     frames: usize,
+    /// Seconds per telemetry step.
+    dt: f64,
     v0: f64,
     /// Longitudinal acceleration command at frame i.
     accel: fn(usize) -> f64,
@@ -91,6 +96,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoCruising_1",
             xml_id: 900001,
             frames: 200,
+            dt: DT,
             v0: 10.0,
             accel: |_| 0.0,
             lateral: straight,
@@ -102,6 +108,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoHardBraking_1",
             xml_id: 900002,
             frames: 200,
+            dt: DT,
             v0: 12.0,
             // Full braking at -6 m/s² from frame 60 until standstill.
             accel: |i| if (60..100).contains(&i) { -6.0 } else { 0.0 },
@@ -114,6 +121,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoLaneChange_1",
             xml_id: 900003,
             frames: 200,
+            dt: DT,
             v0: 10.0,
             accel: |_| 0.0,
             lateral: lane_change,
@@ -125,6 +133,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoConeContact_1",
             xml_id: 900004,
             frames: 160,
+            dt: DT,
             v0: 3.0,
             accel: |_| 0.0,
             lateral: straight,
@@ -136,6 +145,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoCrashNoBrake_1",
             xml_id: 900005,
             frames: 160,
+            dt: DT,
             v0: 8.0,
             // The impact stops the car within 0.4 s.
             accel: |i| if (120..128).contains(&i) { -20.0 } else { 0.0 },
@@ -148,6 +158,7 @@ fn scripts() -> Vec<Script> {
             name: "DemoCrashBraking_1",
             xml_id: 900006,
             frames: 160,
+            dt: DT,
             v0: 8.0,
             // Brakes at -3 m/s² from frame 100, too late: hits a pedestrian at frame 110.
             accel: |i| if (100..125).contains(&i) { -3.0 } else { 0.0 },
@@ -160,11 +171,26 @@ fn scripts() -> Vec<Script> {
             name: "DemoStandingHit_1",
             xml_id: 900007,
             frames: 160,
+            dt: DT,
             v0: 5.0,
             // Stops by frame 45 (-2.5 m/s² for 2 s) and is hit from behind while standing.
             accel: |i| if (5..45).contains(&i) { -2.5 } else { 0.0 },
             lateral: straight,
             collisions: &[(130, "collisions_vehicle", "vehicle.audi.tt")],
+            status: "Completed",
+            score_route: 100.0,
+        },
+        Script {
+            name: "Demo10HzBraking_1",
+            xml_id: 900008,
+            // 10 s at 10 Hz: the step period is inferred from duration_game (10.0 s / 100 steps).
+            frames: 100,
+            dt: DT_10HZ,
+            v0: 10.0,
+            // Brakes at -4 m/s² from t = 4.0 s and touches a car at t = 5.5 s, at 4 m/s.
+            accel: |i| if (40..55).contains(&i) { -4.0 } else { 0.0 },
+            lateral: straight,
+            collisions: &[(55, "collisions_vehicle", "vehicle.tesla.model3")],
             status: "Completed",
             score_route: 100.0,
         },
@@ -181,8 +207,9 @@ struct SimFrame {
 fn simulate(s: &Script) -> Vec<SimFrame> {
     let mut out = Vec::with_capacity(s.frames);
     let (mut x, mut v) = (0.0f64, s.v0);
+    let dt = s.dt;
     for i in 0..s.frames {
-        let t = i as f64 * DT;
+        let t = i as f64 * dt;
         let a_cmd = (s.accel)(i);
         // The car cannot reverse: braking stops at standstill.
         let a = if v <= 0.0 && a_cmd < 0.0 { 0.0 } else { a_cmd };
@@ -192,8 +219,8 @@ fn simulate(s: &Script) -> Vec<SimFrame> {
             acc: [a, ay],
             speed: v,
         });
-        v = (v + a * DT).max(0.0);
-        x += v * DT;
+        v = (v + a * dt).max(0.0);
+        x += v * dt;
     }
     out
 }
@@ -230,7 +257,7 @@ fn py3(x: f64) -> String {
 /// let dir = tempfile::tempdir().unwrap();
 /// let run = monitor_host::demo::write(dir.path()).unwrap();
 /// assert!(run.results.exists() && run.routes.exists());
-/// assert_eq!(run.route_ids.len(), 7);
+/// assert_eq!(run.route_ids.len(), 8);
 /// ```
 pub fn write(dir: &Path) -> Result<DemoRun> {
     write_scripts(dir, &scripts(), Layout::Demo)
@@ -278,6 +305,7 @@ pub fn write_large_with(
             name: "DemoLargeCruising_1",
             xml_id: 910_000 + i as u32,
             frames,
+            dt: DT,
             v0: 8.0 + (i % 7) as f64,
             accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
             lateral: straight,
@@ -390,8 +418,8 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
             },
             "meta": {
                 "route_length": length,
-                "duration_game": s.frames as f64 * DT,
-                "duration_system": s.frames as f64 * DT * 3.0,
+                "duration_game": s.frames as f64 * s.dt,
+                "duration_system": s.frames as f64 * s.dt * 3.0,
             },
             "save_name": save_name,
             "town_name": "Town01",

@@ -19,17 +19,34 @@ use crate::input::metric_info::TelemetryFrame;
 /// ```
 pub fn speeds(frames: &[TelemetryFrame], dt: f64) -> Vec<f64> {
     let mut out = Vec::with_capacity(frames.len());
-    if frames.is_empty() {
-        return out;
-    }
-    out.push(0.0);
-    for w in frames.windows(2) {
-        let dx = w[1].location[0] - w[0].location[0];
-        let dy = w[1].location[1] - w[0].location[1];
-        let steps = w[1].step.saturating_sub(w[0].step) as f64;
-        out.push((dx * dx + dy * dy).sqrt() / (dt * steps));
+    let mut prev = None;
+    for f in frames {
+        out.push(speed_after(prev, f, dt));
+        prev = Some(f);
     }
     out
+}
+
+/// The speed at frame `cur` given the frame before it (`None` for a route's first frame, whose
+/// speed is 0): the one formula behind [`speeds`] and the streaming
+/// [`crate::pipeline::frame::FrameBuilder`].
+///
+/// ```
+/// use monitor_host::geometry::kinematics::speed_after;
+/// use monitor_host::input::metric_info::TelemetryFrame;
+/// let a = TelemetryFrame { step: 3, location: [0.0, 0.0], ..Default::default() };
+/// let b = TelemetryFrame { step: 4, location: [3.0, 4.0], ..Default::default() };
+/// assert_eq!(speed_after(None, &a, 0.05), 0.0);
+/// assert_eq!(speed_after(Some(&a), &b, 0.05), 100.0);
+/// ```
+pub fn speed_after(prev: Option<&TelemetryFrame>, cur: &TelemetryFrame, dt: f64) -> f64 {
+    let Some(prev) = prev else {
+        return 0.0;
+    };
+    let dx = cur.location[0] - prev.location[0];
+    let dy = cur.location[1] - prev.location[1];
+    let steps = cur.step.saturating_sub(prev.step) as f64;
+    (dx * dx + dy * dy).sqrt() / (dt * steps)
 }
 
 #[cfg(test)]

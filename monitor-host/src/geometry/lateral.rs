@@ -18,6 +18,8 @@
 //! # Ok::<(), monitor_host::input::route_xml::RouteError>(())
 //! ```
 
+use std::borrow::Cow;
+
 use crate::input::route_xml::RouteRef;
 
 /// Follows a drive along a route's reference polyline and yields the lateral error per frame
@@ -33,7 +35,7 @@ use crate::input::route_xml::RouteRef;
 /// computed once, in [`LateralTracker::new`]; each frame costs O(candidates).
 #[derive(Debug, Clone)]
 pub struct LateralTracker<'a> {
-    waypoints: &'a [[f64; 2]],
+    waypoints: Cow<'a, [[f64; 2]]>,
     /// `cum[i]` = route length from waypoint 0 to waypoint i (summed in order).
     cum: Vec<f64>,
     m: usize,
@@ -44,7 +46,26 @@ pub struct LateralTracker<'a> {
 impl<'a> LateralTracker<'a> {
     /// A tracker at the start of `route` (spec defaults: `gap_max = 8.0`, `lookahead = 10.0`).
     pub fn new(route: &'a RouteRef, gap_max: f64, lookahead: f64) -> Self {
-        let waypoints = &route.waypoints[..];
+        Self::with(Cow::Borrowed(&route.waypoints[..]), gap_max, lookahead)
+    }
+
+    /// A tracker owning its waypoints (for a front end that keeps it across calls, such as the
+    /// Python `Monitor(route=...)`).
+    ///
+    /// ```
+    /// use monitor_host::geometry::lateral::LateralTracker;
+    /// let mut t = LateralTracker::owned(vec![[0.0, 0.0], [5.0, 0.0]], 8.0, 10.0);
+    /// assert_eq!(t.next([1.0, 0.5]), Some(0.5));
+    /// ```
+    pub fn owned(
+        waypoints: Vec<[f64; 2]>,
+        gap_max: f64,
+        lookahead: f64,
+    ) -> LateralTracker<'static> {
+        LateralTracker::with(Cow::Owned(waypoints), gap_max, lookahead)
+    }
+
+    fn with(waypoints: Cow<'a, [[f64; 2]]>, gap_max: f64, lookahead: f64) -> Self {
         let mut cum = Vec::with_capacity(waypoints.len());
         let mut total = 0.0f64;
         for (i, w) in waypoints.iter().enumerate() {
@@ -93,6 +114,12 @@ impl<'a> LateralTracker<'a> {
     /// The currently matched segment index `m` (segment `m` joins waypoints `m` and `m + 1`).
     pub fn segment(&self) -> usize {
         self.m
+    }
+
+    /// Goes back to segment `m` (a value [`LateralTracker::segment`] returned), e.g. to undo a
+    /// [`LateralTracker::next`] for a frame the monitor then refused.
+    pub fn set_segment(&mut self, m: usize) {
+        self.m = m.min(self.waypoints.len().saturating_sub(2));
     }
 
     /// Route length from the first waypoint to waypoint `i` (None if out of range).

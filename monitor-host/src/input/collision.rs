@@ -16,6 +16,7 @@
 //! ```
 
 use crate::input::record::Infractions;
+use monitor_core::Collisions;
 
 /// The three collision lists of a record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -49,6 +50,53 @@ impl CollisionList {
     /// The list named `name`, if it is one of the three.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|l| l.name() == name)
+    }
+
+    /// The list the leaderboard's collision test files a contact with an actor of this CARLA
+    /// blueprint `type_id` under: static objects and traffic props (sidewalks aside) are
+    /// `collisions_layout`, then vehicles, then walkers; anything else is not an infraction.
+    /// For live front ends that see the collision sensor's `other_actor.type_id`.
+    ///
+    /// ```
+    /// use monitor_host::input::collision::CollisionList;
+    /// assert_eq!(CollisionList::of_actor("vehicle.audi.tt"), Some(CollisionList::Vehicle));
+    /// assert_eq!(CollisionList::of_actor("walker.pedestrian.0001"), Some(CollisionList::Pedestrian));
+    /// assert_eq!(CollisionList::of_actor("static.prop.constructioncone"), Some(CollisionList::Layout));
+    /// assert_eq!(CollisionList::of_actor("sensor.other.collision"), None);
+    /// ```
+    pub fn of_actor(type_id: &str) -> Option<Self> {
+        if (type_id.contains("static") || type_id.contains("traffic"))
+            && !type_id.contains("sidewalk")
+        {
+            Some(CollisionList::Layout)
+        } else if type_id.contains("vehicle") {
+            Some(CollisionList::Vehicle)
+        } else if type_id.contains("walker") {
+            Some(CollisionList::Pedestrian)
+        } else {
+            None
+        }
+    }
+
+    /// Counts one collision of this list in a frame's [`Collisions`] (a `workzone` contact of
+    /// `collisions_layout` in its own slot).
+    ///
+    /// ```
+    /// use monitor_core::Collisions;
+    /// use monitor_host::input::collision::CollisionList;
+    /// let mut c = Collisions::NONE;
+    /// CollisionList::Layout.count_in(true, &mut c);
+    /// CollisionList::Vehicle.count_in(false, &mut c);
+    /// assert_eq!((c.workzone, c.vehicle, c.layout), (1, 1, 0));
+    /// ```
+    pub fn count_in(self, workzone: bool, c: &mut Collisions) {
+        let slot = match (self, workzone) {
+            (CollisionList::Pedestrian, _) => &mut c.pedestrian,
+            (CollisionList::Vehicle, _) => &mut c.vehicle,
+            (CollisionList::Layout, true) => &mut c.workzone,
+            (CollisionList::Layout, false) => &mut c.layout,
+        };
+        *slot = slot.saturating_add(1);
     }
 }
 

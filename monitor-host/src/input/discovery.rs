@@ -10,7 +10,7 @@ use walkdir::WalkDir;
 use crate::warning::Warning;
 
 /// The candidate results files under `root`: every `*.json` except `metric_info.json` and
-/// `infractions.json`, sorted by path. Symbolic links are followed; a folder reached twice (a
+/// `infractions.json`, in byte-wise order of their paths (spec section 1.5's input order). Symbolic links are followed; a folder reached twice (a
 /// link loop or a second link) is read once. Entries that cannot be read are skipped with a
 /// warning.
 pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Vec<PathBuf> {
@@ -55,7 +55,11 @@ pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Vec<PathBuf> {
             }
         }
     }
-    files.sort();
+    files.sort_by(|a, b| {
+        a.as_os_str()
+            .as_encoded_bytes()
+            .cmp(b.as_os_str().as_encoded_bytes())
+    });
     files
 }
 
@@ -93,6 +97,73 @@ pub fn locate_metric_info(
         }
     }
     None
+}
+
+/// Why a record's `metric_info.json` was not found (spec section 1.2): what was looked for —
+/// the root and the `<save_name>` folder tried, the result file's folder when it holds one
+/// record — and, when the root exists but has no such folder, the closest folder name for the
+/// same route id (e.g. the run's other timestamp).
+pub fn missing_reason(
+    telemetry_root: Option<&Path>,
+    save_name: Option<&str>,
+    route_id: &str,
+    result_file: &Path,
+    file_holds_one_record: bool,
+) -> String {
+    let mut parts = Vec::new();
+    match (telemetry_root, save_name) {
+        (_, None) => parts.push("the record has no save_name (the telemetry folder name)".into()),
+        (None, Some(_)) => parts.push("no --telemetry root given".into()),
+        (Some(root), Some(save)) => {
+            let folder = root.join(save);
+            if folder.is_dir() {
+                parts.push(format!("{} holds no metric_info.json", folder.display()));
+            } else {
+                let mut text = format!(
+                    "no folder {save} under the telemetry root {}",
+                    root.display()
+                );
+                if let Some(near) = closest_folder(root, save, route_id) {
+                    text.push_str(&format!(
+                        " (the closest folder for {route_id} is {near}: another run of the \
+                         route?)"
+                    ));
+                }
+                parts.push(text);
+            }
+        }
+    }
+    if file_holds_one_record {
+        let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
+        parts.push(format!(
+            "no metric_info.json beside the results file in {}",
+            if dir.as_os_str().is_empty() {
+                Path::new(".").display()
+            } else {
+                dir.display()
+            }
+        ));
+    }
+    parts.join("; ")
+}
+
+/// The folder under `root` whose name starts with `<route_id>_` and shares the longest prefix
+/// with `save_name` (ties: the smallest name).
+fn closest_folder(root: &Path, save_name: &str, route_id: &str) -> Option<String> {
+    let prefix = format!("{route_id}_");
+    let common = |a: &str| {
+        a.bytes()
+            .zip(save_name.bytes())
+            .take_while(|(x, y)| x == y)
+            .count()
+    };
+    fs::read_dir(root)
+        .ok()?
+        .filter_map(Result::ok)
+        .filter(|e| e.path().is_dir())
+        .filter_map(|e| e.file_name().into_string().ok())
+        .filter(|n| n.starts_with(&prefix))
+        .min_by(|a, b| common(b).cmp(&common(a)).then_with(|| a.cmp(b)))
 }
 
 /// The `infractions.json` beside a located `metric_info.json`, if it exists.
@@ -145,6 +216,27 @@ mod tests {
             None
         );
         assert_eq!(lead_infractions_beside(&mi), None);
+        let other = "RouteScenario_1_rep0_Town01_X_1_1_02_02_00_00_00";
+        std::fs::create_dir_all(root.join(other)).unwrap();
+        let why = missing_reason(
+            Some(&root),
+            Some("RouteScenario_1_rep0_Town01_X_1_1_09_09"),
+            "RouteScenario_1_rep0",
+            &result_file,
+            false,
+        );
+        assert!(
+            why.contains(&format!(
+                "the closest folder for RouteScenario_1_rep0 is {save}"
+            )),
+            "{why}"
+        );
+        assert!(why.contains(&root.display().to_string()), "{why}");
+        let why = missing_reason(None, Some(save), "RouteScenario_1_rep0", &result_file, true);
+        assert!(
+            why.contains("no --telemetry") && why.contains("beside the results file"),
+            "{why}"
+        );
         std::fs::write(root.join(save).join("infractions.json"), "{}").unwrap();
         assert_eq!(
             lead_infractions_beside(&mi),

@@ -5,6 +5,8 @@
 //! |---|---|
 //! | a route record: infraction lists, scores, meta (§1.1) | [`record`] |
 //! | results files: raw, merged, per-route (§1.1) | [`results_file`] |
+//! | several inputs, duplicate routes (§1.5) | [`duplicates`] |
+//! | the route set, missing and foreign routes, N (§1.5) | [`route_set`] |
 //! | finding files: result trees, telemetry folders (§1.2) | [`discovery`] |
 //! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
 //! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
@@ -14,9 +16,11 @@
 
 pub mod collision;
 pub mod discovery;
+pub mod duplicates;
 pub mod labels;
 pub mod lead_infractions;
 pub mod metric_info;
 pub mod record;
 pub mod results_file;
+pub mod route_set;
 pub mod route_xml;

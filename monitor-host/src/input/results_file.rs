@@ -7,8 +7,9 @@
 //! - a Bench2Drive merged file: `{"_checkpoint": {"records": [..]}, "driving score",
 //!   "success rate", "eval num"}`;
 //! - a directory tree of per-route raw files ([`crate::input::discovery::json_files`]). Every
-//!   file whose top level has `_checkpoint` is read; when raw files exist, merged files (those
-//!   with `"driving score"`) are skipped with a warning.
+//!   file whose top level has `_checkpoint` is read, in byte-wise order of the paths; a merged
+//!   file (one with `"driving score"`) beside raw files in its own folder is skipped with a
+//!   warning (it was made from them).
 //!
 //! Records are validated one by one ([`Record::from_value`]): a record with a missing or
 //! wrong-typed required field is kept as an invalid entry naming the field, never dropped.
@@ -56,6 +57,25 @@ pub struct MergedTotals {
     pub source: PathBuf,
 }
 
+/// The mean driving score a raw evaluator file stores in a non-empty `global_record`
+/// (`scores_mean.score_composed`: the evaluator's mean over the file's own records).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GlobalRecord {
+    /// `global_record.scores_mean.score_composed` (0..100).
+    pub driving_score: f64,
+    /// The file.
+    pub source: PathBuf,
+}
+
+/// One results file read, in input order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InputFile {
+    /// The file as it was found.
+    pub path: PathBuf,
+    /// Its records (valid or not).
+    pub records: usize,
+}
+
 /// Everything [`read_results`] read.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ResultSet {
@@ -66,6 +86,10 @@ pub struct ResultSet {
     pub warnings: Vec<Warning>,
     /// The stored totals of the merged files that were read.
     pub merged_totals: Vec<MergedTotals>,
+    /// The stored `global_record` means of raw files of more than one record.
+    pub global_records: Vec<GlobalRecord>,
+    /// Every results file read, in input order.
+    pub files: Vec<InputFile>,
     /// Files in a directory that looked like results but could not be read, with the reason.
     pub broken_files: Vec<(PathBuf, String)>,
 }
@@ -147,9 +171,8 @@ pub fn read_results(path: &Path) -> Result<ResultSet, ResultsError> {
             Parsed::Checkpoint(f) => f,
             Parsed::NotCheckpoint(e) | Parsed::Broken(e) => return Err(e),
         };
-        add_file(&mut set, path, file, true);
+        add_file(&mut set, path, file);
     }
-    warn_duplicates(&mut set);
     Ok(set)
 }
 
@@ -159,6 +182,8 @@ struct CheckpointFile {
     merged: bool,
     entry_status: Option<String>,
     progress: Option<Vec<Value>>,
+    /// `global_record.scores_mean.score_composed`, when the file stores it.
+    global_score: Option<f64>,
     top: Map<String, Value>,
 }
 
@@ -231,6 +256,9 @@ fn parse_file(path: &Path) -> Parsed {
         Some(Value::Array(a)) => Some(a),
         _ => None,
     };
+    let global_score = checkpoint
+        .get("global_record")
+        .and_then(|g| g.get("scores_mean")?.get("score_composed")?.as_f64());
     let entry_status = top
         .get("entry_status")
         .and_then(Value::as_str)
@@ -240,6 +268,7 @@ fn parse_file(path: &Path) -> Parsed {
         merged: top.contains_key("driving score"),
         entry_status,
         progress,
+        global_score,
         top,
     })
 }
@@ -252,8 +281,18 @@ fn strip_position(msg: &str) -> String {
     }
 }
 
-fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile, read_totals: bool) {
+fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile) {
     let n = file.records.len();
+    set.files.push(InputFile {
+        path: path.to_path_buf(),
+        records: n,
+    });
+    if let (true, Some(ds)) = (n > 1, &file.global_score) {
+        set.global_records.push(GlobalRecord {
+            driving_score: *ds,
+            source: path.to_path_buf(),
+        });
+    }
     let progress_text = file.progress.as_ref().map(|p| {
         let parts: Vec<String> = p.iter().map(Value::to_string).collect();
         format!("[{}]", parts.join(", "))
@@ -284,7 +323,7 @@ fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile, read_totals:
             });
         }
     }
-    if file.merged && read_totals {
+    if file.merged {
         match merged_totals(&file.top, path) {
             Ok(t) => set.merged_totals.push(t),
             Err(reason) => set.warnings.push(Warning::StoredTotalsIgnored {
@@ -350,12 +389,10 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
     })?;
     let files = discovery::json_files(root, &mut set.warnings);
 
-    let mut raw = Vec::new();
-    let mut merged = Vec::new();
+    let mut parsed = Vec::new();
     for path in files {
         match parse_file(&path) {
-            Parsed::Checkpoint(f) if f.merged => merged.push((path, f)),
-            Parsed::Checkpoint(f) => raw.push((path, f)),
+            Parsed::Checkpoint(f) => parsed.push((path, f)),
             Parsed::NotCheckpoint(_) => {}
             Parsed::Broken(e) => {
                 let reason = e.to_string();
@@ -366,50 +403,40 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
             }
         }
     }
-    if raw.is_empty() && merged.is_empty() && set.broken_files.is_empty() {
+    if parsed.is_empty() && set.broken_files.is_empty() {
         return Err(ResultsError::NoResults {
             path: root.to_path_buf(),
         });
     }
-    if raw.is_empty() {
-        for (path, f) in merged {
-            add_file(set, &path, f, true);
+    // A merge output is skipped only beside raw evaluator files in its own folder: it was made
+    // from them (spec section 1.2). Elsewhere in the tree it is read.
+    let mut raw_per_folder: HashMap<PathBuf, usize> = HashMap::new();
+    for (path, f) in &parsed {
+        if !f.merged {
+            *raw_per_folder
+                .entry(parent(path).to_path_buf())
+                .or_default() += 1;
         }
-    } else {
-        for (path, _) in &merged {
+    }
+    let skip: Vec<bool> = parsed
+        .iter()
+        .map(|(path, f)| f.merged && raw_per_folder.contains_key(parent(path)))
+        .collect();
+    for ((path, f), skip) in parsed.into_iter().zip(skip) {
+        if skip {
             set.warnings.push(Warning::MergedSkipped {
-                file: path.clone(),
-                raw_files: raw.len(),
+                raw_files: raw_per_folder[parent(&path)],
+                file: path,
             });
-        }
-        for (path, f) in raw {
-            add_file(set, &path, f, false);
+        } else {
+            add_file(set, &path, f);
         }
     }
     Ok(())
 }
 
-fn warn_duplicates(set: &mut ResultSet) {
-    let mut first: HashMap<&str, &LoadedRecord> = HashMap::new();
-    let mut warnings = Vec::new();
-    for lr in &set.records {
-        let id = match &lr.entry {
-            Ok(r) => Some(r.route_id.as_str()),
-            Err(e) => e.route_id.as_deref(),
-        };
-        let Some(id) = id else { continue };
-        match first.get(id) {
-            None => {
-                first.insert(id, lr);
-            }
-            Some(prev) => warnings.push(Warning::DuplicateRoute {
-                route: id.to_string(),
-                first: (prev.source.clone(), prev.index),
-                second: (lr.source.clone(), lr.index),
-            }),
-        }
-    }
-    set.warnings.extend(warnings);
+fn parent(path: &Path) -> &Path {
+    path.parent().unwrap_or_else(|| Path::new(""))
 }
 
 #[cfg(test)]
@@ -511,11 +538,15 @@ mod tests {
         assert_eq!(set.merged_totals.len(), 1);
         assert_eq!(set.merged_totals[0].driving_score, 1.5);
         assert_eq!(set.merged_totals[0].eval_num, Some(3));
-        // records 0 and 1 share a route id
-        assert_eq!(set.warnings.len(), 1, "{:?}", set.warnings);
-        assert!(set.warnings[0]
-            .to_string()
-            .starts_with("duplicate route id RouteScenario_24206_rep3"));
+        // Records 0 and 1 share a route id: the duplicates policy decides later (run level).
+        assert!(set.warnings.is_empty(), "{:?}", set.warnings);
+        assert_eq!(
+            set.files,
+            [InputFile {
+                path: p.clone(),
+                records: 3
+            }]
+        );
     }
 
     #[test]

@@ -1,9 +1,12 @@
-//! The per-route pipeline: [`prepare`] (record + telemetry → frames, with [`align`]ed collision
-//! events) → [`replay`] (frames → `Monitor` → summary, checked against the batch reference) →
-//! [`outcome`] (what became of the route, with its [`timeline`]).
+//! The per-route pipeline: [`prepare`] (record + telemetry → frames built by [`frame`], with
+//! [`align`]ed collision events) → [`replay`] (frames → `Monitor` → summary, checked against the
+//! batch reference) → [`outcome`] (what became of the route, with its [`timeline`]);
+//! [`step_period`] gives each route's `dt`.
 
 pub mod align;
+pub mod frame;
 pub mod outcome;
 pub mod prepare;
 pub mod replay;
+pub mod step_period;
 pub mod timeline;

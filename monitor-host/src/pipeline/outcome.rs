@@ -7,6 +7,7 @@ use crate::aggregate::penalty::PenaltyCheck;
 use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
 use crate::pipeline::align::AlignedBy;
+use crate::pipeline::step_period::StepPeriod;
 use crate::pipeline::timeline::RouteTimeline;
 use crate::warning::Warning;
 
@@ -15,8 +16,9 @@ use crate::warning::Warning;
 pub enum TelemetryState {
     /// Read and replayed.
     Ok,
-    /// No `metric_info.json` was found.
-    Missing,
+    /// No `metric_info.json` was found; the reason says where it was looked for (the report's
+    /// `telemetry` field prints `missing`, the route's `reason` the detail).
+    Missing(String),
     /// Found but unusable; the reason names the file, step and field.
     Invalid(String),
 }
@@ -27,37 +29,67 @@ impl serde::Serialize for TelemetryState {
     }
 }
 
-/// The state of a route as a whole (its record and its telemetry), as the report names it.
+/// The state of a route as a whole (`SDS-SPEC.md` v1.2 §10.1). The report's `state` field
+/// prints [`RouteState::name`]; [`std::fmt::Display`] adds an invalid route's reason.
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum RouteState {
-    /// Record valid, telemetry replayed: scored with every term (`ok`).
+    /// Scored: telemetry replayed, or scored without telemetry terms under
+    /// `allow_missing_telemetry` (`scored`).
     Scored,
-    /// Record valid, no telemetry found (`missing`); scored without telemetry terms only with
-    /// `allow_missing_telemetry`.
+    /// A member of the route set (`--routes`) without any record (`missing`): scores 0, not a
+    /// success, comfort undefined; counted in N.
     Missing,
-    /// A route that is not part of the evaluated route set (`foreign`). Not produced yet: the
-    /// route-set check of spec v1.2 fills it in.
+    /// A record whose route is not in the route set (`foreign`): reported, left out of every
+    /// aggregate.
     Foreign,
-    /// The record or its telemetry cannot be used (`invalid: <reason>`); the reason names the
-    /// file, step or field.
+    /// The record, or its telemetry without `allow_missing_telemetry`, cannot be used
+    /// (`invalid`); the reason names the file, step or field.
     Invalid(String),
+}
+
+impl RouteState {
+    /// `scored`, `missing`, `foreign` or `invalid`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            RouteState::Scored => "scored",
+            RouteState::Missing => "missing",
+            RouteState::Foreign => "foreign",
+            RouteState::Invalid(_) => "invalid",
+        }
+    }
+
+    /// Why the route is invalid.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            RouteState::Invalid(r) => Some(r),
+            _ => None,
+        }
+    }
 }
 
 impl std::fmt::Display for RouteState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RouteState::Scored => f.write_str("ok"),
-            RouteState::Missing => f.write_str("missing"),
-            RouteState::Foreign => f.write_str("foreign"),
             RouteState::Invalid(r) => write!(f, "invalid: {r}"),
+            s => f.write_str(s.name()),
         }
     }
 }
 
 impl serde::Serialize for RouteState {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_str(self)
+        s.serialize_str(self.name())
+    }
+}
+
+impl TelemetryState {
+    /// Why the telemetry is missing or invalid.
+    pub fn reason(&self) -> Option<&str> {
+        match self {
+            TelemetryState::Ok => None,
+            TelemetryState::Missing(r) | TelemetryState::Invalid(r) => Some(r),
+        }
     }
 }
 
@@ -65,7 +97,7 @@ impl std::fmt::Display for TelemetryState {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             TelemetryState::Ok => f.write_str("ok"),
-            TelemetryState::Missing => f.write_str("missing"),
+            TelemetryState::Missing(_) => f.write_str("missing"),
             TelemetryState::Invalid(r) => write!(f, "invalid: {r}"),
         }
     }
@@ -89,6 +121,8 @@ pub struct CollisionEvent {
     pub step: Option<u64>,
     /// How it was aligned; `None` when unaligned.
     pub aligned_by: Option<AlignedBy>,
+    /// Seconds from the route's first frame: `(step - first_step) * dt`.
+    pub time_s: Option<f64>,
     /// Speed at the frame, m/s.
     pub impact_speed: Option<f32>,
     /// Decelerated before (spec section 5); `None` when unaligned.
@@ -117,6 +151,10 @@ pub struct RouteOutcome {
     pub loaded: LoadedRecord,
     /// Telemetry state.
     pub telemetry: TelemetryState,
+    /// The route's step period and where it came from; `None` without telemetry.
+    pub period: Option<StepPeriod>,
+    /// Not a member of the route set (spec section 1.5): left out of every aggregate.
+    pub foreign: bool,
     /// Telemetry frames and missing steps (0 without telemetry).
     pub frames: u32,
     /// Missing step numbers.
@@ -149,13 +187,26 @@ impl RouteOutcome {
         self.loaded.entry.as_ref().ok()
     }
 
-    /// The route's state: an invalid record first, then what became of its telemetry.
+    /// The route's state: foreign first, then an invalid record, then what became of its
+    /// telemetry (a route scored without telemetry terms, as `allow_missing_telemetry` lets it,
+    /// is `scored`).
     pub fn state(&self) -> RouteState {
+        if self.foreign {
+            return RouteState::Foreign;
+        }
         match (&self.loaded.entry, &self.telemetry) {
             (Err(e), _) => RouteState::Invalid(e.reason.clone()),
             (Ok(_), TelemetryState::Ok) => RouteState::Scored,
-            (Ok(_), TelemetryState::Missing) => RouteState::Missing,
+            (Ok(_), _) if self.safe.is_some() => RouteState::Scored,
+            (Ok(_), TelemetryState::Missing(r)) => {
+                RouteState::Invalid(format!("telemetry missing: {r}"))
+            }
             (Ok(_), TelemetryState::Invalid(r)) => RouteState::Invalid(r.clone()),
         }
+    }
+
+    /// Counted in the aggregates: not foreign.
+    pub fn counted(&self) -> bool {
+        !self.foreign
     }
 }

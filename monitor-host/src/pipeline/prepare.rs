@@ -6,7 +6,6 @@
 
 use monitor_core::{Collisions, Frame};
 
-use crate::geometry::kinematics;
 use crate::geometry::lateral::LateralTracker;
 use crate::input::collision::{self, CollisionList};
 use crate::input::lead_infractions::StepInfraction;
@@ -14,8 +13,9 @@ use crate::input::metric_info::Telemetry;
 use crate::input::record::Record;
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::align::{self, EventRef};
+use crate::pipeline::frame::FrameBuilder;
 use crate::pipeline::outcome::CollisionEvent;
-use crate::settings::Settings;
+use crate::settings::{decimal, Settings};
 
 /// Parses a record's collision lists into events (not yet aligned).
 pub fn collision_events(record: &Record) -> Vec<CollisionEvent> {
@@ -36,6 +36,7 @@ pub fn collision_events(record: &Record) -> Vec<CollisionEvent> {
                 frame: None,
                 step: None,
                 aligned_by: None,
+                time_s: None,
                 impact_speed: None,
                 decelerated: None,
                 exempt: None,
@@ -71,7 +72,6 @@ pub fn prepare(
     let n = tel.frames.len();
     let steps = tel.steps();
     let locations = tel.locations();
-    let speeds = kinematics::speeds(&tel.frames, f64::from(settings.core.dt));
 
     let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
     let mut tracker =
@@ -97,40 +97,29 @@ pub fn prepare(
     let mut events = Vec::with_capacity(parsed.len());
     for (mut ev, a) in parsed.into_iter().zip(aligned) {
         if let Some(k) = a.frame.filter(|&k| k < n) {
-            let c = &mut collisions[k];
-            let slot = match (ev.list, ev.workzone) {
-                (CollisionList::Pedestrian, _) => &mut c.pedestrian,
-                (CollisionList::Vehicle, _) => &mut c.vehicle,
-                (CollisionList::Layout, true) => &mut c.workzone,
-                (CollisionList::Layout, false) => &mut c.layout,
-            };
-            *slot = slot.saturating_add(1);
+            ev.list.count_in(ev.workzone, &mut collisions[k]);
             ev.frame = Some(k);
             ev.step = Some(steps[k]);
             ev.aligned_by = a.by;
-            ev.impact_speed = Some(speeds[k] as f32);
+            ev.time_s = Some((steps[k] - steps[0]) as f64 * decimal(settings.core.dt));
         }
         events.push(ev);
     }
 
-    let frames = tel
+    let mut builder = FrameBuilder::new(settings.core.dt);
+    let frames: Vec<Frame> = tel
         .frames
         .iter()
-        .zip(&speeds)
         .zip(collisions)
-        .map(|((f, &speed), c)| {
+        .map(|(f, c)| {
             let lat_err = tracker.as_mut().and_then(|t| t.next(f.location));
-            Frame::from_vectors(
-                f.acc,
-                f.fwd,
-                f.right,
-                f.yaw_rate_deg,
-                speed as f32,
-                lat_err.map(|e| e as f32),
-                c,
-            )
+            builder.push(f, lat_err, c)
         })
         .collect();
+    // The impact speed is the frame's speed (f64, rounded to f32 once).
+    for ev in &mut events {
+        ev.impact_speed = ev.frame.map(|k| frames[k].speed);
+    }
     PreparedRoute {
         frames,
         steps,

@@ -16,6 +16,7 @@ use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
+use crate::pipeline::step_period::{self, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
 use crate::settings::Settings;
@@ -136,14 +137,19 @@ pub fn legacy_comfort(
 pub struct RouteTelemetry {
     /// The frames and aligned events.
     pub prepared: PreparedRoute,
+    /// The route's step period (spec section 1.2).
+    pub period: StepPeriod,
+    /// The settings of this route: the run's, with the route's `dt`.
+    pub settings: Settings,
     /// Missing step numbers.
     pub gaps: u64,
     /// The `metric_info.json` read.
     pub path: PathBuf,
 }
 
-/// Locates and reads a record's telemetry (and `infractions.json` beside it) and prepares its
-/// frames. Problems that do not stop the route are pushed to `warnings`.
+/// Locates and reads a record's telemetry (and `infractions.json` beside it), infers its step
+/// period, and prepares its frames. Problems that do not stop the route are pushed to
+/// `warnings`.
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
@@ -163,7 +169,15 @@ pub fn read_telemetry(
                 loaded.records_in_file == 1,
             )
         })
-        .ok_or(TelemetryState::Missing)?;
+        .ok_or_else(|| {
+            TelemetryState::Missing(discovery::missing_reason(
+                telemetry_root,
+                record.save_name.as_deref(),
+                &record.route_id,
+                &loaded.source,
+                loaded.records_in_file == 1,
+            ))
+        })?;
     let tel = metric_info::read_metric_info(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
@@ -184,9 +198,27 @@ pub fn read_telemetry(
             warnings.push(Warning::NoReference(e));
         }
     }
-    let prepared = prepare(record, &tel, routes, infractions.as_deref(), settings);
+    let (first, last) = match (tel.frames.first(), tel.frames.last()) {
+        (Some(a), Some(b)) => (a.step, b.step),
+        _ => (0, 0),
+    };
+    let (period, period_warnings) =
+        step_period::infer(first, last, tel.gaps, record.meta.duration_game, settings);
+    warnings.extend(period_warnings);
+    // The period is configuration, set once for the route: the per-frame work is unchanged.
+    let mut route_settings = settings.clone();
+    route_settings.core.dt = period.as_f32(settings);
+    let prepared = prepare(
+        record,
+        &tel,
+        routes,
+        infractions.as_deref(),
+        &route_settings,
+    );
     Ok(RouteTelemetry {
         prepared,
+        period,
+        settings: route_settings,
         gaps: tel.gaps,
         path,
     })
@@ -202,7 +234,9 @@ pub fn replay(
 ) -> RouteOutcome {
     let mut out = RouteOutcome {
         loaded: loaded.clone(),
-        telemetry: TelemetryState::Missing,
+        telemetry: TelemetryState::Missing(String::new()),
+        period: None,
+        foreign: false,
         frames: 0,
         gaps: 0,
         summary: None,
@@ -229,18 +263,21 @@ pub fn replay(
     ) {
         Ok(RouteTelemetry {
             mut prepared,
+            period,
+            settings: route_settings,
             gaps,
             path,
         }) => {
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
+            out.period = Some(period);
             let mut chunks = ChunkLog::default();
-            match stream_logged(&mut prepared, &settings.core, &mut chunks) {
+            match stream_logged(&mut prepared, &route_settings.core, &mut chunks) {
                 Ok(summary) => {
-                    let reference = batch::compute(&prepared.frames, &settings.core);
+                    let reference = batch::compute(&prepared.frames, &route_settings.core);
                     let mut agrees = reference.summary == summary;
                     if let Ok((legacy, legacy_agrees)) =
-                        legacy_comfort(&prepared.frames, &summary, &settings.core)
+                        legacy_comfort(&prepared.frames, &summary, &route_settings.core)
                     {
                         out.legacy_comfort = Some(legacy);
                         agrees &= legacy_agrees;
@@ -252,15 +289,11 @@ pub fn replay(
                     out.timeline = Some(RouteTimeline::around(
                         &prepared.frames,
                         &prepared.steps,
-                        // The decimal the user wrote (0.05), not the f32's binary value.
-                        settings
-                            .core
-                            .dt
-                            .to_string()
-                            .parse()
-                            .unwrap_or(f64::from(settings.core.dt)),
+                        // The route's period as a decimal (0.05), as `time_s` uses it.
+                        out.period
+                            .map_or(crate::settings::decimal(route_settings.core.dt), |p| p.dt),
                         &at,
-                        settings.core.decel_window,
+                        route_settings.core.decel_window,
                         chunks,
                     ));
                     Some(summary)

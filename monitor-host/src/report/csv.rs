@@ -1,15 +1,19 @@
-//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting).
+//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting). Numbers
+//! are printed as the JSON report prints them (`100.0`, `0.39`); `source` is `file#index`.
 
 use crate::report::model::{Report, RouteReport};
 
 /// The header line's columns.
-pub const COLUMNS: [&str; 26] = [
+pub const COLUMNS: [&str; 30] = [
     "route_id",
     "scenario_type",
     "town",
     "weather_id",
     "status",
     "state",
+    "success",
+    "source",
+    "dt",
     "score_route",
     "score_penalty",
     "score_composed",
@@ -30,11 +34,18 @@ pub const COLUMNS: [&str; 26] = [
     "comfort",
     "p_safe",
     "ds_safe",
+    "reason",
 ];
 
-fn row(r: &RouteReport) -> [String; 26] {
+/// A float as JSON prints it (`100.0`, `0.05`); empty when absent.
+fn num(x: Option<f64>) -> String {
+    x.and_then(|v| serde_json::to_string(&v).ok())
+        .unwrap_or_default()
+}
+
+fn row(r: &RouteReport) -> [String; 30] {
     let s = |x: &Option<String>| x.clone().unwrap_or_default();
-    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let o = num;
     let c = &r.collisions;
     [
         s(&r.route_id),
@@ -42,7 +53,12 @@ fn row(r: &RouteReport) -> [String; 26] {
         s(&r.town),
         s(&r.weather_id),
         s(&r.status),
-        r.state.to_string(),
+        r.state.name().to_string(),
+        r.success.to_string(),
+        r.source
+            .as_ref()
+            .map_or_else(String::new, |x| format!("{}#{}", x.file.display(), x.index)),
+        o(r.dt),
         o(r.score_route),
         o(r.score_penalty),
         o(r.score_composed),
@@ -63,6 +79,7 @@ fn row(r: &RouteReport) -> [String; 26] {
         o(r.comfort.score),
         o(r.p_safe),
         o(r.ds_safe),
+        s(&r.reason),
     ]
 }
 

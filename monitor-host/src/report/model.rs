@@ -7,16 +7,20 @@
 
 use serde::Serialize;
 
-use crate::aggregate::ability::{missing_routes, route_ability, RouteAbility};
-use crate::aggregate::aggregates::{Aggregates, Counts};
+use crate::aggregate::ability::{route_ability, RouteAbility};
+use crate::aggregate::aggregates::Aggregates;
 use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
 use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
+use crate::aggregate::stored::InputReport;
 use crate::aggregate::summary::{summarize, Summary};
 use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::junctions::TownMaps;
-use crate::input::record::MIN_SPEED_LIST;
+use crate::input::duplicates::{Dropped, Source};
+use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
+use crate::input::route_set::{MissingRoute, RunRouteSet};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
+use crate::pipeline::step_period::DtSource;
 use crate::pipeline::timeline::ChunkLog;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -78,6 +82,39 @@ pub struct PenaltyReport {
     pub agrees: bool,
 }
 
+/// Entries per infraction list of a route: the 12 known lists in Bench2Drive's order, then any
+/// unknown ones in the record's order (a JSON object).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct InfractionCounts(pub Vec<(String, usize)>);
+
+impl InfractionCounts {
+    /// The counts of a record's lists (all 12 known lists, 0 when absent).
+    pub fn of(inf: Option<&Infractions>) -> Self {
+        let mut v: Vec<(String, usize)> = KNOWN_LISTS
+            .iter()
+            .map(|n| (n.to_string(), inf.map_or(0, |i| i.list(n).len())))
+            .collect();
+        if let Some(i) = inf {
+            v.extend(i.unknown().map(|(n, l)| (n.to_string(), l.len())));
+        }
+        InfractionCounts(v)
+    }
+
+    /// The count of one list (0 when absent).
+    pub fn get(&self, list: &str) -> usize {
+        self.0
+            .iter()
+            .find(|(n, _)| n == list)
+            .map_or(0, |(_, c)| *c)
+    }
+}
+
+impl Serialize for InfractionCounts {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
 /// One route of the report.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct RouteReport {
@@ -99,10 +136,16 @@ pub struct RouteReport {
     pub score_penalty: Option<f64>,
     /// `scores.score_composed`.
     pub score_composed: Option<f64>,
+    /// Seconds per telemetry step (spec section 1.2); null without telemetry.
+    pub dt: Option<f64>,
+    /// `inferred` or `config`; null without telemetry.
+    pub dt_source: Option<DtSource>,
     /// Telemetry frames.
     pub frames: u32,
     /// Missing steps.
     pub gaps: u64,
+    /// Entries per infraction list (all 12 lists and any unknown ones).
+    pub infractions: InfractionCounts,
     /// Collision counts.
     pub collisions: CollisionCounts,
     /// Lateral counts.
@@ -112,8 +155,6 @@ pub struct RouteReport {
     /// `C_route` under the `b2d-legacy` profile, whatever the run's profile (Bench2Drive's
     /// per-route smoothness, §8.2); null when undefined.
     pub smoothness: Option<f64>,
-    /// Entries per infraction list: the 12 known lists, then any unknown one (§10.1).
-    pub infractions: Counts<usize>,
     /// Bench2Drive's efficiency of the route (§8.2); null when it has none.
     pub efficiency: Option<f64>,
     /// The abilities the route counts in (§8.2); null when the route has no route XML entry.
@@ -124,10 +165,12 @@ pub struct RouteReport {
     pub ds_safe: Option<f64>,
     /// `ok`, `missing` or `invalid: <reason>`.
     pub telemetry: TelemetryState,
-    /// `ok`, `missing` or `invalid: <reason>` for the route as a whole (record or telemetry).
+    /// `scored`, `missing`, `foreign` or `invalid` (spec section 10.1).
     pub state: RouteState,
-    /// The results file and record index.
-    pub source: String,
+    /// Why the route is invalid, or its telemetry missing or invalid; null otherwise.
+    pub reason: Option<String>,
+    /// The results file (as found) and record index; null for a missing route.
+    pub source: Option<Source>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
     /// Penalty re-check; null for an invalid record.
@@ -156,6 +199,10 @@ pub struct Report {
     pub profile: &'static str,
     /// Every threshold and default.
     pub config: Settings,
+    /// Every results file read, with the figures it stores beside the computed ones (§1.5).
+    pub inputs: Vec<InputReport>,
+    /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
+    pub dropped: Vec<Dropped>,
     /// Per route, in input order.
     pub routes: Vec<RouteReport>,
     /// Aggregates.
@@ -163,8 +210,11 @@ pub struct Report {
     /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub groups: Option<Groups>,
-    /// Warnings met while reading (duplicates, skipped files, crashed runs...).
+    /// Every warning of the run, the per-route ones included (as printed on stderr).
     pub warnings: Vec<Warning>,
+    /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
+    #[serde(skip)]
+    pub route_set: Option<RunRouteSet>,
 }
 
 /// Turns one outcome into its report entry.
@@ -188,8 +238,11 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         score_route: rec.map(|r| r.score_route),
         score_penalty: rec.map(|r| r.score_penalty),
         score_composed: rec.map(|r| r.score_composed),
+        dt: o.period.map(|p| p.dt),
+        dt_source: o.period.map(|p| p.source),
         frames: o.frames,
         gaps: o.gaps,
+        infractions: InfractionCounts::of(rec.map(|r| &r.infractions)),
         collisions: CollisionCounts {
             pedestrian: count("collisions_pedestrian"),
             vehicle: count("collisions_vehicle"),
@@ -214,19 +267,18 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         smoothness: o
             .legacy_comfort
             .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
-        infractions: Counts(rec.map_or_else(Vec::new, |r| {
-            r.infractions
-                .all()
-                .map(|(n, l)| (n.to_string(), l.len()))
-                .collect()
-        })),
         efficiency: rec.and_then(|r| route_efficiency(r.infractions.list(MIN_SPEED_LIST))),
         ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
         telemetry: o.telemetry.clone(),
+        reason: o
+            .state()
+            .reason()
+            .or_else(|| o.telemetry.reason())
+            .map(String::from),
         state: o.state(),
-        source: format!("{}#{}", o.loaded.source.display(), o.loaded.index),
+        source: Some(Source::of(&o.loaded)),
         collision_events: o.events.clone(),
         penalty_check: o.penalty.map(|p| PenaltyReport {
             recomputed: p.recomputed,
@@ -239,16 +291,70 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
     }
 }
 
-/// Builds the report from the outcomes (in input order), the settings, the run's warnings, the
-/// route XML (the abilities' scenario types and route set, §8.2) and the towns' maps (the
-/// junction credit).
+/// The report entry of a missing route: scores 0, not a success, comfort undefined.
+pub fn missing_report(m: &MissingRoute) -> RouteReport {
+    RouteReport {
+        route_id: Some(m.route_id.clone()),
+        scenario_type: m.scenario_type.clone(),
+        town: m.town.clone(),
+        weather_id: None,
+        status: None,
+        success: false,
+        score_route: Some(0.0),
+        score_penalty: None,
+        score_composed: Some(0.0),
+        dt: None,
+        dt_source: None,
+        frames: 0,
+        gaps: 0,
+        infractions: InfractionCounts::of(None),
+        collisions: CollisionCounts::default(),
+        lateral: LateralReport::default(),
+        comfort: ComfortReport::default(),
+        p_safe: None,
+        ds_safe: Some(0.0),
+        smoothness: None,
+        efficiency: None,
+        ability: None,
+        telemetry: TelemetryState::Missing(String::new()),
+        state: RouteState::Missing,
+        reason: None,
+        source: None,
+        collision_events: Vec::new(),
+        penalty_check: None,
+        batch_agrees: None,
+        warnings: Vec::new(),
+        traces: Vec::new(),
+        chunks: None,
+    }
+}
+
+/// What a run read besides its routes: the pieces of the report that are not per-route.
+#[derive(Clone, Debug, Default)]
+pub struct RunFacts {
+    /// N (spec section 1.5).
+    pub n: usize,
+    /// The route set, when `--routes` was given.
+    pub route_set: Option<RunRouteSet>,
+    /// The inputs and their stored figures.
+    pub inputs: Vec<InputReport>,
+    /// Copies left out by the duplicates policy.
+    pub dropped: Vec<Dropped>,
+    /// Run-level warnings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Builds the report from the outcomes (in input order), then the missing routes (in XML
+/// order), with the route XML (the abilities' scenario types, §8.2) and the towns' maps (the
+/// junction credit). Every per-route warning is added to the run's warnings, naming its route.
 pub fn build(
     outcomes: &[RouteOutcome],
     settings: &Settings,
-    warnings: Vec<Warning>,
-    route_set: Option<&RouteSet>,
+    facts: RunFacts,
+    xml: Option<&RouteSet>,
     maps: &TownMaps,
 ) -> Report {
+    let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
     let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
     for (r, o) in routes.iter_mut().zip(outcomes) {
         if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
@@ -261,9 +367,11 @@ pub fn build(
             );
         }
     }
-    if let Some(set) = route_set {
+    if let Some(set) = xml {
         for (r, o) in routes.iter_mut().zip(outcomes) {
-            let Some(rec) = o.record() else { continue };
+            let Some(rec) = o.record().filter(|_| o.counted()) else {
+                continue;
+            };
             let Some(xml) = rec.xml_id().and_then(|id| set.get(id)) else {
                 continue;
             };
@@ -274,21 +382,38 @@ pub fn build(
             }));
         }
     }
-    let mut summary = summarize(outcomes, settings.expected_routes);
-    let counted: Vec<&RouteReport> = routes.iter().collect();
-    let all = Aggregates::over(&counted, summary.routes);
-    let missing = route_set.map_or_else(Vec::new, |set| {
-        missing_routes(set, routes.iter().filter_map(|r| r.route_id.as_deref()))
-    });
-    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, missing));
+    routes.extend(missing.iter().map(missing_report));
+    let mut warnings = facts.warnings;
+    for r in &routes {
+        let route = r.route_id.clone().unwrap_or_else(|| {
+            r.source
+                .as_ref()
+                .map_or_else(|| "<no route_id>".into(), ToString::to_string)
+        });
+        warnings.extend(r.warnings.iter().map(|w| Warning::Route {
+            route: route.clone(),
+            warning: Box::new(w.clone()),
+        }));
+    }
+    let mut summary = summarize(outcomes, facts.n, missing.len());
+    let counted: Vec<&RouteReport> = routes
+        .iter()
+        .filter(|r| r.state != RouteState::Foreign)
+        .collect();
+    let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
+    let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
+    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),
         config: settings.clone(),
+        inputs: facts.inputs,
+        dropped: facts.dropped,
         routes,
         summary,
         groups: None,
         warnings,
+        route_set: facts.route_set,
     }
 }
 
@@ -304,14 +429,21 @@ impl Report {
         Ok(())
     }
 
-    /// The routes that make the run's exit status fail, with their state: every route not
-    /// scored, except a valid record without usable telemetry when
-    /// `allow_missing_telemetry` is set.
+    /// The routes that make the run's exit status fail: the invalid ones (an invalid record,
+    /// or telemetry missing or invalid without `allow_missing_telemetry`). Missing and foreign
+    /// routes are reported, not problems.
     pub fn problem_routes(&self) -> impl Iterator<Item = &RouteReport> {
-        let allow = self.config.allow_missing_telemetry;
         self.routes
             .iter()
-            .filter(move |r| r.state != RouteState::Scored && !(allow && r.penalty_check.is_some()))
+            .filter(|r| matches!(r.state, RouteState::Invalid(_)))
+    }
+
+    /// True when no counted route of the run has telemetry (the report then says so once, in
+    /// [`Warning::NoTelemetry`], instead of once per route).
+    pub fn no_telemetry(&self) -> bool {
+        self.warnings
+            .iter()
+            .any(|w| matches!(w, Warning::NoTelemetry { .. }))
     }
 
     /// True when the report has a problem a front end must signal (exit status 3 of `sds`):

@@ -38,9 +38,7 @@ use serde::de::{Deserializer, IgnoredAny};
 
 mod visitor;
 
-#[cfg(test)]
-use visitor::FIELD_NAMES;
-use visitor::{is_non_finite, json_error, Ctx, TopVisitor};
+use visitor::{is_non_finite, json_error, Ctx, TopVisitor, FIELD_NAMES};
 
 /// One telemetry frame, reduced to what the monitor and the host geometry need.
 ///
@@ -60,6 +58,64 @@ pub struct TelemetryFrame {
     pub right: [f32; 2],
     /// `angular_velocity[2]` in deg/s (CARLA's unit).
     pub yaw_rate_deg: f32,
+}
+
+impl TelemetryFrame {
+    /// The required fields of a frame, in the order [`TelemetryFrame::from_raw`] takes them:
+    /// `acceleration`, `angular_velocity`, `forward_vector`, `right_vector`, `location`.
+    pub const FIELDS: [&'static str; 5] = FIELD_NAMES;
+
+    /// Reduces one raw frame (the five 3-vectors of [`TelemetryFrame::FIELDS`], as CARLA gives
+    /// them in f64) to its 2-D parts, rounding the signal inputs to f32 once. The file reader
+    /// and the bindings' per-tick entry both go through here.
+    ///
+    /// ```
+    /// use monitor_host::input::metric_info::TelemetryFrame;
+    /// let raw = [[0.5, 0.25, 9.8], [0.0, 0.0, 3.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0],
+    ///            [10.0, 5.0, 0.2]];
+    /// let f = TelemetryFrame::from_raw(7, raw)?;
+    /// assert_eq!((f.step, f.acc, f.yaw_rate_deg, f.location), (7, [0.5, 0.25], 3.0, [10.0, 5.0]));
+    /// let too_big = TelemetryFrame::from_raw(7, [[1e300; 3], raw[1], raw[2], raw[3], raw[4]]);
+    /// assert_eq!(too_big.unwrap_err().to_string(),
+    ///            "step 7: field acceleration: value too large for f32");
+    /// # Ok::<(), monitor_host::input::metric_info::TelemetryError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`TelemetryError::Field`] naming the step and field: a NaN or infinite value
+    /// ([`FieldProblem::NonFinite`]), or a value stored as f32 that overflows it
+    /// ([`FieldProblem::OutOfF32Range`]).
+    pub fn from_raw(step: u64, raw: [[f64; 3]; 5]) -> Result<TelemetryFrame, TelemetryError> {
+        let fail = |i: usize, problem| TelemetryError::Field {
+            step,
+            field: FIELD_NAMES[i],
+            problem,
+        };
+        if let Some(i) = raw.iter().position(|v| v.iter().any(|x| !x.is_finite())) {
+            return Err(fail(i, FieldProblem::NonFinite));
+        }
+        let [acc, angvel, fwd, right, loc] = raw;
+        // Values stored as f32 must stay finite after rounding.
+        let f32_checks: [(usize, &[f64]); 4] = [
+            (0, &acc[..2]),
+            (1, &angvel[2..]),
+            (2, &fwd[..2]),
+            (3, &right[..2]),
+        ];
+        for (i, vs) in f32_checks {
+            if vs.iter().any(|&v| !(v as f32).is_finite()) {
+                return Err(fail(i, FieldProblem::OutOfF32Range));
+            }
+        }
+        Ok(TelemetryFrame {
+            step,
+            location: [loc[0], loc[1]],
+            acc: [acc[0] as f32, acc[1] as f32],
+            fwd: [fwd[0] as f32, fwd[1] as f32],
+            right: [right[0] as f32, right[1] as f32],
+            yaw_rate_deg: angvel[2] as f32,
+        })
+    }
 }
 
 /// A route's telemetry: frames sorted by step, and the number of missing step numbers.

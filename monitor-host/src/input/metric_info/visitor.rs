@@ -194,7 +194,7 @@ enum Field {
     Other,
 }
 
-pub(super) const FIELD_NAMES: [&str; 5] = [
+pub(crate) const FIELD_NAMES: [&str; 5] = [
     "acceleration",
     "angular_velocity",
     "forward_vector",
@@ -296,31 +296,7 @@ impl<'de> Visitor<'de> for FrameSeed<'_> {
                 }
             }
         }
-        let [acc, angvel, fwd, right, loc] = out;
-        // Values stored as f32 must stay finite after rounding.
-        let f32_checks: [(usize, &[f64]); 4] = [
-            (0, &acc[..2]),
-            (1, &angvel[2..]),
-            (2, &fwd[..2]),
-            (3, &right[..2]),
-        ];
-        for (i, vs) in f32_checks {
-            if vs.iter().any(|&v| !(v as f32).is_finite()) {
-                return Err(ctx.fail(TelemetryError::Field {
-                    step,
-                    field: FIELD_NAMES[i],
-                    problem: FieldProblem::OutOfF32Range,
-                }));
-            }
-        }
-        Ok(TelemetryFrame {
-            step,
-            location: [loc[0], loc[1]],
-            acc: [acc[0] as f32, acc[1] as f32],
-            fwd: [fwd[0] as f32, fwd[1] as f32],
-            right: [right[0] as f32, right[1] as f32],
-            yaw_rate_deg: angvel[2] as f32,
-        })
+        TelemetryFrame::from_raw(step, out).map_err(|e| ctx.fail(e))
     }
 }
 

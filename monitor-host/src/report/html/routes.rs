@@ -145,7 +145,16 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
             num(r.comfort.score, 3),
             r.collision_events.len(),
         ));
-        out.push_str(&format!("<p>source {}</p>\n", escape(&r.source)));
+        if let Some(src) = &r.source {
+            out.push_str(&format!(
+                "<p>source {}#{}</p>\n",
+                escape(&src.file.display().to_string()),
+                src.index
+            ));
+        }
+        if let Some(reason) = &r.reason {
+            out.push_str(&format!("<p class=\"warn\">{}</p>\n", escape(reason)));
+        }
         for t in &r.traces {
             out.push_str("<div class=\"fig\">");
             out.push_str(&figure::svg(t));

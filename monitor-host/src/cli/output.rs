@@ -32,8 +32,8 @@ pub fn write_output(path: Option<&Path>, bytes: &[u8]) -> Result<()> {
 
 /// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG;
 /// returns the number of traces.
-pub fn write_traces(dir: &Path, report: &monitor_host::report::Report) -> Result<usize> {
-    use monitor_host::report::{figure, trace_csv};
+pub fn write_traces(dir: &Path, report: &crate::report::Report) -> Result<usize> {
+    use crate::report::{figure, trace_csv};
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let mut n = 0;
     for t in report.routes.iter().flat_map(|r| &r.traces) {

@@ -1,4 +1,4 @@
-//! The progress bar (indicatif) over [`monitor_host::Progress`].
+//! The progress bar (indicatif) over [`crate::Progress`].
 
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -22,7 +22,13 @@ impl Bar {
     }
 }
 
-impl monitor_host::Progress for Bar {
+impl Default for Bar {
+    fn default() -> Self {
+        Bar::new()
+    }
+}
+
+impl crate::Progress for Bar {
     fn start(&self, routes: usize) {
         self.0.set_length(routes as u64);
     }

@@ -42,6 +42,32 @@ pub enum ProfileArg {
     B2dLegacy,
 }
 
+/// Duplicate policies (`--duplicates`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DuplicatesArg {
+    /// Score nothing and name every duplicated id (default).
+    Error,
+    /// Keep the first copy in input order.
+    First,
+    /// Keep the last copy in input order.
+    Last,
+    /// Score every copy as a route of its own.
+    All,
+}
+
+impl DuplicatesArg {
+    /// The library's policy.
+    pub fn policy(self) -> crate::input::duplicates::DuplicatePolicy {
+        use crate::input::duplicates::DuplicatePolicy as P;
+        match self {
+            DuplicatesArg::Error => P::Error,
+            DuplicatesArg::First => P::First,
+            DuplicatesArg::Last => P::Last,
+            DuplicatesArg::All => P::All,
+        }
+    }
+}
+
 /// Breakdown groups.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum GroupArg {
@@ -59,13 +85,16 @@ pub enum GroupArg {
 #[derive(Debug, clap::Args)]
 pub struct ScoreArgs {
     /// Results: a raw evaluator file, a merged file, or a directory of per-route files.
-    /// Repeat to read several.
+    /// Repeat to read several: inputs in the order given, a directory's files in byte-wise
+    /// path order, a file's records in order.
     #[arg(long, required = true)]
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     #[arg(long)]
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML (reference for the lateral error, route set, ability types).
+    /// Bench2Drive route XML: the lateral reference, the route set (its routes without a
+    /// record are reported as missing and count as 0 / failed; N defaults to its size) and the
+    /// scenario types of the ability rates.
     #[arg(long)]
     pub routes: Option<PathBuf>,
     /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
@@ -77,6 +106,11 @@ pub struct ScoreArgs {
     /// Benchmark size N (missing routes count as 0 / failed), e.g. 220.
     #[arg(long)]
     pub expected_routes: Option<usize>,
+    /// When two records share a route id: `error` (score nothing, name them), keep the
+    /// `first` or `last` copy in input order, or score `all` copies. Default: error (or
+    /// `--set duplicates=...`).
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     #[arg(long)]
     pub allow_missing_telemetry: bool,
@@ -89,10 +123,12 @@ pub struct ScoreArgs {
     /// Break the routes down by this (the report's `groups`; the tables default to scenario).
     #[arg(long, value_enum)]
     pub group_by: Option<GroupArg>,
-    /// Scenario type -> family label (JSON object, or CSV `type,label` lines).
+    /// Scenario type -> family label(s): a JSON object whose values are a label or a list of
+    /// labels, or CSV `type,label` lines.
     #[arg(long)]
     pub families: Option<PathBuf>,
-    /// Weather id -> label (JSON object, or CSV `id,label` lines).
+    /// Weather id -> label(s): a JSON object, CSV `id,label` lines, or Bench2Drive's
+    /// `weather.xml` (labels from its preset names).
     #[arg(long)]
     pub weathers: Option<PathBuf>,
     /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.

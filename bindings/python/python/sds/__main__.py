@@ -1,0 +1,5 @@
+"""``python -m sds``: the ``sds`` command."""
+
+from ._cli import main
+
+main()

@@ -1,0 +1,94 @@
+"""Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
+
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+
+__version__: str
+FIELDS: List[str]
+"""The fields of a ``get_metric_info()`` entry the monitor reads, in ``push_arrays`` order."""
+
+class SdsError(Exception):
+    """Base class of every error the sds package raises."""
+
+class InputError(SdsError):
+    """An input is invalid: a results file, route XML, labels file or telemetry frame."""
+
+class ConfigError(SdsError):
+    """An option or setting is invalid."""
+
+class IoError(SdsError):
+    """A file or folder cannot be read."""
+
+class FeatureUnavailableError(SdsError):
+    """An option this build of sds does not have yet."""
+
+def cli_main(argv: Sequence[str]) -> int:
+    """Runs the ``sds`` command line with ``argv`` (program name first); returns its status."""
+
+def score_json(args: Sequence[str], progress: bool = False) -> str:
+    """Scores a run given the arguments of ``sds score``; returns the JSON report's text."""
+
+def score_options() -> List[str]:
+    """The long names of the options ``sds score`` has in this build."""
+
+def settings_args(
+    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+) -> List[str]:
+    """``name=value`` pairs of a settings mapping, as ``--set`` takes them."""
+
+class Monitor:
+    """The streaming monitor of one route (see ``sds.Monitor``)."""
+
+    def __new__(
+        cls,
+        profile: str = "physical",
+        dt: float = 0.05,
+        settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+        *,
+        route: Optional[Iterable[Any]] = None,
+    ) -> "Monitor": ...
+    def push(
+        self,
+        entry: Mapping[str, Any],
+        *,
+        step: Optional[int] = None,
+        collisions: Optional[Sequence[str]] = None,
+        lat_err: Optional[float] = None,
+    ) -> List[Dict[str, Any]]:
+        """Pushes one tick (a ``get_metric_info()`` entry); returns that frame's events.
+
+        ``collisions`` names this frame's collisions by kind (``pedestrian``, ``vehicle``,
+        ``layout``, ``workzone``) or by the other actor's CARLA type id.
+        """
+    def _push_raw(
+        self,
+        n: int,
+        data: bytes,
+        steps: Optional[List[int]] = None,
+        lat_err: Optional[bytes] = None,
+        collisions: Optional[Dict[int, List[str]]] = None,
+    ) -> List[Dict[str, Any]]: ...
+    def finish(
+        self,
+        *,
+        score_route: Optional[float] = None,
+        score_penalty: Optional[float] = None,
+        workzone: int = 0,
+    ) -> Dict[str, Any]:
+        """Ends the route: its last events, its summary, and DS_safe given the evaluator's
+        ``score_route`` and ``score_penalty`` (and work-zone contacts)."""
+    @property
+    def frames(self) -> int:
+        """Frames pushed so far."""
+    @property
+    def last_step(self) -> Optional[int]:
+        """The step of the last frame pushed."""
+    @property
+    def last_frame(self) -> Optional[Dict[str, Any]]:
+        """The last frame as the monitor saw it (``a_lon``, ``a_lat``, ``a_mag``, ``yaw_rate``,
+        ``speed``, ``lat_err``, ``collisions``)."""
+    @property
+    def finished(self) -> bool:
+        """True once ``finish`` has run."""
+    @property
+    def config(self) -> Dict[str, Any]:
+        """The monitor's configuration."""

@@ -1,0 +1,117 @@
+"""`sds.score` returns the report of `sds score --format json`, the same numbers to the bit."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any, Dict, List
+
+import pytest
+
+import sds
+from conftest import Demo, cli_report, run_cli, same
+
+
+def test_demo_report_equals_cli(demo: Demo, demo_report: Dict[str, Any]) -> None:
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes)
+    assert report["summary"]["sds"] is not None
+    assert len(report["routes"]) == len(demo.records()) >= 7
+    assert same(report, demo_report)
+
+
+@pytest.mark.parametrize(
+    "kwargs, flags",
+    [
+        ({"profile": "b2d-legacy"}, ["--profile", "b2d-legacy"]),
+        (
+            {"settings": {"slack": 0.9, "bounds.yaw_rate": 1.0, "gap_max": 6}},
+            ["--set", "slack=0.9", "--set", "bounds.yaw_rate=1.0", "--set", "gap_max=6"],
+        ),
+        ({"expected_routes": 10, "jobs": 1}, ["--expected-routes", "10", "--jobs", "1"]),
+    ],
+)
+def test_options_equal_cli_flags(
+    demo: Demo, sds_bin: Path, tmp_path: Path, kwargs: Dict[str, Any], flags: List[str]
+) -> None:
+    base = ["--results", str(demo.results), "--telemetry", str(demo.telemetry), "--routes", str(demo.routes)]
+    expected = cli_report(sds_bin, base + flags, tmp_path)
+    report = sds.score([demo.results], telemetry=str(demo.telemetry), routes=demo.routes, **kwargs)
+    assert same(report, expected)
+    # The options changed something (the test would not see a dropped option otherwise).
+    default = cli_report(sds_bin, base, tmp_path)
+    assert not same(report, default)
+
+
+def test_missing_telemetry_allowed(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    for allow in (False, True):
+        flags = ["--allow-missing-telemetry"] if allow else []
+        expected = cli_report(sds_bin, ["--results", str(demo.results), *flags], tmp_path)
+        report = sds.score(demo.results, allow_missing_telemetry=allow)
+        assert same(report, expected)
+        assert all(r["telemetry"] == "missing" for r in report["routes"])
+        assert (report["summary"]["mean_ds_safe"] is not None) == allow
+
+
+def test_real_fixtures_equal_cli(b2d: Path, sds_bin: Path, tmp_path: Path) -> None:
+    routes = b2d / "routes" / "bench2drive220.xml"
+    runs = sorted(b2d.glob("*.json")) + [b2d / "lead_tfv6_per_route", b2d / "tfpp_raw_shards"]
+    assert len(runs) >= 5
+    scored = refused = 0
+    for run in runs:
+        for allow in (False, True):
+            flags = ["--allow-missing-telemetry"] if allow else []
+            args = ["--results", str(run), "--routes", str(routes), "--expected-routes", "220", *flags]
+            out = tmp_path / "cli-report.json"
+            code, _, err = run_cli(sds_bin, ["score", *args, "--format", "json", "-o", str(out)])
+            if code in (1, 2, 4):
+                # No report: the same error, as an exception.
+                with pytest.raises(sds.SdsError) as e:
+                    sds.score(run, routes=routes, expected_routes=220, allow_missing_telemetry=allow)
+                assert f"sds: error: {e.value}" in err.splitlines(), run
+                refused += 1
+                continue
+            expected = json.loads(out.read_text())
+            report = sds.score(run, routes=routes, expected_routes=220, allow_missing_telemetry=allow)
+            assert same(report, expected), run
+            scored += 1
+    assert scored >= 10 and refused >= 1
+
+
+def test_progress_bar_same_report(demo: Demo, demo_report: Dict[str, Any]) -> None:
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes, progress=True)
+    assert same(report, demo_report)
+
+
+def test_labels_are_checked_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    labels = tmp_path / "families.csv"
+    labels.write_text("DemoCruising,calm\nDemoHardBraking,braking\n")
+    base = ["--results", str(demo.results), "--telemetry", str(demo.telemetry)]
+    expected = cli_report(sds_bin, base + ["--group-by", "family", "--families", str(labels)], tmp_path)
+    report = sds.score(demo.results, telemetry=demo.telemetry, group_by="family", labels=labels)
+    assert same(report, expected)
+    assert report["routes"]
+    bad = tmp_path / "bad.csv"
+    bad.write_text("no comma here\n")
+    with pytest.raises(sds.InputError) as e:
+        sds.score(demo.results, group_by="family", labels=bad)
+    code, _, err = run_cli(sds_bin, ["score", *base, "--group-by", "family", "--families", str(bad)])
+    assert code in (1, 2) and f"sds: error: {e.value}" in err.splitlines()
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, group_by="nope")
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, labels=labels)
+
+
+def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    if "duplicates" not in sds._sds.score_options():
+        pytest.skip("this build of sds score has no --duplicates")
+    twice = ["--results", str(demo.results), "--results", str(demo.results), "--telemetry", str(demo.telemetry)]
+    with pytest.raises(sds.InputError) as e:
+        sds.score([demo.results, demo.results], telemetry=demo.telemetry)
+    code, _, err = run_cli(sds_bin, ["score", *twice])
+    assert code == 2 and f"sds: error: {e.value}\n" in err  # a multi-line message
+    for policy in ("first", "last", "all"):
+        expected = cli_report(sds_bin, twice + ["--duplicates", policy], tmp_path)
+        report = sds.score([demo.results, demo.results], telemetry=demo.telemetry, duplicates=policy)
+        assert same(report, expected), policy
+    assert len(report["routes"]) == 2 * len(demo.records())  # "all" scores every copy

@@ -1,0 +1,596 @@
+//! The `sds` command line (feature `cli`): arguments, progress bar, output, exit codes.
+//! Everything else is the library's [`crate::score_run`]. The `sds` binary and the Python
+//! package's `sds` command both call [`main`] with their argument list, so they are one program.
+//!
+//! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
+//! 2 usage error (bad option, a `--telemetry` folder that does not exist, duplicated route ids
+//! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
+//! route); 3 the report was written but some route has a problem (missing or invalid telemetry
+//! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
+//! every such route is in the report with its state; 4 the inputs hold no record at all.
+
+pub mod args;
+pub mod output;
+pub mod progress;
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+use anyhow::Result;
+use clap::Parser;
+
+use crate::aggregate::compare::{compare, NamedRun};
+use crate::aggregate::groups::{GroupBy, Labels};
+use crate::input::labels::{check_coverage, read_labels};
+use crate::report::grid::Style;
+use crate::report::table::{self, TableOptions};
+use crate::report::{csv, html, json};
+use crate::{
+    demo, route_frames, score_run_with, Inputs, Progress, Report, Settings, SettingsError,
+    TelemetryState, Warning,
+};
+
+use args::{Cli, Command, CompareArgs, Format, GroupArg, ProfileArg, ScoreArgs};
+use output::write_output;
+
+/// Exit code: the report was written, but some route has a problem.
+const EXIT_ROUTE_PROBLEMS: i32 = 3;
+/// Exit code: a usage error (clap's own code too).
+const EXIT_USAGE: i32 = 2;
+/// Exit code: the inputs hold no record at all.
+const EXIT_EMPTY_RUN: i32 = 4;
+
+/// Runs the `sds` command line with `args` (the first is the program name, as in
+/// `std::env::args_os()`) and returns the exit code. Never exits the process: usage errors,
+/// `--help` and `--version` print and return their code (2, 0, 0).
+///
+/// ```
+/// assert_eq!(monitor_host::cli::main(["sds", "--version"]), 0);
+/// assert_eq!(monitor_host::cli::main(["sds", "score"]), 2); // --results is required
+/// ```
+pub fn main<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return e.exit_code();
+        }
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("sds: error: {}", error_message(&*e));
+            exit_code(&e)
+        }
+    }
+}
+
+/// The exit code of an error: usage errors 2, an empty run 4, anything else 1.
+fn exit_code(e: &anyhow::Error) -> i32 {
+    use crate::Error;
+    if let Some(e) = e.downcast_ref::<Error>() {
+        return match e {
+            Error::Duplicates(_)
+            | Error::TooFewRoutes { .. }
+            | Error::TelemetryRoot { .. }
+            | Error::Settings(_) => EXIT_USAGE,
+            Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
+            _ => 1,
+        };
+    }
+    if e.downcast_ref::<SettingsError>().is_some()
+        || e.downcast_ref::<crate::aggregate::groups::NeedsLabels>()
+            .is_some()
+        || e.downcast_ref::<crate::LabelsError>()
+            .is_some_and(|l| matches!(l, crate::LabelsError::NoMatch { .. }))
+    {
+        return EXIT_USAGE;
+    }
+    1
+}
+
+/// The text `sds` prints for an error that stops it (`sds: error: <text>`): the error and each
+/// of its causes, joined by `": "`, a cause that the text already ends with written once. The
+/// bindings raise their exceptions with the same text.
+///
+/// ```
+/// use monitor_host::input::results_file::read_results;
+/// let e = read_results(std::path::Path::new("/nonexistent")).unwrap_err();
+/// assert_eq!(monitor_host::cli::error_message(&e),
+///            "/nonexistent: cannot read: No such file or directory (os error 2)");
+/// ```
+pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let c_text = c.to_string();
+        if !text.ends_with(&c_text) {
+            text.push_str(": ");
+            text.push_str(&c_text);
+        }
+        cause = c.source();
+    }
+    text
+}
+
+fn run(cli: Cli) -> Result<i32> {
+    match cli.command {
+        Command::Score(args) => score(&args),
+        Command::Compare(args) => compare_runs(&args),
+        Command::Demo {
+            dir,
+            score: then_score,
+            large,
+            large_routes,
+            large_frames,
+            large_collisions,
+        } => {
+            let run = if large {
+                demo::write_large_with(&dir, large_routes, large_frames, large_collisions)?
+            } else {
+                demo::write(&dir)?
+            };
+            eprintln!(
+                "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
+                run.route_ids.len(),
+                dir.display(),
+                run.results.display(),
+                run.telemetry.display(),
+                run.routes.display()
+            );
+            if !then_score {
+                return Ok(0);
+            }
+            let html = dir.join("report.html");
+            let code = score(&ScoreArgs {
+                format: Format::Html,
+                output: Some(html.clone()),
+                traces: Some(dir.join("traces")),
+                ..demo_args(&run)
+            })?;
+            eprintln!("sds: the demo's HTML report: {}", html.display());
+            if code != 0 {
+                return Ok(code);
+            }
+            score(&demo_args(&run))
+        }
+        Command::Frames {
+            results,
+            telemetry,
+            routes,
+            route_id,
+            output,
+        } => {
+            let inputs = Inputs {
+                results: vec![results],
+                telemetry,
+                route_xml: routes,
+                maps: None,
+            };
+            let run = route_frames(&inputs, &route_id, &Settings::default())?;
+            for w in &run.warnings {
+                eprintln!("sds: warning: {route_id}: {w}");
+            }
+            let mut out = Vec::new();
+            let mut buf = [0u8; 512];
+            for f in &run.frames {
+                let n = monitor_core::json::encode(f, &mut buf)
+                    .map_err(|e| anyhow::anyhow!("cannot encode a frame: {e}"))?;
+                out.extend_from_slice(&buf[..n]);
+                out.push(b'\n');
+            }
+            write_output(output.as_deref(), &out)?;
+            Ok(0)
+        }
+    }
+}
+
+/// Parses the arguments of `sds score` (without the program name and subcommand), as the
+/// command line would: for front ends that take the same options (the Python `sds.score`).
+///
+/// ```
+/// let args = monitor_host::cli::parse_score_args(["--results", "r.json", "--set", "slack=0.9"])?;
+/// assert_eq!(args.set, ["slack=0.9"]);
+/// assert!(monitor_host::cli::parse_score_args(["--profile", "nope"]).is_err());
+/// # Ok::<(), clap::Error>(())
+/// ```
+///
+/// # Errors
+/// The usage error `sds score` would print.
+pub fn parse_score_args<I, T>(args: I) -> Result<ScoreArgs, clap::Error>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let argv = ["sds".into(), "score".into()]
+        .into_iter()
+        .chain(args.into_iter().map(Into::into));
+    match Cli::try_parse_from(argv)?.command {
+        Command::Score(args) => Ok(args),
+        // Never: `score` is the subcommand given.
+        _ => Err(clap::Error::new(clap::error::ErrorKind::InvalidSubcommand)),
+    }
+}
+
+/// The long names of the options of `sds score` (`results`, `telemetry`, ...): what a front
+/// end can pass through [`parse_score_args`].
+pub fn score_options() -> Vec<String> {
+    let cmd = <Cli as clap::CommandFactory>::command();
+    cmd.find_subcommand("score")
+        .map(|c| {
+            c.get_arguments()
+                .filter_map(|a| a.get_long().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The settings of `sds score`: its options, then `--set` overrides in order.
+///
+/// # Errors
+/// An invalid `--set`.
+pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
+    let mut s = Settings::default();
+    s.core.profile = match args.profile {
+        ProfileArg::Physical => monitor_core::Profile::Physical,
+        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+    };
+    s.expected_routes = args.expected_routes;
+    if let Some(d) = args.duplicates {
+        s.duplicates = d.policy();
+    }
+    s.allow_missing_telemetry = args.allow_missing_telemetry;
+    s.threads = args.jobs;
+    s.apply(&args.set)?;
+    Ok(s)
+}
+
+/// The files `sds score` reads.
+pub fn inputs(args: &ScoreArgs) -> Inputs {
+    Inputs {
+        results: args.results.clone(),
+        telemetry: args.telemetry.clone(),
+        route_xml: args.routes.clone(),
+        maps: args.maps.clone(),
+    }
+}
+
+/// What a label file's keys are.
+#[derive(Clone, Copy)]
+enum LabelKey {
+    Family,
+    Weather,
+}
+
+/// Reads a label file and checks it against the report's routes: no key matching is an error,
+/// keys of some routes without a label a warning (added to the report).
+fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
+    let labels = read_labels(file)?;
+    let counted = report
+        .routes
+        .iter()
+        .filter(|r| r.state != crate::RouteState::Foreign);
+    let (keys, name, option): (Vec<&str>, _, _) = match what {
+        LabelKey::Family => (
+            counted.filter_map(|r| r.scenario_type.as_deref()).collect(),
+            "scenario type",
+            "--families",
+        ),
+        LabelKey::Weather => (
+            counted.filter_map(|r| r.weather_id.as_deref()).collect(),
+            "weather id",
+            "--weathers",
+        ),
+    };
+    let unlabelled = check_coverage(&labels, keys, file, name, option)?;
+    if !unlabelled.is_empty() {
+        report.warnings.push(Warning::LabelsMissKeys {
+            file: file.to_path_buf(),
+            count: unlabelled.len(),
+            keys: unlabelled.into_iter().take(8).collect(),
+        });
+    }
+    Ok(labels)
+}
+
+/// The report of `sds score` and the label files it read (checked against the report, their
+/// warnings in it).
+#[derive(Debug)]
+pub struct Scored {
+    /// The report.
+    pub report: Report,
+    /// `--families`, read.
+    pub families: Option<Labels>,
+    /// `--weathers`, read.
+    pub weathers: Option<Labels>,
+}
+
+/// Everything `sds score` does before rendering: the settings, the run scored (telling
+/// `progress`), the label files read and checked. The Python `sds.score` calls it too.
+///
+/// # Errors
+/// As the command: a typed error inside (a [`crate::Error`], [`SettingsError`] or
+/// [`crate::LabelsError`]; `downcast_ref` tells which).
+pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
+    let settings = settings(args)?;
+    let mut report = score_run_with(&inputs(args), &settings, progress)?;
+    let families = args
+        .families
+        .as_deref()
+        .map(|f| label_file(&mut report, f, LabelKey::Family))
+        .transpose()?;
+    let weathers = args
+        .weathers
+        .as_deref()
+        .map(|f| label_file(&mut report, f, LabelKey::Weather))
+        .transpose()?;
+    add_groups(&mut report, args, families.as_ref(), weathers.as_ref())?;
+    Ok(Scored {
+        report,
+        families,
+        weathers,
+    })
+}
+
+/// Adds the breakdown the options ask for (the tables default to scenario types), with the
+/// label maps read by [`label_file`].
+///
+/// # Errors
+/// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`.
+fn add_groups(
+    report: &mut Report,
+    args: &ScoreArgs,
+    families: Option<&Labels>,
+    weathers: Option<&Labels>,
+) -> Result<()> {
+    let tables = matches!(
+        args.format,
+        Format::Table | Format::Markdown | Format::Latex
+    );
+    let by = match (args.group_by, tables) {
+        (Some(g), _) => g,
+        (None, true) => GroupArg::Scenario,
+        (None, false) => return Ok(()),
+    };
+    let (by, labels) = match by {
+        GroupArg::Scenario => (GroupBy::Scenario, None),
+        GroupArg::Town => (GroupBy::Town, None),
+        GroupArg::Family => (GroupBy::Family, families),
+        GroupArg::Weather => (GroupBy::Weather, weathers),
+    };
+    report.group(by, labels)?;
+    Ok(())
+}
+
+fn style(format: Format) -> Option<Style> {
+    match format {
+        Format::Table => Some(Style::Text),
+        Format::Markdown => Some(Style::Markdown),
+        Format::Latex => Some(Style::Latex),
+        Format::Json | Format::Csv | Format::Html => None,
+    }
+}
+
+/// `sds score` of the demo run: the table on standard output.
+fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
+    ScoreArgs {
+        results: vec![run.results.clone()],
+        telemetry: Some(run.telemetry.clone()),
+        routes: Some(run.routes.clone()),
+        maps: None,
+        profile: ProfileArg::Physical,
+        expected_routes: None,
+        duplicates: None,
+        allow_missing_telemetry: false,
+        format: Format::Table,
+        output: None,
+        group_by: None,
+        families: None,
+        weathers: None,
+        infractions: vec![],
+        set: vec![],
+        jobs: None,
+        traces: None,
+    }
+}
+
+fn table_options(args: &ScoreArgs) -> TableOptions {
+    TableOptions {
+        extra_infractions: args.infractions.clone(),
+    }
+}
+
+/// The run's name in the HTML page: the results argument(s).
+fn run_name(args: &ScoreArgs) -> String {
+    args.results
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn score(args: &ScoreArgs) -> Result<i32> {
+    let bar = progress::Bar::new();
+    let scored = score_report(args, &bar);
+    bar.finish();
+    let Scored { report, .. } = scored?;
+
+    // Every warning, the per-route ones included, is in the report; printed here once each.
+    for w in &report.warnings {
+        eprintln!("sds: warning: {w}");
+    }
+    let bytes = match (args.format, style(args.format)) {
+        (Format::Json, _) => json::json(&report)?,
+        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
+        (Format::Html, _) => {
+            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
+        }
+        (_, Some(style)) => {
+            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
+        }
+        (_, None) => unreachable!("every table format has a style"),
+    };
+    write_output(args.output.as_deref(), &bytes)?;
+    if let Some(dir) = &args.traces {
+        let n = output::write_traces(dir, &report)?;
+        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    }
+
+    // The exit status comes from the report's data, never from its rendering.
+    if !report.has_problems() {
+        return Ok(0);
+    }
+    if report.routes.is_empty() {
+        eprintln!("sds: no route found in the results: nothing was scored");
+    }
+    // When no route has telemetry, the warning above said so once: no line per route.
+    let no_telemetry = report.no_telemetry();
+    for r in report.problem_routes() {
+        if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
+            continue;
+        }
+        eprintln!(
+            "sds: {} ({}): {}",
+            r.route_id.as_deref().unwrap_or("<no route_id>"),
+            r.source.as_ref().map_or_else(
+                || "-".into(),
+                |s| format!("{}#{}", s.file.display(), s.index)
+            ),
+            r.state
+        );
+    }
+    let s = &report.summary;
+    if !s.batch_disagreements.is_empty() {
+        eprintln!(
+            "sds: streaming and batch disagree on {:?} (please report this bug)",
+            s.batch_disagreements
+        );
+    }
+    eprintln!(
+        "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
+        s.telemetry_problems, s.invalid_records
+    );
+    Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
+fn parse_run(arg: &str) -> (String, PathBuf) {
+    if let Some((name, path)) = arg.split_once('=') {
+        if !name.is_empty() && !name.contains(['/', '\\']) {
+            return (name.to_string(), PathBuf::from(path));
+        }
+    }
+    let path = PathBuf::from(arg);
+    let name = if path.is_dir() {
+        path.file_name()
+    } else {
+        path.file_stem()
+    }
+    .map_or_else(|| arg.to_string(), |n| n.to_string_lossy().into_owned());
+    (name, path)
+}
+
+/// The telemetry root of a run: its folder (a results file's own folder).
+fn telemetry_of(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.to_path_buf()
+    } else {
+        path.parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf()
+    }
+}
+
+/// The settings of `sds compare`, shared by every run.
+fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
+    let mut s = Settings::default();
+    s.core.profile = match args.profile {
+        ProfileArg::Physical => monitor_core::Profile::Physical,
+        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+    };
+    s.expected_routes = args.expected_routes;
+    s.allow_missing_telemetry = args.allow_missing_telemetry;
+    s.threads = args.jobs;
+    s.apply(&args.set)?;
+    Ok(s)
+}
+
+fn compare_runs(args: &CompareArgs) -> Result<i32> {
+    let Some(style) = style(args.format)
+        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
+    else {
+        eprintln!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
+        return Ok(EXIT_USAGE);
+    };
+    let settings = compare_settings(args)?;
+    let mut seeds: Vec<(String, String)> = Vec::new();
+    for s in &args.seeds {
+        let Some((model, runs)) = s.split_once('=') else {
+            eprintln!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
+            return Ok(EXIT_USAGE);
+        };
+        seeds.extend(
+            runs.split(',')
+                .map(|r| (r.trim().to_string(), model.to_string())),
+        );
+    }
+    let mut runs = Vec::new();
+    let mut problems = false;
+    for arg in &args.runs {
+        let (name, path) = parse_run(arg);
+        if runs.iter().any(|r: &NamedRun| r.name == name) {
+            eprintln!("sds: error: two runs are named {name}: name them with NAME=PATH");
+            return Ok(EXIT_USAGE);
+        }
+        let inputs = Inputs {
+            results: vec![path.clone()],
+            telemetry: Some(telemetry_of(&path)),
+            route_xml: args.routes.clone(),
+            maps: args.maps.clone(),
+        };
+        let report = score_run_with(&inputs, &settings, &crate::NoProgress)?;
+        for w in &report.warnings {
+            eprintln!("sds: warning: {name}: {w}");
+        }
+        if report.has_problems() {
+            problems = true;
+            eprintln!(
+                "sds: {name}: {} route(s) with problems (score it alone with sds score for details)",
+                report.problem_routes().count()
+            );
+        }
+        let model = seeds
+            .iter()
+            .find(|(r, _)| *r == name)
+            .map(|(_, m)| m.clone());
+        runs.push(NamedRun {
+            name,
+            model,
+            report,
+        });
+    }
+    for (run, _) in &seeds {
+        if !runs.iter().any(|r| &r.name == run) {
+            eprintln!("sds: error: --seeds names {run}, which is not a run");
+            return Ok(EXIT_USAGE);
+        }
+    }
+    let route_set = args.routes.is_some() || args.expected_routes.is_some();
+    let comparison = compare(&runs, route_set);
+    let bytes = if args.format == Format::Json {
+        let mut v = serde_json::to_vec_pretty(&comparison)?;
+        v.push(b'\n');
+        v
+    } else if args.format == Format::Html {
+        html::compare_page(&comparison, &runs).into_bytes()
+    } else {
+        table::render(&table::compare_tables(&comparison), style).into_bytes()
+    };
+    write_output(args.output.as_deref(), &bytes)?;
+    Ok(if problems { EXIT_ROUTE_PROBLEMS } else { 0 })
+}

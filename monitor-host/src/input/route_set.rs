@@ -1,0 +1,115 @@
+//! The route set of a run and its N (`SDS-SPEC.md` v1.2 §1.5): which routes the benchmark
+//! holds (from `--routes`), which of them have no record (*missing*), which records are not
+//! part of it (*foreign*), and the denominator N of every aggregate.
+//!
+//! ```
+//! use monitor_host::input::route_set::{route_set, benchmark_size};
+//! use monitor_host::input::route_xml::parse_route_xml;
+//! let xml = parse_route_xml(r#"<routes>
+//!   <route id="1" town="Town01"><waypoints><position x="0" y="0" z="0"/></waypoints>
+//!     <scenarios><scenario name="Accident_1" type="Accident"/></scenarios></route>
+//!   <route id="2" town="Town02"><waypoints><position x="0" y="0" z="0"/></waypoints></route>
+//! </routes>"#)?;
+//! let set = route_set(&xml, ["RouteScenario_1_rep0", "RouteScenario_9_rep0"]);
+//! assert_eq!(set.members, ["RouteScenario_1_rep0", "RouteScenario_2_rep0"]);
+//! assert_eq!(set.missing[0].route_id, "RouteScenario_2_rep0");
+//! assert_eq!(set.missing[0].town.as_deref(), Some("Town02"));
+//! assert!(!set.contains("RouteScenario_9_rep0"));
+//! assert_eq!(benchmark_size(None, Some(&set), 1), 2);
+//! # Ok::<(), monitor_host::RouteError>(())
+//! ```
+
+use std::collections::{BTreeSet, HashMap, HashSet};
+
+use crate::input::route_xml::RouteSet;
+
+/// A member of the route set without any record: it counts as 0 / failed.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MissingRoute {
+    /// `RouteScenario_<id>_rep<k>`.
+    pub route_id: String,
+    /// The XML route id.
+    pub xml_id: String,
+    /// The XML's `town` (`None` when empty).
+    pub town: Option<String>,
+    /// The XML's scenario type.
+    pub scenario_type: Option<String>,
+}
+
+/// The route set of a run given a route XML.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RunRouteSet {
+    /// Every member, in XML order (repetitions of one id in increasing k).
+    pub members: Vec<String>,
+    /// Members without a record, in XML order.
+    pub missing: Vec<MissingRoute>,
+    lookup: HashSet<String>,
+}
+
+impl RunRouteSet {
+    /// True when the route id is a member.
+    pub fn contains(&self, route_id: &str) -> bool {
+        self.lookup.contains(route_id)
+    }
+
+    /// Size of the set.
+    pub fn len(&self) -> usize {
+        self.members.len()
+    }
+
+    /// True when the XML has no route.
+    pub fn is_empty(&self) -> bool {
+        self.members.is_empty()
+    }
+}
+
+/// Splits `RouteScenario_<id>_rep<k>` into (`<id>`, k).
+pub fn parse_route_id(route_id: &str) -> Option<(&str, u64)> {
+    let rest = route_id.strip_prefix("RouteScenario_")?;
+    let (id, rep) = rest.rsplit_once("_rep")?;
+    Some((id, rep.parse().ok()?))
+}
+
+/// The route set: every `RouteScenario_<id>_rep<k>` for each route id of the XML and each
+/// repetition k found among that id's records (rep0 when it has none); `records` are the
+/// route ids of the records kept.
+pub fn route_set<'a>(xml: &RouteSet, records: impl IntoIterator<Item = &'a str>) -> RunRouteSet {
+    let records: Vec<&str> = records.into_iter().collect();
+    let mut reps: HashMap<&str, BTreeSet<u64>> = HashMap::new();
+    for id in &records {
+        if let Some((xml_id, k)) = parse_route_id(id) {
+            reps.entry(xml_id).or_default().insert(k);
+        }
+    }
+    let have: HashSet<&str> = records.iter().copied().collect();
+    let mut set = RunRouteSet::default();
+    let mut seen = HashSet::new();
+    for r in xml.iter() {
+        if !seen.insert(r.id.as_str()) {
+            continue; // a duplicate XML id: its first route counts
+        }
+        let ks: Vec<u64> = reps
+            .get(r.id.as_str())
+            .map_or_else(|| vec![0], |s| s.iter().copied().collect());
+        for k in ks {
+            let route_id = format!("RouteScenario_{}_rep{k}", r.id);
+            if !have.contains(route_id.as_str()) {
+                set.missing.push(MissingRoute {
+                    route_id: route_id.clone(),
+                    xml_id: r.id.clone(),
+                    town: (!r.town.is_empty()).then(|| r.town.clone()),
+                    scenario_type: r.scenario_type.clone(),
+                });
+            }
+            set.lookup.insert(route_id.clone());
+            set.members.push(route_id);
+        }
+    }
+    set
+}
+
+/// N (spec section 1.5): `expected` (`--expected-routes`) if given, else the size of the route
+/// set if there is one, else the number of routes kept (`counted`).
+pub fn benchmark_size(expected: Option<usize>, set: Option<&RunRouteSet>, counted: usize) -> usize {
+    expected.or(set.map(RunRouteSet::len)).unwrap_or(counted)
+}

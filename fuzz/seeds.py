@@ -125,6 +125,23 @@ def map_seeds():
                '<right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/>'
                '</lane></right></laneSection></lanes></road></OpenDRIVE>')
 
+    # --- labels: JSON objects and CSV / TSV lines, duplicates included.
+    put("labels", '{"ParkingExit": "Merging", "Accident": "Emergency braking"}')
+    put("labels", '{"7": "ClearNoon", "7": "WetNoon"}')
+    put("labels", "# type,family\nAccident, obstacles\n\"Hazard\",\"obstacles, static\"\n")
+    put("labels", "1\tClear\n2\tRain\n1\tSun\n")
+    put("labels", "=cmd|' /C calc'!A0,\u001b[2Kx\n")
+
+    # --- settings: NAME=VALUE lines as --set takes them.
+    put("settings", "slack=0.9\nbounds.yaw_rate=1.0\ngap_max=6\n")
+    put("settings", "dt=1e-45\ngap_max=-1\nalign_tie=NaN\nchunk_len=65535\n")
+    put("settings", "profile=b2d-legacy\nfactors.layout=0\nnope=1\nlookahead\n")
+
+    # --- json_keys: nested objects, duplicates at each depth.
+    put("json_keys", '{"_checkpoint": {"records": [{"route_id": "a", "route_id": "b"}]}}')
+    put("json_keys", '{"a": 1, "\\u0061": 2}')
+    put("json_keys", "[" * 200 + "]" * 200)
+
 
 if __name__ == "__main__":
     main()

@@ -4,13 +4,13 @@
 # temporary folder). Needs a nightly toolchain and cargo-fuzz; without them it prints a loud
 # skip and exits 0. Exits non-zero if a target crashes (the input is kept in fuzz/artifacts/).
 #
-#   bash scripts/fuzz-smoke.sh                 # all five targets, 20 s each
+#   bash scripts/fuzz-smoke.sh                 # all eight targets, 20 s each
 #   FUZZ_SECONDS=600 bash scripts/fuzz-smoke.sh metric_info
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 TARGETS=("$@")
-[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(decode_frame metric_info results collision map)
+[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(decode_frame metric_info results collision labels settings json_keys map)
 SECONDS_EACH="${FUZZ_SECONDS:-20}"
 
 skip() {

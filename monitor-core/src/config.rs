@@ -175,6 +175,12 @@ impl Config {
         factors: Factors::DEFAULT,
     };
 
+    /// The shortest step period accepted (1 ms, 1 kHz): a shorter one turns every centimetre of
+    /// motion into an absurd speed (`--set dt=1e-45` made every moving route invalid).
+    pub const DT_MIN: f32 = 1e-3;
+    /// The longest step period accepted (1 s, 1 Hz).
+    pub const DT_MAX: f32 = 1.0;
+
     /// Checks that the configuration makes sense for a monitor of `capacity` frames per chunk.
     ///
     /// ```
@@ -184,7 +190,10 @@ impl Config {
     /// ```
     pub const fn validate(&self, capacity: usize) -> Result<(), ConfigError> {
         let c = self;
-        if !(c.dt.is_finite() && c.dt > 0.0) {
+        if capacity > crate::MAX_CAPACITY {
+            return Err(ConfigError::Capacity);
+        }
+        if !(c.dt >= Config::DT_MIN && c.dt <= Config::DT_MAX) {
             return Err(ConfigError::Dt);
         }
         if !(c.legacy_jerk_spacing.is_finite() && c.legacy_jerk_spacing > 0.0) {

@@ -53,7 +53,7 @@ pub enum FrameError {
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ConfigError {
-    /// `dt` must be finite and positive.
+    /// `dt` must lie in `Config::DT_MIN ..= Config::DT_MAX` (1 ms to 1 s).
     Dt,
     /// `legacy_jerk_spacing` must be finite and positive.
     LegacySpacing,
@@ -61,6 +61,9 @@ pub enum ConfigError {
     MinChunk,
     /// `chunk_len` must lie in `min_chunk ..= capacity`.
     ChunkLen,
+    /// The monitor's capacity `N` is over [`crate::MAX_CAPACITY`] (its chunk-end stack would be
+    /// unbounded).
+    Capacity,
     /// `decel_window` must be at most the capacity.
     DecelWindow,
     /// Bounds must be finite, positive, and `lon_acc_min < lon_acc_max`.
@@ -108,10 +111,11 @@ impl core::fmt::Display for FrameError {
 impl core::fmt::Display for ConfigError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         let s = match self {
-            ConfigError::Dt => "dt must be finite and positive",
+            ConfigError::Dt => "dt must lie in 0.001..=1 s",
             ConfigError::LegacySpacing => "legacy_jerk_spacing must be finite and positive",
             ConfigError::MinChunk => "min_chunk must be at least the filter window (7)",
             ConfigError::ChunkLen => "chunk_len must lie in min_chunk..=capacity",
+            ConfigError::Capacity => "the monitor capacity must be at most 1024 frames",
             ConfigError::DecelWindow => "decel_window must be at most the capacity",
             ConfigError::Bounds => "bounds must be finite and positive, lon_acc_min < lon_acc_max",
             ConfigError::Slack => "slack must be finite and not negative",

@@ -87,6 +87,19 @@ pub use summary::{CollisionSummary, ComfortSummary, FailureCounts, LateralSummar
 /// 20 for both).
 pub const DEFAULT_CAPACITY: usize = 20;
 
+/// The largest capacity `N` a [`Monitor<N>`] accepts ([`Config::validate`] refuses more with
+/// [`ConfigError::Capacity`]), so that its memory is bounded for every `N`:
+///
+/// - state: `size_of::<Monitor<N>>()` is about `20 N + 230` bytes (632 B for the default
+///   `N = 20`, [`MONITOR_SIZE`]; 20.7 KB for `N = 1024`);
+/// - stack at a chunk end: four `[f32; N]` work arrays of the comfort check, `16 N` bytes plus a
+///   few hundred (measured with the monitor itself on the same stack: under 8 KiB up to
+///   `N = 256`, under 52 KiB for `N = 1024`; `examples/stack_probe.rs`).
+///
+/// `Monitor<65535>` would need about 2.4 MB of stack at a chunk end, more than a default thread
+/// has.
+pub const MAX_CAPACITY: usize = 1024;
+
 /// Bytes of the default monitor's state (checked at compile time: at most 1 KiB).
 pub const MONITOR_SIZE: usize = core::mem::size_of::<Monitor>();
 const _: () = assert!(MONITOR_SIZE <= 1024, "the monitor must fit in 1 KiB");

@@ -468,3 +468,44 @@ fn the_monitor_has_a_fixed_small_size() {
         format!("{:?}", Monitor::<20>::new(Config::DEFAULT).unwrap())
     );
 }
+
+/// The capacity is bounded, so the chunk-end stack is too (`MAX_CAPACITY`, docs/RELIABILITY.md):
+/// `Monitor<65535>` needed ~2.4 MB of stack at a chunk end and overflowed a default thread.
+#[test]
+fn capacity_is_bounded_and_the_largest_monitor_runs_on_a_small_stack() {
+    assert_eq!(
+        Config::DEFAULT.validate(monitor_core::MAX_CAPACITY + 1),
+        Err(ConfigError::Capacity)
+    );
+    assert_eq!(
+        Monitor::<65535>::new(Config::DEFAULT).err(),
+        Some(ConfigError::Capacity)
+    );
+    // The largest accepted monitor, with chunks as long as it allows, on a 128 KiB thread.
+    let h = std::thread::Builder::new()
+        .stack_size(128 * 1024)
+        .spawn(|| {
+            let n = monitor_core::MAX_CAPACITY;
+            let config = Config {
+                chunk_len: n as u16,
+                ..Config::DEFAULT
+            };
+            let mut m = Box::new(Monitor::<{ monitor_core::MAX_CAPACITY }>::new(config).unwrap());
+            let f = Frame::from_vectors(
+                [0.5, 0.1],
+                [1.0, 0.0],
+                [0.0, 1.0],
+                3.0,
+                5.0,
+                Some(0.3),
+                Collisions::NONE,
+            );
+            for _ in 0..(2 * n + 7) {
+                m.push(&f).unwrap();
+            }
+            m.finish().unwrap().summary.comfort.chunks
+        })
+        .unwrap();
+    // Two full chunks of 1024 frames were evaluated (and the route finished).
+    assert!(h.join().unwrap() >= 2);
+}

@@ -108,6 +108,10 @@ pub fn score_run_with(
     }
     let mut warnings = Vec::new();
     let (sets, all) = read_inputs(&inputs.results, &mut warnings)?;
+    let files_read: Vec<PathBuf> = sets
+        .iter()
+        .flat_map(|s| s.files_read.iter().cloned())
+        .collect();
     if all.is_empty() {
         return Err(Error::EmptyRun {
             inputs: inputs.results.clone(),
@@ -171,7 +175,7 @@ pub fn score_run_with(
     let input_reports = check_inputs(&sets, &all, n, &mut warnings);
 
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(settings.threads.unwrap_or(0))
+        .num_threads(settings.worker_threads(records.len()))
         .build()?;
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
@@ -223,7 +227,7 @@ pub fn score_run_with(
         });
     }
     let maps = TownMaps::new(inputs.maps.clone());
-    let report = build(
+    let mut report = build(
         &outcomes,
         settings,
         RunFacts {
@@ -237,10 +241,17 @@ pub fn score_run_with(
         &maps,
     );
     // A map found but unreadable is an error, never a silent fallback (§1.4).
-    match maps.into_broken() {
-        Some(e) => Err(e.into()),
-        None => Ok(report),
+    if let Some(e) = maps.into_broken() {
+        return Err(e.into());
     }
+    // Every input file, for front ends that must never write over one.
+    let mut files = files_read;
+    files.extend(inputs.route_xml.iter().cloned());
+    files.append(&mut report.files_read);
+    files.sort();
+    files.dedup();
+    report.files_read = files;
+    Ok(report)
 }
 
 /// A telemetry root that does not exist is a mistyped path, not a run without telemetry.
@@ -313,6 +324,9 @@ pub struct RouteFrames {
     pub frames: Vec<Frame>,
     /// Problems that did not stop the frames from being made.
     pub warnings: Vec<Warning>,
+    /// Every input file read (results files, route XML, telemetry files), for front ends that
+    /// must never write over an input.
+    pub files_read: Vec<PathBuf>,
 }
 
 /// The frames of the route `route_id` (`RouteScenario_<id>_rep<k>`): the first valid record
@@ -327,9 +341,13 @@ pub fn route_frames(
 ) -> Result<RouteFrames, Error> {
     settings.validate()?;
     let mut records = Vec::new();
+    let mut files_read = Vec::new();
     for path in &inputs.results {
-        records.extend(read_results(path)?.records);
+        let set = read_results(path)?;
+        records.extend(set.records);
+        files_read.extend(set.files_read);
     }
+    files_read.extend(inputs.route_xml.iter().cloned());
     let routes = inputs
         .route_xml
         .as_deref()
@@ -355,6 +373,7 @@ pub fn route_frames(
         inputs.telemetry.as_deref(),
         settings,
         &mut warnings,
+        &mut files_read,
     )
     .map_err(|state| Error::Telemetry {
         route: route_id.into(),
@@ -363,5 +382,6 @@ pub fn route_frames(
     Ok(RouteFrames {
         frames: telemetry.prepared.frames,
         warnings,
+        files_read,
     })
 }

@@ -380,7 +380,33 @@ impl Settings {
                 return Err(SettingsError::Range { name, rule });
             }
         }
+        if self.threads == Some(0) {
+            return Err(SettingsError::Range {
+                name: "threads (--jobs)",
+                rule: "at least 1",
+            });
+        }
         Ok(())
+    }
+
+    /// The most worker threads a run starts, whatever [`Settings::threads`] asks.
+    pub const MAX_THREADS: usize = 256;
+
+    /// The worker threads for `routes` routes: [`Settings::threads`] (default: the cores),
+    /// never more than the routes (at least 1) nor [`Settings::MAX_THREADS`].
+    ///
+    /// ```
+    /// let mut s = monitor_host::Settings::default();
+    /// s.threads = Some(100_000);
+    /// assert_eq!(s.worker_threads(7), 7);
+    /// assert_eq!(s.worker_threads(10_000), monitor_host::Settings::MAX_THREADS);
+    /// assert_eq!(s.worker_threads(0), 1);
+    /// ```
+    pub fn worker_threads(&self, routes: usize) -> usize {
+        let wanted = self.threads.unwrap_or_else(|| {
+            std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+        });
+        wanted.min(routes).clamp(1, Self::MAX_THREADS)
     }
 }
 

@@ -41,6 +41,18 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    /// A record whose `score_composed` is not `score_route * score_penalty` (see
+    /// [`crate::input::record::Record::composed_mismatch`]).
+    ComposedScore {
+        /// The results file.
+        file: PathBuf,
+        /// The record's index in it.
+        index: usize,
+        /// The route id.
+        route: String,
+        /// `score_route`, `score_penalty`, `score_composed`.
+        scores: [f64; 3],
+    },
     /// A record with a status the evaluator does not write.
     UnknownStatus {
         /// The results file.
@@ -78,6 +90,14 @@ pub enum Warning {
         path: PathBuf,
         /// The OS error.
         reason: String,
+    },
+    /// A folder link under a results root that leads out of it (not followed: it would pull in
+    /// another run's results).
+    LinkLeavesRoot {
+        /// The link.
+        link: PathBuf,
+        /// Where it leads.
+        target: PathBuf,
     },
     /// Under `duplicates: all`, route ids scored more than once.
     DuplicatesScored {
@@ -174,6 +194,16 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    /// Every segment of the route's reference is longer than `gap_max`: the lateral error is
+    /// unknown on the whole route.
+    AllGaps {
+        /// The route XML.
+        file: String,
+        /// The XML route id.
+        route: String,
+        /// The `gap_max` setting.
+        gap_max: f64,
+    },
     /// The route XML has no usable reference for this route.
     NoReference(RouteError),
     /// A collision string that does not parse.
@@ -242,6 +272,17 @@ impl std::fmt::Display for Warning {
                  successful)",
                 file.display()
             ),
+            Warning::ComposedScore {
+                file,
+                index,
+                route,
+                scores: [r, p, c],
+            } => write!(
+                f,
+                "{}: record {index} ({route}): score_composed {c} is not score_route {r} x                  score_penalty {p} = {} (edited record? SDS uses score_route and score_penalty)",
+                file.display(),
+                r * p
+            ),
             Warning::UnreadableResults { reason } => {
                 write!(f, "skipped unreadable results file: {reason}")
             }
@@ -254,6 +295,12 @@ impl std::fmt::Display for Warning {
             Warning::CannotList { dir, reason } => {
                 write!(f, "{}: cannot list: {reason}", dir.display())
             }
+            Warning::LinkLeavesRoot { link, target } => write!(
+                f,
+                "{}: a folder link leading out of the results folder (to {}): not followed",
+                link.display(),
+                target.display()
+            ),
             Warning::CannotRead { path, reason } => {
                 write!(f, "{}: cannot read: {reason}", path.display())
             }
@@ -358,6 +405,16 @@ impl std::fmt::Display for Warning {
                 f,
                 "{}: {reason}; collisions aligned by position instead",
                 file.display()
+            ),
+            Warning::AllGaps {
+                file,
+                route,
+                gap_max,
+            } => write!(
+                f,
+                "{file}: route {route}: every segment is longer than gap_max = {gap_max} m (all \
+                 junction gaps): lateral excess unknown for this route (denser waypoints, or \
+                 --set gap_max=<metres>)"
             ),
             Warning::NoReference(e) => write!(f, "{e}: lateral excess unknown for this route"),
             Warning::UnparseableCollision { list, reason } => write!(

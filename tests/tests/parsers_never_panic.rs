@@ -1322,3 +1322,115 @@ fn route_xml_bad_cases() {
     let e = route::read_route_xml(dir.path()).unwrap_err().to_string();
     assert!(e.contains(&dir.path().display().to_string()), "{e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// Entry points added by issue 12 (mirrored by the fuzz targets labels, settings, json_keys).
+
+mod issue12 {
+    use monitor_host::input::json_keys::first_duplicate_key;
+    use monitor_host::input::labels::{parse_labels, LabelsError};
+    use monitor_host::Settings;
+    use proptest::prelude::*;
+
+    /// Text near the label formats: keys, commas, tabs, quotes, braces, control characters.
+    fn label_text() -> impl Strategy<Value = String> {
+        proptest::collection::vec(
+            prop_oneof![
+                Just("Accident".to_string()),
+                Just("7".to_string()),
+                Just(",".to_string()),
+                Just("\t".to_string()),
+                Just("\n".to_string()),
+                Just("\"".to_string()),
+                Just("{".to_string()),
+                Just("}".to_string()),
+                Just(":".to_string()),
+                Just("#".to_string()),
+                Just("=cmd".to_string()),
+                Just("\u{1b}[2K".to_string()),
+                "[ -~]{0,6}",
+            ],
+            0..40,
+        )
+        .prop_map(|parts| parts.concat())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
+        /// Never panics; errors name the file; a duplicate key is refused, never resolved.
+        #[test]
+        fn labels_any_text(text in label_text()) {
+            match parse_labels(&text, "labels.csv") {
+                Ok(map) => {
+                    // Every CSV key appears once: no line was silently overridden.
+                    if !text.trim_start().starts_with('{') {
+                        let lines = text.lines().filter(|l| !l.trim().is_empty()).count();
+                        prop_assert!(map.len() <= lines);
+                    }
+                }
+                Err(e) => {
+                    prop_assert!(e.to_string().contains("labels.csv"), "{}", e);
+                    if let LabelsError::Duplicate { key, .. } = &e {
+                        prop_assert!(text.contains(key.as_str()) || text.contains('\\'), "{:?}", key);
+                    }
+                }
+            }
+        }
+
+        /// `Settings::set` with any name and value: never panics; accepted => the whole is
+        /// valid; refused => unchanged.
+        #[test]
+        fn settings_any_name_and_value(
+            name in prop_oneof![
+                proptest::sample::select(Settings::NAMES.to_vec()).prop_map(String::from),
+                "[a-z_.]{0,20}",
+            ],
+            value in prop_oneof![
+                Just("NaN".to_string()), Just("inf".to_string()), Just("-1".to_string()),
+                Just("1e-45".to_string()), Just("65535".to_string()), Just("0".to_string()),
+                Just("b2d-legacy".to_string()), Just("".to_string()),
+                any::<f64>().prop_map(|x| x.to_string()),
+                "[ -~]{0,12}",
+            ],
+        ) {
+            let mut s = Settings::default();
+            let before = s.clone();
+            match s.set(&name, &value) {
+                Ok(()) => prop_assert!(s.validate().is_ok(), "{}={} accepted but invalid", name, value),
+                Err(_) => prop_assert!(s == before, "{}={} refused but changed", name, value),
+            }
+        }
+
+        /// Duplicate keys are found exactly: compare with the number of keys serde_json keeps.
+        #[test]
+        fn json_keys_exact(
+            keys in proptest::collection::vec(proptest::sample::select(vec!["a", "b", "c", "route_id"]), 0..6),
+            nest in 0usize..4,
+        ) {
+            let inner: Vec<String> = keys.iter().enumerate().map(|(i, k)| format!("\"{k}\": {i}")).collect();
+            let mut doc = format!("{{{}}}", inner.join(", "));
+            for _ in 0..nest {
+                doc = format!("{{\"records\": [{doc}]}}");
+            }
+            let distinct: std::collections::HashSet<_> = keys.iter().collect();
+            let dup = first_duplicate_key(doc.as_bytes()).unwrap();
+            prop_assert_eq!(dup.is_some(), distinct.len() < keys.len(), "{}", doc);
+            if let Some(path) = dup {
+                prop_assert_eq!(path.matches("records[0]").count(), nest);
+            }
+        }
+
+        /// Any bytes: never panics.
+        #[test]
+        fn json_keys_any_bytes(bytes in proptest::collection::vec(any::<u8>(), 0..200)) {
+            let _ = first_duplicate_key(&bytes);
+        }
+    }
+
+    #[test]
+    fn json_keys_deep_nesting_is_an_error_not_a_stack_overflow() {
+        let deep = "[".repeat(100_000);
+        assert!(first_duplicate_key(deep.as_bytes()).is_err());
+    }
+}

@@ -138,7 +138,7 @@ pub struct ScoreArgs {
     /// Names are those of the report's `config` block.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
-    /// Worker threads (default: all cores).
+    /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
     /// Also write every aligned collision's trace (§10.2) into DIR, as
@@ -213,6 +213,9 @@ pub enum Command {
         /// Routes of the large run that collide (at frame 2,000).
         #[arg(long, default_value_t = 0)]
         large_collisions: usize,
+        /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
+        #[arg(long)]
+        force: bool,
     },
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
     Frames {

@@ -13,6 +13,15 @@ pub mod args;
 pub mod output;
 pub mod progress;
 
+/// Prints one message on standard error, escaped: it may hold strings from the inputs (route
+/// ids, paths, reasons), which must not reach the terminal raw
+/// ([`crate::report::escape::printable_lines`]).
+macro_rules! say {
+    ($($t:tt)*) => {
+        eprintln!("{}", crate::report::escape::printable_lines(&format!($($t)*)))
+    };
+}
+
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -60,10 +69,10 @@ where
             return e.exit_code();
         }
     };
-    match run(cli) {
+    match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("sds: error: {}", error_message(&*e));
+            say!("sds: error: {}", error_message(&*e));
             exit_code(&e)
         }
     }
@@ -128,13 +137,23 @@ fn run(cli: Cli) -> Result<i32> {
             large_routes,
             large_frames,
             large_collisions,
+            force,
         } => {
+            let existing = demo::existing_run(&dir);
+            if !existing.is_empty() && !force {
+                let names: Vec<String> = existing.iter().map(|p| p.display().to_string()).collect();
+                anyhow::bail!(
+                    "{} already holds a run ({}); pass --force to overwrite it",
+                    dir.display(),
+                    names.join(", ")
+                );
+            }
             let run = if large {
                 demo::write_large_with(&dir, large_routes, large_frames, large_collisions)?
             } else {
                 demo::write(&dir)?
             };
-            eprintln!(
+            say!(
                 "sds: wrote {} routes to {} (results {}, telemetry {}, routes {})",
                 run.route_ids.len(),
                 dir.display(),
@@ -173,7 +192,7 @@ fn run(cli: Cli) -> Result<i32> {
             };
             let run = route_frames(&inputs, &route_id, &Settings::default())?;
             for w in &run.warnings {
-                eprintln!("sds: warning: {route_id}: {w}");
+                say!("sds: warning: {route_id}: {w}");
             }
             let mut out = Vec::new();
             let mut buf = [0u8; 512];
@@ -183,7 +202,7 @@ fn run(cli: Cli) -> Result<i32> {
                 out.extend_from_slice(&buf[..n]);
                 out.push(b'\n');
             }
-            write_output(output.as_deref(), &out)?;
+            write_output(output.as_deref(), &out, &run.files_read)?;
             Ok(0)
         }
     }
@@ -421,7 +440,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 
     // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
-        eprintln!("sds: warning: {w}");
+        say!("sds: warning: {w}");
     }
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
@@ -434,9 +453,12 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         }
         (_, None) => unreachable!("every table format has a style"),
     };
-    write_output(args.output.as_deref(), &bytes)?;
+    let mut inputs_read = report.files_read.clone();
+    inputs_read.extend(args.families.iter().cloned());
+    inputs_read.extend(args.weathers.iter().cloned());
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     if let Some(dir) = &args.traces {
-        let n = output::write_traces(dir, &report)?;
+        let n = output::write_traces(dir, &report, &inputs_read)?;
         eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
 
@@ -445,7 +467,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         return Ok(0);
     }
     if report.routes.is_empty() {
-        eprintln!("sds: no route found in the results: nothing was scored");
+        say!("sds: no route found in the results: nothing was scored");
     }
     // When no route has telemetry, the warning above said so once: no line per route.
     let no_telemetry = report.no_telemetry();
@@ -453,7 +475,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
             continue;
         }
-        eprintln!(
+        say!(
             "sds: {} ({}): {}",
             r.route_id.as_deref().unwrap_or("<no route_id>"),
             r.source.as_ref().map_or_else(
@@ -465,14 +487,15 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     }
     let s = &report.summary;
     if !s.batch_disagreements.is_empty() {
-        eprintln!(
+        say!(
             "sds: streaming and batch disagree on {:?} (please report this bug)",
             s.batch_disagreements
         );
     }
-    eprintln!(
+    say!(
         "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
-        s.telemetry_problems, s.invalid_records
+        s.telemetry_problems,
+        s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
 }
@@ -591,6 +614,11 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
     } else {
         table::render(&table::compare_tables(&comparison), style).into_bytes()
     };
-    write_output(args.output.as_deref(), &bytes)?;
+    // Never write over an input of any run.
+    let inputs_read: Vec<PathBuf> = runs
+        .iter()
+        .flat_map(|r| r.report.files_read.iter().cloned())
+        .collect();
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     Ok(if problems { EXIT_ROUTE_PROBLEMS } else { 0 })
 }

@@ -263,6 +263,24 @@ pub fn write(dir: &Path) -> Result<DemoRun> {
     write_scripts(dir, &scripts(), Layout::Demo)
 }
 
+/// The files of an earlier run in `dir` that [`write()`] or [`write_large`] would overwrite
+/// (`results.json`, `routes.xml`, `telemetry`), so that a front end can refuse to destroy a run.
+///
+/// ```
+/// let dir = tempfile::tempdir()?;
+/// assert!(monitor_host::demo::existing_run(dir.path()).is_empty());
+/// monitor_host::demo::write(dir.path())?;
+/// assert_eq!(monitor_host::demo::existing_run(dir.path()).len(), 3);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn existing_run(dir: &Path) -> Vec<PathBuf> {
+    ["results.json", "routes.xml", "telemetry"]
+        .iter()
+        .map(|n| dir.join(n))
+        .filter(|p| std::fs::symlink_metadata(p).is_ok())
+        .collect()
+}
+
 /// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each.
 ///
 /// Its `metric_info.json` files look like real Bench2Drive ones, so that a throughput in MB/s

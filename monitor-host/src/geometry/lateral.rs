@@ -32,15 +32,22 @@ use crate::input::route_xml::RouteRef;
 /// strictly longer than `gap_max`), where the lateral error is unknown.
 ///
 /// Distances are computed in f64 relative to the segment start. The route's cumulative length is
-/// computed once, in [`LateralTracker::new`]; each frame costs O(candidates).
+/// computed once, in [`LateralTracker::new`]; each frame costs O(candidates). A run of identical
+/// consecutive waypoints (zero-length segments, all at one point, so at one distance) counts as
+/// one candidate: only its first segment can win, a later one being never strictly nearer.
+/// Without this, 100,000 repeated waypoints made every frame scan all of them.
 #[derive(Debug, Clone)]
 pub struct LateralTracker<'a> {
     waypoints: Cow<'a, [[f64; 2]]>,
     /// `cum[i]` = route length from waypoint 0 to waypoint i (summed in order).
     cum: Vec<f64>,
+    /// `after[j]`: the next candidate after segment `j` (the end of its run of zero-length
+    /// segments, or `j + 1`).
+    after: Vec<usize>,
     m: usize,
     gap_max: f64,
     lookahead: f64,
+    evaluations: u64,
 }
 
 impl<'a> LateralTracker<'a> {
@@ -74,12 +81,24 @@ impl<'a> LateralTracker<'a> {
             }
             cum.push(total);
         }
+        let nseg = waypoints.len().saturating_sub(1);
+        let zero = |j: usize| waypoints[j] == waypoints[j + 1];
+        let mut after = vec![0; nseg];
+        for j in (0..nseg).rev() {
+            after[j] = if zero(j) && j + 1 < nseg && zero(j + 1) {
+                after[j + 1]
+            } else {
+                j + 1
+            };
+        }
         LateralTracker {
             waypoints,
             cum,
+            after,
             m: 0,
             gap_max,
             lookahead,
+            evaluations: 0,
         }
     }
 
@@ -94,14 +113,14 @@ impl<'a> LateralTracker<'a> {
         let limit = self.cum[m + 1] + self.lookahead;
         let mut best = m;
         let mut best_d = self.dist_to_segment(m, loc);
-        let mut j = m + 1;
+        let mut j = self.after[m];
         while j < nseg && self.cum[j] <= limit {
             let d = self.dist_to_segment(j, loc);
             if d < best_d {
                 best = j;
                 best_d = d;
             }
-            j += 1;
+            j = self.after[j];
         }
         self.m = best;
         if seg_len(self.waypoints[best], self.waypoints[best + 1]) > self.gap_max {
@@ -109,6 +128,11 @@ impl<'a> LateralTracker<'a> {
         } else {
             Some(best_d)
         }
+    }
+
+    /// How many segment distances were computed so far (the cost of the search).
+    pub fn evaluations(&self) -> u64 {
+        self.evaluations
     }
 
     /// The currently matched segment index `m` (segment `m` joins waypoints `m` and `m + 1`).
@@ -128,7 +152,8 @@ impl<'a> LateralTracker<'a> {
     }
 
     /// Distance from `p` to the clamped segment `j`, relative to the segment start.
-    fn dist_to_segment(&self, j: usize, p: [f64; 2]) -> f64 {
+    fn dist_to_segment(&mut self, j: usize, p: [f64; 2]) -> f64 {
+        self.evaluations += 1;
         let a = self.waypoints[j];
         let b = self.waypoints[j + 1];
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
@@ -337,5 +362,82 @@ mod tests {
         let mut t = LateralTracker::new(&r, 8.0, 10.0);
         let d = t.next([10_001.0, -9_000.001]).unwrap();
         assert!((d - 0.001).abs() < 1e-9, "{d}");
+    }
+
+    /// The search before runs of identical waypoints were skipped, as the oracle.
+    fn plain(
+        route: &RouteRef,
+        locs: &[[f64; 2]],
+        gap_max: f64,
+        lookahead: f64,
+    ) -> Vec<Option<f64>> {
+        let w = &route.waypoints;
+        let nseg = w.len() - 1;
+        let mut cum = vec![0.0];
+        for i in 1..w.len() {
+            let t = cum[i - 1] + seg_len(w[i - 1], w[i]);
+            cum.push(t);
+        }
+        let probe = LateralTracker::new(route, gap_max, lookahead);
+        let mut probe = probe;
+        let mut m = 0;
+        locs.iter()
+            .map(|&p| {
+                let limit = cum[m + 1] + lookahead;
+                let (mut best, mut best_d) = (m, probe.dist_to_segment(m, p));
+                let mut j = m + 1;
+                while j < nseg && cum[j] <= limit {
+                    let d = probe.dist_to_segment(j, p);
+                    if d < best_d {
+                        (best, best_d) = (j, d);
+                    }
+                    j += 1;
+                }
+                m = best;
+                (seg_len(w[best], w[best + 1]) <= gap_max).then_some(best_d)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn identical_waypoints_cost_one_candidate() {
+        // A route that stops for 100,000 repeated waypoints (as a stationary scenario may write
+        // them), then goes on; and repeated points scattered along it.
+        let mut pts = vec![[0.0, 0.0], [2.0, 0.0]];
+        pts.extend(std::iter::repeat_n([4.0, 0.0], 100_000));
+        pts.extend([
+            [6.0, 0.0],
+            [6.0, 0.0],
+            [8.0, 1.0],
+            [8.0, 1.0],
+            [8.0, 1.0],
+            [10.0, 1.0],
+        ]);
+        let r = route(&pts);
+        let locs: Vec<[f64; 2]> = (0..2_000).map(|i| [f64::from(i) * 0.006, 0.3]).collect();
+        let mut t = LateralTracker::new(&r, 8.0, 10.0);
+        let got: Vec<Option<f64>> = locs.iter().map(|&p| t.next(p)).collect();
+        // At most a handful of candidates per frame (the scan took 100,000 per frame).
+        assert!(
+            t.evaluations() < 20 * locs.len() as u64,
+            "{}",
+            t.evaluations()
+        );
+        // Bit-identical to the plain search on a shorter copy it can finish.
+        let mut short = vec![[0.0, 0.0], [2.0, 0.0]];
+        short.extend(std::iter::repeat_n([4.0, 0.0], 300));
+        short.extend([
+            [6.0, 0.0],
+            [6.0, 0.0],
+            [8.0, 1.0],
+            [8.0, 1.0],
+            [8.0, 1.0],
+            [10.0, 1.0],
+        ]);
+        let s = route(&short);
+        let mut t = LateralTracker::new(&s, 8.0, 10.0);
+        let fast: Vec<Option<f64>> = locs.iter().map(|&p| t.next(p)).collect();
+        assert_eq!(fast, plain(&s, &locs, 8.0, 10.0));
+        assert_eq!(got, fast);
     }
 }

@@ -1,8 +1,10 @@
 //! Host geometry, in f64: [`kinematics`] (speed, the yaw-rate unit), the [`lateral`] tracker
-//! (the reference polyline and its bounded forward search), OpenDRIVE [`map`]s (`SDS-SPEC.md`
-//! §1.4, §2) and the dense route's [`junctions`] (§8.2's junction credit).
+//! (the reference polyline and its bounded forward search), the [`nearest`] frame index,
+//! OpenDRIVE [`map`]s (`SDS-SPEC.md` §1.4, §2) and the dense route's [`junctions`] (§8.2's
+//! junction credit).
 
 pub mod junctions;
 pub mod kinematics;
 pub mod lateral;
 pub mod map;
+pub mod nearest;

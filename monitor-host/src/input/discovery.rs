@@ -9,13 +9,35 @@ use walkdir::WalkDir;
 
 use crate::warning::Warning;
 
+/// What [`json_files`] found under a results root.
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub struct Found {
+    /// The candidate results files, sorted by path.
+    pub files: Vec<PathBuf>,
+    /// Entries whose results cannot be known, with the reason: a folder that cannot be listed or
+    /// searched, a `*.json` link that is dangling or loops, a `*.json` that is not a regular
+    /// file. Each becomes an invalid entry of the report: its routes are lost, and it says so.
+    pub broken: Vec<(PathBuf, String)>,
+}
+
 /// The candidate results files under `root`: every `*.json` except `metric_info.json` and
-/// `infractions.json`, in byte-wise order of their paths (spec section 1.5's input order). Symbolic links are followed; a folder reached twice (a
-/// link loop or a second link) is read once. Entries that cannot be read are skipped with a
-/// warning.
-pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Vec<PathBuf> {
-    let mut files = Vec::new();
+/// `infractions.json`, in byte-wise order of their paths (spec section 1.5's input order).
+///
+/// Symbolic links are followed inside `root` only: a folder link that leads out of it (`up ->
+/// ../..`, which would pull in another run's results) is not followed, with a warning. A folder
+/// reached twice (a link loop or a second link) is read once.
+pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Found {
+    let mut found = Found::default();
     let mut visited = HashSet::new();
+    let canon_root = fs::canonicalize(root).unwrap_or_else(|_| root.to_path_buf());
+    let is_json = |p: &Path| {
+        let name = p.file_name().map(|n| n.to_string_lossy().into_owned());
+        p.extension().is_some_and(|e| e == "json")
+            && !matches!(
+                name.as_deref(),
+                Some("metric_info.json" | "infractions.json")
+            )
+    };
     let mut walk = WalkDir::new(root)
         .follow_links(true)
         .sort_by_file_name()
@@ -25,42 +47,83 @@ pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Vec<PathBuf> {
             Ok(e) => e,
             Err(e) => {
                 if e.loop_ancestor().is_some() {
-                    continue; // a symlink loop: the folder is being read already
+                    continue; // a folder link loop: the folder is being read already
                 }
                 let path = e.path().unwrap_or(root).to_path_buf();
                 let reason = e
                     .io_error()
                     .map_or_else(|| e.to_string(), ToString::to_string);
-                // A folder that exists but cannot be listed, or an entry (a dangling link)
-                // that cannot be read at all.
-                warnings.push(if fs::metadata(&path).is_ok_and(|m| m.is_dir()) {
-                    Warning::CannotList { dir: path, reason }
+                if fs::metadata(&path).is_ok_and(|m| m.is_dir()) {
+                    warnings.push(Warning::CannotList {
+                        dir: path.clone(),
+                        reason: reason.clone(),
+                    });
+                    found.broken.push((
+                        path,
+                        format!(
+                            "cannot list this folder ({reason}): the results in it are unknown"
+                        ),
+                    ));
+                } else if is_json(&path) {
+                    warnings.push(Warning::CannotRead {
+                        path: path.clone(),
+                        reason: reason.clone(),
+                    });
+                    let why = if fs::symlink_metadata(&path).is_ok_and(|m| m.is_symlink()) {
+                        format!("a symbolic link that cannot be followed ({reason})")
+                    } else {
+                        reason
+                    };
+                    found.broken.push((path, why));
+                } else if fs::symlink_metadata(&path).is_ok_and(|m| m.is_file()) {
+                    // A plain file that is not a results file: nothing is lost.
+                    warnings.push(Warning::CannotRead { path, reason });
                 } else {
-                    Warning::CannotRead { path, reason }
-                });
+                    // Cannot even tell what it is (its folder is not searchable): it may hold
+                    // results.
+                    warnings.push(Warning::CannotRead {
+                        path: path.clone(),
+                        reason: reason.clone(),
+                    });
+                    found.broken.push((
+                        path,
+                        format!("cannot inspect this entry ({reason}): it may hold results"),
+                    ));
+                }
                 continue;
             }
         };
         let path = entry.path();
         if entry.file_type().is_dir() {
             let canon = fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
-            if !visited.insert(canon) {
+            if entry.path_is_symlink() && !canon.starts_with(&canon_root) {
+                warnings.push(Warning::LinkLeavesRoot {
+                    link: path.to_path_buf(),
+                    target: canon,
+                });
+                walk.skip_current_dir();
+            } else if !visited.insert(canon) {
                 walk.skip_current_dir(); // a second link to a folder already read
             }
-        } else if entry.file_type().is_file() {
-            let name = entry.file_name().to_string_lossy();
-            let is_json = path.extension().is_some_and(|e| e == "json");
-            if is_json && name != "metric_info.json" && name != "infractions.json" {
-                files.push(path.to_path_buf());
+        } else if is_json(path) {
+            if entry.file_type().is_file() {
+                found.files.push(path.to_path_buf());
+            } else {
+                found.broken.push((
+                    path.to_path_buf(),
+                    "not a regular file (sds reads only regular files)".to_string(),
+                ));
             }
         }
     }
-    files.sort_by(|a, b| {
+    let bytewise = |a: &PathBuf, b: &PathBuf| {
         a.as_os_str()
             .as_encoded_bytes()
             .cmp(b.as_os_str().as_encoded_bytes())
-    });
-    files
+    };
+    found.files.sort_by(bytewise);
+    found.broken.sort_by(|a, b| bytewise(&a.0, &b.0));
+    found
 }
 
 /// Locates a record's `metric_info.json` (`SDS-SPEC.md` §1.2): first
@@ -97,6 +160,32 @@ pub fn locate_metric_info(
         }
     }
     None
+}
+
+/// The route id a `save_name` belongs to: its `RouteScenario_<id>_rep<k>` prefix (the evaluator
+/// names telemetry folders `<route_id>_<Town>_<scenario>_<weather>_<timestamp>`). `None` for a
+/// name of another form.
+///
+/// ```
+/// use monitor_host::input::discovery::save_name_route;
+/// let s = "RouteScenario_24206_rep3_Town12_ConstructionObstacle_12_7_06_17_06_49_04";
+/// assert_eq!(save_name_route(s), Some("RouteScenario_24206_rep3"));
+/// assert_eq!(save_name_route("RouteScenario_1_rep0"), Some("RouteScenario_1_rep0"));
+/// assert_eq!(save_name_route("my_run_3"), None);
+/// ```
+pub fn save_name_route(save_name: &str) -> Option<&str> {
+    let rest = save_name.strip_prefix("RouteScenario_")?;
+    let id_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+    let rest = rest[id_len..].strip_prefix("_rep")?;
+    let rep_len = rest.bytes().take_while(u8::is_ascii_digit).count();
+    if id_len == 0 || rep_len == 0 {
+        return None;
+    }
+    let end = "RouteScenario_".len() + id_len + "_rep".len() + rep_len;
+    match save_name.as_bytes().get(end) {
+        None | Some(b'_') => Some(&save_name[..end]),
+        _ => None,
+    }
 }
 
 /// Why a record's `metric_info.json` was not found (spec section 1.2): what was looked for —

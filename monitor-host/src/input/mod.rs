@@ -13,13 +13,17 @@
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
 //! | collision strings (§5, §7) | [`collision`] |
 //! | label maps for the breakdown (§8.3) | [`labels`] |
+//! | duplicate JSON keys, refused | [`json_keys`] |
+//! | the one guarded file reader: regular files, bounded size | [`read`] |
 
 pub mod collision;
 pub mod discovery;
 pub mod duplicates;
+pub mod json_keys;
 pub mod labels;
 pub mod lead_infractions;
 pub mod metric_info;
+pub mod read;
 pub mod record;
 pub mod results_file;
 pub mod route_set;

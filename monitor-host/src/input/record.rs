@@ -202,6 +202,10 @@ impl Record {
             req_num(scores, "score_penalty", "scores.score_penalty").map_err(fail)?;
         let score_composed =
             req_num(scores, "score_composed", "scores.score_composed").map_err(fail)?;
+        // Out-of-range scores would reach the aggregates (DS_safe 500, sums overflowing to inf).
+        in_range(score_route, "scores.score_route", 100.0).map_err(fail)?;
+        in_range(score_penalty, "scores.score_penalty", 1.0).map_err(fail)?;
+        in_range(score_composed, "scores.score_composed", 100.0).map_err(fail)?;
         let infractions = match obj.get("infractions") {
             None => return Err(fail(missing("infractions"))),
             Some(Value::Object(m)) => infraction_lists(m).map_err(fail)?,
@@ -345,6 +349,40 @@ fn opt_str(m: &Map<String, Value>, key: &str, field: &str) -> Result<Option<Stri
         None | Some(Value::Null) => Ok(None),
         Some(Value::String(s)) => Ok(Some(s.clone())),
         Some(v) => Err(wrong(field, "a string", v)),
+    }
+}
+
+/// A score must lie in `0..=max` (finite: JSON numbers always are, but `1e999` is not JSON).
+fn in_range(x: f64, field: &str, max: f64) -> Result<(), String> {
+    if (0.0..=max).contains(&x) {
+        Ok(())
+    } else {
+        Err(format!("field {field}: {x:?} is outside 0..={max}"))
+    }
+}
+
+/// How far `score_composed` may be from `score_route * score_penalty`: the evaluator stores the
+/// penalty rounded to 6 decimals but multiplies the unrounded one (up to 100 * 5e-7 apart), then
+/// rounds the product to 6 decimals.
+pub const COMPOSED_TOLERANCE: f64 = 1e-4;
+
+impl Record {
+    /// `score_composed` differs from `score_route * score_penalty` by more than
+    /// [`COMPOSED_TOLERANCE`]: the record was edited or written by another tool. A warning only:
+    /// SDS uses `score_route` and `score_penalty`, never `score_composed`.
+    ///
+    /// ```
+    /// use monitor_host::input::record::Record;
+    /// let mut r = Record::from_value(&serde_json::json!({"route_id": "x", "status": "Completed",
+    ///     "infractions": {}, "scores": {"score_route": 76.28, "score_penalty": 0.612855,
+    ///     "score_composed": 46.74855}}))?;
+    /// assert!(!r.composed_mismatch());
+    /// r.score_composed = 50.0;
+    /// assert!(r.composed_mismatch());
+    /// # Ok::<(), monitor_host::input::record::InvalidRecord>(())
+    /// ```
+    pub fn composed_mismatch(&self) -> bool {
+        (self.score_composed - self.score_route * self.score_penalty).abs() > COMPOSED_TOLERANCE
     }
 }
 

@@ -40,8 +40,8 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value};
 
-use crate::input::discovery;
 use crate::input::record::{expected, kind, LoadedRecord, Record};
+use crate::input::{discovery, json_keys};
 use crate::warning::Warning;
 
 /// The totals stored in a Bench2Drive merged file.
@@ -92,6 +92,9 @@ pub struct ResultSet {
     pub files: Vec<InputFile>,
     /// Files in a directory that looked like results but could not be read, with the reason.
     pub broken_files: Vec<(PathBuf, String)>,
+    /// Every file read as a candidate results file (with records or not, skipped or not), so
+    /// that a front end never writes over one of them.
+    pub files_read: Vec<PathBuf>,
 }
 
 impl ResultSet {
@@ -172,6 +175,7 @@ pub fn read_results(path: &Path) -> Result<ResultSet, ResultsError> {
             Parsed::NotCheckpoint(e) | Parsed::Broken(e) => return Err(e),
         };
         add_file(&mut set, path, file);
+        set.files_read.push(path.to_path_buf());
     }
     Ok(set)
 }
@@ -196,7 +200,7 @@ enum Parsed {
 }
 
 fn parse_file(path: &Path) -> Parsed {
-    let bytes = match fs::read(path) {
+    let bytes = match crate::input::read::read_input(path, crate::input::read::FileKind::Results) {
         Ok(b) => b,
         Err(source) => {
             return Parsed::Broken(ResultsError::Io {
@@ -230,6 +234,15 @@ fn parse_file(path: &Path) -> Parsed {
         field: field.to_string(),
         reason,
     };
+    // Valid JSON by now; a key written twice would be resolved silently (last one wins).
+    if let Ok(Some(key)) = json_keys::first_duplicate_key(&bytes) {
+        return Parsed::Broken(format(
+            &key,
+            "duplicate key: an object holds it twice, so the file is ambiguous (the evaluator \
+             never writes a key twice)"
+                .to_string(),
+        ));
+    }
     let Value::Object(mut top) = value else {
         return Parsed::NotCheckpoint(format(
             "(top level)",
@@ -335,6 +348,14 @@ fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile) {
     for (index, value) in file.records.iter().enumerate() {
         let entry = Record::from_value(value);
         if let Ok(r) = &entry {
+            if r.composed_mismatch() {
+                set.warnings.push(Warning::ComposedScore {
+                    file: path.to_path_buf(),
+                    index,
+                    route: r.route_id.clone(),
+                    scores: [r.score_route, r.score_penalty, r.score_composed],
+                });
+            }
             let known = matches!(r.status.as_str(), "Completed" | "Perfect" | "Failed")
                 || r.status.starts_with("Failed - ");
             if !known {
@@ -387,7 +408,10 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
         path: root.to_path_buf(),
         source,
     })?;
-    let files = discovery::json_files(root, &mut set.warnings);
+    let found = discovery::json_files(root, &mut set.warnings);
+    set.broken_files.extend(found.broken);
+    let files = found.files;
+    set.files_read.extend(files.iter().cloned());
 
     let mut parsed = Vec::new();
     for path in files {

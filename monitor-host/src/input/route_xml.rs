@@ -101,8 +101,16 @@ pub enum RouteError {
         /// What is wrong (e.g. `attribute y missing`, `x = "abc" is not a finite number`).
         problem: String,
     },
-    /// Two routes with the same id (the first is kept).
-    #[error("{file}: route {route}: id appears twice (the first is used)")]
+    /// A route with a single waypoint: no segment, so no lateral error.
+    #[error("{file}: route {route}: a single waypoint (a reference needs at least 2)")]
+    SingleWaypoint {
+        /// The file.
+        file: String,
+        /// The route id.
+        route: String,
+    },
+    /// Two routes with the same id: which one is the reference is unknown, so neither is used.
+    #[error("{file}: route {route}: id appears twice (ambiguous: neither copy is used)")]
     DuplicateId {
         /// The file.
         file: String,
@@ -144,8 +152,8 @@ impl std::error::Error for IoError {
 /// The routes of one XML file, by id.
 ///
 /// Routes that cannot be used (no waypoints, a bad coordinate) do not stop the set from loading:
-/// [`RouteSet::get`] skips them and [`RouteSet::get_checked`] says why. A duplicate id keeps the
-/// first route and is listed in [`RouteSet::problems`].
+/// [`RouteSet::get`] skips them and [`RouteSet::get_checked`] says why. A duplicated id is
+/// unusable too (ambiguous) and listed in [`RouteSet::problems`].
 #[derive(Debug, Clone, Default)]
 pub struct RouteSet {
     file: String,
@@ -154,6 +162,25 @@ pub struct RouteSet {
     broken: Vec<Option<RouteError>>,
     index: HashMap<String, usize>,
     problems: Vec<RouteError>,
+}
+
+impl RouteRef {
+    /// True when every segment is longer than `gap_max`: every segment is a junction gap, so
+    /// the lateral error is unknown on the whole route.
+    ///
+    /// ```
+    /// use monitor_host::input::route_xml::RouteRef;
+    /// let r = RouteRef { waypoints: vec![[0.0, 0.0], [10.0, 0.0], [20.0, 0.0]], ..Default::default() };
+    /// assert!(r.all_gaps(8.0));
+    /// assert!(!r.all_gaps(10.0));
+    /// ```
+    pub fn all_gaps(&self, gap_max: f64) -> bool {
+        self.waypoints.len() >= 2
+            && self.waypoints.windows(2).all(|w| {
+                let (dx, dy) = (w[1][0] - w[0][0], w[1][1] - w[0][1]);
+                (dx * dx + dy * dy).sqrt() > gap_max
+            })
+    }
 }
 
 impl RouteSet {
@@ -165,7 +192,8 @@ impl RouteSet {
     /// The route with this XML id, or why it cannot be used (naming file and route).
     ///
     /// # Errors
-    /// [`RouteError::NotFound`], [`RouteError::NoWaypoints`] or [`RouteError::BadWaypoint`].
+    /// [`RouteError::NotFound`], [`RouteError::NoWaypoints`], [`RouteError::SingleWaypoint`],
+    /// [`RouteError::BadWaypoint`] or [`RouteError::DuplicateId`].
     pub fn get_checked(&self, xml_id: &str) -> Result<&RouteRef, RouteError> {
         let Some(&i) = self.index.get(xml_id) else {
             return Err(RouteError::NotFound {
@@ -173,6 +201,13 @@ impl RouteSet {
                 route: xml_id.to_string(),
             });
         };
+        if let Some(dup) = self
+            .problems
+            .iter()
+            .find(|p| matches!(p, RouteError::DuplicateId { route, .. } if route == xml_id))
+        {
+            return Err(dup.clone());
+        }
         match &self.broken[i] {
             Some(e) => Err(e.clone()),
             None => Ok(&self.routes[i]),
@@ -210,10 +245,11 @@ impl RouteSet {
 /// # Errors
 /// [`RouteError::Io`] if unreadable, otherwise as [`parse_route_xml`] (naming this file).
 pub fn read_route_xml(path: &Path) -> Result<RouteSet, RouteError> {
-    let bytes = std::fs::read(path).map_err(|source| RouteError::Io {
-        path: path.to_path_buf(),
-        source: IoError(std::sync::Arc::new(source)),
-    })?;
+    let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::RouteXml)
+        .map_err(|source| RouteError::Io {
+            path: path.to_path_buf(),
+            source: IoError(std::sync::Arc::new(source)),
+        })?;
     let file = path.display().to_string();
     let text = match std::str::from_utf8(&bytes) {
         Ok(t) => t,
@@ -350,6 +386,12 @@ fn finish_route(set: &mut RouteSet, mut done: Open) {
     let id = done.route.id.clone();
     if done.error.is_none() && done.route.waypoints.is_empty() {
         done.error = Some(RouteError::NoWaypoints {
+            file: set.file.clone(),
+            route: id.clone(),
+        });
+    }
+    if done.error.is_none() && done.route.waypoints.len() == 1 {
+        done.error = Some(RouteError::SingleWaypoint {
             file: set.file.clone(),
             route: id.clone(),
         });
@@ -544,11 +586,18 @@ mod tests {
         assert_eq!(r1.heights, vec![364.9, 364.8]);
         assert_eq!(r1.waypoints_3d()[1], [-497.6, 3670.9, 364.8]);
         assert_eq!(r1.scenario_type.as_deref(), Some("A"));
-        assert_eq!(set.get("2").unwrap().scenario_type, None);
-        assert_eq!(set.get("2").unwrap().town, "Town&X");
-        assert_eq!(set.get("2").unwrap().waypoints, vec![[5.0, 6.0]]);
+        let r2 = set.iter().nth(1).unwrap();
+        assert_eq!(r2.scenario_type, None);
+        assert_eq!(r2.town, "Town&X");
+        assert_eq!(r2.waypoints, vec![[5.0, 6.0]]);
+        // A single waypoint is no reference (no segment), and says so.
+        assert!(set.get("2").is_none());
+        assert_eq!(
+            set.get_checked("2").unwrap_err().to_string(),
+            "<memory>: route 2: a single waypoint (a reference needs at least 2)"
+        );
         assert!(set.get("3").is_none());
-        assert!(set.problems().is_empty());
+        assert_eq!(set.problems().len(), 1);
         assert_eq!(
             set.get_checked("3").unwrap_err().to_string(),
             "<memory>: route 3: not found"
@@ -560,7 +609,7 @@ mod tests {
         let set = parse_route_xml(
             r#"<routes><route id="9" town="T"><waypoints></waypoints></route>
                <route id="10" town="T"/>
-               <route id="11" town="T"><waypoints><position x="0" y="0"/></waypoints></route></routes>"#,
+               <route id="11" town="T"><waypoints><position x="0" y="0"/><position x="1" y="0"/></waypoints></route></routes>"#,
         )
         .unwrap();
         assert_eq!(set.len(), 3);
@@ -594,11 +643,11 @@ mod tests {
             set.get_checked("2").unwrap_err().to_string(),
             "<memory>: route 2: waypoint 0: attribute y missing"
         );
-        assert_eq!(set.get("3").unwrap().town, "A");
-        assert_eq!(
-            set.problems().last().unwrap().to_string(),
-            "<memory>: route 3: id appears twice (the first is used)"
-        );
+        // Ambiguous: neither copy is used, and the lookup says why.
+        assert!(set.get("3").is_none());
+        let why = "<memory>: route 3: id appears twice (ambiguous: neither copy is used)";
+        assert_eq!(set.problems().last().unwrap().to_string(), why);
+        assert_eq!(set.get_checked("3").unwrap_err().to_string(), why);
     }
 
     #[test]

@@ -22,6 +22,9 @@
 //! assert_eq!((a[1].frame, a[1].by), (Some(3), Some(AlignedBy::Nearest)));
 //! ```
 
+use std::collections::{HashMap, VecDeque};
+
+use crate::geometry::nearest::NearestIndex;
 use crate::input::lead_infractions::StepInfraction;
 
 /// How an event was aligned to a frame (the report's `aligned_by`).
@@ -68,6 +71,8 @@ pub struct Alignment {
 /// assert_eq!(nearest_frame(&locs, 5.0006, 0.0, 1.0, 1e-3), Some(1)); // 1, 2, 3 tie
 /// assert_eq!(nearest_frame(&locs, 7.5, 0.0, 1.0, 1e-3), None);         // 2.4995 m away
 /// ```
+///
+/// For one query; [`align_events`] builds the [`NearestIndex`] once for all events of a route.
 pub fn nearest_frame(
     locations: &[[f64; 2]],
     x: f64,
@@ -75,25 +80,7 @@ pub fn nearest_frame(
     max_dist: f64,
     tie: f64,
 ) -> Option<usize> {
-    let dist = |p: &[f64; 2]| {
-        let (dx, dy) = (p[0] - x, p[1] - y);
-        (dx * dx + dy * dy).sqrt()
-    };
-    let mut min = f64::INFINITY;
-    for p in locations {
-        let d = dist(p);
-        if d < min {
-            min = d;
-        }
-    }
-    // Also rejects NaN (from non-finite inputs) and the empty case (min = inf).
-    if min
-        .partial_cmp(&max_dist)
-        .is_none_or(|o| o == std::cmp::Ordering::Greater)
-    {
-        return None;
-    }
-    locations.iter().position(|p| dist(p) - min <= tie)
+    NearestIndex::new(locations).nearest(x, y, max_dist, tie)
 }
 
 /// A collision event to align: its message (the evaluator's infraction string) and the ego
@@ -114,7 +101,8 @@ pub struct EventRef<'a> {
 /// back to [`nearest_frame`] on its location ([`AlignedBy::Nearest`]), and is unaligned when it
 /// has no location or no frame is within `max_dist`.
 ///
-/// `steps` and `locations` are per frame, same length and order.
+/// `steps` and `locations` are per frame, same length and order. Cost: O((events + entries)
+/// + frames log frames) (an index by message, a [`NearestIndex`] by position).
 pub fn align_events(
     events: &[EventRef<'_>],
     steps: &[u64],
@@ -123,28 +111,28 @@ pub fn align_events(
     max_dist: f64,
     tie: f64,
 ) -> Vec<Alignment> {
-    let mut used = vec![false; infractions.map_or(0, <[StepInfraction]>::len)];
+    // The unused entries of each message, in file order: the first one is consumed.
+    let mut unused: HashMap<&str, VecDeque<&StepInfraction>> = HashMap::new();
+    for e in infractions.unwrap_or(&[]) {
+        unused.entry(e.message.as_str()).or_default().push_back(e);
+    }
+    let mut index: Option<NearestIndex> = None;
     events
         .iter()
         .map(|ev| {
-            if let Some(entries) = infractions {
-                let hit = entries
-                    .iter()
-                    .enumerate()
-                    .find(|(i, e)| !used[*i] && e.message == ev.message);
-                if let Some((i, entry)) = hit {
-                    used[i] = true;
-                    if let Ok(frame) = steps.binary_search(&entry.step) {
-                        return Alignment {
-                            frame: Some(frame),
-                            by: Some(AlignedBy::InfractionsJson),
-                        };
-                    }
+            if let Some(entry) = unused.get_mut(ev.message).and_then(VecDeque::pop_front) {
+                if let Ok(frame) = steps.binary_search(&entry.step) {
+                    return Alignment {
+                        frame: Some(frame),
+                        by: Some(AlignedBy::InfractionsJson),
+                    };
                 }
             }
-            let frame = ev
-                .location
-                .and_then(|[x, y]| nearest_frame(locations, x, y, max_dist, tie));
+            let frame = ev.location.and_then(|[x, y]| {
+                index
+                    .get_or_insert_with(|| NearestIndex::new(locations))
+                    .nearest(x, y, max_dist, tie)
+            });
             Alignment {
                 frame,
                 by: frame.map(|_| AlignedBy::Nearest),

@@ -179,6 +179,9 @@ pub struct RouteOutcome {
     /// Problems that did not stop the route from being scored (unreadable `infractions.json`,
     /// no reference route in the XML, unparseable collision strings).
     pub warnings: Vec<Warning>,
+    /// The telemetry files located for this route (`metric_info.json`, `infractions.json`),
+    /// read or not: a front end never writes over one of them.
+    pub files_read: Vec<std::path::PathBuf>,
 }
 
 impl RouteOutcome {

@@ -132,6 +132,60 @@ pub fn legacy_comfort(
     Ok((comfort, reference.summary.comfort == comfort))
 }
 
+/// Why the monitor refused a frame, said in the file's own fields: the frame's numbers are
+/// derived (a_mag from `acceleration`, speed from `location` and `dt`), and a reader looking for
+/// `a_mag` in `metric_info.json` would not find it.
+///
+/// ```
+/// use monitor_core::{Field, FrameError, MonitorError};
+/// use monitor_host::pipeline::replay::{refusal_in_file_terms, Refused};
+/// let r = Refused::Frame { index: 3, error: MonitorError::Frame(FrameError::NonFinite(Field::AMag)) };
+/// assert_eq!(
+///     refusal_in_file_terms(&r, 12, 0.05),
+///     "acceleration at step 12 is too large: |a| overflows f32 (a_mag is not finite)"
+/// );
+/// ```
+pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
+    use monitor_core::{Field, FrameError};
+    let Refused::Frame {
+        error: MonitorError::Frame(FrameError::NonFinite(field)),
+        ..
+    } = refused
+    else {
+        return format!("step {step}: {refused}");
+    };
+    let (what, why) = match field {
+        Field::AMag => ("acceleration", "is too large: |a| overflows f32"),
+        Field::ALon => (
+            "acceleration",
+            "is too large: its component along forward_vector overflows f32",
+        ),
+        Field::ALat => (
+            "acceleration",
+            "is too large: its component along right_vector overflows f32",
+        ),
+        Field::YawRate => (
+            "angular_velocity",
+            "is too large: the yaw rate overflows f32",
+        ),
+        Field::Speed => {
+            return format!(
+                "location at step {step} jumps too far from the previous step: the distance / \
+                 dt ({dt} s) overflows f32 ({})",
+                FrameError::NonFinite(*field)
+            )
+        }
+        Field::LatErr => (
+            "location",
+            "is too far from the route XML's reference: the lateral error overflows f32",
+        ),
+    };
+    format!(
+        "{what} at step {step} {why} ({})",
+        FrameError::NonFinite(*field)
+    )
+}
+
 /// A route's telemetry, read and turned into frames.
 #[derive(Clone, Debug)]
 pub struct RouteTelemetry {
@@ -150,6 +204,8 @@ pub struct RouteTelemetry {
 /// Locates and reads a record's telemetry (and `infractions.json` beside it), infers its step
 /// period, and prepares its frames. Problems that do not stop the route are pushed to
 /// `warnings`.
+///
+/// Every file located (read or not) is pushed to `files`.
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
@@ -157,7 +213,25 @@ pub fn read_telemetry(
     telemetry_root: Option<&Path>,
     settings: &Settings,
     warnings: &mut Vec<Warning>,
+    files: &mut Vec<PathBuf>,
 ) -> Result<RouteTelemetry, TelemetryState> {
+    // A save_name naming another route's folder would score this record with that telemetry.
+    if let Some(other) = record
+        .save_name
+        .as_deref()
+        .and_then(discovery::save_name_route)
+    {
+        if other != record.route_id {
+            return Err(TelemetryState::Invalid(format!(
+                "{}: record {}: save_name {:?} names the telemetry of route {other}, not of this \
+                 record's {}",
+                loaded.source.display(),
+                loaded.index,
+                record.save_name.as_deref().unwrap_or_default(),
+                record.route_id
+            )));
+        }
+    }
     let path = record
         .save_name
         .as_deref()
@@ -178,11 +252,15 @@ pub fn read_telemetry(
                 loaded.records_in_file == 1,
             ))
         })?;
+    files.push(path.clone());
     let tel = metric_info::read_metric_info(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
         None => None,
-        Some(p) => match lead_infractions::read_lead_infractions(&p) {
+        Some(p) => match lead_infractions::read_lead_infractions({
+            files.push(p.clone());
+            &p
+        }) {
             Ok(list) => Some(list),
             Err(e) => {
                 warnings.push(Warning::LeadInfractions {
@@ -194,8 +272,14 @@ pub fn read_telemetry(
         },
     };
     if let (Some(set), Some(id)) = (routes, record.xml_id()) {
-        if let Err(e) = set.get_checked(id) {
-            warnings.push(Warning::NoReference(e));
+        match set.get_checked(id) {
+            Err(e) => warnings.push(Warning::NoReference(e)),
+            Ok(r) if r.all_gaps(settings.gap_max) => warnings.push(Warning::AllGaps {
+                file: set.file().to_string(),
+                route: id.to_string(),
+                gap_max: settings.gap_max,
+            }),
+            Ok(_) => {}
         }
     }
     let (first, last) = match (tel.frames.first(), tel.frames.last()) {
@@ -248,6 +332,7 @@ pub fn replay(
         penalty: None,
         batch_agrees: None,
         warnings: Vec::new(),
+        files_read: Vec::new(),
     };
     let Ok(record) = &loaded.entry else {
         return out;
@@ -260,6 +345,7 @@ pub fn replay(
         telemetry_root,
         settings,
         &mut out.warnings,
+        &mut out.files_read,
     ) {
         Ok(RouteTelemetry {
             mut prepared,
@@ -299,14 +385,15 @@ pub fn replay(
                     Some(summary)
                 }
                 Err(refused) => {
+                    let step = prepared
+                        .steps
+                        .get(refused.index())
+                        .copied()
+                        .unwrap_or_default();
                     out.telemetry = TelemetryState::Invalid(format!(
-                        "{}: step {}: {refused}",
+                        "{}: {}",
                         path.display(),
-                        prepared
-                            .steps
-                            .get(refused.index())
-                            .copied()
-                            .unwrap_or_default()
+                        refusal_in_file_terms(&refused, step, settings.core.dt)
                     ));
                     None
                 }

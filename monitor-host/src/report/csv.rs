@@ -1,6 +1,9 @@
-//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting). Numbers
-//! are printed as the JSON report prints them (`100.0`, `0.39`); `source` is `file#index`.
+//! The CSV rendering: one line per route (the `csv` crate quotes what needs quoting: `"`, `,`,
+//! CR, LF). Numbers are printed as the JSON report prints them (`100.0`, `0.39`); `source` is
+//! `file#index`. String cells from the inputs are neutralised against formula injection
+//! ([`crate::report::escape::csv_cell`]); numbers are written as numbers.
 
+use crate::report::escape::csv_cell;
 use crate::report::model::{Report, RouteReport};
 
 /// The header line's columns.
@@ -44,7 +47,7 @@ fn num(x: Option<f64>) -> String {
 }
 
 fn row(r: &RouteReport) -> [String; 30] {
-    let s = |x: &Option<String>| x.clone().unwrap_or_default();
+    let s = |x: &Option<String>| csv_cell(x.as_deref().unwrap_or_default()).into_owned();
     let o = num;
     let c = &r.collisions;
     [
@@ -55,9 +58,9 @@ fn row(r: &RouteReport) -> [String; 30] {
         s(&r.status),
         r.state.name().to_string(),
         r.success.to_string(),
-        r.source
-            .as_ref()
-            .map_or_else(String::new, |x| format!("{}#{}", x.file.display(), x.index)),
+        r.source.as_ref().map_or_else(String::new, |x| {
+            csv_cell(&format!("{}#{}", x.file.display(), x.index)).into_owned()
+        }),
         o(r.dt),
         o(r.score_route),
         o(r.score_penalty),

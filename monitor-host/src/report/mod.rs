@@ -9,8 +9,11 @@
 //! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
 //! | a collision trace as CSV | [`trace_csv`] |
 //! | the whole run (or runs side by side) as one HTML page | [`html`] |
+//!
+//! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
 
 pub mod csv;
+pub mod escape;
 pub mod figure;
 pub mod grid;
 pub mod html;

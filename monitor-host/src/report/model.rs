@@ -212,6 +212,10 @@ pub struct Report {
     pub groups: Option<Groups>,
     /// Every warning of the run, the per-route ones included (as printed on stderr).
     pub warnings: Vec<Warning>,
+    /// Every input file of the run (results files, route XML, located telemetry files), for
+    /// front ends that must never write over an input. Not part of the JSON report.
+    #[serde(skip)]
+    pub files_read: Vec<std::path::PathBuf>,
     /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
     #[serde(skip)]
     pub route_set: Option<RunRouteSet>,
@@ -413,6 +417,10 @@ pub fn build(
         summary,
         groups: None,
         warnings,
+        files_read: outcomes
+            .iter()
+            .flat_map(|o| o.files_read.iter().cloned())
+            .collect(),
         route_set: facts.route_set,
     }
 }

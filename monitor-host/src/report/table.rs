@@ -154,7 +154,10 @@ pub fn table2(report: &Report) -> Option<Grid> {
         ],
     );
     for r in &groups.rows {
-        g.rows.push(table2_cells(&r.label, &r.aggregates));
+        g.rows.push(table2_cells(
+            &crate::report::escape::printable(&r.label),
+            &r.aggregates,
+        ));
     }
     g.total = Some(table2_cells("Combined", &groups.combined));
     Some(g)
@@ -197,7 +200,10 @@ pub fn table3(report: &Report, extra: &[String]) -> Option<Grid> {
         row
     };
     for r in &groups.rows {
-        g.rows.push(cells(&r.label, &r.aggregates));
+        g.rows.push(cells(
+            &crate::report::escape::printable(&r.label),
+            &r.aggregates,
+        ));
     }
     g.total = Some(cells("Combined", &groups.combined));
     Some(g)

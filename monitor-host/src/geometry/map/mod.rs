@@ -122,7 +122,9 @@ impl Map {
     /// ```
     pub fn load(path: &Path) -> Result<Map, MapError> {
         let file = path.display().to_string();
-        let bytes = std::fs::read(path).map_err(|source| MapError::Io {
+        // The guarded reader: regular files only, at most 1 GiB (a FIFO never blocks).
+        let kind = crate::input::read::FileKind::Map;
+        let bytes = crate::input::read::read_input(path, kind).map_err(|source| MapError::Io {
             file: file.clone(),
             source,
         })?;

@@ -35,6 +35,15 @@ pub enum LabelsError {
         #[source]
         source: std::io::Error,
     },
+    /// A key given twice in a JSON label file (which label is meant is unknown; a key with
+    /// several labels takes a JSON array).
+    #[error("{file}: key {key:?} is given twice")]
+    Duplicate {
+        /// The file.
+        file: String,
+        /// The key.
+        key: String,
+    },
     /// A JSON label file that is not an object.
     #[error("{file}: not a JSON object of labels: {message}")]
     Json {
@@ -124,10 +133,12 @@ pub fn check_coverage<'a>(
 /// # Errors
 /// [`LabelsError`], naming the file.
 pub fn read_labels(path: &Path) -> Result<Labels, LabelsError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LabelsError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let kind = crate::input::read::FileKind::Labels;
+    let text =
+        crate::input::read::read_input_text(path, kind).map_err(|source| LabelsError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
     parse_labels(&text, &path.display().to_string())
 }
 
@@ -141,6 +152,12 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
         return weather_xml::parse(text, file);
     }
     if start.starts_with('{') {
+        if let Ok(Some(key)) = crate::input::json_keys::first_duplicate_key(text.as_bytes()) {
+            return Err(LabelsError::Duplicate {
+                file: file.into(),
+                key,
+            });
+        }
         let map: std::collections::BTreeMap<String, serde_json::Value> = serde_json::from_str(text)
             .map_err(|e| LabelsError::Json {
                 file: file.into(),

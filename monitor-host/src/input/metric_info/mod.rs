@@ -262,10 +262,11 @@ fn step_prefix(step: Option<u64>) -> String {
 /// # Errors
 /// [`TelemetryError::Io`] if the file cannot be read, otherwise as [`parse_metric_info`].
 pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
-    let bytes = std::fs::read(path).map_err(|source| TelemetryError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::MetricInfo)
+        .map_err(|source| TelemetryError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
     parse_metric_info(&bytes)
 }
 

@@ -1,0 +1,22 @@
+//! `monitor_host::input::labels::parse_labels` on arbitrary text: never panics; an error names the
+//! file; a key given twice is always refused, never resolved silently.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use monitor_host::input::labels::{parse_labels, LabelsError};
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    match parse_labels(text, "labels.csv") {
+        Ok(map) => assert!(map.len() <= text.len()),
+        Err(e) => {
+            let msg = e.to_string();
+            assert!(msg.contains("labels.csv"), "error does not name the file: {msg}");
+            if let LabelsError::Duplicate { key, .. } = &e {
+                assert!(text.contains(key.as_str()) || text.contains('\\'));
+            }
+        }
+    }
+});

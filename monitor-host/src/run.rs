@@ -240,6 +240,10 @@ pub fn score_run_with(
         routes.as_ref(),
         &maps,
     );
+    // A map found but unreadable is an error, never a silent fallback (§1.4).
+    if let Some(e) = maps.into_broken() {
+        return Err(e.into());
+    }
     // Every input file, for front ends that must never write over one.
     let mut files = files_read;
     files.extend(inputs.route_xml.iter().cloned());
@@ -247,11 +251,7 @@ pub fn score_run_with(
     files.sort();
     files.dedup();
     report.files_read = files;
-    // A map found but unreadable is an error, never a silent fallback (§1.4).
-    match maps.into_broken() {
-        Some(e) => Err(e.into()),
-        None => Ok(report),
-    }
+    Ok(report)
 }
 
 /// A telemetry root that does not exist is a mistyped path, not a run without telemetry.

@@ -472,7 +472,7 @@ fn benchmark_layouts_take_the_fast_path() {
     use monitor_host::demo::{write_large_with, LargeLayout};
     for layout in [LargeLayout::Bench2Drive, LargeLayout::Wide] {
         let dir = tempfile::tempdir().expect("temp dir");
-        let run = write_large_with(dir.path(), 2, 300, layout).expect("written");
+        let run = write_large_with(dir.path(), 2, 300, layout, 0).expect("written");
         for entry in walk(&run.telemetry) {
             let bytes = std::fs::read(&entry).expect("readable");
             assert!(check(&bytes), "{layout:?}: {} not fast", entry.display());

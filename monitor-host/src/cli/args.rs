@@ -27,6 +27,9 @@ pub enum Format {
     Latex,
     /// One line per route (with `--group-by`: one line per group, then `combined`).
     Csv,
+    /// One self-contained HTML page: the tables, a sortable route table, per route its
+    /// collision figures and chunk timelines, the warnings (`sds compare`: runs side by side).
+    Html,
 }
 
 /// Telemetry layouts of `sds demo --large`.
@@ -147,6 +150,10 @@ pub struct ScoreArgs {
     /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Also write every aligned collision's trace (§10.2) into DIR, as
+    /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
+    #[arg(long, value_name = "DIR")]
+    pub traces: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare`.
@@ -215,6 +222,9 @@ pub enum Command {
         /// Keys per frame of the large run's telemetry.
         #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
         layout: LayoutArg,
+        /// Routes of the large run that collide (at frame 2,000).
+        #[arg(long, default_value_t = 0)]
+        large_collisions: usize,
         /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
         #[arg(long)]
         force: bool,

@@ -33,7 +33,7 @@ use crate::aggregate::groups::{GroupBy, Labels};
 use crate::input::labels::{check_coverage, read_labels};
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
-use crate::report::{csv, json};
+use crate::report::{csv, html, json};
 use crate::{
     demo, route_frames, score_run_with, Inputs, Progress, Report, Settings, SettingsError,
     TelemetryState, Warning,
@@ -137,6 +137,7 @@ fn run(cli: Cli) -> Result<i32> {
             large_routes,
             large_frames,
             layout,
+            large_collisions,
             force,
         } => {
             let existing = demo::existing_run(&dir);
@@ -153,7 +154,7 @@ fn run(cli: Cli) -> Result<i32> {
                     LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
                     LayoutArg::Wide => demo::LargeLayout::Wide,
                 };
-                demo::write_large_with(&dir, large_routes, large_frames, layout)?
+                demo::write_large_with(&dir, large_routes, large_frames, layout, large_collisions)?
             } else {
                 demo::write(&dir)?
             };
@@ -168,24 +169,18 @@ fn run(cli: Cli) -> Result<i32> {
             if !then_score {
                 return Ok(0);
             }
-            score(&ScoreArgs {
-                results: vec![run.results],
-                telemetry: Some(run.telemetry),
-                routes: Some(run.routes),
-                maps: None,
-                profile: ProfileArg::Physical,
-                expected_routes: None,
-                duplicates: None,
-                allow_missing_telemetry: false,
-                format: Format::Table,
-                output: None,
-                group_by: None,
-                families: None,
-                weathers: None,
-                infractions: vec![],
-                set: vec![],
-                jobs: None,
-            })
+            let html = dir.join("report.html");
+            let code = score(&ScoreArgs {
+                format: Format::Html,
+                output: Some(html.clone()),
+                traces: Some(dir.join("traces")),
+                ..demo_args(&run)
+            })?;
+            eprintln!("sds: the demo's HTML report: {}", html.display());
+            if code != 0 {
+                return Ok(code);
+            }
+            score(&demo_args(&run))
         }
         Command::Frames {
             results,
@@ -400,8 +395,46 @@ fn style(format: Format) -> Option<Style> {
         Format::Table => Some(Style::Text),
         Format::Markdown => Some(Style::Markdown),
         Format::Latex => Some(Style::Latex),
-        Format::Json | Format::Csv => None,
+        Format::Json | Format::Csv | Format::Html => None,
     }
+}
+
+/// `sds score` of the demo run: the table on standard output.
+fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
+    ScoreArgs {
+        results: vec![run.results.clone()],
+        telemetry: Some(run.telemetry.clone()),
+        routes: Some(run.routes.clone()),
+        maps: None,
+        profile: ProfileArg::Physical,
+        expected_routes: None,
+        duplicates: None,
+        allow_missing_telemetry: false,
+        format: Format::Table,
+        output: None,
+        group_by: None,
+        families: None,
+        weathers: None,
+        infractions: vec![],
+        set: vec![],
+        jobs: None,
+        traces: None,
+    }
+}
+
+fn table_options(args: &ScoreArgs) -> TableOptions {
+    TableOptions {
+        extra_infractions: args.infractions.clone(),
+    }
+}
+
+/// The run's name in the HTML page: the results argument(s).
+fn run_name(args: &ScoreArgs) -> String {
+    args.results
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 fn score(args: &ScoreArgs) -> Result<i32> {
@@ -417,11 +450,11 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
         (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
+        (Format::Html, _) => {
+            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
+        }
         (_, Some(style)) => {
-            let options = TableOptions {
-                extra_infractions: args.infractions.clone(),
-            };
-            table::render(&table::report_tables(&report, &options), style).into_bytes()
+            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
         }
         (_, None) => unreachable!("every table format has a style"),
     };
@@ -429,6 +462,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     inputs_read.extend(args.families.iter().cloned());
     inputs_read.extend(args.weathers.iter().cloned());
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    if let Some(dir) = &args.traces {
+        let n = output::write_traces(dir, &report, &inputs_read)?;
+        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    }
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
@@ -512,9 +549,10 @@ fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
 }
 
 fn compare_runs(args: &CompareArgs) -> Result<i32> {
-    let Some(style) = style(args.format).or((args.format == Format::Json).then_some(Style::Text))
+    let Some(style) = style(args.format)
+        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
     else {
-        say!("sds: error: sds compare writes json, table, markdown or latex, not csv");
+        say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
         return Ok(EXIT_USAGE);
     };
     let settings = compare_settings(args)?;
@@ -576,6 +614,8 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
         let mut v = serde_json::to_vec_pretty(&comparison)?;
         v.push(b'\n');
         v
+    } else if args.format == Format::Html {
+        html::compare_page(&comparison, &runs).into_bytes()
     } else {
         table::render(&table::compare_tables(&comparison), style).into_bytes()
     };

@@ -302,10 +302,12 @@ pub enum LargeLayout {
 /// assert_eq!(run.route_ids.len(), 2);
 /// ```
 pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> {
-    write_large_with(dir, routes, frames, LargeLayout::Bench2Drive)
+    write_large_with(dir, routes, frames, LargeLayout::Bench2Drive, 0)
 }
 
-/// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each.
+/// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each, of which
+/// `collisions` (spread evenly) hit a vehicle at frame 2,000 (routes of more than 2,000 frames:
+/// the HTML report's size and load-time benchmark uses 220 routes, 100 collisions).
 ///
 /// Its `metric_info.json` files look like real Bench2Drive ones, so that a throughput in MB/s
 /// means what it would on a real run: `json.dump(indent=4)` layout, the keys of `layout`, and
@@ -315,15 +317,21 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
 /// ```
 /// use monitor_host::demo::{write_large_with, LargeLayout};
 /// let dir = tempfile::tempdir().unwrap();
-/// let run = write_large_with(dir.path(), 1, 20, LargeLayout::Wide).unwrap();
-/// assert_eq!(run.route_ids.len(), 1);
+/// let run = write_large_with(dir.path(), 4, 2100, LargeLayout::Wide, 2).unwrap();
+/// assert_eq!(run.route_ids.len(), 4);
 /// ```
 pub fn write_large_with(
     dir: &Path,
     routes: usize,
     frames: usize,
     layout: LargeLayout,
+    collisions: usize,
 ) -> Result<DemoRun> {
+    const HIT: &[(usize, &str, &str)] = &[(2000, "collisions_vehicle", "vehicle.tesla.model3")];
+    // Route i collides when the running count of collisions steps up at i.
+    let hits = |i: usize| {
+        frames > 2000 && (i + 1) * collisions / routes.max(1) > i * collisions / routes.max(1)
+    };
     let list: Vec<Script> = (0..routes)
         .map(|i| Script {
             name: "DemoLargeCruising_1",
@@ -333,7 +341,7 @@ pub fn write_large_with(
             v0: 8.0 + (i % 7) as f64,
             accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
             lateral: straight,
-            collisions: &[],
+            collisions: if hits(i) { HIT } else { &[] },
             status: "Completed",
             score_route: 100.0,
         })

@@ -587,6 +587,7 @@ mod tests {
         assert_eq!(r1.waypoints_3d()[1], [-497.6, 3670.9, 364.8]);
         assert_eq!(r1.scenario_type.as_deref(), Some("A"));
         let r2 = set.iter().nth(1).unwrap();
+        assert_eq!(r2.scenario_type, None);
         assert_eq!(r2.town, "Town&X");
         assert_eq!(r2.waypoints, vec![[5.0, 6.0]]);
         assert_eq!(r2.scenario_type, None);

@@ -8,6 +8,7 @@ use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
 use crate::pipeline::align::AlignedBy;
 use crate::pipeline::step_period::StepPeriod;
+use crate::pipeline::timeline::RouteTimeline;
 use crate::warning::Warning;
 
 /// What became of a route's telemetry.
@@ -158,6 +159,8 @@ pub struct RouteOutcome {
     pub frames: u32,
     /// Missing step numbers.
     pub gaps: u64,
+    /// The frames and the monitor's per-chunk verdicts; `None` when not replayed.
+    pub timeline: Option<RouteTimeline>,
     /// Telemetry terms; `None` when the route could not be scored.
     pub summary: Option<RouteSummary>,
     /// DS_safe; `None` when the route could not be scored.

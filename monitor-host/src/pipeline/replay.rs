@@ -17,6 +17,7 @@ use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
+use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -54,12 +55,25 @@ impl Refused {
 /// # Errors
 /// The first frame (or the configuration) the monitor refused.
 pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSummary, Refused> {
+    stream_logged(prepared, config, &mut ChunkLog::default())
+}
+
+/// [`stream`], keeping the monitor's per-chunk verdicts in `log`.
+///
+/// # Errors
+/// As [`stream`].
+pub fn stream_logged(
+    prepared: &mut PreparedRoute,
+    config: &Config,
+    log: &mut ChunkLog,
+) -> Result<RouteSummary, Refused> {
     let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
     let mut verdicts = Vec::new();
     for (index, f) in prepared.frames.iter().enumerate() {
         let events = monitor
             .push(f)
             .map_err(|error| Refused::Frame { index, error })?;
+        log.record(&events);
         for e in &events {
             if let Event::Collision(v) = e {
                 verdicts.push(*v);
@@ -70,6 +84,7 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
         index: prepared.frames.len(),
         error,
     })?;
+    log.record(&done.events);
     for ev in &mut prepared.events {
         if let Some(k) = ev.frame {
             if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
@@ -311,6 +326,7 @@ pub fn replay(
         summary: None,
         safe: None,
         legacy_comfort: None,
+        timeline: None,
         events: Vec::new(),
         workzone: 0,
         penalty: None,
@@ -341,7 +357,8 @@ pub fn replay(
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
             out.period = Some(period);
-            match stream(&mut prepared, &route_settings.core) {
+            let mut chunks = ChunkLog::default();
+            match stream_logged(&mut prepared, &route_settings.core, &mut chunks) {
                 Ok(summary) => {
                     let reference = batch::compute(&prepared.frames, &route_settings.core);
                     let mut agrees = reference.summary == summary;
@@ -354,6 +371,17 @@ pub fn replay(
                     out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;
+                    let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
+                    out.timeline = Some(RouteTimeline::around(
+                        &prepared.frames,
+                        &prepared.steps,
+                        // The route's period as a decimal (0.05), as `time_s` uses it.
+                        out.period
+                            .map_or(crate::settings::decimal(route_settings.core.dt), |p| p.dt),
+                        &at,
+                        route_settings.core.decel_window,
+                        chunks,
+                    ));
                     Some(summary)
                 }
                 Err(refused) => {

@@ -13,6 +13,7 @@ use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
 use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::stored::InputReport;
 use crate::aggregate::summary::{summarize, Summary};
+use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::junctions::TownMaps;
 use crate::input::duplicates::{Dropped, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
@@ -20,6 +21,7 @@ use crate::input::route_set::{MissingRoute, RunRouteSet};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
+use crate::pipeline::timeline::ChunkLog;
 use crate::settings::Settings;
 use crate::warning::Warning;
 
@@ -178,6 +180,14 @@ pub struct RouteReport {
     /// Problems that did not stop the route from being scored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<Warning>,
+    /// The traces of its aligned collisions (§10.2): rendered as CSV and SVG files and in the
+    /// HTML report, not in the JSON report.
+    #[serde(skip)]
+    pub traces: Vec<CollisionTrace>,
+    /// The monitor's per-chunk verdicts (the HTML report's timelines); `None` when not
+    /// replayed. Not in the JSON report.
+    #[serde(skip)]
+    pub chunks: Option<ChunkLog>,
 }
 
 /// The whole report.
@@ -280,6 +290,8 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         }),
         batch_agrees: o.batch_agrees,
         warnings: o.warnings.clone(),
+        traces: Vec::new(),
+        chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
     }
 }
 
@@ -316,6 +328,8 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         penalty_check: None,
         batch_agrees: None,
         warnings: Vec::new(),
+        traces: Vec::new(),
+        chunks: None,
     }
 }
 
@@ -346,6 +360,17 @@ pub fn build(
 ) -> Report {
     let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
     let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
+    for (r, o) in routes.iter_mut().zip(outcomes) {
+        if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
+            r.traces = collision_traces(
+                id,
+                t,
+                &o.events,
+                settings.core.decel_window,
+                settings.core.decel_threshold,
+            );
+        }
+    }
     if let Some(set) = xml {
         for (r, o) in routes.iter_mut().zip(outcomes) {
             let Some(rec) = o.record().filter(|_| o.counted()) else {

@@ -3,7 +3,8 @@
 # thumb targets; cargo-fuzz only beside an already installed nightly toolchain (the fuzz smoke run
 # needs both and skips without them; nightly itself is never installed); qemu-system-arm >= 9
 # (Debian bookworm-backports), arm binutils and gcc for the firmware tests; pinned Python tools
-# (maturin, pytest, mypy, numpy) in a venv inside the build folder. Safe to run again;
+# (maturin, pytest, mypy, numpy) in a venv inside the build folder; Debian chromium for the HTML
+# report's browser test. Safe to run again;
 # prints one line for each thing it installs or skips.
 set -euo pipefail
 
@@ -45,6 +46,8 @@ command -v gcc >/dev/null 2>&1 || need_apt+=(gcc)
 command -v arm-none-eabi-gcc >/dev/null 2>&1 || need_apt+=(gcc-arm-none-eabi)
 command -v valgrind >/dev/null 2>&1 || need_apt+=(valgrind)
 command -v pkg-config >/dev/null 2>&1 || need_apt+=(pkg-config)
+# The HTML report's browser test (scripts/html-report-test.sh): headless Chromium.
+command -v chromium >/dev/null 2>&1 || command -v chromium-browser >/dev/null 2>&1 || need_apt+=(chromium)
 if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
   SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   if grep -qs bookworm /etc/os-release && ! grep -rqs bookworm-backports /etc/apt/sources.list /etc/apt/sources.list.d/; then

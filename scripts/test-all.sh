@@ -24,6 +24,12 @@ step "cargo test"
 [ -d ../shared/fixtures ] || echo "note: ../shared/fixtures is absent: the tests on real Bench2Drive files skip (each says why under --nocapture)"
 cargo test --workspace --release
 
+step "HTML report: parsed against the JSON report, then in headless Chromium (sort, filter, screenshot)"
+bash scripts/html-report-test.sh
+
+step "the README's figure matches what the code draws"
+bash scripts/readme-figure.sh --check
+
 step "cargo doc (warnings denied)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
 

@@ -10,7 +10,8 @@
 //! | `reader`  | `serde_json::from_reader` (64 KB `BufReader`) into `IgnoredAny`: the     |
 //! |           | floor of a parse that never holds the whole file                          |
 //! | `dom`     | `serde_json::Value` of the same bytes (first 20 routes only): a DOM's cost |
-//! | `parse`   | `metric_info::parse_metric_info` (our streaming visitor)                    |
+//! | `parse`   | `metric_info::parse_metric_info` (the scanner; serde visitor on doubt)     |
+//! | `serde`   | `metric_info::parse_metric_info_serde` (the serde_json visitor alone)       |
 //! | `prepare` | `prepare::prepare`: speeds, lateral error, alignment, `Frame`s              |
 //! | `stream`  | `replay::stream`: the monitor over every frame                            |
 //! | `batch`   | `batch::compute`: the batch reference check on the same frames           |
@@ -84,9 +85,9 @@ fn main() -> anyhow::Result<()> {
     let settings = Settings::default();
     let telemetry_root = dir.join("telemetry");
     let names = [
-        "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay", "reader",
+        "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay", "reader", "serde",
     ];
-    let mut acc = [Acc::default(); 9];
+    let mut acc = [Acc::default(); 10];
     let mut agree = true;
     for (k, loaded) in set.records.iter().take(max).enumerate() {
         let record = loaded.entry.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -111,6 +112,11 @@ fn main() -> anyhow::Result<()> {
         let tel = timed(&mut acc[3], 0, n, || {
             metric_info::parse_metric_info(black_box(&bytes))
         })?;
+        let by_serde = timed(&mut acc[9], 0, n, || {
+            metric_info::parse_metric_info_serde(black_box(&bytes))
+        })?;
+        agree &= by_serde == tel;
+        drop(by_serde);
         let frames = tel.frames.len();
         acc[0].frames += frames as u64;
         acc[0].bytes += n as u64;
@@ -120,6 +126,7 @@ fn main() -> anyhow::Result<()> {
         }
         acc[3].frames += frames as u64;
         acc[8].frames += frames as u64;
+        acc[9].frames += frames as u64;
         let mut prepared = timed(&mut acc[4], frames, n, || {
             prepare::prepare(record, &tel, Some(&routes), None, None, &settings)
         });
@@ -150,7 +157,7 @@ fn main() -> anyhow::Result<()> {
         );
     }
     if !agree {
-        anyhow::bail!("the batch reference disagreed with the stream");
+        anyhow::bail!("the batch reference disagreed with the stream, or the parse paths differ");
     }
     Ok(())
 }

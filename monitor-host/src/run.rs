@@ -28,8 +28,8 @@ pub struct Inputs {
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML: the lateral reference and the route set (missing and foreign
-    /// routes, N).
+    /// Bench2Drive route XML: the lateral reference, the route set (missing and foreign routes,
+    /// N) and the abilities' scenario types.
     pub route_xml: Option<PathBuf>,
     /// Folder of the towns' OpenDRIVE maps (§1.4).
     pub maps: Option<PathBuf>,
@@ -254,10 +254,13 @@ pub fn score_run_with(
             dropped: kept.dropped,
             warnings,
         },
+        routes.as_ref(),
+        &maps,
     );
     // Every input file, for front ends that must never write over one.
     let mut files = files_read;
     files.extend(inputs.route_xml.iter().cloned());
+    files.extend(maps.files().iter().cloned());
     files.append(&mut report.files_read);
     files.sort();
     files.dedup();
@@ -378,6 +381,7 @@ pub fn route_frames(
     };
     let town = town_of(record, routes.as_ref());
     let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
+    files_read.extend(maps.files().iter().cloned());
     let mut warnings = Vec::new();
     let telemetry = read_telemetry(
         &loaded,

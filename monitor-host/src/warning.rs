@@ -225,6 +225,15 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
+    /// Routes whose group key has no label in the label map: grouped as `(unmapped)` (§8.3).
+    Unmapped {
+        /// The grouping (`family`, `weather`).
+        by: &'static str,
+        /// The first few keys that matched nothing.
+        keys: Vec<String>,
+        /// Routes concerned.
+        routes: usize,
+    },
 }
 
 impl std::fmt::Display for Warning {
@@ -441,6 +450,12 @@ impl std::fmt::Display for Warning {
                 f,
                 "{}: unparseable collision string ({reason}): counted, not aligned",
                 list.name()
+            ),
+            Warning::Unmapped { by, keys, routes } => write!(
+                f,
+                "--group-by {by}: {routes} route(s) whose key has no label are grouped as \
+                 \"(unmapped)\"; keys without a label: {}",
+                keys.join(", ")
             ),
         }
     }

@@ -316,9 +316,25 @@ fn breakdown_by_family_uses_the_families_file() {
         .unwrap_or_else(|| panic!("no family row in\n{text}"));
     // 3 routes, DS = (37.5 + 50 + 60) / 3 = 49.1667, SR 0, collision rate 100.
     let cols: Vec<&str> = row.split_whitespace().collect();
-    assert_eq!(cols, ["collisions", "3", "49.17", "0.00", "100.00"]);
-    assert!(text.lines().any(|l| l.starts_with("DemoConeContact ")));
-    assert!(text.lines().any(|l| l.starts_with("DemoCruising ")));
+    assert_eq!(cols[..5], ["collisions", "3", "49.17", "0.00", "100.00"]);
+    // The other six types have no label: one "(unmapped)" group, and a warning naming them.
+    let unmapped = text
+        .lines()
+        .find(|l| l.starts_with("(unmapped) "))
+        .unwrap_or_else(|| panic!("no (unmapped) row in\n{text}"));
+    assert_eq!(unmapped.split_whitespace().nth(1), Some("6"));
+    assert!(!text.lines().any(|l| l.starts_with("DemoCruising ")));
+    let combined = text.lines().find(|l| l.starts_with("Combined ")).unwrap();
+    assert_eq!(combined.split_whitespace().nth(1), Some("9"));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("--group-by family: 6 route(s)") && stderr.contains("DemoCruising"),
+        "{stderr}"
+    );
+    // Without its label map, grouping by family is a usage error.
+    let out = run_score(dir.path(), &["--format", "table", "--group-by", "family"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--families"));
 }
 
 #[test]
@@ -460,4 +476,131 @@ fn demo_with_its_town_map() {
         err.contains("DemoTown.xodr") && err.contains("road 1"),
         "{err}"
     );
+}
+
+#[test]
+fn smoothness_is_the_legacy_comfort_whatever_the_profile() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    // The cruising route turns at a steady 30 deg/s: 0.52 rad/s is within the physical yaw-rate
+    // bound (0.95), but the legacy profile compares deg/s against it and fails every chunk.
+    let tel = std::fs::read_dir(dir.path().join("telemetry"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("RouteScenario_900001_")
+        })
+        .unwrap()
+        .join("metric_info.json");
+    let mut steps: Value = serde_json::from_slice(&std::fs::read(&tel).unwrap()).unwrap();
+    for (_, step) in steps.as_object_mut().unwrap() {
+        step["angular_velocity"][2] = Value::from(30.0);
+    }
+    std::fs::write(&tel, serde_json::to_vec(&steps).unwrap()).unwrap();
+    let (code, physical) = score_json(dir.path(), &[]);
+    assert_eq!(code, 0);
+    let cruise = route(&physical, "RouteScenario_900001_rep0");
+    assert_eq!(cruise["comfort"]["score"], 1.0);
+    assert_eq!(cruise["smoothness"], 0.0);
+    let (code, legacy) = score_json(dir.path(), &["--profile", "b2d-legacy"]);
+    assert_eq!(code, 0);
+    // Bench2Drive's smoothness is the legacy profile's mean comfort, whichever profile the
+    // report uses; per route it is the legacy C_route.
+    let b = &physical["summary"]["bench2drive"];
+    assert_eq!(b["smoothness"], legacy["summary"]["mean_comfort"]);
+    assert_eq!(
+        legacy["summary"]["bench2drive"]["smoothness"],
+        legacy["summary"]["mean_comfort"]
+    );
+    assert_ne!(
+        physical["summary"]["mean_comfort"], legacy["summary"]["mean_comfort"],
+        "the demo's two profiles differ, so the test can tell them apart"
+    );
+    for (p, l) in physical["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(legacy["routes"].as_array().unwrap())
+    {
+        assert_eq!(p["smoothness"], l["comfort"]["score"], "{}", p["route_id"]);
+        assert_eq!(p["batch_agrees"], true);
+    }
+}
+
+#[test]
+fn groups_in_the_json_and_csv_with_list_labels() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    // Two collision types belong to two families each; DemoCruising, Demo10HzBraking and
+    // DemoJunction to none listed.
+    let families = dir.path().join("families.json");
+    std::fs::write(
+        &families,
+        r#"{"DemoCrashNoBrake": ["collisions", "no-brake"], "DemoCrashBraking": ["collisions"],
+            "DemoStandingHit": ["collisions", "standing"], "DemoHardBraking": "dynamics",
+            "DemoLaneChange": "dynamics", "DemoConeContact": "workzone"}"#,
+    )
+    .unwrap();
+    let f = families.to_str().unwrap();
+    let (code, r) = score_json(dir.path(), &["--group-by", "family", "--families", f]);
+    assert_eq!(code, 0);
+    let g = &r["groups"];
+    assert_eq!(g["by"], "family");
+    let rows: Vec<(&str, u64)> = g["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| (x["label"].as_str().unwrap(), x["routes"].as_u64().unwrap()))
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("collisions", 3),
+            ("dynamics", 2),
+            ("no-brake", 1),
+            ("standing", 1),
+            ("workzone", 1),
+            ("(unmapped)", 3)
+        ]
+    );
+    // A group's aggregates are over its own routes: the crash with braking, the one without
+    // and the standing hit (DS 37.5, 50, 60 by the demo's scripts).
+    let coll = &g["rows"][0];
+    assert!(close(&coll["driving_score"], (37.5 + 50.0 + 60.0) / 3.0));
+    assert_eq!(coll["collision_rate"], 100.0);
+    assert_eq!(
+        coll["infraction_routes"]["collisions_vehicle"]
+            .as_u64()
+            .unwrap()
+            + coll["infraction_routes"]["collisions_pedestrian"]
+                .as_u64()
+                .unwrap(),
+        3
+    );
+    // combined: every route once, with the run's N, and the summary's numbers.
+    assert_eq!(g["combined"]["routes"], 9);
+    assert_eq!(
+        g["combined"]["driving_score"],
+        r["summary"]["driving_score"]
+    );
+    assert_eq!(g["combined"]["sds"], r["summary"]["sds"]);
+    let warnings = r["warnings"].as_array().unwrap();
+    assert!(warnings
+        .iter()
+        .any(|w| w.as_str().unwrap().contains("DemoCruising")));
+    // CSV: a header, one line per group, and the combined line.
+    let out = run_score(
+        dir.path(),
+        &["--format", "csv", "--group-by", "family", "--families", f],
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1 + 6 + 1, "{text}");
+    assert!(lines[0].starts_with("by,label,routes,driving_score,"));
+    assert!(lines[1].starts_with("family,collisions,3,"));
+    assert!(lines[7].starts_with("family,combined,9,"));
 }

@@ -83,13 +83,11 @@ fn real_towns_fill_junctions_and_fall_back_without_a_map() {
     let set = read_route_xml(&xml).unwrap();
     let town01 = Map::load(&maps.join("Town01.xodr")).unwrap();
     // The first Town01 route whose first junction gap the map fills.
-    let wp3 =
-        |r: &RouteRef| -> Vec<[f64; 3]> { r.waypoints.iter().map(|p| [p[0], p[1], 0.0]).collect() };
     let (route, path) = set
         .iter()
         .filter(|r| r.town == "Town01")
         .find_map(|r| {
-            let w = wp3(r);
+            let w = r.waypoints_3d();
             let gap = w
                 .windows(2)
                 .position(|p| (p[1][0] - p[0][0]).hypot(p[1][1] - p[0][1]) > 8.0)?;

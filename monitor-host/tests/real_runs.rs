@@ -430,10 +430,13 @@ fn label_files_json_lists_csv_and_weather_xml() {
         .unwrap();
     let text = String::from_utf8(table.stdout).unwrap();
     assert!(text.lines().any(|l| l.starts_with("ClearNoon ")), "{text}");
+    // The Table 2-style breakdown: its title, header and rule, then one line per group up to
+    // the rule above the Combined row.
     let rows: usize = text
         .lines()
-        .skip_while(|l| !l.starts_with("weather"))
-        .skip(1)
+        .skip_while(|l| !l.starts_with("Safe2Drive Table 2"))
+        .skip(3)
+        .take_while(|l| !l.starts_with('-'))
         .map(|l| {
             l.split_whitespace()
                 .nth(1)

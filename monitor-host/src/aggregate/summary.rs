@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use crate::aggregate::bench2drive::Bench2Drive;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 
 /// Benchmark aggregates (spec section 8).
@@ -38,6 +39,9 @@ pub struct Summary {
     pub invalid_records: usize,
     /// Routes where streaming and batch disagreed (must be empty).
     pub batch_disagreements: Vec<String>,
+    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::report::model::build`], which
+    /// knows the route set.
+    pub bench2drive: Option<Bench2Drive>,
 }
 
 /// Computes the aggregates over the outcomes, in input order, with denominator `n`; `missing`
@@ -99,5 +103,6 @@ pub fn summarize(all: &[RouteOutcome], n: usize, missing: usize) -> Summary {
             .filter(|o| o.batch_agrees == Some(false))
             .filter_map(|o| o.record().map(|r| r.route_id.clone()))
             .collect(),
+        bench2drive: None,
     }
 }

@@ -18,10 +18,27 @@ pub struct Cli {
 pub enum Format {
     /// The JSON report of spec section 10.
     Json,
-    /// The paper's Table 1 row and a Table 2-style breakdown.
+    /// The papers' tables as text: Bench2Drive's main table, Safe2Drive Table 1, Table 2-style
+    /// breakdown, and with `--group-by weather` the Table 3-style infraction table.
     Table,
-    /// One line per route.
+    /// The same tables in Markdown.
+    Markdown,
+    /// The same tables in LaTeX (booktabs).
+    Latex,
+    /// One line per route (with `--group-by`: one line per group, then `combined`).
     Csv,
+    /// One self-contained HTML page: the tables, a sortable route table, per route its
+    /// collision figures and chunk timelines, the warnings (`sds compare`: runs side by side).
+    Html,
+}
+
+/// Telemetry layouts of `sds demo --large`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LayoutArg {
+    /// Bench2Drive's six keys per frame (what its agents write).
+    B2d,
+    /// Thirteen keys per frame (the six plus velocity, speed, controls, gps, compass).
+    Wide,
 }
 
 /// Comfort profiles.
@@ -84,8 +101,9 @@ pub struct ScoreArgs {
     /// Telemetry root holding `<save_name>/metric_info.json`.
     #[arg(long)]
     pub telemetry: Option<PathBuf>,
-    /// Bench2Drive route XML: the lateral reference and the route set (its routes without a
-    /// record are reported as missing and count as 0 / failed; N defaults to its size).
+    /// Bench2Drive route XML: the lateral reference, the route set (its routes without a
+    /// record are reported as missing and count as 0 / failed; N defaults to its size) and the
+    /// scenario types of the ability rates.
     #[arg(long)]
     pub routes: Option<PathBuf>,
     /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
@@ -111,9 +129,9 @@ pub struct ScoreArgs {
     /// Write the report here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// Group the table's breakdown by this.
-    #[arg(long, value_enum, default_value = "scenario")]
-    pub group_by: GroupArg,
+    /// Break the routes down by this (the report's `groups`; the tables default to scenario).
+    #[arg(long, value_enum)]
+    pub group_by: Option<GroupArg>,
     /// Scenario type -> family label(s): a JSON object whose values are a label or a list of
     /// labels, or CSV `type,label` lines.
     #[arg(long)]
@@ -122,11 +140,58 @@ pub struct ScoreArgs {
     /// `weather.xml` (labels from its preset names).
     #[arg(long)]
     pub weathers: Option<PathBuf>,
+    /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.
+    #[arg(long = "infraction", value_name = "LIST")]
+    pub infractions: Vec<String>,
     /// Override a setting, e.g. `--set slack=0.9 --set bounds.yaw_rate=1.0 --set gap_max=6`.
     /// Names are those of the report's `config` block.
     #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     /// Worker threads (default: all cores; never more than routes, at most 256).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Also write every aligned collision's trace (§10.2) into DIR, as
+    /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
+    #[arg(long, value_name = "DIR")]
+    pub traces: Option<PathBuf>,
+}
+
+/// Arguments of `sds compare`.
+#[derive(Debug, clap::Args)]
+pub struct CompareArgs {
+    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name). Each PATH is a results
+    /// file or folder; its telemetry is looked for in that folder.
+    #[arg(required = true, value_name = "RUN")]
+    pub runs: Vec<String>,
+    /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs not
+    /// named here are grouped by name without a seed suffix (`tfpp_1`, `tfpp_2` -> `tfpp`).
+    #[arg(long, value_name = "MODEL=RUNS")]
+    pub seeds: Vec<String>,
+    /// Route XML shared by every run (then each run is scored over the route set).
+    #[arg(long)]
+    pub routes: Option<PathBuf>,
+    /// Maps folder shared by every run.
+    #[arg(long)]
+    pub maps: Option<PathBuf>,
+    /// Comfort profile.
+    #[arg(long, value_enum, default_value = "physical")]
+    pub profile: ProfileArg,
+    /// Benchmark size N of every run (then each run is scored over N routes).
+    #[arg(long)]
+    pub expected_routes: Option<usize>,
+    /// Score routes without telemetry without telemetry terms.
+    #[arg(long)]
+    pub allow_missing_telemetry: bool,
+    /// Output format (`csv` is not available here).
+    #[arg(long, value_enum, default_value = "table")]
+    pub format: Format,
+    /// Write here (atomically) instead of standard output.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// Override a setting (as for `sds score`).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Worker threads (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
 }
@@ -136,6 +201,8 @@ pub struct ScoreArgs {
 pub enum Command {
     /// Score a run: every route through the streaming monitor, then the report.
     Score(ScoreArgs),
+    /// Compare several runs: one row per run, seeds of one model as mean ± std.
+    Compare(CompareArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.
@@ -152,6 +219,12 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
+        /// Keys per frame of the large run's telemetry.
+        #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
+        layout: LayoutArg,
+        /// Routes of the large run that collide (at frame 2,000).
+        #[arg(long, default_value_t = 0)]
+        large_collisions: usize,
         /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
         #[arg(long)]
         force: bool,

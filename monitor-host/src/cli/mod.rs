@@ -23,20 +23,23 @@ macro_rules! say {
 }
 
 use std::ffi::OsString;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Parser;
 
+use crate::aggregate::compare::{compare, NamedRun};
 use crate::aggregate::groups::{GroupBy, Labels};
 use crate::input::labels::{check_coverage, read_labels};
-use crate::report::{csv, json, table};
+use crate::report::grid::Style;
+use crate::report::table::{self, TableOptions};
+use crate::report::{csv, html, json};
 use crate::{
     demo, route_frames, score_run_with, Inputs, Progress, Report, Settings, SettingsError,
     TelemetryState, Warning,
 };
 
-use args::{Cli, Command, Format, GroupArg, ProfileArg, ScoreArgs};
+use args::{Cli, Command, CompareArgs, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -89,6 +92,8 @@ fn exit_code(e: &anyhow::Error) -> i32 {
         };
     }
     if e.downcast_ref::<SettingsError>().is_some()
+        || e.downcast_ref::<crate::aggregate::groups::NeedsLabels>()
+            .is_some()
         || e.downcast_ref::<crate::LabelsError>()
             .is_some_and(|l| matches!(l, crate::LabelsError::NoMatch { .. }))
     {
@@ -124,12 +129,15 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Score(args) => score(&args),
+        Command::Compare(args) => compare_runs(&args),
         Command::Demo {
             dir,
             score: then_score,
             large,
             large_routes,
             large_frames,
+            layout,
+            large_collisions,
             force,
         } => {
             let existing = demo::existing_run(&dir);
@@ -142,7 +150,11 @@ fn run(cli: Cli) -> Result<i32> {
                 );
             }
             let run = if large {
-                demo::write_large(&dir, large_routes, large_frames)?
+                let layout = match layout {
+                    LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
+                    LayoutArg::Wide => demo::LargeLayout::Wide,
+                };
+                demo::write_large_with(&dir, large_routes, large_frames, layout, large_collisions)?
             } else {
                 demo::write(&dir)?
             };
@@ -158,23 +170,18 @@ fn run(cli: Cli) -> Result<i32> {
             if !then_score {
                 return Ok(0);
             }
-            score(&ScoreArgs {
-                results: vec![run.results],
-                telemetry: Some(run.telemetry),
-                routes: Some(run.routes),
-                maps: Some(run.maps),
-                profile: ProfileArg::Physical,
-                expected_routes: None,
-                duplicates: None,
-                allow_missing_telemetry: false,
-                format: Format::Table,
-                output: None,
-                group_by: GroupArg::Scenario,
-                families: None,
-                weathers: None,
-                set: vec![],
-                jobs: None,
-            })
+            let html = dir.join("report.html");
+            let code = score(&ScoreArgs {
+                format: Format::Html,
+                output: Some(html.clone()),
+                traces: Some(dir.join("traces")),
+                ..demo_args(&run)
+            })?;
+            eprintln!("sds: the demo's HTML report: {}", html.display());
+            if code != 0 {
+                return Ok(code);
+            }
+            score(&demo_args(&run))
         }
         Command::Frames {
             results,
@@ -346,6 +353,7 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
         .as_deref()
         .map(|f| label_file(&mut report, f, LabelKey::Weather))
         .transpose()?;
+    add_groups(&mut report, args, families.as_ref(), weathers.as_ref())?;
     Ok(Scored {
         report,
         families,
@@ -353,42 +361,112 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     })
 }
 
+/// Adds the breakdown the options ask for (the tables default to scenario types), with the
+/// label maps read by [`label_file`].
+///
+/// # Errors
+/// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`.
+fn add_groups(
+    report: &mut Report,
+    args: &ScoreArgs,
+    families: Option<&Labels>,
+    weathers: Option<&Labels>,
+) -> Result<()> {
+    let tables = matches!(
+        args.format,
+        Format::Table | Format::Markdown | Format::Latex
+    );
+    let by = match (args.group_by, tables) {
+        (Some(g), _) => g,
+        (None, true) => GroupArg::Scenario,
+        (None, false) => return Ok(()),
+    };
+    let (by, labels) = match by {
+        GroupArg::Scenario => (GroupBy::Scenario, None),
+        GroupArg::Town => (GroupBy::Town, None),
+        GroupArg::Family => (GroupBy::Family, families),
+        GroupArg::Weather => (GroupBy::Weather, weathers),
+    };
+    report.group(by, labels)?;
+    Ok(())
+}
+
+fn style(format: Format) -> Option<Style> {
+    match format {
+        Format::Table => Some(Style::Text),
+        Format::Markdown => Some(Style::Markdown),
+        Format::Latex => Some(Style::Latex),
+        Format::Json | Format::Csv | Format::Html => None,
+    }
+}
+
+/// `sds score` of the demo run: the table on standard output.
+fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
+    ScoreArgs {
+        results: vec![run.results.clone()],
+        telemetry: Some(run.telemetry.clone()),
+        routes: Some(run.routes.clone()),
+        maps: Some(run.maps.clone()),
+        profile: ProfileArg::Physical,
+        expected_routes: None,
+        duplicates: None,
+        allow_missing_telemetry: false,
+        format: Format::Table,
+        output: None,
+        group_by: None,
+        families: None,
+        weathers: None,
+        infractions: vec![],
+        set: vec![],
+        jobs: None,
+        traces: None,
+    }
+}
+
+fn table_options(args: &ScoreArgs) -> TableOptions {
+    TableOptions {
+        extra_infractions: args.infractions.clone(),
+    }
+}
+
+/// The run's name in the HTML page: the results argument(s).
+fn run_name(args: &ScoreArgs) -> String {
+    args.results
+        .iter()
+        .map(|p| p.display().to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 fn score(args: &ScoreArgs) -> Result<i32> {
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
     bar.finish();
-    let Scored {
-        report,
-        families,
-        weathers,
-    } = scored?;
+    let Scored { report, .. } = scored?;
 
     // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }
-    let bytes = match args.format {
-        Format::Json => json::json(&report)?,
-        Format::Csv => csv::csv(&report),
-        Format::Table => {
-            let group = match args.group_by {
-                GroupArg::Scenario => GroupBy::Scenario,
-                GroupArg::Family => GroupBy::Family,
-                GroupArg::Town => GroupBy::Town,
-                GroupArg::Weather => GroupBy::Weather,
-            };
-            let labels = match group {
-                GroupBy::Family => families.unwrap_or_default(),
-                GroupBy::Weather => weathers.unwrap_or_default(),
-                _ => Labels::new(),
-            };
-            table::table(&report, group, &labels).into_bytes()
+    let bytes = match (args.format, style(args.format)) {
+        (Format::Json, _) => json::json(&report)?,
+        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
+        (Format::Html, _) => {
+            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
         }
+        (_, Some(style)) => {
+            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
+        }
+        (_, None) => unreachable!("every table format has a style"),
     };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(args.families.iter().cloned());
     inputs_read.extend(args.weathers.iter().cloned());
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    if let Some(dir) = &args.traces {
+        let n = output::write_traces(dir, &report, &inputs_read)?;
+        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    }
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
@@ -426,4 +504,127 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
+fn parse_run(arg: &str) -> (String, PathBuf) {
+    if let Some((name, path)) = arg.split_once('=') {
+        if !name.is_empty() && !name.contains(['/', '\\']) {
+            return (name.to_string(), PathBuf::from(path));
+        }
+    }
+    let path = PathBuf::from(arg);
+    let name = if path.is_dir() {
+        path.file_name()
+    } else {
+        path.file_stem()
+    }
+    .map_or_else(|| arg.to_string(), |n| n.to_string_lossy().into_owned());
+    (name, path)
+}
+
+/// The telemetry root of a run: its folder (a results file's own folder).
+fn telemetry_of(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        path.to_path_buf()
+    } else {
+        path.parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf()
+    }
+}
+
+/// The settings of `sds compare`, shared by every run.
+fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
+    let mut s = Settings::default();
+    s.core.profile = match args.profile {
+        ProfileArg::Physical => monitor_core::Profile::Physical,
+        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+    };
+    s.expected_routes = args.expected_routes;
+    s.allow_missing_telemetry = args.allow_missing_telemetry;
+    s.threads = args.jobs;
+    s.apply(&args.set)?;
+    Ok(s)
+}
+
+fn compare_runs(args: &CompareArgs) -> Result<i32> {
+    let Some(style) = style(args.format)
+        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
+    else {
+        say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
+        return Ok(EXIT_USAGE);
+    };
+    let settings = compare_settings(args)?;
+    let mut seeds: Vec<(String, String)> = Vec::new();
+    for s in &args.seeds {
+        let Some((model, runs)) = s.split_once('=') else {
+            say!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
+            return Ok(EXIT_USAGE);
+        };
+        seeds.extend(
+            runs.split(',')
+                .map(|r| (r.trim().to_string(), model.to_string())),
+        );
+    }
+    let mut runs = Vec::new();
+    let mut problems = false;
+    for arg in &args.runs {
+        let (name, path) = parse_run(arg);
+        if runs.iter().any(|r: &NamedRun| r.name == name) {
+            say!("sds: error: two runs are named {name}: name them with NAME=PATH");
+            return Ok(EXIT_USAGE);
+        }
+        let inputs = Inputs {
+            results: vec![path.clone()],
+            telemetry: Some(telemetry_of(&path)),
+            route_xml: args.routes.clone(),
+            maps: args.maps.clone(),
+        };
+        let report = score_run_with(&inputs, &settings, &crate::NoProgress)?;
+        for w in &report.warnings {
+            say!("sds: warning: {name}: {w}");
+        }
+        if report.has_problems() {
+            problems = true;
+            say!(
+                "sds: {name}: {} route(s) with problems (score it alone with sds score for details)",
+                report.problem_routes().count()
+            );
+        }
+        let model = seeds
+            .iter()
+            .find(|(r, _)| *r == name)
+            .map(|(_, m)| m.clone());
+        runs.push(NamedRun {
+            name,
+            model,
+            report,
+        });
+    }
+    for (run, _) in &seeds {
+        if !runs.iter().any(|r| &r.name == run) {
+            say!("sds: error: --seeds names {run}, which is not a run");
+            return Ok(EXIT_USAGE);
+        }
+    }
+    let route_set = args.routes.is_some() || args.expected_routes.is_some();
+    let comparison = compare(&runs, route_set);
+    let bytes = if args.format == Format::Json {
+        let mut v = serde_json::to_vec_pretty(&comparison)?;
+        v.push(b'\n');
+        v
+    } else if args.format == Format::Html {
+        html::compare_page(&comparison, &runs).into_bytes()
+    } else {
+        table::render(&table::compare_tables(&comparison), style).into_bytes()
+    };
+    // Never write over any run's input.
+    let inputs_read: Vec<PathBuf> = runs
+        .iter()
+        .flat_map(|r| r.report.files_read.iter().cloned())
+        .collect();
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    Ok(if problems { EXIT_ROUTE_PROBLEMS } else { 0 })
 }

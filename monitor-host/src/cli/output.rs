@@ -67,6 +67,33 @@ pub fn install_signal_cleanup() -> Result<()> {
     Ok(())
 }
 
+/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG;
+/// returns the number of traces.
+pub fn write_traces(
+    dir: &Path,
+    report: &crate::report::Report,
+    inputs: &[PathBuf],
+) -> Result<usize> {
+    use crate::report::{figure, trace_csv};
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut n = 0;
+    for t in report.routes.iter().flat_map(|r| &r.traces) {
+        let stem = trace_csv::file_stem(t);
+        write_output(
+            Some(&dir.join(format!("{stem}.csv"))),
+            trace_csv::csv(t).as_bytes(),
+            inputs,
+        )?;
+        write_output(
+            Some(&dir.join(format!("{stem}.svg"))),
+            figure::svg(t).as_bytes(),
+            inputs,
+        )?;
+        n += 1;
+    }
+    Ok(n)
+}
+
 fn describe(ft: fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     if ft.is_dir() {

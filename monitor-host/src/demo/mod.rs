@@ -329,13 +329,20 @@ pub fn existing_run(dir: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
-/// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each.
-///
-/// Its `metric_info.json` files look like real Bench2Drive ones, so that a throughput in MB/s
-/// means what it would on a real run: `json.dump(indent=4)` layout, about 1.1 KB per frame, the
-/// 5 vectors the monitor needs plus `rotation`, `velocity`, `speed`, `throttle`, `steer`,
-/// `brake`, `gps` and `compass`, and CARLA's float32 values written as Python writes the
-/// widened float (`0.10000000149011612`), with a little deterministic sensor noise.
+/// Which keys each frame of a large run's `metric_info.json` has.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LargeLayout {
+    /// Bench2Drive's own layout: the six keys its agents' `get_metric_info()` returns
+    /// (`acceleration`, `angular_velocity`, `forward_vector`, `right_vector`, `location`,
+    /// `rotation`), about 830 bytes per frame. What the throughput figures are measured on.
+    #[default]
+    Bench2Drive,
+    /// A wider frame of 13 keys (the six plus `velocity`, `speed`, `throttle`, `steer`, `brake`,
+    /// `gps`, `compass`), about 1.26 KB per frame: more bytes to skip per number kept.
+    Wide,
+}
+
+/// Writes a benchmark-sized run in Bench2Drive's layout (see [`write_large_with`]).
 ///
 /// ```
 /// let dir = tempfile::tempdir().unwrap();
@@ -343,6 +350,36 @@ pub fn existing_run(dir: &Path) -> Vec<PathBuf> {
 /// assert_eq!(run.route_ids.len(), 2);
 /// ```
 pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> {
+    write_large_with(dir, routes, frames, LargeLayout::Bench2Drive, 0)
+}
+
+/// Writes a benchmark-sized run: `routes` cruising routes of `frames` frames each, of which
+/// `collisions` (spread evenly) hit a vehicle at frame 2,000 (routes of more than 2,000 frames:
+/// the HTML report's size and load-time benchmark uses 220 routes, 100 collisions).
+///
+/// Its `metric_info.json` files look like real Bench2Drive ones, so that a throughput in MB/s
+/// means what it would on a real run: `json.dump(indent=4)` layout, the keys of `layout`, and
+/// CARLA's float32 values written as Python writes the widened float (`0.10000000149011612`),
+/// with a little deterministic sensor noise.
+///
+/// ```
+/// use monitor_host::demo::{write_large_with, LargeLayout};
+/// let dir = tempfile::tempdir().unwrap();
+/// let run = write_large_with(dir.path(), 4, 2100, LargeLayout::Wide, 2).unwrap();
+/// assert_eq!(run.route_ids.len(), 4);
+/// ```
+pub fn write_large_with(
+    dir: &Path,
+    routes: usize,
+    frames: usize,
+    layout: LargeLayout,
+    collisions: usize,
+) -> Result<DemoRun> {
+    const HIT: &[(usize, &str, &str)] = &[(2000, "collisions_vehicle", "vehicle.tesla.model3")];
+    // Route i collides when the running count of collisions steps up at i.
+    let hits = |i: usize| {
+        frames > 2000 && (i + 1) * collisions / routes.max(1) > i * collisions / routes.max(1)
+    };
     let list: Vec<Script> = (0..routes)
         .map(|i| Script {
             name: "DemoLargeCruising_1",
@@ -352,13 +389,13 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
             v0: 8.0 + (i % 7) as f64,
             accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
             lateral: straight,
-            collisions: &[],
+            collisions: if hits(i) { HIT } else { &[] },
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
         })
         .collect();
-    write_scripts(dir, &list, Layout::Realistic)
+    write_scripts(dir, &list, Layout::Realistic(layout))
 }
 
 /// How `metric_info.json` is written.
@@ -366,8 +403,8 @@ pub fn write_large(dir: &Path, routes: usize, frames: usize) -> Result<DemoRun> 
 enum Layout {
     /// The small demo: the required vectors, short decimal values.
     Demo,
-    /// Like a real Bench2Drive file (see [`write_large`]).
-    Realistic,
+    /// Like a real Bench2Drive file (see [`write_large_with`]).
+    Realistic(LargeLayout),
 }
 
 /// The files of a demo run.
@@ -404,7 +441,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
         let path = folder.join("metric_info.json");
         match layout {
             Layout::Demo => write_metric_info(&path, &sim),
-            Layout::Realistic => write_metric_info_realistic(&path, &sim),
+            Layout::Realistic(keys) => write_metric_info_realistic(&path, &sim, keys),
         }
         .map_err(at(format_args!("cannot write telemetry of {route_id}")))?;
 
@@ -412,7 +449,7 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
         // 7.5 m in the large run: closer to real route files, still below the 8 m junction gap).
         let spacing = match layout {
             Layout::Demo => 2.0,
-            Layout::Realistic => 7.5,
+            Layout::Realistic(_) => 7.5,
         };
         let length = sim.last().map_or(0.0, |f| f.loc[0] - ORIGIN[0]) + 20.0;
         let _ = writeln!(

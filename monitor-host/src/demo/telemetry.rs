@@ -6,7 +6,7 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::SimFrame;
+use super::{LargeLayout, SimFrame};
 
 pub(super) fn write_metric_info(path: &Path, sim: &[SimFrame]) -> std::io::Result<()> {
     let mut w = BufWriter::new(fs::File::create(path)?);
@@ -53,8 +53,12 @@ fn py_f64(x: f64) -> String {
     format!("{x:?}")
 }
 
-/// One frame of a realistic `metric_info.json` (see [`write_large`]): `json.dump(indent=4)`.
-fn realistic_frame(out: &mut String, step: usize, f: &SimFrame) {
+/// One frame of a realistic `metric_info.json` (see [`write_large_with`]):
+/// `json.dump(indent=4)` of the keys of `layout`.
+///
+/// [`write_large_with`]: super::write_large_with
+fn realistic_frame(out: &mut String, step: usize, f: &SimFrame, layout: LargeLayout) {
+    let wide = layout == LargeLayout::Wide;
     let n = |c: u64| noise(step, c);
     // Small heading wobble (deg) and yaw rate noise around straight +x driving.
     let yaw = 0.05 * n(1);
@@ -119,8 +123,12 @@ fn realistic_frame(out: &mut String, step: usize, f: &SimFrame) {
         out,
         "rotation",
         [py_f32(0.01 * n(11)), py_f32(yaw), py_f32(0.01 * n(12))],
-        false,
+        !wide,
     );
+    if !wide {
+        out.push_str("    }");
+        return;
+    }
     vec3(
         out,
         "velocity",
@@ -149,7 +157,11 @@ fn realistic_frame(out: &mut String, step: usize, f: &SimFrame) {
     out.push_str("    }");
 }
 
-pub(super) fn write_metric_info_realistic(path: &Path, sim: &[SimFrame]) -> std::io::Result<()> {
+pub(super) fn write_metric_info_realistic(
+    path: &Path,
+    sim: &[SimFrame],
+    layout: LargeLayout,
+) -> std::io::Result<()> {
     let mut w = BufWriter::with_capacity(1 << 16, fs::File::create(path)?);
     let mut buf = String::with_capacity(2048);
     w.write_all(b"{\n")?;
@@ -158,7 +170,7 @@ pub(super) fn write_metric_info_realistic(path: &Path, sim: &[SimFrame]) -> std:
         if i > 0 {
             buf.push_str(",\n");
         }
-        realistic_frame(&mut buf, i, f);
+        realistic_frame(&mut buf, i, f, layout);
         w.write_all(buf.as_bytes())?;
     }
     w.write_all(b"\n}")?;

@@ -159,7 +159,7 @@ impl<'a> Corridor<'a> {
         let kind = ReferenceKind::of(route.is_some(), map.is_some(), settings.lateral_reference);
         let tracker = match (kind, route) {
             (ReferenceKind::MapRoute, Some(r)) => {
-                let polyline = reference_polyline(&waypoints_3d(r), settings.gap_max, map);
+                let polyline = reference_polyline(&r.waypoints_3d(), settings.gap_max, map);
                 Some(LateralTracker::owned(
                     polyline,
                     settings.gap_max,
@@ -221,9 +221,4 @@ impl<'a> Corridor<'a> {
             .and_then(|p| p.project(point[0], point[1], z))
             .map_or(self.lane_width, |p| p.width)
     }
-}
-
-// TODO(tables): the route XML's heights (RouteRef::waypoints_3d) once that branch lands.
-fn waypoints_3d(r: &RouteRef) -> Vec<[f64; 3]> {
-    r.waypoints.iter().map(|p| [p[0], p[1], 0.0]).collect()
 }

@@ -191,7 +191,7 @@ mod tests {
             id: "r".into(),
             town: "Town01".into(),
             waypoints: points.to_vec(),
-            scenario_type: None,
+            ..RouteRef::default()
         }
     }
 

@@ -1,9 +1,11 @@
 //! Host geometry, in f64: [`kinematics`] (speed, the yaw-rate unit), the [`lateral`] tracker
 //! (the reference polyline and its bounded forward search), the [`nearest`] frame index,
-//! OpenDRIVE [`map`]s (`SDS-SPEC.md` §1.4, §2), the run's [`town_maps`] and the lane
-//! [`corridor`] (the lateral value per frame).
+//! OpenDRIVE [`map`]s (`SDS-SPEC.md` §1.4, §2), the run's [`town_maps`], the lane
+//! [`corridor`] (the lateral value per frame) and the dense route's [`junctions`] (§8.2's
+//! junction credit).
 
 pub mod corridor;
+pub mod junctions;
 pub mod kinematics;
 pub mod lateral;
 pub mod map;

@@ -9,7 +9,7 @@
 //! ```
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
@@ -22,6 +22,7 @@ use crate::input::route_xml::RouteSet;
 pub struct TownMaps {
     towns: BTreeMap<String, Result<Map, String>>,
     given: bool,
+    files: Vec<PathBuf>,
 }
 
 impl TownMaps {
@@ -50,26 +51,36 @@ impl TownMaps {
             return Ok(TownMaps {
                 towns,
                 given: false,
+                files: Vec::new(),
             });
         };
         let dir = MapDir::new(dir);
         // Per town: the map or why it is absent, or the error of a broken map.
-        type Loaded = Result<Result<Map, String>, MapError>;
+        type Loaded = Result<Result<(Map, PathBuf), String>, MapError>;
         let loaded: Vec<(String, Loaded)> = names
             .into_par_iter()
             .map(|town| {
                 let r = match dir.find(&town) {
                     None => Ok(Err(absent(&dir, &town))),
-                    Some(path) => Map::load(&path).map(Ok),
+                    Some(path) => Map::load(&path).map(|m| Ok((m, path))),
                 };
                 (town, r)
             })
             .collect();
         let mut towns = BTreeMap::new();
+        let mut files = Vec::new();
         for (town, r) in loaded {
-            towns.insert(town, r?);
+            let r = r?.map(|(map, path)| {
+                files.push(path);
+                map
+            });
+            towns.insert(town, r);
         }
-        Ok(TownMaps { towns, given: true })
+        Ok(TownMaps {
+            towns,
+            given: true,
+            files,
+        })
     }
 
     /// The map of `town`, or why there is none.
@@ -83,6 +94,11 @@ impl TownMaps {
             None if self.given => Err(format!("no map for {town} (town not loaded)")),
             None => Err(format!("no map for {town} (no --maps folder given)")),
         }
+    }
+
+    /// The map files read (in town order): inputs a report must never be written over.
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
     }
 
     /// A `--maps` folder was given.

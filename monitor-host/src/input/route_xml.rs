@@ -29,8 +29,23 @@ pub struct RouteRef {
     pub town: String,
     /// The waypoints in document order.
     pub waypoints: Vec<[f64; 2]>,
-    /// The `type` of the route's first `<scenario>` (Bench2Drive routes have one), if any.
+    /// The waypoints' heights (`z`, 0 when absent), same order: maps use them to choose the
+    /// lane of a point under an overpass (§1.4).
+    pub heights: Vec<f64>,
+    /// The `type` attribute of the route's first `<scenario>` (inside `<scenarios>`): the
+    /// scenario type Bench2Drive's ability rates read (§8.2).
     pub scenario_type: Option<String>,
+}
+
+impl RouteRef {
+    /// The waypoints with their heights, `[x, y, z]` (the dense route's input, §1.4).
+    pub fn waypoints_3d(&self) -> Vec<[f64; 3]> {
+        self.waypoints
+            .iter()
+            .zip(self.heights.iter().chain(std::iter::repeat(&0.0)))
+            .map(|(p, z)| [p[0], p[1], *z])
+            .collect()
+    }
 }
 
 /// Why a route file or one of its routes cannot be used. Names the file and the route id.
@@ -253,8 +268,9 @@ pub fn read_route_xml(path: &Path) -> Result<RouteSet, RouteError> {
 
 /// Parses route XML held in memory (errors name the file `<memory>`).
 ///
-/// Reads every `<route id town>` element and the `<position x y>` elements directly inside its
-/// `<waypoints>`; everything else (scenarios, trigger points, weathers) is skipped.
+/// Reads every `<route id town>` element, the `<position x y z>` elements directly inside its
+/// `<waypoints>` and the `type` of its first `<scenarios><scenario>`; everything else (trigger
+/// points, scenario parameters, weathers) is skipped.
 ///
 /// # Errors
 /// [`RouteError::Xml`] for malformed XML (with line and byte offset), [`RouteError::MissingId`]
@@ -441,8 +457,7 @@ fn handle_element(
                 route: RouteRef {
                     id,
                     town,
-                    waypoints: Vec::new(),
-                    scenario_type: None,
+                    ..RouteRef::default()
                 },
                 error: None,
                 depth,
@@ -457,9 +472,11 @@ fn handle_element(
             }
         }
         b"scenario" => {
-            if let Some(o) = open.as_mut().filter(|o| o.route.scenario_type.is_none()) {
-                o.route.scenario_type =
-                    attr_string(reader, e, b"type").map_err(|m| xml_error_at(reader, file, m))?;
+            if let Some(o) = open.as_mut() {
+                if o.depth + 2 == depth && o.route.scenario_type.is_none() {
+                    o.route.scenario_type = attr_string(reader, e, b"type")
+                        .map_err(|m| xml_error_at(reader, file, m))?;
+                }
             }
         }
         b"position" => {
@@ -492,11 +509,23 @@ fn read_position(
 ) -> Result<(), RouteError> {
     let index = o.route.waypoints.len();
     let mut xy: [Option<f64>; 2] = [None, None];
+    let mut z = 0.0;
     for a in e.attributes() {
         let a = a.map_err(|err| xml_error_at(reader, file, err.to_string()))?;
         let slot = match a.key.as_ref() {
             b"x" => 0,
             b"y" => 1,
+            b"z" => {
+                // A height only helps choose a lane: an unreadable one is taken as 0.
+                let text = std::str::from_utf8(&a.value).unwrap_or("");
+                z = text
+                    .trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .unwrap_or(0.0);
+                continue;
+            }
             _ => continue,
         };
         let text = std::str::from_utf8(&a.value).unwrap_or("");
@@ -514,7 +543,10 @@ fn read_position(
         }
     }
     match xy {
-        [Some(x), Some(y)] => o.route.waypoints.push([x, y]),
+        [Some(x), Some(y)] => {
+            o.route.waypoints.push([x, y]);
+            o.route.heights.push(z);
+        }
         _ => {
             let missing = if xy[0].is_none() { "x" } else { "y" };
             o.bad_waypoint(file, index, format!("attribute {missing} missing"));
@@ -551,9 +583,14 @@ mod tests {
         let r1 = set.get("1").unwrap();
         assert_eq!(r1.town, "Town12");
         assert_eq!(r1.waypoints, vec![[-497.6, 3672.9], [-497.6, 3670.9]]);
+        assert_eq!(r1.heights, vec![364.9, 364.8]);
+        assert_eq!(r1.waypoints_3d()[1], [-497.6, 3670.9, 364.8]);
+        assert_eq!(r1.scenario_type.as_deref(), Some("A"));
         let r2 = set.iter().nth(1).unwrap();
+        assert_eq!(r2.scenario_type, None);
         assert_eq!(r2.town, "Town&X");
         assert_eq!(r2.waypoints, vec![[5.0, 6.0]]);
+        assert_eq!(r2.scenario_type, None);
         // A single waypoint is no reference (no segment), and says so.
         assert!(set.get("2").is_none());
         assert_eq!(

@@ -1,7 +1,7 @@
 //! The per-route pipeline: [`prepare`] (record + telemetry → frames built by [`frame`], with
 //! [`align`]ed collision events) → [`replay`] (frames → `Monitor` → summary, checked against the
-//! batch reference) → [`outcome`] (what became of the route); [`step_period`] gives each
-//! route's `dt`.
+//! batch reference) → [`outcome`] (what became of the route, with its [`timeline`]);
+//! [`step_period`] gives each route's `dt`.
 
 pub mod align;
 pub mod frame;
@@ -9,3 +9,4 @@ pub mod outcome;
 pub mod prepare;
 pub mod replay;
 pub mod step_period;
+pub mod timeline;

@@ -1,7 +1,7 @@
 //! What became of one route: its state, its collision events and its scores (`SDS-SPEC.md`
 //! v1.2 §10). Typed here; the report turns them into text.
 
-use monitor_core::{RouteSummary, SafeScore};
+use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
 
 use crate::aggregate::penalty::PenaltyCheck;
 use crate::geometry::corridor::ReferenceKind;
@@ -9,6 +9,7 @@ use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
 use crate::pipeline::align::AlignedBy;
 use crate::pipeline::step_period::StepPeriod;
+use crate::pipeline::timeline::RouteTimeline;
 use crate::warning::Warning;
 
 /// What became of a route's telemetry.
@@ -159,10 +160,15 @@ pub struct RouteOutcome {
     pub frames: u32,
     /// Missing step numbers.
     pub gaps: u64,
+    /// The frames and the monitor's per-chunk verdicts; `None` when not replayed.
+    pub timeline: Option<RouteTimeline>,
     /// Telemetry terms; `None` when the route could not be scored.
     pub summary: Option<RouteSummary>,
     /// DS_safe; `None` when the route could not be scored.
     pub safe: Option<SafeScore>,
+    /// Comfort under the `b2d-legacy` profile, whatever the run's profile: Bench2Drive's
+    /// smoothness (§8.2); `None` when the telemetry was not replayed.
+    pub legacy_comfort: Option<ComfortSummary>,
     /// Collision events in list order (pedestrian, vehicle, layout).
     pub events: Vec<CollisionEvent>,
     /// `N_wz`.

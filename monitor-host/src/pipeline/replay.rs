@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use monitor_core::{
-    score, Config, ConfigError, Event, Monitor, MonitorError, RecordScores, RouteSummary,
+    score, ComfortSummary, Config, ConfigError, Event, Frame, Monitor, MonitorError, Profile,
+    RecordScores, RouteSummary,
 };
 
 use crate::aggregate::penalty;
@@ -18,6 +19,7 @@ use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
+use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -55,12 +57,25 @@ impl Refused {
 /// # Errors
 /// The first frame (or the configuration) the monitor refused.
 pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSummary, Refused> {
+    stream_logged(prepared, config, &mut ChunkLog::default())
+}
+
+/// [`stream`], keeping the monitor's per-chunk verdicts in `log`.
+///
+/// # Errors
+/// As [`stream`].
+pub fn stream_logged(
+    prepared: &mut PreparedRoute,
+    config: &Config,
+    log: &mut ChunkLog,
+) -> Result<RouteSummary, Refused> {
     let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
     let mut verdicts = Vec::new();
     for (index, f) in prepared.frames.iter().enumerate() {
         let events = monitor
             .push(f)
             .map_err(|error| Refused::Frame { index, error })?;
+        log.record(&events);
         for e in &events {
             if let Event::Collision(v) = e {
                 verdicts.push(*v);
@@ -71,6 +86,7 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
         index: prepared.frames.len(),
         error,
     })?;
+    log.record(&done.events);
     for ev in &mut prepared.events {
         if let Some(k) = ev.frame {
             if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
@@ -134,6 +150,42 @@ pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
         "{what} at step {step} {why} ({})",
         FrameError::NonFinite(*field)
     )
+}
+
+/// The route's comfort under the `b2d-legacy` profile (Bench2Drive's smoothness, §8.2), and
+/// whether the batch reference agrees. Under that profile it is the run's own comfort; under
+/// another, the frames (profile-free: the yaw rate stays in deg/s until the monitor converts it)
+/// go once more through a legacy monitor and the legacy batch reference, so that the smoothness
+/// obeys §9 like every other count.
+///
+/// # Errors
+/// The frame the legacy monitor refused (never one the run's own monitor accepted: validation
+/// does not depend on the profile).
+pub fn legacy_comfort(
+    frames: &[Frame],
+    summary: &RouteSummary,
+    config: &Config,
+) -> Result<(ComfortSummary, bool), Refused> {
+    if config.profile == Profile::B2dLegacy {
+        return Ok((summary.comfort, true));
+    }
+    let legacy = Config {
+        profile: Profile::B2dLegacy,
+        ..*config
+    };
+    let mut monitor: Monitor = Monitor::new(legacy).map_err(Refused::Config)?;
+    for (index, f) in frames.iter().enumerate() {
+        monitor
+            .push(f)
+            .map_err(|error| Refused::Frame { index, error })?;
+    }
+    let done = monitor.finish().map_err(|error| Refused::Frame {
+        index: frames.len(),
+        error,
+    })?;
+    let reference = batch::compute(frames, &legacy);
+    let comfort = done.summary.comfort;
+    Ok((comfort, reference.summary.comfort == comfort))
 }
 
 /// A route's telemetry, read and turned into frames.
@@ -279,6 +331,8 @@ pub fn replay(
         gaps: 0,
         summary: None,
         safe: None,
+        legacy_comfort: None,
+        timeline: None,
         events: Vec::new(),
         workzone: 0,
         penalty: None,
@@ -319,12 +373,31 @@ pub fn replay(
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
             out.period = Some(period);
-            match stream(&mut prepared, &route_settings.core) {
+            let mut chunks = ChunkLog::default();
+            match stream_logged(&mut prepared, &route_settings.core, &mut chunks) {
                 Ok(summary) => {
                     let reference = batch::compute(&prepared.frames, &route_settings.core);
-                    out.batch_agrees = Some(reference.summary == summary);
+                    let mut agrees = reference.summary == summary;
+                    if let Ok((legacy, legacy_agrees)) =
+                        legacy_comfort(&prepared.frames, &summary, &route_settings.core)
+                    {
+                        out.legacy_comfort = Some(legacy);
+                        agrees &= legacy_agrees;
+                    }
+                    out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
                     out.events = prepared.events;
+                    let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
+                    out.timeline = Some(RouteTimeline::around(
+                        &prepared.frames,
+                        &prepared.steps,
+                        // The route's period as a decimal (0.05), as `time_s` uses it.
+                        out.period
+                            .map_or(crate::settings::decimal(route_settings.core.dt), |p| p.dt),
+                        &at,
+                        route_settings.core.decel_window,
+                        chunks,
+                    ));
                     Some(summary)
                 }
                 Err(refused) => {

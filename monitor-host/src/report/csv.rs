@@ -96,3 +96,68 @@ pub fn csv(report: &Report) -> Vec<u8> {
     }
     w.into_inner().unwrap_or_default()
 }
+
+/// The columns of [`groups_csv`].
+pub const GROUP_COLUMNS: [&str; 13] = [
+    "by",
+    "label",
+    "routes",
+    "driving_score",
+    "success_rate",
+    "mean_ds_safe",
+    "mean_comfort",
+    "sds",
+    "collision_rate",
+    "efficiency",
+    "smoothness",
+    "ability_mean",
+    "comfort_routes",
+];
+
+/// The report's `groups` as CSV: one line per group, then `combined`; after [`GROUP_COLUMNS`],
+/// one column per ability rate and one `routes_with_<list>` column per infraction list. `None`
+/// when the report has no groups.
+pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
+    use crate::aggregate::ability::ABILITIES;
+    use crate::aggregate::aggregates::Aggregates;
+    let g = report.groups.as_ref()?;
+    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let lists: Vec<String> = g
+        .combined
+        .infraction_routes
+        .0
+        .iter()
+        .map(|(n, _)| n.clone())
+        .collect();
+    let mut header: Vec<String> = GROUP_COLUMNS.iter().map(|c| c.to_string()).collect();
+    header.extend(ABILITIES.iter().map(|(n, _)| n.to_string()));
+    header.extend(lists.iter().map(|l| format!("routes_with_{l}")));
+    let line = |label: &str, a: &Aggregates| {
+        let ab = a.ability.clone().unwrap_or_default();
+        let mut row = vec![
+            g.by.to_string(),
+            label.to_string(),
+            a.routes.to_string(),
+            o(a.driving_score),
+            o(a.success_rate),
+            o(a.mean_ds_safe),
+            o(a.mean_comfort),
+            o(a.sds),
+            o(a.collision_rate),
+            o(a.efficiency),
+            o(a.smoothness),
+            o(ab.mean),
+            a.comfort_routes.to_string(),
+        ];
+        row.extend(ab.rates().into_iter().map(o));
+        row.extend(lists.iter().map(|l| a.infraction_routes.get(l).to_string()));
+        row
+    };
+    let mut w = ::csv::Writer::from_writer(Vec::new());
+    let _ = w.write_record(&header);
+    for r in &g.rows {
+        let _ = w.write_record(line(&r.label, &r.aggregates));
+    }
+    let _ = w.write_record(line("combined", &g.combined));
+    Some(w.into_inner().unwrap_or_default())
+}

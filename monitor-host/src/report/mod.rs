@@ -4,14 +4,22 @@
 //! |---|---|
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
-//! | table (Table 1 row, Table 2-style breakdown) | [`table`] |
+//! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
+//! | a table's text, Markdown and LaTeX renderings | [`grid`] |
+//! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
+//! | a collision trace as CSV | [`trace_csv`] |
+//! | the whole run (or runs side by side) as one HTML page | [`html`] |
 //!
 //! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
 
 pub mod csv;
 pub mod escape;
+pub mod figure;
+pub mod grid;
+pub mod html;
 pub mod json;
 pub mod model;
 pub mod table;
+pub mod trace_csv;
 
 pub use model::{Report, RouteReport};

@@ -7,14 +7,23 @@
 
 use serde::Serialize;
 
+use crate::aggregate::ability::{route_ability, RouteAbility};
+use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
+use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::stored::InputReport;
 use crate::aggregate::summary::{summarize, Summary};
+use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::corridor::ReferenceKind;
+use crate::geometry::junctions::junction_samples;
+use crate::geometry::town_maps::TownMaps;
 use crate::input::duplicates::{Dropped, Source};
-use crate::input::record::{Infractions, KNOWN_LISTS};
+use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
 use crate::input::route_set::{MissingRoute, RunRouteSet};
+use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
+use crate::pipeline::timeline::ChunkLog;
 use crate::settings::Settings;
 use crate::warning::Warning;
 
@@ -148,6 +157,13 @@ pub struct RouteReport {
     pub lateral: LateralReport,
     /// Comfort.
     pub comfort: ComfortReport,
+    /// `C_route` under the `b2d-legacy` profile, whatever the run's profile (Bench2Drive's
+    /// per-route smoothness, §8.2); null when undefined.
+    pub smoothness: Option<f64>,
+    /// Bench2Drive's efficiency of the route (§8.2); null when it has none.
+    pub efficiency: Option<f64>,
+    /// The abilities the route counts in (§8.2); null when the route has no route XML entry.
+    pub ability: Option<RouteAbility>,
     /// `p_safe`; null when not scored.
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
@@ -169,6 +185,14 @@ pub struct RouteReport {
     /// Problems that did not stop the route from being scored.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<Warning>,
+    /// The traces of its aligned collisions (§10.2): rendered as CSV and SVG files and in the
+    /// HTML report, not in the JSON report.
+    #[serde(skip)]
+    pub traces: Vec<CollisionTrace>,
+    /// The monitor's per-chunk verdicts (the HTML report's timelines); `None` when not
+    /// replayed. Not in the JSON report.
+    #[serde(skip)]
+    pub chunks: Option<ChunkLog>,
 }
 
 /// The whole report.
@@ -188,6 +212,9 @@ pub struct Report {
     pub routes: Vec<RouteReport>,
     /// Aggregates.
     pub summary: Summary,
+    /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub groups: Option<Groups>,
     /// Every warning of the run, the per-route ones included (as printed on stderr).
     pub warnings: Vec<Warning>,
     /// Every input file of the run (results files, route XML, located telemetry files), for
@@ -250,6 +277,11 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             score: s.comfort_score(),
             failed: s.comfort.failed,
         }),
+        smoothness: o
+            .legacy_comfort
+            .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
+        efficiency: rec.and_then(|r| route_efficiency(r.infractions.list(MIN_SPEED_LIST))),
+        ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
         telemetry: o.telemetry.clone(),
@@ -267,6 +299,8 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         }),
         batch_agrees: o.batch_agrees,
         warnings: o.warnings.clone(),
+        traces: Vec::new(),
+        chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
     }
 }
 
@@ -292,6 +326,9 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         comfort: ComfortReport::default(),
         p_safe: None,
         ds_safe: Some(0.0),
+        smoothness: None,
+        efficiency: None,
+        ability: None,
         telemetry: TelemetryState::Missing(String::new()),
         state: RouteState::Missing,
         reason: None,
@@ -300,6 +337,8 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         penalty_check: None,
         batch_agrees: None,
         warnings: Vec::new(),
+        traces: Vec::new(),
+        chunks: None,
     }
 }
 
@@ -319,10 +358,43 @@ pub struct RunFacts {
 }
 
 /// Builds the report from the outcomes (in input order), then the missing routes (in XML
-/// order). Every per-route warning is added to the run's warnings, naming its route.
-pub fn build(outcomes: &[RouteOutcome], settings: &Settings, facts: RunFacts) -> Report {
+/// order), with the route XML (the abilities' scenario types, §8.2) and the towns' maps (the
+/// junction credit). Every per-route warning is added to the run's warnings, naming its route.
+pub fn build(
+    outcomes: &[RouteOutcome],
+    settings: &Settings,
+    facts: RunFacts,
+    xml: Option<&RouteSet>,
+    maps: &TownMaps,
+) -> Report {
     let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
     let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
+    for (r, o) in routes.iter_mut().zip(outcomes) {
+        if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
+            r.traces = collision_traces(
+                id,
+                t,
+                &o.events,
+                settings.core.decel_window,
+                settings.core.decel_threshold,
+            );
+        }
+    }
+    if let Some(set) = xml {
+        for (r, o) in routes.iter_mut().zip(outcomes) {
+            let Some(rec) = o.record().filter(|_| o.counted()) else {
+                continue;
+            };
+            let Some(xml) = rec.xml_id().and_then(|id| set.get(id)) else {
+                continue;
+            };
+            let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
+            let town = rec.town_name.as_deref().unwrap_or(&xml.town);
+            r.ability = Some(route_ability(rec, scenario, || {
+                junction_samples(maps, xml, town, settings.gap_max)
+            }));
+        }
+    }
     routes.extend(missing.iter().map(missing_report));
     let mut warnings = facts.warnings;
     for r in &routes {
@@ -336,6 +408,14 @@ pub fn build(outcomes: &[RouteOutcome], settings: &Settings, facts: RunFacts) ->
             warning: Box::new(w.clone()),
         }));
     }
+    let mut summary = summarize(outcomes, facts.n, missing.len());
+    let counted: Vec<&RouteReport> = routes
+        .iter()
+        .filter(|r| r.state != RouteState::Foreign)
+        .collect();
+    let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
+    let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
+    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),
@@ -343,7 +423,8 @@ pub fn build(outcomes: &[RouteOutcome], settings: &Settings, facts: RunFacts) ->
         inputs: facts.inputs,
         dropped: facts.dropped,
         routes,
-        summary: summarize(outcomes, facts.n, missing.len()),
+        summary,
+        groups: None,
         warnings,
         files_read: outcomes
             .iter()
@@ -354,6 +435,17 @@ pub fn build(outcomes: &[RouteOutcome], settings: &Settings, facts: RunFacts) ->
 }
 
 impl Report {
+    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings.
+    ///
+    /// # Errors
+    /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.
+    pub fn group(&mut self, by: GroupBy, labels: Option<&Labels>) -> Result<(), NeedsLabels> {
+        let (g, warnings) = groups(&self.routes, self.summary.routes, by, labels)?;
+        self.warnings.extend(warnings);
+        self.groups = Some(g);
+        Ok(())
+    }
+
     /// The routes that make the run's exit status fail: the invalid ones (an invalid record,
     /// or telemetry missing or invalid without `allow_missing_telemetry`). Missing and foreign
     /// routes are reported, not problems.

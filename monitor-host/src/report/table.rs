@@ -1,59 +1,325 @@
-//! The table rendering: the paper's Table 1 row and a Table 2-style breakdown.
+//! The tables the papers print, as [`Grid`]s rendered in text, Markdown or LaTeX: Bench2Drive's
+//! main table (DS, SR, efficiency, comfortness, the five abilities and their mean), the
+//! Safe2Drive Table 1 row, a Table 2-style breakdown per group with the combined row, and with
+//! a weather breakdown a Table 3-style infraction table. `docs/TABLES.md` explains every column.
 
-use std::fmt::Write as _;
-
-use crate::aggregate::groups::{self, GroupBy, Labels};
+use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::compare::{Comparison, Scope, Stat};
+use crate::aggregate::groups::GroupBy;
+use crate::report::grid::{Grid, Style};
 use crate::report::model::Report;
 
-fn fmt_opt(x: Option<f64>, digits: usize) -> String {
+/// The infraction lists of the Table 3-style breakdown, with their headings (the paper's four).
+pub const TABLE3_LISTS: [(&str, &str); 4] = [
+    ("red_light", "Red light"),
+    ("collisions_layout", "Layout coll."),
+    ("outside_route_lanes", "Outside lanes"),
+    ("vehicle_blocked", "Blocked"),
+];
+
+/// Options of the tables.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct TableOptions {
+    /// Infraction lists shown in the Table 3-style breakdown after [`TABLE3_LISTS`].
+    pub extra_infractions: Vec<String>,
+}
+
+fn num(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "-".to_string(), |v| format!("{v:.digits$}"))
 }
 
-/// The paper's Table 1 row and a Table 2-style breakdown.
-pub fn table(report: &Report, group_by: GroupBy, labels: &Labels) -> String {
+fn pct(x: Option<f64>) -> String {
+    num(x.map(|v| 100.0 * v), 2)
+}
+
+/// Bench2Drive's main table: DS, SR (%), efficiency, comfortness (smoothness × 100), the five
+/// ability rates (%) in the paper's column order, and their mean.
+pub fn bench2drive_table(report: &Report) -> Grid {
+    let mut g = Grid::new(
+        "Bench2Drive: closed-loop metrics and multi-ability (%)",
+        [
+            "DS",
+            "SR(%)",
+            "Efficiency",
+            "Comfortness",
+            "Merging",
+            "Overtaking",
+            "Emergency Brake",
+            "Give Way",
+            "Traffic Sign",
+            "Mean",
+        ],
+    );
+    let Some(b) = &report.summary.bench2drive else {
+        return g;
+    };
+    let a = b.ability.clone().unwrap_or_default();
+    g.row([
+        num(b.driving_score, 2),
+        num(b.success_rate, 2),
+        num(b.efficiency, 2),
+        pct(b.smoothness),
+        pct(a.merging),
+        pct(a.overtaking),
+        pct(a.emergency_brake),
+        pct(a.give_way),
+        pct(a.traffic_signs),
+        pct(a.mean),
+    ]);
+    if b.ability.is_none() {
+        g.note("abilities need the route XML (--routes)");
+    } else {
+        let counts: Vec<String> = b
+            .ability_counts
+            .0
+            .iter()
+            .map(|(n, c)| format!("{n} {}/{}", c.successes, c.routes))
+            .collect();
+        g.note(format!("ability successes/routes: {}", counts.join(", ")));
+    }
+    if !b.ability_missing.is_empty() {
+        g.note(format!(
+            "{} route(s) of the route set have no record (not in the ability rates): {}",
+            b.ability_missing.len(),
+            b.ability_missing.join(", ")
+        ));
+    }
+    if !b.ability_undecided.is_empty() {
+        let mut towns: Vec<&str> = b
+            .ability_undecided
+            .iter()
+            .filter_map(|u| u.town.as_deref())
+            .collect();
+        towns.sort_unstable();
+        towns.dedup();
+        g.note(format!(
+            "Traffic_Signs: {} failed route(s) whose junction credit is undecided (no map; towns {}) \
+             count as failed: see summary.bench2drive.ability_undecided",
+            b.ability_undecided.len(),
+            towns.join(", ")
+        ));
+    }
+    if !b.ability_marginal.is_empty() {
+        g.note(format!(
+            "Traffic_Signs: {} junction credit(s) decided within 0.15 of the threshold: \
+             see summary.bench2drive.ability_marginal",
+            b.ability_marginal.len()
+        ));
+    }
+    g
+}
+
+/// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS.
+pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{:>8} {:>8} {:>8} {:>8} {:>8}",
-        "DS", "SR", "DS_safe", "Comfort", "SDS"
+    let mut g = Grid::new(
+        "Safe2Drive Table 1: SafeDriving Score",
+        ["DS", "SR(%)", "DS_safe", "Comfort", "SDS"],
     );
-    let _ = writeln!(
-        out,
-        "{:>8} {:>8} {:>8} {:>8} {:>8}",
-        fmt_opt(s.driving_score, 2),
-        fmt_opt(s.success_rate, 2),
-        fmt_opt(s.mean_ds_safe, 2),
-        fmt_opt(s.mean_comfort, 3),
-        fmt_opt(s.sds, 2)
-    );
-    let _ = writeln!(
-        out,
+    g.row([
+        num(s.driving_score, 2),
+        num(s.success_rate, 2),
+        num(s.mean_ds_safe, 2),
+        num(s.mean_comfort, 3),
+        num(s.sds, 2),
+    ]);
+    g.note(format!(
         "routes {} (found {}), comfort defined on {}, telemetry problems {}, invalid records {}",
         s.routes, s.routes_found, s.comfort_routes, s.telemetry_problems, s.invalid_records
+    ));
+    g
+}
+
+fn table2_cells(label: &str, a: &Aggregates) -> Vec<String> {
+    vec![
+        label.to_string(),
+        a.routes.to_string(),
+        num(a.driving_score, 2),
+        num(a.success_rate, 2),
+        num(a.collision_rate, 2),
+        num(a.mean_ds_safe, 2),
+        num(a.mean_comfort, 3),
+        num(a.sds, 2),
+    ]
+}
+
+/// The Table 2-style breakdown of the report's `groups`: routes, DS, SR, collision rate,
+/// DS_safe, Comfort and SDS per group, and the Combined row. `None` without groups.
+pub fn table2(report: &Report) -> Option<Grid> {
+    let groups = report.groups.as_ref()?;
+    let mut g = Grid::new(
+        &format!("Safe2Drive Table 2-style breakdown by {}", groups.by),
+        [
+            groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS",
+        ],
     );
-    // Breakdown: routes, DS, SR, collision rate per group (denominator: routes of the group).
-    let _ = writeln!(out);
-    let _ = writeln!(
-        out,
-        "{:<40} {:>6} {:>8} {:>8} {:>8}",
-        group_by.name(),
+    for r in &groups.rows {
+        // Group labels come from the inputs (scenario names, label files).
+        g.rows.push(table2_cells(
+            &crate::report::escape::printable(&r.label),
+            &r.aggregates,
+        ));
+    }
+    g.total = Some(table2_cells("Combined", &groups.combined));
+    Some(g)
+}
+
+/// `k/n (r%)`: routes with the infraction / routes (rate).
+fn rate_cell(k: usize, n: usize) -> String {
+    if n == 0 {
+        return format!("{k}/{n}");
+    }
+    format!("{k}/{n} ({:.1}%)", 100.0 * k as f64 / n as f64)
+}
+
+/// The Table 3-style breakdown by weather: per group, routes with each infraction / routes
+/// (rate) for [`TABLE3_LISTS`] and `extra` lists. `None` unless the report is grouped by
+/// weather.
+pub fn table3(report: &Report, extra: &[String]) -> Option<Grid> {
+    let groups = report.groups.as_ref()?;
+    if groups.by != GroupBy::Weather.name() {
+        return None;
+    }
+    let lists: Vec<(String, String)> = TABLE3_LISTS
+        .iter()
+        .map(|(l, h)| (l.to_string(), h.to_string()))
+        .chain(extra.iter().map(|l| (l.clone(), l.clone())))
+        .collect();
+    let mut header = vec!["weather".to_string(), "routes".to_string()];
+    header.extend(lists.iter().map(|(_, h)| h.clone()));
+    let mut g = Grid::new(
+        "Safe2Drive Table 3-style infractions by weather: routes with the infraction / routes (rate)",
+        header,
+    );
+    let cells = |label: &str, a: &Aggregates| {
+        let mut row = vec![label.to_string(), a.routes.to_string()];
+        row.extend(
+            lists
+                .iter()
+                .map(|(l, _)| rate_cell(a.infraction_routes.get(l), a.routes)),
+        );
+        row
+    };
+    for r in &groups.rows {
+        g.rows.push(cells(
+            &crate::report::escape::printable(&r.label),
+            &r.aggregates,
+        ));
+    }
+    g.total = Some(cells("Combined", &groups.combined));
+    Some(g)
+}
+
+/// Every table of a report, in order.
+pub fn report_tables(report: &Report, options: &TableOptions) -> Vec<Grid> {
+    let mut out = vec![bench2drive_table(report), table1(report)];
+    out.extend(table2(report));
+    out.extend(table3(report, &options.extra_infractions));
+    out
+}
+
+/// Renders tables one after the other, separated by a blank line.
+pub fn render(grids: &[Grid], style: Style) -> String {
+    grids
+        .iter()
+        .map(|g| g.render(style))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The report's tables in text (the `--format table` output).
+///
+/// ```
+/// use monitor_host::report::table::{table, TableOptions};
+/// use monitor_host::{demo, score_run, Inputs, Settings};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+/// let report = score_run(&inputs, &Settings::default())?;
+/// let text = table(&report, &TableOptions::default());
+/// assert!(text.contains("Safe2Drive Table 1"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn table(report: &Report, options: &TableOptions) -> String {
+    render(&report_tables(report, options), Style::Text)
+}
+
+fn stat(s: &Stat, digits: usize, scale: f64) -> String {
+    match (s.mean, s.std) {
+        (Some(m), Some(d)) => format!("{:.digits$} ± {:.digits$}", m * scale, d * scale),
+        (Some(m), None) => format!("{:.digits$}", m * scale),
+        _ => "-".into(),
+    }
+}
+
+/// The comparison's tables: one row per run, then, when some model has several runs, one row
+/// per model with mean ± sample std over its runs.
+pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
+    let header = [
+        "run",
         "routes",
         "DS",
-        "SR",
-        "Coll."
-    );
-    for (k, g) in groups::group(&report.routes, group_by, labels) {
-        // Group keys come from the inputs (scenario names, labels).
-        let k = crate::report::escape::printable(&k);
-        let _ = writeln!(
-            out,
-            "{k:<40} {:>6} {:>8.2} {:>8.2} {:>8.2}",
-            g.routes,
-            g.driving_score(),
-            g.success_rate(),
-            g.collision_rate()
-        );
+        "SR(%)",
+        "DS_safe",
+        "Comfort",
+        "SDS",
+        "Coll.(%)",
+        "Efficiency",
+        "Comfortness",
+        "Ability(%)",
+    ];
+    let mut runs = Grid::new("Runs", header);
+    for r in &c.runs {
+        let a = &r.aggregates;
+        runs.row([
+            r.name.clone(),
+            a.routes.to_string(),
+            num(a.driving_score, 2),
+            num(a.success_rate, 2),
+            num(a.mean_ds_safe, 2),
+            num(a.mean_comfort, 3),
+            num(a.sds, 2),
+            num(a.collision_rate, 2),
+            num(a.efficiency, 2),
+            pct(a.smoothness),
+            pct(a.ability.as_ref().and_then(|x| x.mean)),
+        ]);
+    }
+    match &c.scope {
+        Scope::RouteSet => {
+            runs.note("every run over the route set (absent routes count as 0 / failed)")
+        }
+        Scope::Common { routes, excluded } => {
+            runs.note(format!(
+                "compared on the {routes} route(s) present in every run"
+            ));
+            for e in excluded.iter().filter(|e| !e.routes.is_empty()) {
+                runs.note(format!("{}: {} route(s) left out", e.run, e.routes.len()));
+            }
+        }
+    }
+    let mut out = vec![runs];
+    if c.models.iter().any(|m| m.runs.len() > 1) {
+        let mut h = header.to_vec();
+        h[0] = "model";
+        h[1] = "runs";
+        let mut models = Grid::new("Models: mean ± sample std over runs (seeds)", h);
+        for m in &c.models {
+            models.row([
+                m.model.clone(),
+                m.runs.len().to_string(),
+                stat(&m.driving_score, 2, 1.0),
+                stat(&m.success_rate, 2, 1.0),
+                stat(&m.mean_ds_safe, 2, 1.0),
+                stat(&m.mean_comfort, 3, 1.0),
+                stat(&m.sds, 2, 1.0),
+                stat(&m.collision_rate, 2, 1.0),
+                stat(&m.efficiency, 2, 1.0),
+                stat(&m.smoothness, 2, 100.0),
+                stat(&m.ability_mean, 2, 100.0),
+            ]);
+        }
+        out.push(models);
     }
     out
 }

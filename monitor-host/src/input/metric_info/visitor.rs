@@ -160,38 +160,32 @@ impl<'de> Visitor<'de> for StepKey<'_> {
     }
 
     fn visit_str<E: de::Error>(self, v: &str) -> Result<u64, E> {
-        if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
-            return Err(self.ctx.fail(TelemetryError::BadStepKey {
-                key: truncate_key(v),
-            }));
-        }
-        let mut n: u64 = 0;
-        for b in v.bytes() {
-            match n
-                .checked_mul(10)
-                .and_then(|n| n.checked_add(u64::from(b - b'0')))
-            {
-                Some(m) => n = m,
-                None => {
-                    return Err(self.ctx.fail(TelemetryError::StepOutOfRange {
-                        key: truncate_key(v),
-                    }))
-                }
-            }
-        }
-        Ok(n)
+        step_number(v).map_err(|e| self.ctx.fail(e))
     }
 }
 
-/// Which frame field a key names.
-#[derive(Clone, Copy)]
-enum Field {
-    Acc,
-    AngVel,
-    Fwd,
-    Right,
-    Loc,
-    Other,
+/// A step key's number: decimal digits that fit u64 (shared by both parse paths).
+pub(super) fn step_number(v: &str) -> Result<u64, TelemetryError> {
+    if v.is_empty() || !v.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(TelemetryError::BadStepKey {
+            key: truncate_key(v),
+        });
+    }
+    let mut n: u64 = 0;
+    for b in v.bytes() {
+        match n
+            .checked_mul(10)
+            .and_then(|n| n.checked_add(u64::from(b - b'0')))
+        {
+            Some(m) => n = m,
+            None => {
+                return Err(TelemetryError::StepOutOfRange {
+                    key: truncate_key(v),
+                })
+            }
+        }
+    }
+    Ok(n)
 }
 
 pub(crate) const FIELD_NAMES: [&str; 5] = [
@@ -202,31 +196,30 @@ pub(crate) const FIELD_NAMES: [&str; 5] = [
     "location",
 ];
 
+/// The index in [`FIELD_NAMES`] of a frame key, `None` for a key that is ignored.
+pub(super) fn field_index(name: &[u8]) -> Option<usize> {
+    FIELD_NAMES.iter().position(|n| n.as_bytes() == name)
+}
+
+/// A frame key: `Some(index in FIELD_NAMES)` or `None` (ignored).
 struct FieldKey;
 
 impl<'de> DeserializeSeed<'de> for FieldKey {
-    type Value = Field;
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Field, D::Error> {
+    type Value = Option<usize>;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Option<usize>, D::Error> {
         d.deserialize_str(self)
     }
 }
 
 impl<'de> Visitor<'de> for FieldKey {
-    type Value = Field;
+    type Value = Option<usize>;
 
     fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str("a field name")
     }
 
-    fn visit_str<E: de::Error>(self, v: &str) -> Result<Field, E> {
-        Ok(match v {
-            "acceleration" => Field::Acc,
-            "angular_velocity" => Field::AngVel,
-            "forward_vector" => Field::Fwd,
-            "right_vector" => Field::Right,
-            "location" => Field::Loc,
-            _ => Field::Other,
-        })
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Option<usize>, E> {
+        Ok(field_index(v.as_bytes()))
     }
 }
 
@@ -254,16 +247,9 @@ impl<'de> Visitor<'de> for FrameSeed<'_> {
         let step = self.step;
         let mut vals: [Option<[f64; 3]>; 5] = [None; 5];
         while let Some(field) = map.next_key_seed(FieldKey)? {
-            let idx = match field {
-                Field::Acc => 0,
-                Field::AngVel => 1,
-                Field::Fwd => 2,
-                Field::Right => 3,
-                Field::Loc => 4,
-                Field::Other => {
-                    map.next_value::<IgnoredAny>()?;
-                    continue;
-                }
+            let Some(idx) = field else {
+                map.next_value::<IgnoredAny>()?;
+                continue;
             };
             let name = FIELD_NAMES[idx];
             if vals[idx].is_some() {

@@ -1,0 +1,214 @@
+//! Every aggregate of a set of routes (`SDS-SPEC.md` v1.2 §8.1, §8.2, §8.3), computed from the
+//! report's routes: one breakdown group, the `combined` row, one run of a comparison. f64,
+//! summed in the order the routes are given (input order).
+//!
+//! ```
+//! use monitor_host::aggregate::aggregates::Aggregates;
+//! let a = Aggregates::over(&[], 0);
+//! assert_eq!((a.routes, a.driving_score, a.ability), (0, None, None));
+//! ```
+
+use serde::Serialize;
+
+use crate::aggregate::ability::ABILITIES;
+use crate::input::record::KNOWN_LISTS;
+use crate::report::model::RouteReport;
+
+/// Rates of the five abilities (0..1, null when no route counts in one) and their mean.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AbilityRates {
+    /// Overtaking.
+    #[serde(rename = "Overtaking")]
+    pub overtaking: Option<f64>,
+    /// Merging.
+    #[serde(rename = "Merging")]
+    pub merging: Option<f64>,
+    /// Emergency braking.
+    #[serde(rename = "Emergency_Brake")]
+    pub emergency_brake: Option<f64>,
+    /// Giving way.
+    #[serde(rename = "Give_Way")]
+    pub give_way: Option<f64>,
+    /// Traffic signs (junction credits included).
+    #[serde(rename = "Traffic_Signs")]
+    pub traffic_signs: Option<f64>,
+    /// Mean of the five that are not null.
+    pub mean: Option<f64>,
+}
+
+impl AbilityRates {
+    /// The five rates in [`ABILITIES`] order.
+    pub fn rates(&self) -> [Option<f64>; 5] {
+        [
+            self.overtaking,
+            self.merging,
+            self.emergency_brake,
+            self.give_way,
+            self.traffic_signs,
+        ]
+    }
+}
+
+/// Successes and routes of one ability.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct AbilityCount {
+    /// Routes counting in the ability.
+    pub routes: usize,
+    /// Of those, successes.
+    pub successes: usize,
+}
+
+/// Counts keyed by name, serialised as a JSON object in this order.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Counts<T>(pub Vec<(String, T)>);
+
+impl<T: Copy + Default> Counts<T> {
+    /// The count of `name` (default when absent).
+    pub fn get(&self, name: &str) -> T {
+        self.0
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or_else(T::default, |(_, c)| *c)
+    }
+
+    fn entry(&mut self, name: &str) -> &mut T {
+        let i = match self.0.iter().position(|(n, _)| n == name) {
+            Some(i) => i,
+            None => {
+                self.0.push((name.to_string(), T::default()));
+                self.0.len() - 1
+            }
+        };
+        &mut self.0[i].1
+    }
+}
+
+impl<T: Serialize> Serialize for Counts<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Aggregates {
+    /// N.
+    pub routes: usize,
+    /// Routes with defined comfort.
+    pub comfort_routes: usize,
+    /// Σ score_composed / N.
+    pub driving_score: Option<f64>,
+    /// 100 × successes / N.
+    pub success_rate: Option<f64>,
+    /// Σ DS_safe / N; null when some route has no DS_safe.
+    pub mean_ds_safe: Option<f64>,
+    /// Mean comfort over the routes with defined comfort.
+    pub mean_comfort: Option<f64>,
+    /// mean_ds_safe × mean_comfort.
+    pub sds: Option<f64>,
+    /// 100 × routes with a collision / N.
+    pub collision_rate: Option<f64>,
+    /// Mean per-route efficiency over the routes that have one (§8.2).
+    pub efficiency: Option<f64>,
+    /// Mean `b2d-legacy` comfort over the routes where it is defined (§8.2).
+    pub smoothness: Option<f64>,
+    /// Ability rates; null when no route has a route XML entry.
+    pub ability: Option<AbilityRates>,
+    /// Routes and successes per ability (the fractions behind `ability`).
+    pub ability_counts: Counts<AbilityCount>,
+    /// Per infraction list (the 12 known ones, then any other), the routes with at least one
+    /// entry.
+    pub infraction_routes: Counts<usize>,
+}
+
+fn mean(sum: f64, n: usize) -> Option<f64> {
+    (n > 0).then(|| sum / n as f64)
+}
+
+impl Aggregates {
+    /// The aggregates of `routes` (in this order) over `n` routes: `n` is the set's size, which
+    /// exceeds `routes.len()` when routes are expected but absent (they count as 0 / failed).
+    pub fn over(routes: &[&RouteReport], n: usize) -> Aggregates {
+        let per = |total: f64| (n > 0).then(|| total / n as f64);
+        let (mut composed, mut ds_safe, mut comfort, mut eff, mut smooth) =
+            (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut successes, mut collided, mut comfort_n, mut eff_n, mut smooth_n) = (0, 0, 0, 0, 0);
+        let mut all_safe = true;
+        let mut has_ability = false;
+        let mut counts = Counts::<AbilityCount>::default();
+        for (name, _) in ABILITIES {
+            counts.entry(name);
+        }
+        let mut inf = Counts::<usize>::default();
+        for name in KNOWN_LISTS {
+            inf.entry(name);
+        }
+        for r in routes {
+            composed += r.score_composed.unwrap_or(0.0);
+            successes += usize::from(r.success);
+            collided += usize::from(!r.collision_events.is_empty());
+            match r.ds_safe {
+                Some(d) => ds_safe += d,
+                None => all_safe = false,
+            }
+            if let Some(c) = r.comfort.score {
+                comfort += c;
+                comfort_n += 1;
+            }
+            if let Some(e) = r.efficiency {
+                eff += e;
+                eff_n += 1;
+            }
+            if let Some(s) = r.smoothness {
+                smooth += s;
+                smooth_n += 1;
+            }
+            if let Some(a) = &r.ability {
+                has_ability = true;
+                for e in &a.abilities {
+                    let c = counts.entry(e.ability);
+                    c.routes += 1;
+                    c.successes += usize::from(e.success);
+                }
+            }
+            for (name, count) in &r.infractions.0 {
+                let c = inf.entry(name);
+                *c += usize::from(*count > 0);
+            }
+        }
+        let mean_ds_safe = if all_safe { per(ds_safe) } else { None };
+        let mean_comfort = mean(comfort, comfort_n);
+        let ability = has_ability.then(|| {
+            let rate = |name: &str| {
+                let c = counts.get(name);
+                (c.routes > 0).then(|| c.successes as f64 / c.routes as f64)
+            };
+            let mut a = AbilityRates {
+                overtaking: rate(ABILITIES[0].0),
+                merging: rate(ABILITIES[1].0),
+                emergency_brake: rate(ABILITIES[2].0),
+                give_way: rate(ABILITIES[3].0),
+                traffic_signs: rate(ABILITIES[4].0),
+                mean: None,
+            };
+            let known: Vec<f64> = a.rates().into_iter().flatten().collect();
+            a.mean = mean(known.iter().sum(), known.len());
+            a
+        });
+        Aggregates {
+            routes: n,
+            comfort_routes: comfort_n,
+            driving_score: per(composed),
+            success_rate: per(100.0 * successes as f64),
+            sds: mean_ds_safe.zip(mean_comfort).map(|(d, c)| d * c),
+            mean_ds_safe,
+            mean_comfort,
+            collision_rate: per(100.0 * collided as f64),
+            efficiency: mean(eff, eff_n),
+            smoothness: mean(smooth, smooth_n),
+            ability,
+            ability_counts: counts,
+            infraction_routes: inf,
+        }
+    }
+}

@@ -1,0 +1,126 @@
+//! Bench2Drive's own benchmark metrics (`SDS-SPEC.md` v1.2 §8.2), beside SDS: driving score,
+//! success rate, efficiency, smoothness and the multi-ability rates, with the routes the
+//! ability rates could not count (`ability_missing`), could not decide (`ability_undecided`) or
+//! decided close to the threshold (`ability_marginal`).
+//!
+//! ```
+//! use monitor_host::aggregate::bench2drive::route_efficiency;
+//! let e = route_efficiency(&[
+//!     "Average speed is 80% of the surrounding traffic's one".into(),
+//!     "Average speed is 1098.69% of the surrounding traffic's one".into(), // an outlier
+//!     "Average speed is 100% of the surrounding traffic's one".into(),
+//! ]);
+//! assert_eq!(e, Some(90.0));
+//! assert_eq!(route_efficiency(&[]), None);
+//! ```
+
+use serde::Serialize;
+
+use crate::aggregate::ability::JunctionCredit;
+use crate::aggregate::aggregates::{AbilityCount, AbilityRates, Aggregates, Counts};
+use crate::aggregate::penalty::min_speed_percent;
+use crate::report::model::RouteReport;
+
+/// Percentages above this are outliers, left out of a route's efficiency (§8.2).
+pub const EFFICIENCY_MAX: f64 = 1000.0;
+
+/// A route's efficiency: the mean of the `Average speed is X% ...` percentages of its
+/// `min_speed_infractions` with `X <= 1000`, in list order; `None` when it has none.
+pub fn route_efficiency(min_speed_infractions: &[String]) -> Option<f64> {
+    let values: Vec<f64> = min_speed_infractions
+        .iter()
+        .filter_map(|s| min_speed_percent(s))
+        .filter(|x| *x <= EFFICIENCY_MAX)
+        .collect();
+    let n = values.len();
+    (n > 0).then(|| values.iter().fold(0.0, |a, x| a + x) / n as f64)
+}
+
+/// A route decided within [`crate::aggregate::ability::MARGINAL_BAND`] of its threshold.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Marginal {
+    /// The route.
+    pub route_id: String,
+    /// `score_route / 100`.
+    pub score: f64,
+    /// Its `junction_completion`.
+    pub junction_completion: f64,
+    /// Whether it was credited.
+    pub credited: bool,
+}
+
+/// A route whose junction credit could not be decided.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Undecided {
+    /// The route.
+    pub route_id: String,
+    /// Its town.
+    pub town: Option<String>,
+    /// Why.
+    pub reason: String,
+}
+
+/// `summary.bench2drive` of the report (§8.2, §10.1).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Bench2Drive {
+    /// §8.1's driving score (Bench2Drive's merge rule).
+    pub driving_score: Option<f64>,
+    /// §8.1's success rate, percent.
+    pub success_rate: Option<f64>,
+    /// Mean per-route efficiency.
+    pub efficiency: Option<f64>,
+    /// Mean `b2d-legacy` comfort: Bench2Drive's "Driving Smoothness".
+    pub smoothness: Option<f64>,
+    /// The five ability rates and their mean; null without a route XML.
+    pub ability: Option<AbilityRates>,
+    /// Routes and successes per ability.
+    pub ability_counts: Counts<AbilityCount>,
+    /// Routes of the route set without a record (Bench2Drive lists them as crashed).
+    pub ability_missing: Vec<String>,
+    /// Failed Traffic_Signs routes whose junction credit could not be decided: counted failed.
+    pub ability_undecided: Vec<Undecided>,
+    /// Routes whose `score_route / 100` is within 0.15 of their `junction_completion`.
+    pub ability_marginal: Vec<Marginal>,
+}
+
+impl Bench2Drive {
+    /// The block from the run's aggregates over every counted route (`combined`), the routes
+    /// (for the per-route credit lists) and the route-set members without a record.
+    pub fn new(all: &Aggregates, routes: &[RouteReport], missing: Vec<String>) -> Self {
+        let id = |r: &RouteReport| r.route_id.clone().unwrap_or_default();
+        let mut undecided = Vec::new();
+        let mut marginal = Vec::new();
+        for r in routes {
+            match r.ability.as_ref().and_then(|a| a.junction.as_ref()) {
+                Some(JunctionCredit::Undecided { undecided: why }) => undecided.push(Undecided {
+                    route_id: id(r),
+                    town: r.town.clone(),
+                    reason: why.clone(),
+                }),
+                Some(JunctionCredit::Decided {
+                    score,
+                    junction_completion,
+                    credited,
+                    marginal: true,
+                }) => marginal.push(Marginal {
+                    route_id: id(r),
+                    score: *score,
+                    junction_completion: *junction_completion,
+                    credited: *credited,
+                }),
+                _ => {}
+            }
+        }
+        Bench2Drive {
+            driving_score: all.driving_score,
+            success_rate: all.success_rate,
+            efficiency: all.efficiency,
+            smoothness: all.smoothness,
+            ability: all.ability.clone(),
+            ability_counts: all.ability_counts.clone(),
+            ability_missing: missing,
+            ability_undecided: undecided,
+            ability_marginal: marginal,
+        }
+    }
+}

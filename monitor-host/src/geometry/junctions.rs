@@ -1,0 +1,38 @@
+//! Which samples of a route's dense route lie in a junction (`SDS-SPEC.md` v1.2 §1.4, §8.2):
+//! the input of the Traffic_Signs junction credit. It needs the town's OpenDRIVE map (from the
+//! run's [`TownMaps`], loaded once before replay); without one the answer is the reason it is
+//! unknown, and the credit stays undecided.
+//!
+//! ```
+//! use monitor_host::geometry::junctions::junction_samples;
+//! use monitor_host::geometry::town_maps::TownMaps;
+//! use monitor_host::input::route_xml::RouteRef;
+//! let maps = TownMaps::load(None, ["Town12".to_string()])?;
+//! let route = RouteRef { id: "1".into(), town: "Town12".into(), ..RouteRef::default() };
+//! let why = junction_samples(&maps, &route, "Town12", 8.0).unwrap_err();
+//! assert_eq!(why, "no map for Town12 (no --maps folder given)");
+//! # Ok::<(), monitor_host::geometry::map::MapError>(())
+//! ```
+
+use crate::aggregate::ability::JunctionSamples;
+use crate::geometry::map::dense_route;
+use crate::geometry::town_maps::TownMaps;
+use crate::input::route_xml::RouteRef;
+
+/// The junction flags of `route`'s dense route on the map of `town`, or why they are not
+/// known. `gap_max` decides which XML segments are junction gaps (§1.3).
+///
+/// # Errors
+/// Why the town has no map (no `--maps` folder, or where the map was looked for).
+pub fn junction_samples(
+    maps: &TownMaps,
+    route: &RouteRef,
+    town: &str,
+    gap_max: f64,
+) -> JunctionSamples {
+    let map = maps.get(town)?;
+    Ok(dense_route(&route.waypoints_3d(), gap_max, Some(map))
+        .iter()
+        .map(|s| s.in_junction == Some(true))
+        .collect())
+}

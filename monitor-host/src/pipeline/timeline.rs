@@ -1,0 +1,137 @@
+//! A route's timeline: the frames the monitor saw, their steps and period, and the per-chunk
+//! verdicts it emitted as it went (comfort: which bounds each chunk failed; lateral: which chunks
+//! were anomalous or critical). The report's collision traces (§10.2) and the HTML report's
+//! timelines are drawn from it; nothing here is recomputed, only kept.
+
+use monitor_core::{ComfortVerdict, Event, Events, Frame, LateralVerdict};
+
+/// The monitor's per-chunk events of one route, in the order it emitted them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ChunkLog {
+    /// One verdict per comfort chunk (comfortable ones included).
+    pub comfort: Vec<ComfortVerdict>,
+    /// The anomalous and critical lateral chunks.
+    pub lateral: Vec<LateralVerdict>,
+}
+
+impl ChunkLog {
+    /// Keeps the chunk events of one `push` or `finish`.
+    ///
+    /// ```
+    /// let mut log = monitor_host::pipeline::timeline::ChunkLog::default();
+    /// log.record(&monitor_core::Events::new());
+    /// assert!(log.comfort.is_empty() && log.lateral.is_empty());
+    /// ```
+    pub fn record(&mut self, events: &Events) {
+        for e in events {
+            match e {
+                Event::Comfort(c) => self.comfort.push(*c),
+                Event::Lateral(l) => self.lateral.push(*l),
+                Event::Collision(_) => {}
+            }
+        }
+    }
+}
+
+/// Seconds of trace kept before a collision (§10.2).
+pub const BEFORE_S: f64 = 3.0;
+/// Seconds of trace kept after a collision (§10.2).
+pub const AFTER_S: f64 = 1.0;
+
+/// One frame kept for the collision traces.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KeptFrame {
+    /// Index of the frame in the route.
+    pub index: usize,
+    /// Its step number.
+    pub step: u64,
+    /// The frame.
+    pub frame: Frame,
+}
+
+/// What the monitor saw of a route around its collisions, and what it said per chunk. Only the
+/// frames a collision trace needs are kept (those within `BEFORE_S` before to `AFTER_S` after an
+/// aligned collision, and its deceleration window), so that a run's memory does not grow with
+/// its routes' length.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RouteTimeline {
+    /// The kept frames, in index order.
+    pub kept: Vec<KeptFrame>,
+    /// The route's first step.
+    pub first_step: u64,
+    /// The route's step period, s.
+    pub dt: f64,
+    /// The per-chunk verdicts.
+    pub chunks: ChunkLog,
+}
+
+impl RouteTimeline {
+    /// Keeps the frames around the collision frames `at` (indices into `frames`), the
+    /// `decel_window` frames before each included.
+    ///
+    /// ```
+    /// use monitor_host::pipeline::timeline::{ChunkLog, RouteTimeline};
+    /// let frames = vec![monitor_core::Frame::default(); 500];
+    /// let steps: Vec<u64> = (0..500).collect();
+    /// let t = RouteTimeline::around(&frames, &steps, 0.05, &[100], 20, ChunkLog::default());
+    /// assert_eq!(t.kept.first().map(|k| k.index), Some(40));  // 3 s before
+    /// assert_eq!(t.kept.last().map(|k| k.index), Some(120));  // 1 s after
+    /// ```
+    pub fn around(
+        frames: &[Frame],
+        steps: &[u64],
+        dt: f64,
+        at: &[usize],
+        decel_window: u16,
+        chunks: ChunkLog,
+    ) -> RouteTimeline {
+        let first_step = steps.first().copied().unwrap_or(0);
+        let rel = |j: usize, k: usize| (steps[j] as f64 - steps[k] as f64) * dt;
+        let n = frames.len().min(steps.len());
+        let mut keep = vec![false; n];
+        for &k in at.iter().filter(|&&k| k < n) {
+            let from = k.saturating_sub(usize::from(decel_window));
+            for (j, flag) in keep.iter_mut().enumerate() {
+                let t = rel(j, k);
+                if (from..=k).contains(&j) || (-BEFORE_S - 1e-9..=AFTER_S + 1e-9).contains(&t) {
+                    *flag = true;
+                }
+            }
+        }
+        let kept = keep
+            .iter()
+            .enumerate()
+            .filter(|(_, &k)| k)
+            .map(|(index, _)| KeptFrame {
+                index,
+                step: steps[index],
+                frame: frames[index],
+            })
+            .collect();
+        RouteTimeline {
+            kept,
+            first_step,
+            dt,
+            chunks,
+        }
+    }
+
+    /// The kept frame of index `k`.
+    pub fn frame(&self, k: usize) -> Option<&KeptFrame> {
+        self.kept
+            .binary_search_by_key(&k, |f| f.index)
+            .ok()
+            .map(|i| &self.kept[i])
+    }
+
+    /// Seconds from the route's first frame to a step: `(step - first_step) * dt`.
+    ///
+    /// ```
+    /// use monitor_host::pipeline::timeline::RouteTimeline;
+    /// let t = RouteTimeline { first_step: 10, dt: 0.05, ..Default::default() };
+    /// assert!((t.time_s(13) - 0.15).abs() < 1e-12);
+    /// ```
+    pub fn time_s(&self, step: u64) -> f64 {
+        step.saturating_sub(self.first_step) as f64 * self.dt
+    }
+}

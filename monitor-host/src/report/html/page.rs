@@ -1,0 +1,84 @@
+//! The page's frame: document, heading, the run's warnings, escaping.
+
+use crate::report::Report;
+
+const STYLE: &str = include_str!("report.css");
+const SCRIPT: &str = include_str!("report.js");
+
+/// Escapes text for HTML content and attribute values.
+///
+/// ```
+/// assert_eq!(monitor_host::report::html::escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+/// ```
+pub fn escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&#39;"),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+/// A complete document: the style sheet, the body, then the script.
+pub(super) fn document(title: &str, body: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+         <title>{}</title>\n<style>\n{STYLE}</style>\n</head>\n<body>\n{body}<script>\n{SCRIPT}</script>\n</body>\n</html>\n",
+        escape(title)
+    )
+}
+
+/// The page's heading: the run, its profile, and the headline numbers.
+pub(super) fn heading(out: &mut String, report: &Report, name: &str) {
+    let s = &report.summary;
+    out.push_str(&format!(
+        "<h1>SafeDriving Score: {}</h1>\n<p>{} routes · profile {} · SDS <b id=\"sds\">{}</b> · \
+         DS {} · mean DS<sub>safe</sub> {} · mean comfort {}</p>\n\
+         <p id=\"status\">script not run</p>\n",
+        escape(name),
+        report.routes.len(),
+        report.profile,
+        num(s.sds, 2),
+        num(s.driving_score, 2),
+        num(s.mean_ds_safe, 2),
+        num(s.mean_comfort, 3),
+    ));
+}
+
+/// The run's warnings (read-time ones, then each route's).
+pub(super) fn warnings(out: &mut String, report: &Report) {
+    let per_route: usize = report.routes.iter().map(|r| r.warnings.len()).sum();
+    out.push_str(&format!(
+        "<h2 id=\"run-warnings\">Warnings ({})</h2>\n<ul id=\"warnings\">\n",
+        report.warnings.len() + per_route
+    ));
+    for w in &report.warnings {
+        out.push_str(&format!(
+            "<li class=\"warn\">{}</li>\n",
+            escape(&w.to_string())
+        ));
+    }
+    for r in &report.routes {
+        let id = r.route_id.as_deref().unwrap_or("<no route_id>");
+        for w in &r.warnings {
+            out.push_str(&format!(
+                "<li class=\"warn\">{}: {}</li>\n",
+                escape(id),
+                escape(&w.to_string())
+            ));
+        }
+    }
+    out.push_str("</ul>\n");
+}
+
+/// A number with `digits` decimals, `-` when absent.
+pub(super) fn num(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"))
+}

@@ -1,0 +1,83 @@
+// The report's only script: sorting and filtering of the route table, then self-checks that
+// write #status and document.title. A URL fragment `#test:sort=COL:asc|desc;filter=TEXT;state=S`
+// drives the same functions and records the resulting order in #test-result (the browser test).
+(function () {
+  "use strict";
+  var table = document.getElementById("routes");
+  var status = document.getElementById("status");
+  function fail(msg) { status.textContent = "error: " + msg; document.title = "SDS report [error]"; throw new Error(msg); }
+  if (!table) { if (status) { status.textContent = "ok"; document.title += " [ready]"; } return; }
+  var body = table.tBodies[0];
+  var heads = table.tHead.rows[0].cells;
+  var rows = Array.prototype.slice.call(body.rows);
+  function key(row, col) {
+    var c = row.cells[col], v = c.getAttribute("data-v");
+    if (v === null) { return c.textContent; }
+    return v === "" ? NaN : parseFloat(v);
+  }
+  function sortBy(col, dir) {
+    var sign = dir === "descending" ? -1 : 1;
+    var sorted = rows.slice().sort(function (a, b) {
+      var x = key(a, col), y = key(b, col);
+      var xn = typeof x === "number", yn = typeof y === "number";
+      if (xn && isNaN(x)) { return isNaN(y) ? 0 : 1; }   // empty cells last, both ways
+      if (yn && isNaN(y)) { return -1; }
+      var r = xn && yn ? x - y : String(x).localeCompare(String(y));
+      return r === 0 ? (+a.getAttribute("data-i")) - (+b.getAttribute("data-i")) : sign * r;
+    });
+    for (var i = 0; i < heads.length; i++) { heads[i].removeAttribute("aria-sort"); }
+    heads[col].setAttribute("aria-sort", dir);
+    sorted.forEach(function (r) { body.appendChild(r); });
+  }
+  var filterBox = document.getElementById("filter"), stateBox = document.getElementById("state");
+  function applyFilter() {
+    var text = filterBox.value.toLowerCase(), st = stateBox.value, shown = 0;
+    rows.forEach(function (r) {
+      var ok = (!text || r.textContent.toLowerCase().indexOf(text) >= 0) &&
+               (!st || r.getAttribute("data-state") === st);
+      r.hidden = !ok; if (ok) { shown++; }
+    });
+    document.getElementById("shown").textContent = shown + " of " + rows.length + " routes";
+  }
+  function column(name) {
+    for (var i = 0; i < heads.length; i++) { if (heads[i].getAttribute("data-col") === name) { return i; } }
+    fail("no column " + name);
+  }
+  Array.prototype.forEach.call(heads, function (h, i) {
+    h.addEventListener("click", function () {
+      sortBy(i, h.getAttribute("aria-sort") === "ascending" ? "descending" : "ascending");
+    });
+  });
+  filterBox.addEventListener("input", applyFilter);
+  stateBox.addEventListener("change", applyFilter);
+  body.addEventListener("click", function (e) {
+    var a = e.target.closest("a[href^='#route-']");
+    if (a) { var d = document.getElementById(a.getAttribute("href").slice(1)); if (d) { d.open = true; } }
+  });
+  applyFilter();
+  // Self-checks: every row has its drill-down; as many rows as the report has routes.
+  var expected = +table.getAttribute("data-routes");
+  if (rows.length !== expected) { fail(rows.length + " rows, expected " + expected); }
+  rows.forEach(function (r) {
+    if (!document.getElementById(r.getAttribute("data-target"))) { fail("no drill-down for " + r.getAttribute("data-route")); }
+  });
+  var figs = document.querySelectorAll(".fig svg").length;
+  if (figs !== +table.getAttribute("data-figures")) { fail(figs + " figures, expected " + table.getAttribute("data-figures")); }
+  var h = decodeURIComponent(location.hash || "");
+  if (h.indexOf("#test:") === 0) {
+    h.slice(6).split(";").forEach(function (kv) {
+      var p = kv.split("="), k = p[0], v = p.slice(1).join("=");
+      if (k === "sort") { var s = v.split(":"); sortBy(column(s[0]), s[1] === "desc" ? "descending" : "ascending"); }
+      if (k === "filter") { filterBox.value = v; applyFilter(); }
+      if (k === "state") { stateBox.value = v; applyFilter(); }
+    });
+    var out = document.createElement("pre");
+    out.id = "test-result";
+    out.textContent = Array.prototype.filter.call(body.rows, function (r) { return !r.hidden; })
+      .map(function (r) { return r.getAttribute("data-route"); }).join("\n");
+    document.body.appendChild(out);
+  }
+  status.textContent = "ok: " + rows.length + " routes, " + figs + " figures; checked " +
+    Math.round(performance.now()) + " ms after navigation start";
+  document.title += " [ready]";
+})();

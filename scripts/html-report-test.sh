@@ -1,0 +1,135 @@
+#!/usr/bin/env bash
+# The HTML report, end to end: the demo scored as JSON and as HTML; the page parsed and every
+# number compared with the JSON report (scripts/html_report_check.py), and a tampered copy must
+# fail that check; then the page opened in headless Chromium: its script must run without a
+# JavaScript error and write its status and title after its self-checks, sorting and filtering
+# are driven through the page's test hook (#test:...) and the resulting order compared with the
+# JSON report's, and a PNG screenshot is taken. `sds compare --format html` opens the same way.
+# Skips the browser part loudly (exit 0) only when Chromium is not installed and cannot be.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+target="${CARGO_TARGET_DIR:-target}"
+out="$target/html-test"
+rm -rf "$out" && mkdir -p "$out"
+cargo build -q --release -p monitor-host --bin sds
+sds="$target/release/sds"
+"$sds" demo "$out/demo" 2>/dev/null
+args=(--results "$out/demo/results.json" --telemetry "$out/demo/telemetry" --routes "$out/demo/routes.xml")
+"$sds" score "${args[@]}" -o "$out/report.json"
+"$sds" score "${args[@]}" --format html -o "$out/report.html"
+# sds compare looks for a run's telemetry beside its results file.
+cp "$out/demo/results.json" "$out/demo/telemetry/run.json"
+"$sds" compare "a=$out/demo/telemetry/run.json" "b=$out/demo/telemetry/run.json" --routes "$out/demo/routes.xml" \
+  --format html -o "$out/compare.html"
+
+python3 scripts/html_report_check.py "$out/report.html" "$out/report.json"
+# The check can fail: one number changed in the page must be caught.
+python3 - "$out/report.html" "$out/tampered.html" <<'PY'
+import re, sys
+s = open(sys.argv[1], encoding="utf-8").read()
+s, n = re.subn(r'(<td data-v=")([0-9.]+)(">)([0-9.]+)(</td>)', lambda m: m.group(1) + "12.5" + m.group(3) + "12.50" + m.group(5), s, count=1)
+assert n == 1
+open(sys.argv[2], "w", encoding="utf-8").write(s)
+PY
+if python3 scripts/html_report_check.py "$out/tampered.html" "$out/report.json" 2>/dev/null; then
+  echo "html check: FAILED: a tampered page passed the check" >&2; exit 1
+fi
+echo "html check: a tampered page is caught"
+
+chrome=$(command -v chromium || command -v chromium-browser || true)
+if [ -z "$chrome" ]; then
+  bash scripts/setup.sh >/dev/null 2>&1 || true
+  chrome=$(command -v chromium || command -v chromium-browser || true)
+fi
+if [ -z "$chrome" ]; then
+  echo "########################################################################" >&2
+  echo "## SKIPPED: the browser test of the HTML report: chromium is not installed" >&2
+  echo "## and scripts/setup.sh could not install it (apt-get install chromium)." >&2
+  echo "########################################################################" >&2
+  exit 0
+fi
+
+# One fresh profile per run; the page's console goes to stderr (--enable-logging).
+browse() { # browse URL WHAT... -> stdout of chromium; fails on a JavaScript error
+  local url=$1; shift
+  local profile; profile=$(mktemp -d)
+  local log="$out/chromium.log"
+  if ! timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --disable-background-networking \
+      --disable-component-update --no-first-run --user-data-dir="$profile" \
+      --enable-logging=stderr --v=0 "$@" "$url" 2>"$log"; then
+    rm -rf "$profile"; cat "$log" >&2; echo "browser test: chromium failed on $url" >&2; return 1
+  fi
+  rm -rf "$profile"
+  if grep -E "Uncaught|CONSOLE.*(Error|error)" "$log" >&2; then
+    echo "browser test: JavaScript error on $url" >&2; return 1
+  fi
+}
+page="file://$(realpath "$out/report.html")"
+browse "$page" --dump-dom >"$out/dom.html"
+browse "$page#test:sort=ds_safe:desc" --dump-dom >"$out/dom-sorted.html"
+browse "$page#test:filter=crash;sort=route:desc" --dump-dom >"$out/dom-filtered.html"
+browse "file://$(realpath "$out/compare.html")" --dump-dom >"$out/dom-compare.html"
+browse "$page" --screenshot="$(realpath "$out")/report.png" --window-size=1280,2000 >/dev/null
+
+python3 - "$out" <<'PY'
+import json, re, sys
+out = sys.argv[1]
+report = json.load(open(f"{out}/report.json"))
+routes = report["routes"]
+problems = []
+
+def dom(name):
+    return open(f"{out}/{name}", encoding="utf-8").read()
+
+def status(d):
+    m = re.search(r'<p id="status">([^<]*)</p>', d)
+    return m.group(1) if m else None
+
+def title(d):
+    m = re.search(r"<title>([^<]*)</title>", d)
+    return m.group(1) if m else None
+
+def result(d):
+    m = re.search(r'<pre id="test-result">([^<]*)</pre>', d)
+    return None if m is None else [l for l in m.group(1).split("\n") if l]
+
+for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-compare.html"):
+    d = dom(name)
+    if not (title(d) or "").endswith("[ready]") or not (status(d) or "").startswith("ok"):
+        problems.append(f"{name}: title {title(d)!r}, status {status(d)!r}: the page's script did not finish")
+d = dom("dom.html")
+if f"ok: {len(routes)} routes" not in (status(d) or ""):
+    problems.append(f"status {status(d)!r}")
+for r in routes:
+    if f'data-route="{r["route_id"]}"' not in d:
+        problems.append(f"{r['route_id']} missing from the rendered page")
+for run in ("a", "b"):
+    if f'<section id="run-{run}">' not in dom("dom-compare.html"):
+        problems.append(f"compare: run {run} missing")
+
+ids = [r["route_id"] for r in routes]
+# Sorted by DS_safe, descending, ties in input order, empty last.
+key = lambda i: (routes[i]["ds_safe"] is None, -(routes[i]["ds_safe"] or 0), i)
+want = [ids[i] for i in sorted(range(len(ids)), key=key)]
+got = result(dom("dom-sorted.html"))
+if got != want:
+    problems.append(f"sort by DS_safe: {got} != {want}")
+# Filtered on "crash" (any cell), sorted by route id descending.
+want = sorted([r["route_id"] for r in routes if "crash" in (r["scenario_type"] or "").lower()], reverse=True)
+got = result(dom("dom-filtered.html"))
+if got != want or not want:
+    problems.append(f"filter 'crash': {got} != {want}")
+if problems:
+    for p in problems:
+        print(f"browser test: {p}", file=sys.stderr)
+    sys.exit(1)
+print(f"browser test: ok: {len(routes)} routes rendered, status {status(d)!r}; sort and filter as expected")
+PY
+# The state filter, with the state of the first route.
+state=$(python3 -c 'import json,sys; print(str(json.load(open(sys.argv[1]))["routes"][0]["state"]).split(":")[0])' "$out/report.json")
+browse "$page#test:state=$state" --dump-dom >"$out/dom-state.html"
+n_state=$(python3 -c 'import json,sys; print(sum(1 for r in json.load(open(sys.argv[1]))["routes"] if str(r["state"]).split(":")[0]==sys.argv[2]))' "$out/report.json" "$state")
+n_shown=$(sed -n '/<pre id="test-result">/,/<\/pre>/p' "$out/dom-state.html" | grep -c RouteScenario || true)
+[ "$n_shown" = "$n_state" ] || { echo "browser test: state filter $state shows $n_shown routes, expected $n_state" >&2; exit 1; }
+echo "browser test: state filter '$state' shows $n_shown route(s)"
+python3 -c 'import sys; b=open(sys.argv[1],"rb").read(); assert b[:8]==b"\x89PNG\r\n\x1a\n" and len(b) > 20000, len(b); print(f"browser test: screenshot {sys.argv[1]} ({len(b)} bytes)")' "$out/report.png"

@@ -43,6 +43,12 @@ def same(a: Any, b: Any) -> bool:
     return json.dumps(a, sort_keys=True) == json.dumps(b, sort_keys=True)
 
 
+def monitor_lateral(lateral: dict[str, Any]) -> dict[str, Any]:
+    """A report route's `lateral` block without the host's `reference` (which polyline or map the
+    host measured against: the monitor sees only the per-frame values)."""
+    return {k: v for k, v in lateral.items() if k != "reference"}
+
+
 class Demo:
     """The built-in demo run written by `sds demo`."""
 

@@ -10,7 +10,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-WORK=target/map-crosscheck
+# Builds go to CARGO_TARGET_DIR when set (.ci/run shares one build folder with its clone run).
+TARGET_DIR="${CARGO_TARGET_DIR:-target}"
+WORK="$TARGET_DIR/map-crosscheck"
 VENV="$WORK/venv"
 POINTS="${MAP_CROSSCHECK_POINTS:-100000}"
 OWN_POINTS="${MAP_CROSSCHECK_OWN_POINTS:-20000}"
@@ -43,5 +45,5 @@ else
   echo "!!! $TOWNS not found: CARLA towns skipped, hand-made maps only"
   towns=()
 fi
-"$VENV/bin/python" scripts/map_crosscheck.py --bin target/release/examples/map_project \
+"$VENV/bin/python" scripts/map_crosscheck.py --bin "$TARGET_DIR/release/examples/map_project" \
   --points "$POINTS" --own-points "$OWN_POINTS" "${towns[@]}" --own monitor-host/tests/data/maps

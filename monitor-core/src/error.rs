@@ -1,7 +1,37 @@
 //! Typed errors. The monitor never panics: bad input returns one of these and leaves its state
 //! unchanged.
+//!
+//! Each error type lists every value it can take (`ALL`), so that a front end mapping errors to
+//! its own codes (the C ABI, the Python exceptions) can test that none is left unmapped: the
+//! enums are `#[non_exhaustive]`, so outside this crate a `match` cannot prove it.
 
+/// Declares a field-less enum and its `ALL` constant from one list of variants, so that `ALL`
+/// is complete by construction.
+macro_rules! listed_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident {
+            $( $(#[$vmeta:meta])* $variant:ident, )*
+        }
+    ) => {
+        $(#[$meta])*
+        pub enum $name {
+            $( $(#[$vmeta])* $variant, )*
+        }
+
+        impl $name {
+            /// Every variant, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$variant,)*];
+        }
+    };
+}
+
+listed_enum! {
 /// A field of [`crate::Frame`], named in errors.
+///
+/// ```
+/// assert_eq!(monitor_core::Field::ALL.len(), 6);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Field {
@@ -17,6 +47,7 @@ pub enum Field {
     Speed,
     /// `lat_err`
     LatErr,
+}
 }
 
 impl Field {
@@ -48,7 +79,13 @@ pub enum FrameError {
     Negative(Field),
 }
 
+listed_enum! {
 /// Why a configuration was refused (see [`crate::Config::validate`]).
+///
+/// ```
+/// use monitor_core::ConfigError;
+/// assert!(ConfigError::ALL.contains(&ConfigError::Capacity));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
@@ -79,6 +116,7 @@ pub enum ConfigError {
     /// Factors must lie in `0 ..= 1` and the layout factor must be positive.
     Factor,
 }
+}
 
 /// Why [`crate::Monitor::push`] or [`crate::Monitor::finish`] refused to act.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -91,6 +129,47 @@ pub enum MonitorError {
     Finished,
     /// The route has `u32::MAX` frames already.
     TooManyFrames,
+}
+
+impl FrameError {
+    /// Every error [`crate::Frame::validate`] can return: each field not finite, `speed` or
+    /// `a_mag` negative (a test below checks that `validate` returns exactly these).
+    ///
+    /// ```
+    /// use monitor_core::{Field, FrameError};
+    /// assert!(FrameError::ALL.contains(&FrameError::Negative(Field::Speed)));
+    /// ```
+    pub const ALL: &'static [FrameError] = &[
+        FrameError::NonFinite(Field::ALon),
+        FrameError::NonFinite(Field::ALat),
+        FrameError::NonFinite(Field::AMag),
+        FrameError::NonFinite(Field::YawRate),
+        FrameError::NonFinite(Field::Speed),
+        FrameError::NonFinite(Field::LatErr),
+        FrameError::Negative(Field::Speed),
+        FrameError::Negative(Field::AMag),
+    ];
+}
+
+impl MonitorError {
+    /// Every error [`crate::Monitor::push`] and [`crate::Monitor::finish`] can return: each of
+    /// [`FrameError::ALL`], then the other variants.
+    ///
+    /// ```
+    /// use monitor_core::MonitorError;
+    /// assert!(MonitorError::ALL.contains(&MonitorError::Finished));
+    /// ```
+    pub const ALL: &'static [MonitorError] = &{
+        let mut all = [MonitorError::Finished; FrameError::ALL.len() + 2];
+        let mut i = 0;
+        while i < FrameError::ALL.len() {
+            all[i] = MonitorError::Frame(FrameError::ALL[i]);
+            i += 1;
+        }
+        all[i] = MonitorError::Finished;
+        all[i + 1] = MonitorError::TooManyFrames;
+        all
+    };
 }
 
 impl From<FrameError> for MonitorError {
@@ -141,3 +220,63 @@ impl core::fmt::Display for MonitorError {
 impl core::error::Error for FrameError {}
 impl core::error::Error for ConfigError {}
 impl core::error::Error for MonitorError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Frame;
+
+    // The matches below have no wildcard: a new variant stops this test from compiling until it
+    // is handled here, and then the assertions make `ALL` list it.
+
+    #[test]
+    fn frame_error_all_is_what_validate_returns() {
+        let mut seen = [false; 8];
+        assert_eq!(seen.len(), FrameError::ALL.len());
+        for field in Field::ALL {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1.0] {
+                let mut f = Frame {
+                    speed: 5.0,
+                    a_mag: 1.0,
+                    lat_err: Some(0.0),
+                    ..Frame::default()
+                };
+                match field {
+                    Field::ALon => f.a_lon = bad,
+                    Field::ALat => f.a_lat = bad,
+                    Field::AMag => f.a_mag = bad,
+                    Field::YawRate => f.yaw_rate = bad,
+                    Field::Speed => f.speed = bad,
+                    Field::LatErr => f.lat_err = Some(bad),
+                }
+                if let Err(e) = f.validate() {
+                    let i = FrameError::ALL.iter().position(|a| *a == e);
+                    let i = i.unwrap_or_else(|| panic!("{e:?} is missing from FrameError::ALL"));
+                    seen[i] = true;
+                    match e {
+                        FrameError::NonFinite(_) | FrameError::Negative(_) => {}
+                    }
+                }
+            }
+        }
+        assert!(
+            seen.iter().all(|s| *s),
+            "FrameError::ALL lists an error validate never returns"
+        );
+    }
+
+    #[test]
+    fn monitor_error_all_lists_every_variant() {
+        let mut finished = 0;
+        let mut too_many = 0;
+        let mut frames = 0;
+        for e in MonitorError::ALL {
+            match e {
+                MonitorError::Frame(_) => frames += 1,
+                MonitorError::Finished => finished += 1,
+                MonitorError::TooManyFrames => too_many += 1,
+            }
+        }
+        assert_eq!((frames, finished, too_many), (FrameError::ALL.len(), 1, 1));
+    }
+}

@@ -193,6 +193,16 @@ static void test_config(void) {
   BAD_CONFIG(c->factors.critical = 1.5, SDS_RESULT_CONFIG_FACTOR);
   BAD_CONFIG(c->factors.layout = 0.0, SDS_RESULT_CONFIG_FACTOR);
   BAD_CONFIG(c->factors.nodecel = NAN, SDS_RESULT_CONFIG_FACTOR);
+  /* The core refuses a monitor capacity over 1024 frames. The C monitor's capacity is fixed
+   * (SDS_CAPACITY, 20, checked against that bound when the library is built), so no call can
+   * return it: the code is part of the ABI with its own text, and fields at their largest
+   * still give their own codes. */
+  CHECK(SDS_RESULT_CONFIG_CAPACITY == 112);
+  CHECK(strcmp(sds_result_str(SDS_RESULT_CONFIG_CAPACITY),
+               "config: the monitor capacity must be at most 1024 frames") == 0);
+  CHECK(SDS_CAPACITY <= 1024);
+  BAD_CONFIG(c->chunk_len = 0xFFFF, SDS_RESULT_CONFIG_CHUNK_LEN);
+  BAD_CONFIG(c->decel_window = 0xFFFF, SDS_RESULT_CONFIG_DECEL_WINDOW);
   /* The refused re-inits left the running monitor as it was. */
   CHECK_RESULT(sds_monitor_summary(m, &s), SDS_RESULT_OK);
   CHECK(s.frames == 1);

@@ -86,6 +86,10 @@ enum sds_result
   SDS_RESULT_CONFIG_STATIONARY_SPEED = 110,
   // Factors must lie in `0 ..= 1` and the layout factor must be positive.
   SDS_RESULT_CONFIG_FACTOR = 111,
+  // The monitor's capacity is over the core's maximum (1024 frames). The C monitor's
+  // `SDS_CAPACITY` (20) is checked against it when the library is built, so this library
+  // never returns it; the code exists so that every core error has one.
+  SDS_RESULT_CONFIG_CAPACITY = 112,
   // `a_lon` is NaN or infinite.
   SDS_RESULT_FRAME_A_LON_NOT_FINITE = 200,
   // `a_lat` is NaN or infinite.

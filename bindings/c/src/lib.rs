@@ -51,6 +51,8 @@ use result::sds_result;
 /// `chunk_len` and `decel_window` must not exceed it.
 pub const SDS_CAPACITY: usize = 20;
 const _: () = assert!(SDS_CAPACITY == monitor_core::DEFAULT_CAPACITY);
+// So `ConfigError::Capacity` (`SDS_RESULT_CONFIG_CAPACITY`) cannot happen in this library.
+const _: () = assert!(SDS_CAPACITY <= monitor_core::MAX_CAPACITY);
 
 /// An input or output pointer is usable: not NULL (`SDS_RESULT_NULL_POINTER`) and aligned for
 /// its type (`SDS_RESULT_MISALIGNED_POINTER`). Then aligned reads and writes, which compile to

@@ -62,6 +62,10 @@ pub enum sds_result {
     ConfigStationarySpeed = 110,
     /// Factors must lie in `0 ..= 1` and the layout factor must be positive.
     ConfigFactor = 111,
+    /// The monitor's capacity is over the core's maximum (1024 frames). The C monitor's
+    /// `SDS_CAPACITY` (20) is checked against it when the library is built, so this library
+    /// never returns it; the code exists so that every core error has one.
+    ConfigCapacity = 112,
     /// `a_lon` is NaN or infinite.
     FrameALonNotFinite = 200,
     /// `a_lat` is NaN or infinite.
@@ -82,8 +86,9 @@ pub enum sds_result {
 
 impl From<ConfigError> for sds_result {
     fn from(e: ConfigError) -> Self {
-        // The wildcard keeps this building when the core adds a variant.
-        #[allow(unreachable_patterns)]
+        // The core's errors are `#[non_exhaustive]`: the wildcard is required, and the test
+        // `every_core_error_has_its_own_code` (over `ConfigError::ALL`, `MonitorError::ALL`)
+        // fails when a new variant falls into it.
         match e {
             ConfigError::Dt => sds_result::ConfigDt,
             ConfigError::LegacySpacing => sds_result::ConfigLegacySpacing,
@@ -96,6 +101,8 @@ impl From<ConfigError> for sds_result {
             ConfigError::DecelThreshold => sds_result::ConfigDecelThreshold,
             ConfigError::StationarySpeed => sds_result::ConfigStationarySpeed,
             ConfigError::Factor => sds_result::ConfigFactor,
+            ConfigError::Capacity => sds_result::ConfigCapacity,
+
             _ => sds_result::Unknown,
         }
     }
@@ -103,7 +110,6 @@ impl From<ConfigError> for sds_result {
 
 impl From<FrameError> for sds_result {
     fn from(e: FrameError) -> Self {
-        #[allow(unreachable_patterns)]
         match e {
             FrameError::NonFinite(field) => match field {
                 Field::ALon => sds_result::FrameALonNotFinite,
@@ -112,7 +118,6 @@ impl From<FrameError> for sds_result {
                 Field::YawRate => sds_result::FrameYawRateNotFinite,
                 Field::Speed => sds_result::FrameSpeedNotFinite,
                 Field::LatErr => sds_result::FrameLatErrNotFinite,
-                _ => sds_result::Unknown,
             },
             FrameError::Negative(Field::Speed) => sds_result::FrameSpeedNegative,
             FrameError::Negative(Field::AMag) => sds_result::FrameAMagNegative,
@@ -123,7 +128,6 @@ impl From<FrameError> for sds_result {
 
 impl From<MonitorError> for sds_result {
     fn from(e: MonitorError) -> Self {
-        #[allow(unreachable_patterns)]
         match e {
             MonitorError::Frame(f) => f.into(),
             MonitorError::Finished => sds_result::Finished,
@@ -175,6 +179,7 @@ pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
         109 => c"config: decel_threshold must be finite",
         110 => c"config: stationary_speed must be finite and not negative",
         111 => c"config: factors must lie in 0..=1 and layout must be positive",
+        112 => c"config: the monitor capacity must be at most 1024 frames",
         200 => c"frame: a_lon is not finite",
         201 => c"frame: a_lat is not finite",
         202 => c"frame: a_mag is not finite",
@@ -219,6 +224,7 @@ mod tests {
             sds_result::ConfigDecelThreshold,
             sds_result::ConfigStationarySpeed,
             sds_result::ConfigFactor,
+            sds_result::ConfigCapacity,
             sds_result::FrameALonNotFinite,
             sds_result::FrameALatNotFinite,
             sds_result::FrameAMagNotFinite,
@@ -240,6 +246,42 @@ mod tests {
         }
     }
 
+    /// Every value of every core error the C API sees has a code of its own: not `Unknown`,
+    /// not shared with another error, with its own text.
+    #[test]
+    fn every_core_error_has_its_own_code() {
+        let config = ConfigError::ALL
+            .iter()
+            .map(|e| (std::format!("{e:?}"), sds_result::from(*e)));
+        let monitor = MonitorError::ALL
+            .iter()
+            .map(|e| (std::format!("{e:?}"), sds_result::from(*e)));
+        let frame = FrameError::ALL
+            .iter()
+            .map(|e| (std::format!("{e:?}"), sds_result::from(*e)));
+        let mapped: std::vec::Vec<_> = config.chain(monitor).collect();
+        assert_eq!(
+            mapped.len(),
+            ConfigError::ALL.len() + MonitorError::ALL.len()
+        );
+        for (i, (name, code)) in mapped.iter().enumerate() {
+            assert_ne!(*code, sds_result::Unknown, "{name} has no code of its own");
+            assert_ne!(*code, sds_result::Ok, "{name} maps to OK");
+            assert_ne!(
+                sds_result_str(*code as u32),
+                sds_result_str(12345),
+                "{name}: no text"
+            );
+            for (other, c) in &mapped[..i] {
+                assert_ne!(code, c, "{name} and {other} share a code");
+            }
+        }
+        // A frame error has the same code on its own as inside MonitorError::Frame.
+        for (e, (name, code)) in FrameError::ALL.iter().zip(frame) {
+            assert_eq!(sds_result::from(MonitorError::Frame(*e)), code, "{name}");
+        }
+    }
+
     #[test]
     fn core_errors_map_to_their_codes() {
         assert_eq!(
@@ -257,6 +299,10 @@ mod tests {
         assert_eq!(
             sds_result::from(ConfigError::Factor),
             sds_result::ConfigFactor
+        );
+        assert_eq!(
+            sds_result::from(ConfigError::Capacity),
+            sds_result::ConfigCapacity
         );
     }
 }

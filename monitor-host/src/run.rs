@@ -14,7 +14,7 @@ use crate::input::results_file::{read_results, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set};
 use crate::input::route_xml::read_route_xml;
 use crate::pipeline::outcome::TelemetryState;
-use crate::pipeline::replay::{read_telemetry, replay};
+use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
 use crate::report::model::{build, Report, RunFacts};
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -383,20 +383,17 @@ pub fn route_frames(
     let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
     files_read.extend(maps.files().iter().cloned());
     let mut warnings = Vec::new();
-    let telemetry = read_telemetry(
-        &loaded,
-        record,
-        routes.as_ref(),
-        town.and_then(|t| maps.get(t).ok()),
-        inputs.telemetry.as_deref(),
+    let context = RouteContext {
+        routes: routes.as_ref(),
+        map: town.and_then(|t| maps.get(t).ok()),
+        telemetry_root: inputs.telemetry.as_deref(),
         settings,
-        &mut warnings,
-        &mut files_read,
-    )
-    .map_err(|state| Error::Telemetry {
-        route: route_id.into(),
-        state,
-    })?;
+    };
+    let telemetry = read_telemetry(&loaded, record, context, &mut warnings, &mut files_read)
+        .map_err(|state| Error::Telemetry {
+            route: route_id.into(),
+            state,
+        })?;
     Ok(RouteFrames {
         frames: telemetry.prepared.frames,
         warnings,

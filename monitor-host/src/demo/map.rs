@@ -33,31 +33,48 @@ fn lane(id: i32, pred: Option<i32>, succ: Option<i32>) -> String {
     )
 }
 
-/// One road: `geometry` is the planView's inner element (`<line/>`, `<arc .../>`).
-#[allow(clippy::too_many_arguments)]
-fn road(
+/// One road of the map, written by [`Road::xml`].
+struct Road<'a> {
     id: u32,
+    /// The junction the road belongs to, -1 for none.
     junction: i32,
-    links: &str,
-    (x, y, hdg): (f64, f64, f64),
+    /// The inner elements of `<link>`.
+    links: &'a str,
+    /// Start of the reference line and its heading: x, y, hdg.
+    start: (f64, f64, f64),
     length: f64,
-    geometry: &str,
-    left: &[String],
-    right: &[String],
-) -> String {
-    format!(
-        "  <road name=\"Road {id}\" length=\"{length}\" id=\"{id}\" junction=\"{junction}\">\n\
-         \x20   <link>{links}</link>\n\
-         \x20   <planView><geometry s=\"0\" x=\"{x}\" y=\"{y}\" hdg=\"{hdg}\" length=\"{length}\">{geometry}</geometry></planView>\n\
-         \x20   <lanes><laneSection s=\"0\">\n\
-         \x20     <left>{}</left>\n\
-         \x20     <center><lane id=\"0\" type=\"none\" level=\"false\"/></center>\n\
-         \x20     <right>{}</right>\n\
-         \x20   </laneSection></lanes>\n\
-         \x20 </road>\n",
-        left.concat(),
-        right.concat()
-    )
+    /// The planView's inner element (`<line/>`, `<arc .../>`).
+    geometry: &'a str,
+    left: &'a [String],
+    right: &'a [String],
+}
+
+impl Road<'_> {
+    fn xml(&self) -> String {
+        let Road {
+            id,
+            junction,
+            links,
+            start: (x, y, hdg),
+            length,
+            geometry,
+            left,
+            right,
+        } = self;
+        format!(
+            "  <road name=\"Road {id}\" length=\"{length}\" id=\"{id}\" junction=\"{junction}\">\n\
+             \x20   <link>{links}</link>\n\
+             \x20   <planView><geometry s=\"0\" x=\"{x}\" y=\"{y}\" hdg=\"{hdg}\" length=\"{length}\">{geometry}</geometry></planView>\n\
+             \x20   <lanes><laneSection s=\"0\">\n\
+             \x20     <left>{}</left>\n\
+             \x20     <center><lane id=\"0\" type=\"none\" level=\"false\"/></center>\n\
+             \x20     <right>{}</right>\n\
+             \x20   </laneSection></lanes>\n\
+             \x20 </road>\n",
+            left.concat(),
+            right.concat()
+        )
+    }
 }
 
 /// The map's text. `origin` is the demo origin in CARLA coordinates: lane -1's centre line runs
@@ -78,60 +95,65 @@ pub fn xodr(origin: [f64; 2]) -> String {
          <header revMajor=\"1\" revMinor=\"4\" name=\"DemoTown\" version=\"1\" vendor=\"sds demo\"/>\n",
     );
     // Road 1: from 50 m west of the origin to the junction.
-    s += &road(
-        1,
-        -1,
-        &junction("successor"),
-        (x0 - 50.0, y0, 0.0),
-        west,
-        "<line/>",
-        &[lane(1, None, None)],
-        &[lane(-1, None, None), lane(-2, None, None)],
-    );
+    s += &Road {
+        id: 1,
+        junction: -1,
+        links: &junction("successor"),
+        start: (x0 - 50.0, y0, 0.0),
+        length: west,
+        geometry: "<line/>",
+        left: &[lane(1, None, None)],
+        right: &[lane(-1, None, None), lane(-2, None, None)],
+    }
+    .xml();
     // Road 2: east of the junction.
-    s += &road(
-        2,
-        -1,
-        &junction("predecessor"),
-        (x0 + j1, y0, 0.0),
-        EAST_LENGTH,
-        "<line/>",
-        &[lane(1, None, None)],
-        &[lane(-1, None, None), lane(-2, None, None)],
-    );
+    s += &Road {
+        id: 2,
+        junction: -1,
+        links: &junction("predecessor"),
+        start: (x0 + j1, y0, 0.0),
+        length: EAST_LENGTH,
+        geometry: "<line/>",
+        left: &[lane(1, None, None)],
+        right: &[lane(-1, None, None), lane(-2, None, None)],
+    }
+    .xml();
     // Road 3: south of the junction, after the right turn.
-    s += &road(
-        3,
-        -1,
-        &junction("predecessor"),
-        (x0 + j0 + r, y0 - r, -std::f64::consts::FRAC_PI_2),
-        50.0,
-        "<line/>",
-        &[lane(1, None, None)],
-        &[lane(-1, None, None)],
-    );
+    s += &Road {
+        id: 3,
+        junction: -1,
+        links: &junction("predecessor"),
+        start: (x0 + j0 + r, y0 - r, -std::f64::consts::FRAC_PI_2),
+        length: 50.0,
+        geometry: "<line/>",
+        left: &[lane(1, None, None)],
+        right: &[lane(-1, None, None)],
+    }
+    .xml();
     // Road 10: straight through the junction.
-    s += &road(
-        10,
-        100,
-        &(to("predecessor", 1, "end") + &to("successor", 2, "start")),
-        (x0 + j0, y0, 0.0),
-        j1 - j0,
-        "<line/>",
-        &[],
-        &[lane(-1, Some(-1), Some(-1)), lane(-2, Some(-2), Some(-2))],
-    );
+    s += &Road {
+        id: 10,
+        junction: 100,
+        links: &(to("predecessor", 1, "end") + &to("successor", 2, "start")),
+        start: (x0 + j0, y0, 0.0),
+        length: j1 - j0,
+        geometry: "<line/>",
+        left: &[],
+        right: &[lane(-1, Some(-1), Some(-1)), lane(-2, Some(-2), Some(-2))],
+    }
+    .xml();
     // Road 11: the right turn from lane -1.
-    s += &road(
-        11,
-        100,
-        &(to("predecessor", 1, "end") + &to("successor", 3, "start")),
-        (x0 + j0, y0, 0.0),
-        turn,
-        &format!("<arc curvature=\"{}\"/>", -1.0 / r),
-        &[],
-        &[lane(-1, Some(-1), Some(-1))],
-    );
+    s += &Road {
+        id: 11,
+        junction: 100,
+        links: &(to("predecessor", 1, "end") + &to("successor", 3, "start")),
+        start: (x0 + j0, y0, 0.0),
+        length: turn,
+        geometry: &format!("<arc curvature=\"{}\"/>", -1.0 / r),
+        left: &[],
+        right: &[lane(-1, Some(-1), Some(-1))],
+    }
+    .xml();
     s += "  <junction id=\"100\" name=\"demo junction\">\n\
           \x20   <connection id=\"0\" incomingRoad=\"1\" connectingRoad=\"10\" contactPoint=\"start\">\
           <laneLink from=\"-1\" to=\"-1\"/><laneLink from=\"-2\" to=\"-2\"/></connection>\n\

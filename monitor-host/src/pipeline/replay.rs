@@ -203,22 +203,38 @@ pub struct RouteTelemetry {
     pub path: PathBuf,
 }
 
+/// What reading one route's telemetry needs from the run besides the record: the route's
+/// reference (the route XML, the town map), where the telemetry lies, and the settings.
+#[derive(Clone, Copy)]
+pub struct RouteContext<'a> {
+    /// The run's route XML, when given.
+    pub routes: Option<&'a RouteSet>,
+    /// The route's town map, when given and found.
+    pub map: Option<&'a Map>,
+    /// The `--telemetry` folder, when given.
+    pub telemetry_root: Option<&'a Path>,
+    /// The run's settings.
+    pub settings: &'a Settings,
+}
+
 /// Locates and reads a record's telemetry (and `infractions.json` beside it), infers its step
 /// period, and prepares its frames. Problems that do not stop the route are pushed to
 /// `warnings`.
 ///
 /// Every file located (read or not) is pushed to `files`.
-#[allow(clippy::too_many_arguments)] // the route XML and the town map are the route's reference
 pub fn read_telemetry(
     loaded: &LoadedRecord,
     record: &Record,
-    routes: Option<&RouteSet>,
-    map: Option<&Map>,
-    telemetry_root: Option<&Path>,
-    settings: &Settings,
+    context: RouteContext<'_>,
     warnings: &mut Vec<Warning>,
     files: &mut Vec<PathBuf>,
 ) -> Result<RouteTelemetry, TelemetryState> {
+    let RouteContext {
+        routes,
+        map,
+        telemetry_root,
+        settings,
+    } = context;
     // A save_name naming another route's folder would score this record with that telemetry.
     if let Some(other) = record
         .save_name
@@ -353,13 +369,16 @@ pub fn replay(
         settings.lateral_reference,
     ));
     out.penalty = Some(penalty::check_penalty(record, settings.penalty_flavour));
-    let summary = match read_telemetry(
-        loaded,
-        record,
+    let context = RouteContext {
         routes,
         map,
         telemetry_root,
         settings,
+    };
+    let summary = match read_telemetry(
+        loaded,
+        record,
+        context,
         &mut out.warnings,
         &mut out.files_read,
     ) {

@@ -1,7 +1,9 @@
 //! The exception classes, and the host's typed errors mapped onto them. Every message is the
 //! text the `sds` command prints after `sds: error: `.
 
+use monitor_host::aggregate::groups::NeedsLabels;
 use monitor_host::cli::error_message;
+use monitor_host::geometry::map::MapError;
 use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
@@ -25,6 +27,12 @@ create_exception!(
     SdsError,
     "An option or setting is invalid (an unknown setting, a value out of range)."
 );
+create_exception!(
+    sds,
+    NeedsLabelsError,
+    ConfigError,
+    "A grouping needs a label map that was not given (`group_by=\"family\"` without `labels`)."
+);
 create_exception!(sds, IoError, SdsError, "A file or folder cannot be read.");
 create_exception!(
     sds,
@@ -37,9 +45,9 @@ create_exception!(
 pub fn run_error(e: &Error) -> PyErr {
     let msg = error_message(e);
     match e {
-        Error::Results(ResultsError::Io { .. }) | Error::RouteXml(RouteError::Io { .. }) => {
-            IoError::new_err(msg)
-        }
+        Error::Results(ResultsError::Io { .. })
+        | Error::RouteXml(RouteError::Io { .. })
+        | Error::Map(MapError::Io { .. }) => IoError::new_err(msg),
         Error::TelemetryRoot { .. } => IoError::new_err(msg),
         Error::Settings(_) | Error::TooFewRoutes { .. } => ConfigError::new_err(msg),
         Error::Threads(_) => SdsError::new_err(msg),
@@ -57,6 +65,9 @@ pub fn score_error(e: &anyhow::Error) -> PyErr {
         return labels_error(e);
     }
     let msg = error_message(&**e);
+    if e.downcast_ref::<NeedsLabels>().is_some() {
+        return NeedsLabelsError::new_err(msg);
+    }
     if e.downcast_ref::<SettingsError>().is_some() {
         return ConfigError::new_err(msg);
     }

@@ -39,6 +39,10 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SdsError", py.get_type::<errors::SdsError>())?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("ConfigError", py.get_type::<errors::ConfigError>())?;
+    m.add(
+        "NeedsLabelsError",
+        py.get_type::<errors::NeedsLabelsError>(),
+    )?;
     m.add("IoError", py.get_type::<errors::IoError>())?;
     m.add(
         "FeatureUnavailableError",

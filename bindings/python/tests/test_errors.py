@@ -23,8 +23,36 @@ def cli_error(sds_bin: Path, args: List[str]) -> str:
 def test_hierarchy() -> None:
     for cls in (sds.InputError, sds.ConfigError, sds.IoError, sds.FeatureUnavailableError):
         assert issubclass(cls, sds.SdsError)
+        assert cls.__bases__ == (sds.SdsError,), cls
+    assert sds.NeedsLabelsError.__bases__ == (sds.ConfigError,)
     assert issubclass(sds.SdsError, Exception)
-    assert sds.InputError.__module__ == "sds"
+    for cls in (sds.SdsError, sds.InputError, sds.ConfigError, sds.NeedsLabelsError, sds.IoError):
+        assert cls.__module__ == "sds", cls
+
+
+def test_group_by_without_labels_is_needs_labels_error(sds_bin: Path, demo: Demo) -> None:
+    with pytest.raises(sds.NeedsLabelsError) as e:
+        sds.score(demo.results, group_by="family")
+    assert type(e.value) is sds.NeedsLabelsError
+    assert str(e.value) == "--group-by family needs its label map (--families FILE)"
+    assert str(e.value) == cli_error(sds_bin, ["--results", str(demo.results), "--group-by", "family"])
+    code, _, _ = run_cli(sds_bin, ["score", "--results", str(demo.results), "--group-by", "family"])
+    assert code == 2  # a usage error, like every ConfigError
+
+
+def test_unreadable_map_is_io_error(sds_bin: Path, demo: Demo, tmp_path: Path) -> None:
+    if "maps" not in sds._sds.score_options():
+        pytest.skip("this build of sds score has no --maps")
+    maps = tmp_path / "maps"
+    maps.mkdir()
+    with open(maps / "DemoTown.xodr", "wb") as f:
+        f.truncate(1536 << 20)  # sparse: over the reader's 1 GiB bound for a map, no disk used
+    with pytest.raises(sds.IoError) as e:
+        sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes, maps=maps)
+    assert type(e.value) is sds.IoError
+    args = ["--results", str(demo.results), "--telemetry", str(demo.telemetry), "--routes", str(demo.routes)]
+    assert str(e.value) == cli_error(sds_bin, [*args, "--maps", str(maps)])
+    assert str(e.value).startswith(f"{maps / 'DemoTown.xodr'}: cannot read the map: ")
 
 
 def test_unreadable_results_is_io_error(sds_bin: Path, tmp_path: Path) -> None:

@@ -8,7 +8,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
 
 Errors raise :class:`SdsError` subclasses whose messages are those of the ``sds`` command:
-:class:`InputError` (a bad input file or frame), :class:`ConfigError` (a bad option or setting),
+:class:`InputError` (a bad input file or frame), :class:`ConfigError` (a bad option or setting;
+its subclass :class:`NeedsLabelsError`: a grouping without its label map),
 :class:`IoError` (a file cannot be read), :class:`FeatureUnavailableError` (an option this build
 does not have yet).
 """
@@ -25,6 +26,7 @@ from ._sds import (
     FeatureUnavailableError,
     InputError,
     IoError,
+    NeedsLabelsError,
     SdsError,
     __version__,
 )
@@ -37,6 +39,7 @@ __all__ = [
     "InputError",
     "IoError",
     "Monitor",
+    "NeedsLabelsError",
     "PathLike",
     "SdsError",
     "Summary",

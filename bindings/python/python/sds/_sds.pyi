@@ -15,6 +15,9 @@ class InputError(SdsError):
 class ConfigError(SdsError):
     """An option or setting is invalid."""
 
+class NeedsLabelsError(ConfigError):
+    """A grouping needs a label map that was not given (``group_by="family"`` without ``labels``)."""
+
 class IoError(SdsError):
     """A file or folder cannot be read."""
 

@@ -63,21 +63,22 @@ if [ ${#need_apt[@]} -gt 0 ] && command -v apt-get >/dev/null 2>&1; then
     || log "WARNING: apt-get install ${need_apt[*]} failed"
 fi
 # Python tools for bindings/python/run-tests.sh, pinned, in a venv inside the build folder:
-# maturin builds the wheel; the test requirements are downloaded once into a local wheelhouse so
-# each test run installs into a fresh venv without the network. Without PyPI the Python tests
+# maturin builds the wheel; the test requirements and maturin (pip's build backend when it
+# installs the source distribution) are downloaded once into a local wheelhouse so each test run
+# installs into a fresh venv without the network. Without PyPI the Python tests
 # skip, loudly.
 py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
 py_tools="$py_target/py-tools"
 py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6"
 if ! command -v python3 >/dev/null 2>&1; then
   log "WARNING: no python3: the Python package tests will skip"
-elif [ "$(cat "$py_tools/pins" 2>/dev/null)" != "$py_pins" ]; then
+elif [ "$(cat "$py_tools/pins" 2>/dev/null)" != "$py_pins" ] || ! ls "$py_tools"/wheelhouse/maturin-*.whl >/dev/null 2>&1; then
   log "installing $py_pins into $py_tools (venv) and its wheelhouse"
   rm -rf "$py_tools"
   # shellcheck disable=SC2086
   if python3 -m venv "$py_tools" \
     && "$py_tools/bin/pip" install -q $py_pins \
-    && "$py_tools/bin/pip" download -q -d "$py_tools/wheelhouse" pytest==9.2.0 mypy==2.4.1 numpy==2.4.6; then
+    && "$py_tools/bin/pip" download -q -d "$py_tools/wheelhouse" $py_pins; then
     echo "$py_pins" > "$py_tools/pins"
   else
     log "WARNING: could not install the Python tools (is PyPI reachable?): the Python package tests will skip"

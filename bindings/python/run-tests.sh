@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
 # The Python package's tests: build the abi3 wheel with maturin, install it into a fresh venv
 # inside the build folder, run pytest (the package against the `sds` binary) and
-# `mypy --strict` on the package, its stubs and the examples. The tools come from
-# scripts/setup.sh (pinned, in $CARGO_TARGET_DIR/py-tools); without them this skips, loudly.
+# `mypy --strict` on the package, its stubs and the examples. Then the install from source:
+# `maturin sdist`, `pip install` of the .tar.gz into another fresh venv (pip builds it with
+# maturin and cargo), its `sds` command and `import sds`, and pytest again on that install.
+# The tools come from scripts/setup.sh (pinned, in $CARGO_TARGET_DIR/py-tools; the wheelhouse
+# holds maturin too, so both installs work offline); without them this skips, loudly.
 set -euo pipefail
 cd "$(dirname "$0")"
 root=$(cd ../.. && pwd)
@@ -28,5 +31,28 @@ echo "[python] mypy --strict: package, stubs, examples"
 MYPYPATH=python "$venv/bin/python" -m mypy --strict --cache-dir "$target/py-mypy-cache" python/sds examples
 
 echo "[python] pytest"
-cd tests
-SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -p no:cacheprovider .
+(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -p no:cacheprovider .)
+
+# Install from source, as `pip install sds_monitor-X.tar.gz` does on a machine without our wheel.
+if ! ls "$tools"/wheelhouse/maturin-*.whl >/dev/null 2>&1; then
+  echo "SKIPPED: install from the source distribution: no maturin in $tools/wheelhouse to build it offline (rerun scripts/setup.sh; is PyPI reachable?)" >&2
+  exit 0
+fi
+rm -rf "$target/py-sdist"
+"$tools/bin/maturin" sdist -o "$target/py-sdist" >"$target/py-sdist.log" 2>&1 \
+  || { cat "$target/py-sdist.log" >&2; echo "FAILED: maturin sdist" >&2; exit 1; }
+sdist=$(ls "$target"/py-sdist/sds_monitor-*.tar.gz)
+venv="$target/py-test-sdist"
+echo "[python] fresh venv $venv: pip install $(basename "$sdist") (built from source, offline)"
+python3 -m venv --clear "$venv"
+# pip builds the wheel in an isolated environment (maturin from the wheelhouse) with cargo; its
+# own target folder keeps the crates.io dependencies compiled between runs (this tree's crates
+# are rebuilt: pip unpacks the sdist into a new folder each time). No wheel cache: always build.
+CARGO_TARGET_DIR="$target/py-sdist-build" "$venv/bin/pip" install -q --no-cache-dir --no-index \
+  --find-links "$tools/wheelhouse" "$sdist" pytest numpy
+installed=$("$venv/bin/sds" --version)
+[ "$installed" = "$("$target/release/sds" --version)" ] \
+  || { echo "FAILED: the sds command installed from source says '$installed'" >&2; exit 1; }
+"$venv/bin/python" -c 'import sds, sys; assert sds.__version__ == sys.argv[1].split()[1], sds.__version__; assert issubclass(sds.NeedsLabelsError, sds.SdsError)' "$installed"
+echo "[python] installed from source: $installed; import sds ok; pytest on that install"
+(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -p no:cacheprovider .)

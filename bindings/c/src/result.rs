@@ -102,7 +102,6 @@ impl From<ConfigError> for sds_result {
             ConfigError::StationarySpeed => sds_result::ConfigStationarySpeed,
             ConfigError::Factor => sds_result::ConfigFactor,
             ConfigError::Capacity => sds_result::ConfigCapacity,
-
             _ => sds_result::Unknown,
         }
     }

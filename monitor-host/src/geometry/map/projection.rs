@@ -66,7 +66,7 @@ pub(crate) struct Candidate {
 }
 
 #[inline]
-fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
+pub(crate) fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
     let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -138,7 +138,7 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
 }
 
 /// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`.
-fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
+pub(crate) fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
     let curve = Curve { geometry, piece };
     let (a, b) = (piece.s_a, piece.s_b);
     let [fa, ga, _] = objective(curve, a, p);
@@ -300,6 +300,57 @@ impl Index {
             reach,
             reach_max,
         }
+    }
+
+    /// Calls `f(distance, reach, pieces)` for every cell within `radius` (2-D) of `c`: the
+    /// distance from `c` to the cell, its reach and the range of its pieces.
+    pub fn cells_within(
+        &self,
+        c: [f64; 2],
+        radius: f64,
+        mut f: impl FnMut(f64, f64, std::ops::Range<u32>),
+    ) {
+        if self.pieces.is_empty() || !(c[0].is_finite() && c[1].is_finite()) {
+            return;
+        }
+        let span = radius + self.reach_max;
+        let cell_at = |v: f64, v0: f64, n: i64| {
+            ((v - v0) / self.cell).floor().clamp(0.0, (n - 1) as f64) as i64
+        };
+        let (i0, i1) = (
+            cell_at(c[0] - span, self.x0, self.nx),
+            cell_at(c[0] + span, self.x0, self.nx),
+        );
+        let (j0, j1) = (
+            cell_at(c[1] - span, self.y0, self.ny),
+            cell_at(c[1] + span, self.y0, self.ny),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let (cx0, cy0) = (
+                    self.x0 + i as f64 * self.cell,
+                    self.y0 + j as f64 * self.cell,
+                );
+                let dx = (cx0 - c[0]).max(c[0] - cx0 - self.cell).max(0.0);
+                let dy = (cy0 - c[1]).max(c[1] - cy0 - self.cell).max(0.0);
+                let k = (j * self.nx + i) as usize;
+                f(
+                    dx.hypot(dy),
+                    self.reach[k],
+                    self.starts[k]..self.starts[k + 1],
+                );
+            }
+        }
+    }
+
+    /// The order in which [`Index::search`] around `p` visits piece `k`: ring, row, column,
+    /// piece (among pieces at exactly equal distances of one lane, the first visited holds).
+    pub fn visit_key(&self, k: u32, p: &[f64; 3]) -> (i64, i64, i64, u32) {
+        let c = self.starts.partition_point(|&s| s <= k).saturating_sub(1) as i64;
+        let (i, j) = (c % self.nx, c / self.nx);
+        let ci = ((p[0] - self.x0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
+        let cj = ((p[1] - self.y0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
+        ((i - ci).abs().max((j - cj).abs()), j, i, k)
     }
 
     /// Every lane whose nearest point to `p` lies within `tol` of the nearest distance, each

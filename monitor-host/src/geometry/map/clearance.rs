@@ -16,31 +16,39 @@
 //! neighbours. [`Clearance::radius`] is that bound on `r`. `MARGIN` covers floating-point
 //! rounding of the distances (nanometres) a thousandfold.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::network::Network;
 use super::projection::{seg_dist, Index};
 use super::road::Road;
 use super::TIE_TOLERANCE;
 
 /// Pieces of the same lane on each side of P that the fast path solves itself (so they do not
-/// count against P's clearance): with 2 m pieces, the nearest excluded piece of a straight lane
-/// is 4 m away, beyond a neighbouring lane.
-pub(crate) const NEIGHBOURS: usize = 2;
+/// count against P's clearance; they touch P): with 2 m pieces, the nearest piece of P's own
+/// lane that counts is 2 m away. (Two on each side gave a larger radius but cost more per frame
+/// than the searches it saved.)
+pub(crate) const NEIGHBOURS: usize = 1;
 /// `sep(P)` is looked for up to this distance (m); a piece with nothing nearer gets this.
 const SEP_CAP: f64 = 4.0;
 /// Rounding allowance (m) on the certificate.
 const MARGIN: f64 = 1e-5;
 
-/// Per piece (in the index's order): its lane's pieces along `s`, its clearance radius; per
-/// lane: its width when no record changes it.
-#[derive(Debug, Clone, Default)]
+/// A radius not computed yet (a NaN no computation yields).
+const NOT_YET: u64 = u64::MAX;
+
+/// Per piece (in the index's order): its lane's pieces along `s`, its clearance radius
+/// (computed on first use: a drive touches few of a town's pieces); per lane: its width when no
+/// record changes it.
+#[derive(Debug, Default)]
 pub(crate) struct Clearance {
     /// The pieces of each lane in `s` order: `by_node[node_start[n]..node_start[n + 1]]`.
     by_node: Vec<u32>,
     node_start: Vec<u32>,
     /// Position of each piece in `by_node`.
     pos: Vec<u32>,
-    /// Certified radius per piece (negative: none).
-    radius: Vec<f64>,
+    /// Certified radius per piece (negative: none), as f64 bits, [`NOT_YET`] until needed.
+    /// Threads sharing the map may both compute one: they store the same value.
+    radius: Vec<AtomicU64>,
     /// Per lane: its width, when every width record of the lane is the same constant.
     const_width: Vec<Option<f64>>,
 }
@@ -66,11 +74,11 @@ impl Clearance {
         for (i, &k) in by_node.iter().enumerate() {
             pos[k as usize] = i as u32;
         }
-        let mut c = Clearance {
+        Clearance {
             by_node,
             node_start,
             pos,
-            radius: Vec::new(),
+            radius: (0..pieces.len()).map(|_| AtomicU64::new(NOT_YET)).collect(),
             const_width: net
                 .nodes
                 .iter()
@@ -85,20 +93,7 @@ impl Clearance {
                     (flat && a.is_finite()).then_some(a)
                 })
                 .collect(),
-        };
-        c.radius = (0..pieces.len() as u32)
-            .map(|k| {
-                let sep = c.sep(index, k);
-                let slack = pieces[k as usize].slack;
-                let r = 0.5 * (sep - slack - TIE_TOLERANCE - MARGIN);
-                if r.is_finite() && r > 0.0 {
-                    r
-                } else {
-                    -1.0
-                }
-            })
-            .collect();
-        c
+        }
     }
 
     /// The pieces P and its neighbours along its lane (the ones the fast path solves).
@@ -113,8 +108,19 @@ impl Clearance {
 
     /// The certified radius of piece `k` (negative: none).
     #[inline]
-    pub fn radius(&self, k: u32) -> f64 {
-        self.radius.get(k as usize).copied().unwrap_or(-1.0)
+    pub fn radius(&self, index: &Index, k: u32) -> f64 {
+        let Some(slot) = self.radius.get(k as usize) else {
+            return -1.0;
+        };
+        let bits = slot.load(Ordering::Relaxed);
+        if bits != NOT_YET {
+            return f64::from_bits(bits);
+        }
+        let sep = self.sep(index, k);
+        let r = 0.5 * (sep - index.pieces[k as usize].slack - TIE_TOLERANCE - MARGIN);
+        let r = if r.is_finite() && r > 0.0 { r } else { -1.0 };
+        slot.store(r.to_bits(), Ordering::Relaxed);
+        r
     }
 
     /// The constant width of lane `node`, if it has one.
@@ -132,9 +138,11 @@ impl Clearance {
         let mid = [0.5 * (p.a[0] + p.b[0]), 0.5 * (p.a[1] + p.b[1])];
         let half = 0.5 * (p.b[0] - p.a[0]).hypot(p.b[1] - p.a[1]);
         let mut sep = SEP_CAP;
-        index.cells_within(mid, half + SEP_CAP, |dist, reach, range| {
-            // Every piece of the cell lies within `reach` of it, P within `half` of `mid`.
-            if dist - half - reach >= sep {
+        index.cells_within(mid, half + SEP_CAP, |dist2, reach, range| {
+            // Every piece of the cell lies within `reach` of it, P within `half` of `mid`: skip
+            // the cell when `dist - half - reach >= sep` (squared; MARGIN covers the rounding).
+            let lim = sep + half + reach;
+            if dist2 >= lim * lim {
                 return;
             }
             for q in range {
@@ -177,6 +185,22 @@ fn seg_seg(a0: &[f64; 3], a1: &[f64; 3], b0: &[f64; 3], b1: &[f64; 3]) -> f64 {
         }
     }
     ends
+}
+
+impl Clone for Clearance {
+    fn clone(&self) -> Self {
+        Clearance {
+            by_node: self.by_node.clone(),
+            node_start: self.node_start.clone(),
+            pos: self.pos.clone(),
+            radius: self
+                .radius
+                .iter()
+                .map(|r| AtomicU64::new(r.load(Ordering::Relaxed)))
+                .collect(),
+            const_width: self.const_width.clone(),
+        }
+    }
 }
 
 #[cfg(test)]

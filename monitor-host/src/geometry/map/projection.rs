@@ -12,7 +12,7 @@
 //! [`KNOT_STEP`]: super::network::KNOT_STEP
 
 use super::cubic::eval_coeffs;
-use super::lanes::centre_from;
+use super::lanes::{centre_from, CentrePoint};
 use super::network::Network;
 use super::reference_line::Geometry;
 use super::road::Road;
@@ -86,16 +86,21 @@ struct Curve<'a> {
     piece: &'a Piece,
 }
 
-/// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C(s) - p`.
+/// The point of the piece's centre line at road `s`, with its derivatives.
 #[inline]
-fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
+fn centre_at(c: Curve, s: f64) -> CentrePoint {
     let pose = c.geometry.pose(s - c.geometry.s0);
     let v = s - c.piece.s_a;
-    let c = centre_from(
+    centre_from(
         &pose,
         eval_coeffs(&c.piece.t, v),
         eval_coeffs(&c.piece.z, v),
-    );
+    )
+}
+
+/// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C - p`.
+#[inline]
+fn objective_of(c: &CentrePoint, p: &[f64; 3]) -> [f64; 3] {
     let d = [c.p[0] - p[0], c.p[1] - p[1], c.p[2] - p[2]];
     let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
     [
@@ -103,6 +108,12 @@ fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
         dot(&d, &c.d1),
         dot(&c.d1, &c.d1) + dot(&d, &c.d2),
     ]
+}
+
+/// [`objective_of`] the point at `s`.
+#[inline]
+fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
+    objective_of(&centre_at(c, s), p)
 }
 
 /// The root of `g` in `[lo, hi]` where `g(lo) < 0 < g(hi)`: Newton steps, bisection when a step
@@ -137,12 +148,28 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
     (s, f)
 }
 
+/// The centre line at both ends of a piece (they do not depend on the query point).
+pub(crate) fn piece_ends(geometry: &Geometry, piece: &Piece) -> [CentrePoint; 2] {
+    let curve = Curve { geometry, piece };
+    [centre_at(curve, piece.s_a), centre_at(curve, piece.s_b)]
+}
+
 /// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`.
 pub(crate) fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
+    nearest_on_from(geometry, piece, p, &piece_ends(geometry, piece))
+}
+
+/// [`nearest_on`] with the piece's [`piece_ends`] at hand.
+pub(crate) fn nearest_on_from(
+    geometry: &Geometry,
+    piece: &Piece,
+    p: &[f64; 3],
+    ends: &[CentrePoint; 2],
+) -> (f64, f64) {
     let curve = Curve { geometry, piece };
     let (a, b) = (piece.s_a, piece.s_b);
-    let [fa, ga, _] = objective(curve, a, p);
-    let [fb, gb, _] = objective(curve, b, p);
+    let [fa, ga, _] = objective_of(&ends[0], p);
+    let [fb, gb, _] = objective_of(&ends[1], p);
     let mut best = if fa <= fb { (a, fa) } else { (b, fb) };
     let mut consider = |r: (f64, f64)| {
         if r.1 < best.1 {
@@ -302,8 +329,8 @@ impl Index {
         }
     }
 
-    /// Calls `f(distance, reach, pieces)` for every cell within `radius` (2-D) of `c`: the
-    /// distance from `c` to the cell, its reach and the range of its pieces.
+    /// Calls `f(distance², reach, pieces)` for every cell within about `radius` (2-D) of `c`:
+    /// the squared distance from `c` to the cell, its reach and the range of its pieces.
     pub fn cells_within(
         &self,
         c: [f64; 2],
@@ -335,7 +362,7 @@ impl Index {
                 let dy = (cy0 - c[1]).max(c[1] - cy0 - self.cell).max(0.0);
                 let k = (j * self.nx + i) as usize;
                 f(
-                    dx.hypot(dy),
+                    dx * dx + dy * dy,
                     self.reach[k],
                     self.starts[k]..self.starts[k + 1],
                 );

@@ -1,7 +1,8 @@
 //! Projection of a drive's consecutive points (a route's frames): the previous frame's lane
 //! piece bounds the search, and inside its clearance (see `clearance.rs`) answers without one.
 
-use super::projection::{nearest_on, seg_dist, Candidate};
+use super::lanes::CentrePoint;
+use super::projection::{nearest_on_from, piece_ends, seg_dist, Candidate};
 use super::{Map, Projection, TIE_TOLERANCE};
 
 /// Projects consecutive points (a route's frames) faster. The previous answer's lane piece
@@ -23,7 +24,13 @@ pub struct Projector<'m> {
     hint: Option<u32>,
     scratch: Vec<Candidate>,
     shortcuts: u64,
+    /// The ends of recently solved pieces (a drive solves the same pieces for a few frames),
+    /// by piece index modulo [`ENDS`].
+    ends: [Option<(u32, [CentrePoint; 2])>; ENDS],
 }
+
+/// Slots of the ends cache.
+const ENDS: usize = 4;
 
 impl<'m> Projector<'m> {
     /// A projector over `map` with no history.
@@ -39,6 +46,7 @@ impl<'m> Projector<'m> {
             hint: None,
             scratch: Vec::with_capacity(8),
             shortcuts: 0,
+            ends: [None; ENDS],
         }
     }
 
@@ -106,21 +114,24 @@ impl<'m> Projector<'m> {
         let node = index.pieces.get(h as usize)?.node;
         let inside = |k: u32| {
             let q = &index.pieces[k as usize];
-            seg_dist(p, &q.a, &q.b) <= clearance.radius(k)
+            seg_dist(p, &q.a, &q.b) <= clearance.radius(index, k)
         };
         if inside(h) {
             return Some(h);
         }
-        clearance
-            .near(h, node)
-            .iter()
-            .copied()
-            .find(|&k| k != h && inside(k))
+        // Then the neighbours, nearest along the lane first (the drive moved on).
+        let near = clearance.near(h, node);
+        let at = near.iter().position(|&k| k == h)?;
+        (1..near.len())
+            .flat_map(|j| [at.checked_add(j), at.checked_sub(j)])
+            .flatten()
+            .filter_map(|i| near.get(i).copied())
+            .find(|&k| inside(k))
     }
 
     /// The nearest point of piece `k`'s lane to `p` (inside `k`'s clearance): the grid search's
     /// candidate for that lane, the same pieces solved and the same tie rule (the first visited).
-    fn on_lane(&self, k: u32, p: &[f64; 3]) -> Option<Candidate> {
+    fn on_lane(&mut self, k: u32, p: &[f64; 3]) -> Option<Candidate> {
         let (map, index) = (self.map, &self.map.index);
         let node = index.pieces[k as usize].node;
         let road = &map.roads[map.net.nodes[node as usize].road as usize];
@@ -134,7 +145,12 @@ impl<'m> Projector<'m> {
                 continue;
             }
             let geometry = &road.reference.geometries[piece.geometry as usize];
-            let (s, f) = nearest_on(geometry, piece, p);
+            let slot = &mut self.ends[q as usize % ENDS];
+            let ends = match slot {
+                Some((key, ends)) if *key == q => ends,
+                _ => &mut slot.insert((q, piece_ends(geometry, piece))).1,
+            };
+            let (s, f) = nearest_on_from(geometry, piece, p, ends);
             let d = f.sqrt();
             best = best.min(d);
             let wins = chosen.is_none_or(|c| {

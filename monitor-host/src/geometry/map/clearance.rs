@@ -28,8 +28,10 @@ use super::TIE_TOLERANCE;
 /// lane that counts is 2 m away. (Two on each side gave a larger radius but cost more per frame
 /// than the searches it saved.)
 pub(crate) const NEIGHBOURS: usize = 1;
-/// `sep(P)` is looked for up to this distance (m); a piece with nothing nearer gets this.
-const SEP_CAP: f64 = 4.0;
+/// `sep(P)` is looked for up to this distance (m); a piece with nothing nearer gets this. The
+/// second piece along the lane is never farther than 2 m (a piece is at most 2 m long), so a
+/// larger cap would only widen the search.
+const SEP_CAP: f64 = 2.5;
 /// Rounding allowance (m) on the certificate.
 const MARGIN: f64 = 1e-5;
 

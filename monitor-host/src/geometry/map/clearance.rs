@@ -152,6 +152,18 @@ impl Clearance {
                     continue;
                 }
                 let piece = &pieces[q as usize];
+                // Midpoints first: chords `half` and `half_q` long about them are at least
+                // `|mid - mid_q| - half - half_q` apart.
+                let m = [
+                    0.5 * (piece.a[0] + piece.b[0]) - mid[0],
+                    0.5 * (piece.a[1] + piece.b[1]) - mid[1],
+                ];
+                let (qx, qy) = (piece.b[0] - piece.a[0], piece.b[1] - piece.a[1]);
+                let half_q = 0.5 * (qx * qx + qy * qy).sqrt();
+                let lim = sep + half + half_q + piece.slack;
+                if m[0] * m[0] + m[1] * m[1] >= lim * lim {
+                    continue;
+                }
                 let d = seg_seg(&p.a, &p.b, &piece.a, &piece.b) - piece.slack;
                 sep = sep.min(d);
             }

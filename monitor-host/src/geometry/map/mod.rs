@@ -315,7 +315,7 @@ impl Map {
         let sec = node.section as usize;
         let piece = &self.index.pieces[c.piece as usize];
         let sel = 0.5 * (piece.s_a + piece.s_b);
-        let at = road.centre_in(sec, node.lane, c.s, sel).p;
+        let at = road.centre_point_in(sec, node.lane, c.s, sel);
         Projection {
             lane: LaneRef {
                 road: node.road,

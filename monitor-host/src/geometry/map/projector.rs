@@ -1,6 +1,7 @@
 //! Projection of a drive's consecutive points (a route's frames): the previous frame's lane
 //! piece bounds the search, and inside its clearance (see `clearance.rs`) answers without one.
 
+use super::clearance::NEIGHBOURS;
 use super::lanes::CentrePoint;
 use super::projection::{nearest_on_from, piece_ends, seg_dist, Candidate};
 use super::{Map, Projection, TIE_TOLERANCE};
@@ -137,13 +138,19 @@ impl<'m> Projector<'m> {
         let road = &map.roads[map.net.nodes[node as usize].road as usize];
         let mut best = f64::INFINITY;
         let mut chosen: Option<Candidate> = None;
-        let near = map.clearance.near(k, node);
-        // `k` first (it is nearest or close): its distance prunes the others.
-        for q in std::iter::once(k).chain(near.iter().copied().filter(|&q| q != k)) {
+        // The pieces by their chord's lower bound, nearest first: its distance prunes the others
+        // (the order changes nothing else: the least distance wins, ties as the search).
+        let mut order = [(f64::INFINITY, u32::MAX); 2 * NEIGHBOURS + 1];
+        for (slot, &q) in order.iter_mut().zip(map.clearance.near(k, node)) {
             let piece = &index.pieces[q as usize];
-            if seg_dist(p, &piece.a, &piece.b) - piece.slack > best + TIE_TOLERANCE {
+            *slot = (seg_dist(p, &piece.a, &piece.b) - piece.slack, q);
+        }
+        order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for (lb, q) in order {
+            if q == u32::MAX || lb > best + TIE_TOLERANCE {
                 continue;
             }
+            let piece = &index.pieces[q as usize];
             let geometry = &road.reference.geometries[piece.geometry as usize];
             let slot = &mut self.ends[q as usize % ENDS];
             let ends = match slot {

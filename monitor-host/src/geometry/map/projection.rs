@@ -67,6 +67,12 @@ pub(crate) struct Candidate {
 
 #[inline]
 pub(crate) fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    seg_dist2(p, a, b).sqrt()
+}
+
+/// The square of [`seg_dist`] (which is its square root, so the two agree to the bit).
+#[inline]
+pub(crate) fn seg_dist2(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
     let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -76,7 +82,7 @@ pub(crate) fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
         0.0
     };
     let d = [ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]];
-    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
 }
 
 /// One piece of a lane's centre line, ready to evaluate.

@@ -3,7 +3,7 @@
 
 use super::clearance::NEIGHBOURS;
 use super::lanes::CentrePoint;
-use super::projection::{nearest_on_from, piece_ends, seg_dist, Candidate};
+use super::projection::{nearest_on_from, piece_ends, seg_dist2, Candidate};
 use super::{Map, Projection, TIE_TOLERANCE};
 
 /// Projects consecutive points (a route's frames) faster. The previous answer's lane piece
@@ -60,7 +60,10 @@ impl<'m> Projector<'m> {
     /// ```
     pub fn project(&mut self, x: f64, y: f64, z: f64) -> Option<Projection> {
         let p = [x, -y, z];
-        if let Some(c) = self.certified(&p).and_then(|k| self.on_lane(k, &p)) {
+        if let Some(c) = self
+            .certified(&p)
+            .and_then(|(k, d2)| self.on_lane(k, d2, &p))
+        {
             self.shortcuts += 1;
             self.hint = Some(c.piece);
             return Some(self.map.describe(&c, &p, 1));
@@ -78,7 +81,7 @@ impl<'m> Projector<'m> {
     /// ```
     pub fn width(&mut self, x: f64, y: f64, z: f64) -> Option<f64> {
         let p = [x, -y, z];
-        if let Some(k) = self.certified(&p) {
+        if let Some((k, _)) = self.certified(&p) {
             let node = self.map.index.pieces[k as usize].node;
             if let Some(w) = self.map.clearance.const_width(node) {
                 self.shortcuts += 1;
@@ -108,17 +111,20 @@ impl<'m> Projector<'m> {
     }
 
     /// A piece whose clearance holds `p` (OpenDRIVE frame): the previous answer's, or one of its
-    /// neighbours along its lane.
-    fn certified(&self, p: &[f64; 3]) -> Option<u32> {
+    /// neighbours along its lane; with the squared distance from `p` to its chord. (Squares
+    /// against the squared radius: the radius keeps a margin far above their rounding.)
+    fn certified(&self, p: &[f64; 3]) -> Option<(u32, f64)> {
         let (index, clearance) = (&self.map.index, &self.map.clearance);
         let h = self.hint?;
         let node = index.pieces.get(h as usize)?.node;
         let inside = |k: u32| {
             let q = &index.pieces[k as usize];
-            seg_dist(p, &q.a, &q.b) <= clearance.radius(index, k)
+            let r = clearance.radius(index, k);
+            let d2 = seg_dist2(p, &q.a, &q.b);
+            (r >= 0.0 && d2 <= r * r).then_some((k, d2))
         };
-        if inside(h) {
-            return Some(h);
+        if let Some(hit) = inside(h) {
+            return Some(hit);
         }
         // Then the neighbours, nearest along the lane first (the drive moved on).
         let near = clearance.near(h, node);
@@ -127,30 +133,41 @@ impl<'m> Projector<'m> {
             .flat_map(|j| [at.checked_add(j), at.checked_sub(j)])
             .flatten()
             .filter_map(|i| near.get(i).copied())
-            .find(|&k| inside(k))
+            .find_map(inside)
     }
 
     /// The nearest point of piece `k`'s lane to `p` (inside `k`'s clearance): the grid search's
     /// candidate for that lane, the same pieces solved and the same tie rule (the first visited).
-    fn on_lane(&mut self, k: u32, p: &[f64; 3]) -> Option<Candidate> {
+    fn on_lane(&mut self, k: u32, k_d2: f64, p: &[f64; 3]) -> Option<Candidate> {
         let (map, index) = (self.map, &self.map.index);
         let node = index.pieces[k as usize].node;
         let road = &map.roads[map.net.nodes[node as usize].road as usize];
         let mut best = f64::INFINITY;
         let mut chosen: Option<Candidate> = None;
-        // The pieces by their chord's lower bound, nearest first: its distance prunes the others
-        // (the order changes nothing else: the least distance wins, ties as the search).
+        // The pieces by their squared chord distance, nearest first: its distance prunes the
+        // others (the order changes nothing else: the least distance wins, ties as the search).
         let mut order = [(f64::INFINITY, u32::MAX); 2 * NEIGHBOURS + 1];
         for (slot, &q) in order.iter_mut().zip(map.clearance.near(k, node)) {
             let piece = &index.pieces[q as usize];
-            *slot = (seg_dist(p, &piece.a, &piece.b) - piece.slack, q);
+            let d2 = if q == k {
+                k_d2
+            } else {
+                seg_dist2(p, &piece.a, &piece.b)
+            };
+            *slot = (d2, q);
         }
         order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for (lb, q) in order {
-            if q == u32::MAX || lb > best + TIE_TOLERANCE {
+        for (d2, q) in order {
+            if q == u32::MAX {
                 continue;
             }
             let piece = &index.pieces[q as usize];
+            // The search's `chord distance - slack > best + tol`, squared, and loosened by far
+            // more than its rounding: solving one piece too many changes nothing.
+            let reach = best + TIE_TOLERANCE + piece.slack;
+            if d2 > reach * reach * (1.0 + 1e-9) {
+                continue;
+            }
             let geometry = &road.reference.geometries[piece.geometry as usize];
             let slot = &mut self.ends[q as usize % ENDS];
             let ends = match slot {

@@ -75,7 +75,7 @@ impl Road {
 
     /// Lateral position `t` of lane `id`'s centre at `s` (left positive, records chosen at
     /// `sel`), with derivatives.
-    #[inline]
+    #[inline(always)]
     pub fn lane_t_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> [f64; 3] {
         let section = &self.sections[sec];
         let mut t = self.lane_offset.eval_in(s, sel);

@@ -50,6 +50,8 @@ pub(crate) struct Index {
     /// `starts[c]..starts[c + 1]` are the pieces of cell `c` (row-major).
     starts: Vec<u32>,
     pub pieces: Vec<Piece>,
+    /// The centre line at both ends of each piece (every query solving the piece starts there).
+    pub ends: Vec<[CentrePoint; 2]>,
     /// Every point of a piece lies within `reach[c]` of the cell `c` holding its chord's
     /// midpoint; `reach_max` is the largest.
     reach: Vec<f64>,
@@ -154,19 +156,9 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
     (s, f)
 }
 
-/// The centre line at both ends of a piece (they do not depend on the query point).
-pub(crate) fn piece_ends(geometry: &Geometry, piece: &Piece) -> [CentrePoint; 2] {
-    let curve = Curve { geometry, piece };
-    [centre_at(curve, piece.s_a), centre_at(curve, piece.s_b)]
-}
-
-/// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`.
-pub(crate) fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
-    nearest_on_from(geometry, piece, p, &piece_ends(geometry, piece))
-}
-
-/// [`nearest_on`] with the piece's [`piece_ends`] at hand.
-pub(crate) fn nearest_on_from(
+/// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`, given the centre
+/// line at the piece's ends (`Index::ends`).
+pub(crate) fn nearest_on(
     geometry: &Geometry,
     piece: &Piece,
     p: &[f64; 3],
@@ -201,6 +193,7 @@ pub(crate) fn nearest_on_from(
 impl Index {
     pub fn build(roads: &[Road], net: &Network) -> Index {
         let mut pieces = Vec::new();
+        let mut ends = Vec::new();
         for (ni, node) in net.nodes.iter().enumerate() {
             let road = &roads[node.road as usize];
             let sec = node.section as usize;
@@ -248,6 +241,7 @@ impl Index {
                     z,
                 };
                 let geom = &road.reference.geometries[geometry];
+                // As `centre_at` on the piece (the same arithmetic).
                 let at = |s: f64| {
                     let v = s - s_a;
                     centre_from(
@@ -255,21 +249,22 @@ impl Index {
                         eval_coeffs(&t, v),
                         eval_coeffs(&z, v),
                     )
-                    .p
                 };
-                let (a, b) = (at(s_a), at(s_b));
+                let (ca, cb) = (at(s_a), at(s_b));
+                let (a, b) = (ca.p, cb.p);
                 // The curve's deviation from its chord, measured at the middle and a quarter in;
                 // bounded generously (a smooth curve over a short piece is close to a parabola,
                 // whose deviation peaks in the middle).
                 let mut dev: f64 = 0.0;
                 for f in [0.25, 0.5, 0.75] {
-                    dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)), &a, &b));
+                    dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)).p, &a, &b));
                 }
                 if !(a.iter().chain(&b).all(|v| v.is_finite()) && dev.is_finite()) {
                     // A lane whose numbers overflow has no usable geometry here.
                     continue;
                 }
                 pieces.push(piece(a, b, 1.5 * dev + 1e-3));
+                ends.push([ca, cb]);
             }
         }
         if pieces.is_empty() {
@@ -317,9 +312,11 @@ impl Index {
         let starts = counts.clone();
         let mut fill = counts;
         let mut sorted = pieces.clone();
-        for p in &pieces {
+        let mut sorted_ends = ends.clone();
+        for (p, e) in pieces.iter().zip(&ends) {
             let c = cell_of(p);
             sorted[fill[c] as usize] = *p;
+            sorted_ends[fill[c] as usize] = *e;
             fill[c] += 1;
         }
         Index {
@@ -330,6 +327,7 @@ impl Index {
             ny,
             starts,
             pieces: sorted,
+            ends: sorted_ends,
             reach,
             reach_max,
         }
@@ -411,7 +409,7 @@ impl Index {
             }
             let node = &net.nodes[piece.node as usize];
             let geometry = &roads[node.road as usize].reference.geometries[piece.geometry as usize];
-            let (s, f) = nearest_on(geometry, piece, p);
+            let (s, f) = nearest_on(geometry, piece, p, &self.ends[k as usize]);
             let d = f.sqrt();
             if d > *best + tol {
                 return;

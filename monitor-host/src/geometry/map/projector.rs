@@ -2,8 +2,7 @@
 //! piece bounds the search, and inside its clearance (see `clearance.rs`) answers without one.
 
 use super::clearance::NEIGHBOURS;
-use super::lanes::CentrePoint;
-use super::projection::{nearest_on_from, piece_ends, seg_dist2, Candidate};
+use super::projection::{nearest_on, seg_dist2, Candidate};
 use super::{Map, Projection, TIE_TOLERANCE};
 
 /// Projects consecutive points (a route's frames) faster. The previous answer's lane piece
@@ -25,13 +24,7 @@ pub struct Projector<'m> {
     hint: Option<u32>,
     scratch: Vec<Candidate>,
     shortcuts: u64,
-    /// The ends of recently solved pieces (a drive solves the same pieces for a few frames),
-    /// by piece index modulo [`ENDS`].
-    ends: [Option<(u32, [CentrePoint; 2])>; ENDS],
 }
-
-/// Slots of the ends cache.
-const ENDS: usize = 4;
 
 impl<'m> Projector<'m> {
     /// A projector over `map` with no history.
@@ -47,7 +40,6 @@ impl<'m> Projector<'m> {
             hint: None,
             scratch: Vec::with_capacity(8),
             shortcuts: 0,
-            ends: [None; ENDS],
         }
     }
 
@@ -138,7 +130,7 @@ impl<'m> Projector<'m> {
 
     /// The nearest point of piece `k`'s lane to `p` (inside `k`'s clearance): the grid search's
     /// candidate for that lane, the same pieces solved and the same tie rule (the first visited).
-    fn on_lane(&mut self, k: u32, k_d2: f64, p: &[f64; 3]) -> Option<Candidate> {
+    fn on_lane(&self, k: u32, k_d2: f64, p: &[f64; 3]) -> Option<Candidate> {
         let (map, index) = (self.map, &self.map.index);
         let node = index.pieces[k as usize].node;
         let road = &map.roads[map.net.nodes[node as usize].road as usize];
@@ -169,12 +161,7 @@ impl<'m> Projector<'m> {
                 continue;
             }
             let geometry = &road.reference.geometries[piece.geometry as usize];
-            let slot = &mut self.ends[q as usize % ENDS];
-            let ends = match slot {
-                Some((key, ends)) if *key == q => ends,
-                _ => &mut slot.insert((q, piece_ends(geometry, piece))).1,
-            };
-            let (s, f) = nearest_on_from(geometry, piece, p, ends);
+            let (s, f) = nearest_on(geometry, piece, p, &index.ends[q as usize]);
             let d = f.sqrt();
             best = best.min(d);
             let wins = chosen.is_none_or(|c| {

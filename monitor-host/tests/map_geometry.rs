@@ -647,5 +647,9 @@ fn projector_with_history_equals_plain_projection() {
         projector.shortcuts(),
         widths.shortcuts()
     );
-    assert!(projector.shortcuts() > frames / 4, "{}", projector.shortcuts());
+    assert!(
+        projector.shortcuts() > frames / 4,
+        "{}",
+        projector.shortcuts()
+    );
 }

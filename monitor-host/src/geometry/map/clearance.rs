@@ -223,16 +223,27 @@ mod tests {
 
     #[test]
     fn segment_distances() {
-        let d = |a0: [f64; 3], a1: [f64; 3], b0: [f64; 3], b1: [f64; 3]| {
-            seg_seg(&a0, &a1, &b0, &b1)
-        };
+        let d =
+            |a0: [f64; 3], a1: [f64; 3], b0: [f64; 3], b1: [f64; 3]| seg_seg(&a0, &a1, &b0, &b1);
         // Crossing in the plan, 1 m apart in height.
-        assert_eq!(d([-1., 0., 0.], [1., 0., 0.], [0., -1., 1.], [0., 1., 1.]), 1.0);
+        assert_eq!(
+            d([-1., 0., 0.], [1., 0., 0.], [0., -1., 1.], [0., 1., 1.]),
+            1.0
+        );
         // Parallel, overlapping: the gap between the lines.
-        assert_eq!(d([0., 0., 0.], [2., 0., 0.], [1., 3., 0.], [3., 3., 0.]), 3.0);
+        assert_eq!(
+            d([0., 0., 0.], [2., 0., 0.], [1., 3., 0.], [3., 3., 0.]),
+            3.0
+        );
         // Collinear with a gap: end to end.
-        assert_eq!(d([0., 0., 0.], [2., 0., 0.], [5., 0., 0.], [6., 0., 0.]), 3.0);
+        assert_eq!(
+            d([0., 0., 0.], [2., 0., 0.], [5., 0., 0.], [6., 0., 0.]),
+            3.0
+        );
         // Skew, nearest points outside: an end to the other segment.
-        assert_eq!(d([0., 0., 0.], [1., 0., 0.], [3., -1., 0.], [3., 1., 0.]), 2.0);
+        assert_eq!(
+            d([0., 0., 0.], [1., 0., 0.], [3., -1., 0.], [3., 1., 0.]),
+            2.0
+        );
     }
 }

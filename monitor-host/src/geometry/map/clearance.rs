@@ -14,7 +14,7 @@
 //! So when `2 r < sep(P) - slack(P) - TIE_TOLERANCE - MARGIN`, no other lane is within the tie
 //! tolerance of N (the search would return N alone), and N's nearest point lies on P or its
 //! neighbours. [`Clearance::radius`] is that bound on `r`. `MARGIN` covers floating-point
-//! rounding of the distances (nanometres) a thousandfold.
+//! rounding of the distances (nanometres) ten-thousandfold.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 

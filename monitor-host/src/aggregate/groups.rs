@@ -17,8 +17,7 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::pipeline::outcome::RouteState;
-use crate::report::model::RouteReport;
+use crate::report::model::{counted_routes, RouteReport};
 use crate::warning::Warning;
 
 /// What to group the breakdown by.
@@ -145,10 +144,7 @@ pub fn groups(
             option: "--families",
         });
     }
-    let counted: Vec<&RouteReport> = routes
-        .iter()
-        .filter(|r| r.state != RouteState::Foreign)
-        .collect();
+    let counted: Vec<&RouteReport> = counted_routes(routes).collect();
     let mut members: BTreeMap<String, Vec<&RouteReport>> = BTreeMap::new();
     let mut unmapped_keys: Vec<String> = Vec::new();
     let mut unmapped_routes = 0;

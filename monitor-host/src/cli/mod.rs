@@ -295,10 +295,7 @@ enum LabelKey {
 /// keys of some routes without a label a warning (added to the report).
 fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
     let labels = read_labels(file)?;
-    let counted = report
-        .routes
-        .iter()
-        .filter(|r| r.state != crate::RouteState::Foreign);
+    let counted = crate::report::model::counted_routes(&report.routes);
     let (keys, name, option): (Vec<&str>, _, _) = match what {
         LabelKey::Family => (
             counted.filter_map(|r| r.scenario_type.as_deref()).collect(),

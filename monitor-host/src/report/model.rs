@@ -3,12 +3,13 @@
 //! turns it into text. Field order is the JSON report's key order.
 //!
 //! New per-route fields go into [`RouteReport`] (and [`route_report`]); new aggregates into
-//! [`crate::aggregate::summary::Summary`].
+//! [`crate::aggregate::aggregates::Scores`] (§8.1: the summary, groups and comparisons get them)
+//! or [`crate::aggregate::aggregates::Aggregates`] (§8.2, per group and comparison).
 
 use serde::Serialize;
 
 use crate::aggregate::ability::{route_ability, RouteAbility};
-use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::aggregates::{Aggregates, Scores};
 use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
 use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::stored::InputReport;
@@ -342,6 +343,12 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
     }
 }
 
+/// The routes counted in the aggregates (§1.5): every route but the foreign ones, in the
+/// report's order.
+pub fn counted_routes(routes: &[RouteReport]) -> impl Iterator<Item = &RouteReport> {
+    routes.iter().filter(|r| r.state != RouteState::Foreign)
+}
+
 /// What a run read besides its routes: the pieces of the report that are not per-route.
 #[derive(Clone, Debug, Default)]
 pub struct RunFacts {
@@ -408,11 +415,9 @@ pub fn build(
             warning: Box::new(w.clone()),
         }));
     }
-    let mut summary = summarize(outcomes, facts.n, missing.len());
-    let counted: Vec<&RouteReport> = routes
-        .iter()
-        .filter(|r| r.state != RouteState::Foreign)
-        .collect();
+    let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
+    let scores = Scores::over(&counted, facts.n);
+    let mut summary = summarize(outcomes, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
     let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
     summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));

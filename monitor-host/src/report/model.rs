@@ -440,7 +440,30 @@ pub fn build(
 }
 
 impl Report {
-    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings.
+    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings. Label
+    /// maps come from [`crate::input::labels::read_labels`] (or are built in code).
+    ///
+    /// ```
+    /// use monitor_host::aggregate::groups::{GroupBy, Labels};
+    /// use monitor_host::{demo, score_run, Inputs, Settings};
+    /// let dir = tempfile::tempdir()?;
+    /// let run = demo::write(dir.path())?;
+    /// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+    /// let mut report = score_run(&inputs, &Settings::default())?;
+    /// // A train/test split of the routes, by XML id.
+    /// let split: Labels = ["900001", "900002"]
+    ///     .iter()
+    ///     .map(|id| (id.to_string(), vec!["test".to_string()]))
+    ///     .chain([("RouteScenario_900003_rep0".to_string(), vec!["train".to_string()])])
+    ///     .collect();
+    /// report.group(GroupBy::Route, Some(&split))?;
+    /// let g = report.groups.as_ref().unwrap();
+    /// let n: Vec<(&str, usize)> =
+    ///     g.rows.iter().map(|r| (r.label.as_str(), r.aggregates.routes)).collect();
+    /// assert_eq!(n, [("test", 2), ("train", 1), ("(unmapped)", report.routes.len() - 3)]);
+    /// assert!(report.group(GroupBy::Route, None).is_err()); // a route grouping needs its map
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     ///
     /// # Errors
     /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.

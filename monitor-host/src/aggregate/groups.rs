@@ -1,7 +1,7 @@
 //! Breakdown groups (`SDS-SPEC.md` v1.2 §8.3): the routes counted in the aggregates, grouped by
-//! scenario type, family, town, weather or a label map of routes; each group gets every §8.1 and §8.2 aggregate over
-//! its own routes (N = its routes) and its `infraction_routes`, and the `combined` row holds
-//! the same over all routes.
+//! scenario type, family, town, weather or a label map of routes; each group gets every §8.1
+//! and §8.2 aggregate over its own routes (N = its routes) and its `infraction_routes`, and the
+//! `combined` row holds the same over all routes.
 //!
 //! ```
 //! use monitor_host::aggregate::groups::{groups, GroupBy, Labels};
@@ -57,6 +57,20 @@ impl GroupBy {
             GroupBy::Family => Some("--families"),
             GroupBy::Route => Some("--labels"),
             GroupBy::Scenario | GroupBy::Town | GroupBy::Weather => None,
+        }
+    }
+
+    /// Checks that a label map is given (`given`) when this grouping needs one.
+    ///
+    /// # Errors
+    /// [`NeedsLabels`], naming the option of the missing map.
+    pub fn check_labels(self, given: bool) -> Result<(), NeedsLabels> {
+        match self.required_labels() {
+            Some(option) if !given => Err(NeedsLabels {
+                by: self.name(),
+                option,
+            }),
+            _ => Ok(()),
         }
     }
 }
@@ -182,12 +196,7 @@ pub fn groups(
     by: GroupBy,
     labels: Option<&Labels>,
 ) -> Result<(Groups, Vec<Warning>), NeedsLabels> {
-    if let (Some(option), None) = (by.required_labels(), labels) {
-        return Err(NeedsLabels {
-            by: by.name(),
-            option,
-        });
-    }
+    by.check_labels(labels.is_some())?;
     let counted: Vec<&RouteReport> = counted_routes(routes).collect();
     let mut members: BTreeMap<String, Vec<&RouteReport>> = BTreeMap::new();
     let mut unmapped_keys: Vec<String> = Vec::new();

@@ -359,8 +359,18 @@ pub struct Scored {
 /// [`crate::LabelsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
+    // Usage errors of the grouping before the run is scored.
     if args.labels.is_some() && args.group_by != Some(GroupArg::Route) {
         return Err(UnusedLabels.into());
+    }
+    if let Some(g) = args.group_by {
+        let files = GroupLabels {
+            families: args.families.as_deref(),
+            weathers: args.weathers.as_deref(),
+            routes: args.labels.as_deref(),
+        };
+        let (by, file) = files.of(g);
+        by.check_labels(file.is_some())?;
     }
     let mut report = score_run_with(&inputs(args), &settings, progress)?;
     let families = args
@@ -392,12 +402,25 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     })
 }
 
-/// The label maps read for the breakdown.
+/// The label maps of the groupings (or their files).
 #[derive(Clone, Copy)]
-struct GroupLabels<'a> {
-    families: Option<&'a Labels>,
-    weathers: Option<&'a Labels>,
-    routes: Option<&'a Labels>,
+struct GroupLabels<T> {
+    families: Option<T>,
+    weathers: Option<T>,
+    routes: Option<T>,
+}
+
+impl<T> GroupLabels<T> {
+    /// The grouping `by` asks for, and its label map.
+    fn of(self, by: GroupArg) -> (GroupBy, Option<T>) {
+        match by {
+            GroupArg::Scenario => (GroupBy::Scenario, None),
+            GroupArg::Town => (GroupBy::Town, None),
+            GroupArg::Family => (GroupBy::Family, self.families),
+            GroupArg::Weather => (GroupBy::Weather, self.weathers),
+            GroupArg::Route => (GroupBy::Route, self.routes),
+        }
+    }
 }
 
 /// Adds the breakdown the options ask for (the tables default to scenario types), with the
@@ -406,7 +429,7 @@ struct GroupLabels<'a> {
 /// # Errors
 /// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`,
 /// `--group-by route` without `--labels`.
-fn add_groups(report: &mut Report, args: &ScoreArgs, maps: GroupLabels) -> Result<()> {
+fn add_groups(report: &mut Report, args: &ScoreArgs, maps: GroupLabels<&Labels>) -> Result<()> {
     let tables = matches!(
         args.format,
         Format::Table | Format::Markdown | Format::Latex
@@ -416,13 +439,7 @@ fn add_groups(report: &mut Report, args: &ScoreArgs, maps: GroupLabels) -> Resul
         (None, true) => GroupArg::Scenario,
         (None, false) => return Ok(()),
     };
-    let (by, labels) = match by {
-        GroupArg::Scenario => (GroupBy::Scenario, None),
-        GroupArg::Town => (GroupBy::Town, None),
-        GroupArg::Family => (GroupBy::Family, maps.families),
-        GroupArg::Weather => (GroupBy::Weather, maps.weathers),
-        GroupArg::Route => (GroupBy::Route, maps.routes),
-    };
+    let (by, labels) = maps.of(by);
     report.group(by, labels)?;
     Ok(())
 }

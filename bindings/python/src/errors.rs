@@ -1,7 +1,8 @@
 //! The exception classes, and the host's typed errors mapped onto them. Every message is the
 //! text the `sds` command prints after `sds: error: `.
 
-use monitor_host::cli::error_message;
+use monitor_host::aggregate::groups::NeedsLabels;
+use monitor_host::cli::{error_message, UnusedLabels};
 use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
@@ -57,7 +58,11 @@ pub fn score_error(e: &anyhow::Error) -> PyErr {
         return labels_error(e);
     }
     let msg = error_message(&**e);
-    if e.downcast_ref::<SettingsError>().is_some() {
+    // The CLI's usage errors (exit 2).
+    if e.downcast_ref::<SettingsError>().is_some()
+        || e.downcast_ref::<NeedsLabels>().is_some()
+        || e.downcast_ref::<UnusedLabels>().is_some()
+    {
         return ConfigError::new_err(msg);
     }
     SdsError::new_err(msg)

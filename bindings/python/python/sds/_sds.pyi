@@ -13,7 +13,7 @@ class InputError(SdsError):
     """An input is invalid: a results file, route XML, labels file or telemetry frame."""
 
 class ConfigError(SdsError):
-    """An option or setting is invalid."""
+    """An option or setting is invalid (also: a grouping without the label map it needs)."""
 
 class IoError(SdsError):
     """A file or folder cannot be read."""

@@ -15,7 +15,7 @@ import sys
 def main() -> None:
     sds, run, repeat = sys.argv[1], sys.argv[2], int(sys.argv[3]) if len(sys.argv) > 3 else 5
     base = [sds, "score", "--results", f"{run}/results.json", "--telemetry", f"{run}/telemetry",
-            "--routes", f"{run}/routes.xml", "--format", "json", "--jobs", "1", "-o", os.devnull]
+            "--routes", f"{run}/routes.xml", "--format", "json", "--jobs", "1"]
     variants = {
         "no map": [],
         "map, route": ["--maps", f"{run}/maps"],
@@ -25,7 +25,8 @@ def main() -> None:
     for _ in range(repeat):
         for name, extra in variants.items():
             r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-            subprocess.run(base + extra, stderr=subprocess.DEVNULL, check=True)
+            subprocess.run(base + extra, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                           check=True)
             r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
             cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
             best[name] = min(best.get(name, float("inf")), cpu)

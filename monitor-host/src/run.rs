@@ -82,7 +82,7 @@ impl Progress for NoProgress {}
 /// };
 /// let report = score_run(&inputs, &Settings::default())?;
 /// assert_eq!(report.routes.len(), run.route_ids.len());
-/// assert!(report.summary.sds.is_some());
+/// assert!(report.summary.scores.sds.is_some());
 /// assert!(!report.has_problems());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

@@ -529,12 +529,93 @@ fn indexed_search_finds_the_exact_nearest_lane_on_real_towns() {
     }
 }
 
+/// Drives `points` through two `Projector`s (`project` and `width`) and checks every answer
+/// against `Map::project` bit for bit; returns how many answers took the clearance shortcut.
+fn drive_equals_plain(map: &Map, points: &[[f64; 3]]) -> u64 {
+    let (mut full, mut width) = (Projector::new(map), Projector::new(map));
+    for p in points {
+        let plain = map.project(p[0], p[1], p[2]);
+        // Debug text is exact for f64 (shortest round trip, and -0 is not 0).
+        assert_eq!(
+            format!("{:?}", full.project(p[0], p[1], p[2])),
+            format!("{plain:?}"),
+            "{p:?}"
+        );
+        assert_eq!(
+            width.width(p[0], p[1], p[2]).map(f64::to_bits),
+            plain.map(|q| q.width.to_bits()),
+            "{p:?}"
+        );
+    }
+    full.shortcuts() + width.shortcuts()
+}
+
+#[test]
+fn projector_shortcut_equals_the_search_where_lanes_and_records_change() {
+    // lane_offset.xodr: along s, the right lane's width record changes at s = 30 (cubic to
+    // constant), the lane offset's at s = 40, and a new lane section at s = 40 turns lane -2
+    // from a shoulder into a driving lane growing from zero width (so the lane under a point
+    // changes). Drives along each lane with a sideways wobble, and drives that change lanes
+    // diagonally, at 0.25 m per frame; the other hand-made maps add curves, elevation, an
+    // overpass and a junction.
+    let mut state = 7;
+    let mut total = 0;
+    for name in [
+        "lane_offset.xodr",
+        "junction.xodr",
+        "overpass.xodr",
+        "spiral.xodr",
+        "poly3.xodr",
+        "parampoly3.xodr",
+    ] {
+        let map = load(name);
+        let mut shortcuts = 0;
+        let mut frames = 0;
+        for l in map.lanes() {
+            let mut pts = Vec::new();
+            let mut s = l.s0;
+            while s <= l.s1 {
+                let c = map.lane_point(&l.lane, s).unwrap();
+                let w = 1.2 * (rng(&mut state) - 0.5);
+                pts.push([c[0] + w, c[1] - w, c[2]]);
+                s += 0.25;
+            }
+            if !l.forward {
+                pts.reverse();
+            }
+            frames += pts.len();
+            shortcuts += drive_equals_plain(&map, &pts);
+        }
+        // Lane changes: from each lane's start to another lane's end, straight across.
+        let lanes = map.lanes();
+        for (a, b) in lanes.iter().zip(lanes.iter().cycle().skip(1)) {
+            let p = map.lane_point(&a.lane, a.s0).unwrap();
+            let q = map.lane_point(&b.lane, b.s1).unwrap();
+            let n = ((q[0] - p[0]).hypot(q[1] - p[1]) / 0.25).ceil().max(1.0) as usize;
+            let pts: Vec<[f64; 3]> = (0..=n)
+                .map(|i| {
+                    let f = i as f64 / n as f64;
+                    [0, 1, 2].map(|k| p[k] + f * (q[k] - p[k]))
+                })
+                .collect();
+            frames += pts.len();
+            shortcuts += drive_equals_plain(&map, &pts);
+        }
+        eprintln!("{name}: {shortcuts} shortcuts in {} answers", 2 * frames);
+        assert!(shortcuts > 0, "{name}: the shortcut never applied");
+        total += shortcuts;
+    }
+    assert!(total > 1000, "{total}");
+}
+
 #[test]
 fn projector_with_history_equals_plain_projection() {
     let Some(map) = town("Town04") else { return };
     let lanes = map.lanes();
     let mut state = 11;
     let mut projector = Projector::new(&map);
+    let mut widths = Projector::new(&map);
+    let mut frames = 0;
     for _ in 0..20 {
         let l = lanes[(rng(&mut state) * lanes.len() as f64) as usize];
         // A "drive" along the lane, wobbling sideways, 0.5 m per frame.
@@ -546,11 +627,29 @@ fn projector_with_history_equals_plain_projection() {
                 c[1] + 3.0 * (rng(&mut state) - 0.5),
                 c[2],
             ];
+            let plain = map.project(p[0], p[1], p[2]);
             assert_eq!(
-                projector.project(p[0], p[1], p[2]),
-                map.project(p[0], p[1], p[2])
+                format!("{:?}", projector.project(p[0], p[1], p[2])),
+                format!("{plain:?}")
             );
+            assert_eq!(
+                widths.width(p[0], p[1], p[2]).map(f64::to_bits),
+                plain.map(|q| q.width.to_bits())
+            );
+            frames += 1;
             s += 0.5;
         }
     }
+    // Most frames are answered inside a piece's clearance (a wobble of up to 1.5 m crosses
+    // into the next lane's reach now and then).
+    eprintln!(
+        "Town04: {} + {} shortcuts in 2 x {frames} frames",
+        projector.shortcuts(),
+        widths.shortcuts()
+    );
+    assert!(
+        projector.shortcuts() > frames / 4,
+        "{}",
+        projector.shortcuts()
+    );
 }

@@ -2,7 +2,7 @@
 //! text the `sds` command prints after `sds: error: `.
 
 use monitor_host::aggregate::groups::NeedsLabels;
-use monitor_host::cli::error_message;
+use monitor_host::cli::{error_message, UnusedLabels};
 use monitor_host::geometry::map::MapError;
 use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
@@ -65,10 +65,11 @@ pub fn score_error(e: &anyhow::Error) -> PyErr {
         return labels_error(e);
     }
     let msg = error_message(&**e);
+    // The CLI's usage errors (exit 2).
     if e.downcast_ref::<NeedsLabels>().is_some() {
         return NeedsLabelsError::new_err(msg);
     }
-    if e.downcast_ref::<SettingsError>().is_some() {
+    if e.downcast_ref::<SettingsError>().is_some() || e.downcast_ref::<UnusedLabels>().is_some() {
         return ConfigError::new_err(msg);
     }
     SdsError::new_err(msg)

@@ -102,6 +102,29 @@ def test_labels_are_checked_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Pa
         sds.score(demo.results, labels=labels)
 
 
+def test_group_by_route_labels_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    ids = [r["route_id"] for r in demo.records()]
+    labels = tmp_path / "split.json"
+    # The first two routes by XML id, the others by full route id: two groups.
+    split = {i.split("_")[1] if n < 2 else i: "train" if n < 2 else "test" for n, i in enumerate(ids)}
+    labels.write_text(json.dumps(split))
+    base = ["--results", str(demo.results), "--telemetry", str(demo.telemetry), "--routes", str(demo.routes)]
+    expected = cli_report(sds_bin, base + ["--group-by", "route", "--labels", str(labels)], tmp_path)
+    report = sds.score(
+        demo.results, telemetry=demo.telemetry, routes=demo.routes, group_by="route", labels=labels
+    )
+    assert same(report, expected)
+    rows = {g["label"]: g for g in report["groups"]["rows"]}
+    assert sorted(rows) == ["test", "train"]
+    assert rows["train"]["routes"] == 2 and rows["test"]["routes"] == len(ids) - 2
+    first = [r for r in report["routes"] if r["route_id"] in ids[:2]]
+    assert rows["train"]["driving_score"] == (first[0]["score_composed"] + first[1]["score_composed"]) / 2
+    # Without its label map: a ConfigError with the command's message.
+    with pytest.raises(sds.ConfigError) as e:
+        sds.score(demo.results, telemetry=demo.telemetry, group_by="route")
+    assert "--labels" in str(e.value)
+
+
 def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
     if "duplicates" not in sds._sds.score_options():
         pytest.skip("this build of sds score has no --duplicates")

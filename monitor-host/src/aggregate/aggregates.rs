@@ -5,7 +5,7 @@
 //! ```
 //! use monitor_host::aggregate::aggregates::Aggregates;
 //! let a = Aggregates::over(&[], 0);
-//! assert_eq!((a.routes, a.driving_score, a.ability), (0, None, None));
+//! assert_eq!((a.routes, a.scores.driving_score, a.ability), (0, None, None));
 //! ```
 
 use serde::Serialize;
@@ -89,11 +89,10 @@ impl<T: Serialize> Serialize for Counts<T> {
     }
 }
 
-/// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
+/// The §8.1 scores of a set of routes over N: the numbers the run's summary, every breakdown
+/// group, the `combined` row and every compared run share (one computation: [`Scores::over`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
-pub struct Aggregates {
-    /// N.
-    pub routes: usize,
+pub struct Scores {
     /// Routes with defined comfort.
     pub comfort_routes: usize,
     /// Σ score_composed / N.
@@ -108,6 +107,16 @@ pub struct Aggregates {
     pub sds: Option<f64>,
     /// 100 × routes with a collision / N.
     pub collision_rate: Option<f64>,
+}
+
+/// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Aggregates {
+    /// N.
+    pub routes: usize,
+    /// The §8.1 scores.
+    #[serde(flatten)]
+    pub scores: Scores,
     /// Mean per-route efficiency over the routes that have one (§8.2).
     pub efficiency: Option<f64>,
     /// Mean `b2d-legacy` comfort over the routes where it is defined (§8.2).
@@ -125,24 +134,22 @@ fn mean(sum: f64, n: usize) -> Option<f64> {
     (n > 0).then(|| sum / n as f64)
 }
 
-impl Aggregates {
-    /// The aggregates of `routes` (in this order) over `n` routes: `n` is the set's size, which
-    /// exceeds `routes.len()` when routes are expected but absent (they count as 0 / failed).
-    pub fn over(routes: &[&RouteReport], n: usize) -> Aggregates {
+impl Scores {
+    /// The §8.1 scores of `routes` (summed in this order) over `n` routes: `n` is the set's
+    /// size, which exceeds `routes.len()` when routes are expected but absent (they count as
+    /// 0 / failed). A route without a record adds 0 to the sums and leaves `mean_ds_safe` null.
+    ///
+    /// ```
+    /// use monitor_host::aggregate::aggregates::Scores;
+    /// let s = Scores::over(&[], 220);
+    /// assert_eq!((s.driving_score, s.success_rate, s.mean_comfort), (Some(0.0), Some(0.0), None));
+    /// assert_eq!(Scores::over(&[], 0).driving_score, None);
+    /// ```
+    pub fn over(routes: &[&RouteReport], n: usize) -> Scores {
         let per = |total: f64| (n > 0).then(|| total / n as f64);
-        let (mut composed, mut ds_safe, mut comfort, mut eff, mut smooth) =
-            (0.0, 0.0, 0.0, 0.0, 0.0);
-        let (mut successes, mut collided, mut comfort_n, mut eff_n, mut smooth_n) = (0, 0, 0, 0, 0);
+        let (mut composed, mut ds_safe, mut comfort) = (0.0, 0.0, 0.0);
+        let (mut successes, mut collided, mut comfort_n) = (0, 0, 0);
         let mut all_safe = true;
-        let mut has_ability = false;
-        let mut counts = Counts::<AbilityCount>::default();
-        for (name, _) in ABILITIES {
-            counts.entry(name);
-        }
-        let mut inf = Counts::<usize>::default();
-        for name in KNOWN_LISTS {
-            inf.entry(name);
-        }
         for r in routes {
             composed += r.score_composed.unwrap_or(0.0);
             successes += usize::from(r.success);
@@ -155,6 +162,37 @@ impl Aggregates {
                 comfort += c;
                 comfort_n += 1;
             }
+        }
+        let mean_ds_safe = if all_safe { per(ds_safe) } else { None };
+        let mean_comfort = mean(comfort, comfort_n);
+        Scores {
+            comfort_routes: comfort_n,
+            driving_score: per(composed),
+            success_rate: per(100.0 * successes as f64),
+            sds: mean_ds_safe.zip(mean_comfort).map(|(d, c)| d * c),
+            mean_ds_safe,
+            mean_comfort,
+            collision_rate: per(100.0 * collided as f64),
+        }
+    }
+}
+
+impl Aggregates {
+    /// The aggregates of `routes` (in this order) over `n` routes: the §8.1 [`Scores`] over
+    /// `n`, and the §8.2 means and rates, which do not depend on `n`.
+    pub fn over(routes: &[&RouteReport], n: usize) -> Aggregates {
+        let (mut eff, mut smooth) = (0.0, 0.0);
+        let (mut eff_n, mut smooth_n) = (0, 0);
+        let mut has_ability = false;
+        let mut counts = Counts::<AbilityCount>::default();
+        for (name, _) in ABILITIES {
+            counts.entry(name);
+        }
+        let mut inf = Counts::<usize>::default();
+        for name in KNOWN_LISTS {
+            inf.entry(name);
+        }
+        for r in routes {
             if let Some(e) = r.efficiency {
                 eff += e;
                 eff_n += 1;
@@ -176,8 +214,6 @@ impl Aggregates {
                 *c += usize::from(*count > 0);
             }
         }
-        let mean_ds_safe = if all_safe { per(ds_safe) } else { None };
-        let mean_comfort = mean(comfort, comfort_n);
         let ability = has_ability.then(|| {
             let rate = |name: &str| {
                 let c = counts.get(name);
@@ -197,13 +233,7 @@ impl Aggregates {
         });
         Aggregates {
             routes: n,
-            comfort_routes: comfort_n,
-            driving_score: per(composed),
-            success_rate: per(100.0 * successes as f64),
-            sds: mean_ds_safe.zip(mean_comfort).map(|(d, c)| d * c),
-            mean_ds_safe,
-            mean_comfort,
-            collision_rate: per(100.0 * collided as f64),
+            scores: Scores::over(routes, n),
             efficiency: mean(eff, eff_n),
             smoothness: mean(smooth, smooth_n),
             ability,

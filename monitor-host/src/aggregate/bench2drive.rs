@@ -112,8 +112,8 @@ impl Bench2Drive {
             }
         }
         Bench2Drive {
-            driving_score: all.driving_score,
-            success_rate: all.success_rate,
+            driving_score: all.scores.driving_score,
+            success_rate: all.scores.success_rate,
             efficiency: all.efficiency,
             smoothness: all.smoothness,
             ability: all.ability.clone(),

@@ -19,8 +19,7 @@ use std::collections::HashSet;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::pipeline::outcome::RouteState;
-use crate::report::model::{Report, RouteReport};
+use crate::report::model::{counted_routes, Report, RouteReport};
 
 /// One run to compare: its name and its report (from [`crate::score_run`]).
 #[derive(Clone, Debug)]
@@ -157,10 +156,7 @@ pub fn model_name(run: &str) -> &str {
 }
 
 fn counted(report: &Report) -> impl Iterator<Item = &RouteReport> {
-    report
-        .routes
-        .iter()
-        .filter(|r| r.state != RouteState::Foreign)
+    counted_routes(&report.routes)
 }
 
 /// Compares the runs (see the module docs). With `route_set` each run is aggregated over its
@@ -268,12 +264,12 @@ pub fn compare(runs: &[NamedRun], route_set: bool) -> Comparison {
         models.push(ModelRow {
             model: model.to_string(),
             runs: mine.iter().map(|r| r.name.clone()).collect(),
-            driving_score: stat(&|a| a.driving_score),
-            success_rate: stat(&|a| a.success_rate),
-            mean_ds_safe: stat(&|a| a.mean_ds_safe),
-            mean_comfort: stat(&|a| a.mean_comfort),
-            sds: stat(&|a| a.sds),
-            collision_rate: stat(&|a| a.collision_rate),
+            driving_score: stat(&|a| a.scores.driving_score),
+            success_rate: stat(&|a| a.scores.success_rate),
+            mean_ds_safe: stat(&|a| a.scores.mean_ds_safe),
+            mean_comfort: stat(&|a| a.scores.mean_comfort),
+            sds: stat(&|a| a.scores.sds),
+            collision_rate: stat(&|a| a.scores.collision_rate),
             efficiency: stat(&|a| a.efficiency),
             smoothness: stat(&|a| a.smoothness),
             ability_mean: stat(&|a| a.ability.as_ref().and_then(|x| x.mean)),

@@ -1,15 +1,16 @@
 //! Breakdown groups (`SDS-SPEC.md` v1.2 §8.3): the routes counted in the aggregates, grouped by
-//! scenario type, family, town or weather; each group gets every §8.1 and §8.2 aggregate over
-//! its own routes (N = its routes) and its `infraction_routes`, and the `combined` row holds
-//! the same over all routes.
+//! scenario type, family, town, weather or a label map of routes; each group gets every §8.1
+//! and §8.2 aggregate over its own routes (N = its routes) and its `infraction_routes`, and the
+//! `combined` row holds the same over all routes.
 //!
 //! ```
 //! use monitor_host::aggregate::groups::{groups, GroupBy, Labels};
 //! let (g, warnings) = groups(&[], 0, GroupBy::Town, None).unwrap();
 //! assert!(g.rows.is_empty() && warnings.is_empty());
 //! assert_eq!(g.by, "town");
-//! // Families need their label map.
+//! // Families and route labels need their label map.
 //! assert!(groups(&[], 0, GroupBy::Family, None).is_err());
+//! assert_eq!(groups(&[], 0, GroupBy::Route, None).unwrap_err().option, "--labels");
 //! ```
 
 use std::collections::BTreeMap;
@@ -17,8 +18,8 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::pipeline::outcome::RouteState;
-use crate::report::model::RouteReport;
+use crate::input::route_set::parse_route_id;
+use crate::report::model::{counted_routes, RouteReport};
 use crate::warning::Warning;
 
 /// What to group the breakdown by.
@@ -32,21 +33,71 @@ pub enum GroupBy {
     Town,
     /// Weather (the weather id, or its labels from a label map).
     Weather,
+    /// A label map of routes (required), keyed by route id in any of the forms of
+    /// [`route_label_key`]: a difficulty split, a train/test split, ...
+    Route,
 }
 
 impl GroupBy {
-    /// The group column's heading: `scenario`, `family`, `town`, `weather`.
+    /// The group column's heading: `scenario`, `family`, `town`, `weather`, `route`.
     pub fn name(self) -> &'static str {
         match self {
             GroupBy::Scenario => "scenario",
             GroupBy::Family => "family",
             GroupBy::Town => "town",
             GroupBy::Weather => "weather",
+            GroupBy::Route => "route",
+        }
+    }
+
+    /// The option of `sds score` that gives the label map this grouping cannot do without
+    /// (`--families`, `--labels`); `None` when the grouping works without one.
+    pub fn required_labels(self) -> Option<&'static str> {
+        match self {
+            GroupBy::Family => Some("--families"),
+            GroupBy::Route => Some("--labels"),
+            GroupBy::Scenario | GroupBy::Town | GroupBy::Weather => None,
+        }
+    }
+
+    /// Checks that a label map is given (`given`) when this grouping needs one.
+    ///
+    /// # Errors
+    /// [`NeedsLabels`], naming the option of the missing map.
+    pub fn check_labels(self, given: bool) -> Result<(), NeedsLabels> {
+        match self.required_labels() {
+            Some(option) if !given => Err(NeedsLabels {
+                by: self.name(),
+                option,
+            }),
+            _ => Ok(()),
         }
     }
 }
 
-/// Labels of scenario types (families) or weather ids, read by
+/// The key under which a route label map labels `route_id`: the first of its forms the map has,
+/// most specific first: `RouteScenario_1711_rep0` (one repetition), `RouteScenario_1711`, then
+/// the route XML id `1711` (every repetition). A route id of another form is looked up whole.
+/// `None` when the map has none of them.
+///
+/// ```
+/// use monitor_host::aggregate::groups::{route_label_key, Labels};
+/// let mut m = Labels::new();
+/// m.insert("1711".into(), vec!["hard".into()]);
+/// m.insert("RouteScenario_1711_rep1".into(), vec!["test".into()]);
+/// assert_eq!(route_label_key("RouteScenario_1711_rep0", &m), Some("1711"));
+/// assert_eq!(route_label_key("RouteScenario_1711_rep1", &m), Some("RouteScenario_1711_rep1"));
+/// assert_eq!(route_label_key("RouteScenario_17_rep0", &m), None);
+/// ```
+pub fn route_label_key<'a>(route_id: &'a str, labels: &Labels) -> Option<&'a str> {
+    let mut forms = vec![route_id];
+    if let (Some((xml_id, _)), Some(rep)) = (parse_route_id(route_id), route_id.rfind("_rep")) {
+        forms.extend([&route_id[..rep], xml_id]);
+    }
+    forms.into_iter().find(|f| labels.contains_key(*f))
+}
+
+/// Labels of scenario types (families), weather ids or route ids, read by
 /// [`crate::input::labels::read_labels`]; a key may have several labels.
 pub type Labels = BTreeMap<String, Vec<String>>;
 
@@ -101,16 +152,21 @@ fn keys(route: &RouteReport, by: GroupBy, labels: Option<&Labels>) -> Result<Vec
         GroupBy::Scenario | GroupBy::Family => scenario(),
         GroupBy::Town => route.town.clone(),
         GroupBy::Weather => route.weather_id.clone(),
+        GroupBy::Route => route.route_id.clone(),
     };
     let Some(key) = key else {
         return Ok(vec![UNKNOWN.into()]);
     };
-    match labels {
-        None => Ok(vec![key]),
-        Some(map) => match map.get(&key) {
-            Some(l) if !l.is_empty() => Ok(l.clone()),
-            _ => Err(key),
-        },
+    let Some(map) = labels else {
+        return Ok(vec![key]);
+    };
+    let found = match by {
+        GroupBy::Route => route_label_key(&key, map),
+        _ => Some(key.as_str()),
+    };
+    match found.and_then(|k| map.get(k)) {
+        Some(l) if !l.is_empty() => Ok(l.clone()),
+        _ => Err(key),
     }
 }
 
@@ -128,27 +184,20 @@ fn order(label: &str) -> (u8, u64, &str) {
 
 /// The breakdown of `routes` by `by` (§8.3): foreign routes are left out; a route counts in
 /// every group its key maps to; `combined_n` is the run's N (the combined row's denominator).
-/// `labels` maps keys to labels (required for [`GroupBy::Family`]); keys it does not map go
-/// to `(unmapped)`, with a warning.
+/// `labels` maps keys to labels (required for [`GroupBy::Family`] and [`GroupBy::Route`]);
+/// keys it does not map go to `(unmapped)`, with a warning naming the first few (by route:
+/// their route ids). A route without the key is in `(unknown)`.
 ///
 /// # Errors
-/// [`NeedsLabels`] for [`GroupBy::Family`] without a label map.
+/// [`NeedsLabels`] for [`GroupBy::Family`] or [`GroupBy::Route`] without a label map.
 pub fn groups(
     routes: &[RouteReport],
     combined_n: usize,
     by: GroupBy,
     labels: Option<&Labels>,
 ) -> Result<(Groups, Vec<Warning>), NeedsLabels> {
-    if by == GroupBy::Family && labels.is_none() {
-        return Err(NeedsLabels {
-            by: by.name(),
-            option: "--families",
-        });
-    }
-    let counted: Vec<&RouteReport> = routes
-        .iter()
-        .filter(|r| r.state != RouteState::Foreign)
-        .collect();
+    by.check_labels(labels.is_some())?;
+    let counted: Vec<&RouteReport> = counted_routes(routes).collect();
     let mut members: BTreeMap<String, Vec<&RouteReport>> = BTreeMap::new();
     let mut unmapped_keys: Vec<String> = Vec::new();
     let mut unmapped_routes = 0;

@@ -1,7 +1,9 @@
-//! The benchmark aggregates (`SDS-SPEC.md` v1.2 §8.1): f64, summed in input order.
+//! The run's summary (`SDS-SPEC.md` v1.2 §8.1, §10.1): the §8.1 scores over N and the counts
+//! behind them (routes found, missing, foreign; problems).
 
 use serde::Serialize;
 
+use crate::aggregate::aggregates::Scores;
 use crate::aggregate::bench2drive::Bench2Drive;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 
@@ -17,20 +19,9 @@ pub struct Summary {
     pub missing: usize,
     /// Records whose route is not in the route set (left out of every aggregate).
     pub foreign: usize,
-    /// Routes with defined comfort.
-    pub comfort_routes: usize,
-    /// Σ score_composed / N.
-    pub driving_score: Option<f64>,
-    /// 100 × successes / N.
-    pub success_rate: Option<f64>,
-    /// Σ DS_safe / N; null when some route could not be scored.
-    pub mean_ds_safe: Option<f64>,
-    /// Mean comfort over routes with defined comfort.
-    pub mean_comfort: Option<f64>,
-    /// mean_ds_safe × mean_comfort.
-    pub sds: Option<f64>,
-    /// 100 × routes with a collision / N.
-    pub collision_rate: Option<f64>,
+    /// The §8.1 scores over N ([`Scores::over`]).
+    #[serde(flatten)]
+    pub scores: Scores,
     /// Routes whose recorded penalty disagrees with their infractions.
     pub penalty_mismatches: Vec<String>,
     /// Routes whose telemetry is missing or invalid.
@@ -44,50 +35,18 @@ pub struct Summary {
     pub bench2drive: Option<Bench2Drive>,
 }
 
-/// Computes the aggregates over the outcomes, in input order, with denominator `n`; `missing`
-/// routes of the route set add 0 to every sum. Foreign routes are left out.
-pub fn summarize(all: &[RouteOutcome], n: usize, missing: usize) -> Summary {
+/// The run's summary: the §8.1 `scores` (over N, computed by [`Scores::over`] from the counted
+/// routes' reports), with the counts of the outcomes (in input order) behind them; `missing`
+/// routes of the route set are in N. Foreign routes are left out.
+pub fn summarize(all: &[RouteOutcome], scores: Scores, n: usize, missing: usize) -> Summary {
     let outcomes: Vec<&RouteOutcome> = all.iter().filter(|o| o.counted()).collect();
     let found = outcomes.len();
-    let per = |total: f64| (n > 0).then(|| total / n as f64);
-    let mut composed = 0.0f64;
-    let mut successes = 0usize;
-    let mut ds_safe = 0.0f64;
-    let mut all_scored = true;
-    let mut comfort_sum = 0.0f64;
-    let mut comfort_routes = 0usize;
-    let mut collided = 0usize;
-    for o in &outcomes {
-        let Some(r) = o.record() else {
-            all_scored = false;
-            continue;
-        };
-        composed += r.score_composed;
-        successes += usize::from(r.is_success());
-        match o.safe {
-            Some(s) => ds_safe += s.ds_safe,
-            None => all_scored = false,
-        }
-        if let Some(c) = o.summary.and_then(|s| s.comfort_score()) {
-            comfort_sum += c;
-            comfort_routes += 1;
-        }
-        collided += usize::from(!o.events.is_empty());
-    }
-    let mean_ds_safe = if all_scored { per(ds_safe) } else { None };
-    let mean_comfort = (comfort_routes > 0).then(|| comfort_sum / comfort_routes as f64);
     Summary {
         routes: n,
         routes_found: found,
         missing,
         foreign: all.len() - found,
-        comfort_routes,
-        driving_score: per(composed),
-        success_rate: per(100.0 * successes as f64),
-        sds: mean_ds_safe.zip(mean_comfort).map(|(d, c)| d * c),
-        mean_ds_safe,
-        mean_comfort,
-        collision_rate: per(100.0 * collided as f64),
+        scores,
         penalty_mismatches: outcomes
             .iter()
             .filter(|o| o.penalty.is_some_and(|p| !p.agrees))

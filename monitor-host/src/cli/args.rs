@@ -88,6 +88,8 @@ pub enum GroupArg {
     Town,
     /// Weather (`--weathers`).
     Weather,
+    /// Routes by a label map of route ids (`--labels`).
+    Route,
 }
 
 /// Arguments of `sds score`.
@@ -140,6 +142,12 @@ pub struct ScoreArgs {
     /// `weather.xml` (labels from its preset names).
     #[arg(long)]
     pub weathers: Option<PathBuf>,
+    /// Route id -> label(s), for `--group-by route` (a difficulty or train/test split, ...):
+    /// keys `1711` (the XML route id: every repetition), `RouteScenario_1711` or
+    /// `RouteScenario_1711_rep0` (one repetition; the most specific key wins); a JSON object
+    /// whose values are a label or a list of labels, or CSV / TSV `id,label` lines.
+    #[arg(long, value_name = "FILE")]
+    pub labels: Option<PathBuf>,
     /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.
     #[arg(long = "infraction", value_name = "LIST")]
     pub infractions: Vec<String>,

@@ -29,7 +29,7 @@ use anyhow::Result;
 use clap::Parser;
 
 use crate::aggregate::compare::{compare, NamedRun};
-use crate::aggregate::groups::{GroupBy, Labels};
+use crate::aggregate::groups::{route_label_key, GroupBy, Labels};
 use crate::input::labels::{check_coverage, read_labels};
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
@@ -94,6 +94,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
     if e.downcast_ref::<SettingsError>().is_some()
         || e.downcast_ref::<crate::aggregate::groups::NeedsLabels>()
             .is_some()
+        || e.downcast_ref::<UnusedLabels>().is_some()
         || e.downcast_ref::<crate::LabelsError>()
             .is_some_and(|l| matches!(l, crate::LabelsError::NoMatch { .. }))
     {
@@ -289,16 +290,21 @@ pub fn inputs(args: &ScoreArgs) -> Inputs {
 enum LabelKey {
     Family,
     Weather,
+    Route,
 }
+
+/// `--labels` given without `--group-by route`, the only grouping that reads it.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
+)]
+pub struct UnusedLabels;
 
 /// Reads a label file and checks it against the report's routes: no key matching is an error,
 /// keys of some routes without a label a warning (added to the report).
 fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
     let labels = read_labels(file)?;
-    let counted = report
-        .routes
-        .iter()
-        .filter(|r| r.state != crate::RouteState::Foreign);
+    let counted = crate::report::model::counted_routes(&report.routes);
     let (keys, name, option): (Vec<&str>, _, _) = match what {
         LabelKey::Family => (
             counted.filter_map(|r| r.scenario_type.as_deref()).collect(),
@@ -309,6 +315,15 @@ fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels
             counted.filter_map(|r| r.weather_id.as_deref()).collect(),
             "weather id",
             "--weathers",
+        ),
+        // A route counts as labelled when the map has any form of its id.
+        LabelKey::Route => (
+            counted
+                .filter_map(|r| r.route_id.as_deref())
+                .map(|id| route_label_key(id, &labels).unwrap_or(id))
+                .collect(),
+            "route id (1711, RouteScenario_1711 or RouteScenario_1711_rep0)",
+            "--labels",
         ),
     };
     let unlabelled = check_coverage(&labels, keys, file, name, option)?;
@@ -332,6 +347,8 @@ pub struct Scored {
     pub families: Option<Labels>,
     /// `--weathers`, read.
     pub weathers: Option<Labels>,
+    /// `--labels`, read.
+    pub labels: Option<Labels>,
 }
 
 /// Everything `sds score` does before rendering: the settings, the run scored (telling
@@ -342,6 +359,19 @@ pub struct Scored {
 /// [`crate::LabelsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
+    // Usage errors of the grouping before the run is scored.
+    if args.labels.is_some() && args.group_by != Some(GroupArg::Route) {
+        return Err(UnusedLabels.into());
+    }
+    if let Some(g) = args.group_by {
+        let files = GroupLabels {
+            families: args.families.as_deref(),
+            weathers: args.weathers.as_deref(),
+            routes: args.labels.as_deref(),
+        };
+        let (by, file) = files.of(g);
+        by.check_labels(file.is_some())?;
+    }
     let mut report = score_run_with(&inputs(args), &settings, progress)?;
     let families = args
         .families
@@ -353,25 +383,53 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
         .as_deref()
         .map(|f| label_file(&mut report, f, LabelKey::Weather))
         .transpose()?;
-    add_groups(&mut report, args, families.as_ref(), weathers.as_ref())?;
+    let labels = args
+        .labels
+        .as_deref()
+        .map(|f| label_file(&mut report, f, LabelKey::Route))
+        .transpose()?;
+    let maps = GroupLabels {
+        families: families.as_ref(),
+        weathers: weathers.as_ref(),
+        routes: labels.as_ref(),
+    };
+    add_groups(&mut report, args, maps)?;
     Ok(Scored {
         report,
         families,
         weathers,
+        labels,
     })
+}
+
+/// The label maps of the groupings (or their files).
+#[derive(Clone, Copy)]
+struct GroupLabels<T> {
+    families: Option<T>,
+    weathers: Option<T>,
+    routes: Option<T>,
+}
+
+impl<T> GroupLabels<T> {
+    /// The grouping `by` asks for, and its label map.
+    fn of(self, by: GroupArg) -> (GroupBy, Option<T>) {
+        match by {
+            GroupArg::Scenario => (GroupBy::Scenario, None),
+            GroupArg::Town => (GroupBy::Town, None),
+            GroupArg::Family => (GroupBy::Family, self.families),
+            GroupArg::Weather => (GroupBy::Weather, self.weathers),
+            GroupArg::Route => (GroupBy::Route, self.routes),
+        }
+    }
 }
 
 /// Adds the breakdown the options ask for (the tables default to scenario types), with the
 /// label maps read by [`label_file`].
 ///
 /// # Errors
-/// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`.
-fn add_groups(
-    report: &mut Report,
-    args: &ScoreArgs,
-    families: Option<&Labels>,
-    weathers: Option<&Labels>,
-) -> Result<()> {
+/// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`,
+/// `--group-by route` without `--labels`.
+fn add_groups(report: &mut Report, args: &ScoreArgs, maps: GroupLabels<&Labels>) -> Result<()> {
     let tables = matches!(
         args.format,
         Format::Table | Format::Markdown | Format::Latex
@@ -381,12 +439,7 @@ fn add_groups(
         (None, true) => GroupArg::Scenario,
         (None, false) => return Ok(()),
     };
-    let (by, labels) = match by {
-        GroupArg::Scenario => (GroupBy::Scenario, None),
-        GroupArg::Town => (GroupBy::Town, None),
-        GroupArg::Family => (GroupBy::Family, families),
-        GroupArg::Weather => (GroupBy::Weather, weathers),
-    };
+    let (by, labels) = maps.of(by);
     report.group(by, labels)?;
     Ok(())
 }
@@ -416,6 +469,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         group_by: None,
         families: None,
         weathers: None,
+        labels: None,
         infractions: vec![],
         set: vec![],
         jobs: None,
@@ -462,6 +516,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(args.families.iter().cloned());
     inputs_read.extend(args.weathers.iter().cloned());
+    inputs_read.extend(args.labels.iter().cloned());
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;

@@ -218,7 +218,7 @@ impl<'a> Corridor<'a> {
     fn width_at(&mut self, point: [f64; 2], z: f64) -> f64 {
         self.projector
             .as_mut()
-            .and_then(|p| p.project(point[0], point[1], z))
-            .map_or(self.lane_width, |p| p.width)
+            .and_then(|p| p.width(point[0], point[1], z))
+            .unwrap_or(self.lane_width)
     }
 }

@@ -138,16 +138,16 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
             g.by.to_string(),
             label.to_string(),
             a.routes.to_string(),
-            o(a.driving_score),
-            o(a.success_rate),
-            o(a.mean_ds_safe),
-            o(a.mean_comfort),
-            o(a.sds),
-            o(a.collision_rate),
+            o(a.scores.driving_score),
+            o(a.scores.success_rate),
+            o(a.scores.mean_ds_safe),
+            o(a.scores.mean_comfort),
+            o(a.scores.sds),
+            o(a.scores.collision_rate),
             o(a.efficiency),
             o(a.smoothness),
             o(ab.mean),
-            a.comfort_routes.to_string(),
+            a.scores.comfort_routes.to_string(),
         ];
         row.extend(ab.rates().into_iter().map(o));
         row.extend(lists.iter().map(|l| a.infraction_routes.get(l).to_string()));

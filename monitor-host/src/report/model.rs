@@ -3,12 +3,13 @@
 //! turns it into text. Field order is the JSON report's key order.
 //!
 //! New per-route fields go into [`RouteReport`] (and [`route_report`]); new aggregates into
-//! [`crate::aggregate::summary::Summary`].
+//! [`crate::aggregate::aggregates::Scores`] (§8.1: the summary, groups and comparisons get them)
+//! or [`crate::aggregate::aggregates::Aggregates`] (§8.2, per group and comparison).
 
 use serde::Serialize;
 
 use crate::aggregate::ability::{route_ability, RouteAbility};
-use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::aggregates::{Aggregates, Scores};
 use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
 use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
 use crate::aggregate::stored::InputReport;
@@ -342,6 +343,12 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
     }
 }
 
+/// The routes counted in the aggregates (§1.5): every route but the foreign ones, in the
+/// report's order.
+pub fn counted_routes(routes: &[RouteReport]) -> impl Iterator<Item = &RouteReport> {
+    routes.iter().filter(|r| r.state != RouteState::Foreign)
+}
+
 /// What a run read besides its routes: the pieces of the report that are not per-route.
 #[derive(Clone, Debug, Default)]
 pub struct RunFacts {
@@ -408,11 +415,9 @@ pub fn build(
             warning: Box::new(w.clone()),
         }));
     }
-    let mut summary = summarize(outcomes, facts.n, missing.len());
-    let counted: Vec<&RouteReport> = routes
-        .iter()
-        .filter(|r| r.state != RouteState::Foreign)
-        .collect();
+    let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
+    let scores = Scores::over(&counted, facts.n);
+    let mut summary = summarize(outcomes, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
     let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
     summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
@@ -435,7 +440,30 @@ pub fn build(
 }
 
 impl Report {
-    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings.
+    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings. Label
+    /// maps come from [`crate::input::labels::read_labels`] (or are built in code).
+    ///
+    /// ```
+    /// use monitor_host::aggregate::groups::{GroupBy, Labels};
+    /// use monitor_host::{demo, score_run, Inputs, Settings};
+    /// let dir = tempfile::tempdir()?;
+    /// let run = demo::write(dir.path())?;
+    /// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+    /// let mut report = score_run(&inputs, &Settings::default())?;
+    /// // A train/test split of the routes, by XML id.
+    /// let split: Labels = ["900001", "900002"]
+    ///     .iter()
+    ///     .map(|id| (id.to_string(), vec!["test".to_string()]))
+    ///     .chain([("RouteScenario_900003_rep0".to_string(), vec!["train".to_string()])])
+    ///     .collect();
+    /// report.group(GroupBy::Route, Some(&split))?;
+    /// let g = report.groups.as_ref().unwrap();
+    /// let n: Vec<(&str, usize)> =
+    ///     g.rows.iter().map(|r| (r.label.as_str(), r.aggregates.routes)).collect();
+    /// assert_eq!(n, [("test", 2), ("train", 1), ("(unmapped)", report.routes.len() - 3)]);
+    /// assert!(report.group(GroupBy::Route, None).is_err()); // a route grouping needs its map
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     ///
     /// # Errors
     /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.

@@ -5,7 +5,7 @@
 
 use crate::aggregate::aggregates::Aggregates;
 use crate::aggregate::compare::{Comparison, Scope, Stat};
-use crate::aggregate::groups::GroupBy;
+use crate::aggregate::groups::{GroupBy, Groups};
 use crate::report::grid::{Grid, Style};
 use crate::report::model::Report;
 
@@ -117,15 +117,15 @@ pub fn table1(report: &Report) -> Grid {
         ["DS", "SR(%)", "DS_safe", "Comfort", "SDS"],
     );
     g.row([
-        num(s.driving_score, 2),
-        num(s.success_rate, 2),
-        num(s.mean_ds_safe, 2),
-        num(s.mean_comfort, 3),
-        num(s.sds, 2),
+        num(s.scores.driving_score, 2),
+        num(s.scores.success_rate, 2),
+        num(s.scores.mean_ds_safe, 2),
+        num(s.scores.mean_comfort, 3),
+        num(s.scores.sds, 2),
     ]);
     g.note(format!(
         "routes {} (found {}), comfort defined on {}, telemetry problems {}, invalid records {}",
-        s.routes, s.routes_found, s.comfort_routes, s.telemetry_problems, s.invalid_records
+        s.routes, s.routes_found, s.scores.comfort_routes, s.telemetry_problems, s.invalid_records
     ));
     g
 }
@@ -134,12 +134,12 @@ fn table2_cells(label: &str, a: &Aggregates) -> Vec<String> {
     vec![
         label.to_string(),
         a.routes.to_string(),
-        num(a.driving_score, 2),
-        num(a.success_rate, 2),
-        num(a.collision_rate, 2),
-        num(a.mean_ds_safe, 2),
-        num(a.mean_comfort, 3),
-        num(a.sds, 2),
+        num(a.scores.driving_score, 2),
+        num(a.scores.success_rate, 2),
+        num(a.scores.collision_rate, 2),
+        num(a.scores.mean_ds_safe, 2),
+        num(a.scores.mean_comfort, 3),
+        num(a.scores.sds, 2),
     ]
 }
 
@@ -153,15 +153,21 @@ pub fn table2(report: &Report) -> Option<Grid> {
             groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS",
         ],
     );
+    group_rows(&mut g, groups, table2_cells);
+    Some(g)
+}
+
+/// One row per group, then the Combined row, each made by `cells` from its label and
+/// aggregates.
+fn group_rows(g: &mut Grid, groups: &Groups, cells: impl Fn(&str, &Aggregates) -> Vec<String>) {
     for r in &groups.rows {
         // Group labels come from the inputs (scenario names, label files).
-        g.rows.push(table2_cells(
+        g.rows.push(cells(
             &crate::report::escape::printable(&r.label),
             &r.aggregates,
         ));
     }
-    g.total = Some(table2_cells("Combined", &groups.combined));
-    Some(g)
+    g.total = Some(cells("Combined", &groups.combined));
 }
 
 /// `k/n (r%)`: routes with the infraction / routes (rate).
@@ -200,13 +206,7 @@ pub fn table3(report: &Report, extra: &[String]) -> Option<Grid> {
         );
         row
     };
-    for r in &groups.rows {
-        g.rows.push(cells(
-            &crate::report::escape::printable(&r.label),
-            &r.aggregates,
-        ));
-    }
-    g.total = Some(cells("Combined", &groups.combined));
+    group_rows(&mut g, groups, cells);
     Some(g)
 }
 
@@ -274,12 +274,12 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         runs.row([
             r.name.clone(),
             a.routes.to_string(),
-            num(a.driving_score, 2),
-            num(a.success_rate, 2),
-            num(a.mean_ds_safe, 2),
-            num(a.mean_comfort, 3),
-            num(a.sds, 2),
-            num(a.collision_rate, 2),
+            num(a.scores.driving_score, 2),
+            num(a.scores.success_rate, 2),
+            num(a.scores.mean_ds_safe, 2),
+            num(a.scores.mean_comfort, 3),
+            num(a.scores.sds, 2),
+            num(a.scores.collision_rate, 2),
             num(a.efficiency, 2),
             pct(a.smoothness),
             pct(a.ability.as_ref().and_then(|x| x.mean)),

@@ -50,7 +50,9 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 """A path: a string or an ``os.PathLike`` (``pathlib.Path``)."""
 
-_GROUPS = ("scenario", "family", "town", "weather")
+_GROUPS = ("scenario", "family", "town", "weather", "route")
+# The option that gives each grouping's label map.
+_LABELS = {"family": "--families", "weather": "--weathers", "route": "--labels"}
 
 
 def _paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
@@ -102,10 +104,13 @@ def score(
         allow_missing_telemetry: Score routes without telemetry without telemetry terms.
         settings: Overrides, e.g. ``{"slack": 0.9, "bounds.yaw_rate": 1.0}`` (``--set``; names
             are those of the report's ``config`` block).
-        group_by: The breakdown's grouping: ``scenario``, ``family``, ``town`` or ``weather``
-            (``--group-by``; used by the table rendering, checked here).
-        labels: The labels file of ``family`` or ``weather`` grouping (``--families`` /
-            ``--weathers``; read and checked here).
+        group_by: The breakdown (the report's ``groups``): ``scenario``, ``family``, ``town``,
+            ``weather`` or ``route`` (``--group-by``).
+        labels: The label map of the grouping, read and checked here: scenario type -> family
+            for ``family`` (``--families``), weather id -> label for ``weather``
+            (``--weathers``), route id -> label for ``route`` (``--labels``; keys ``"1711"``,
+            ``"RouteScenario_1711"`` or ``"RouteScenario_1711_rep0"``, e.g. a difficulty or
+            train/test split). ``family`` and ``route`` need one.
         jobs: Worker threads (``--jobs``).
         progress: Draw a progress bar on standard error (when it is a terminal).
 
@@ -117,7 +122,8 @@ def score(
         InputError: A results file, the route XML or a labels file is invalid; route ids are
             duplicated under ``duplicates="error"``; the inputs hold no record.
         IoError: A file or folder cannot be read (a ``telemetry`` folder that does not exist).
-        ConfigError: An option or setting is invalid (``expected_routes`` below the routes found).
+        ConfigError: An option or setting is invalid (``expected_routes`` below the routes found,
+            ``group_by="family"`` or ``"route"`` without ``labels``).
         FeatureUnavailableError: ``maps`` or ``duplicates`` given where this build lacks them.
 
     Example:
@@ -151,12 +157,12 @@ def score(
             )
         args += ["--group-by", group_by]
     if labels is not None:
-        if group_by not in ("family", "weather"):
+        if group_by not in _LABELS:
             raise ConfigError(
-                "labels: give group_by='family' (scenario families) or 'weather' (weather names)"
+                "labels: give group_by='family' (scenario families), 'weather' (weather names) "
+                "or 'route' (labels of route ids)"
             )
-        option = "--families" if group_by == "family" else "--weathers"
-        args += [option, os.fspath(labels)]
+        args += [_LABELS[group_by], os.fspath(labels)]
     if jobs is not None:
         args += ["--jobs", str(int(jobs))]
     report: Dict[str, Any] = json.loads(_sds.score_json(args, progress=progress))

@@ -13,7 +13,7 @@ class InputError(SdsError):
     """An input is invalid: a results file, route XML, labels file or telemetry frame."""
 
 class ConfigError(SdsError):
-    """An option or setting is invalid."""
+    """An option or setting is invalid (also: a grouping without the label map it needs)."""
 
 class NeedsLabelsError(ConfigError):
     """A grouping needs a label map that was not given (``group_by="family"`` without ``labels``)."""

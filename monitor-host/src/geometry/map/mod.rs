@@ -24,6 +24,7 @@
 //! ```
 
 mod chain;
+mod clearance;
 mod cubic;
 mod dense_route;
 mod error;
@@ -32,6 +33,7 @@ mod lanes;
 mod lookup;
 mod network;
 mod projection;
+mod projector;
 mod reference_line;
 mod road;
 mod xodr;
@@ -42,7 +44,9 @@ pub use chain::{CHAIN_EXTRA, CHAIN_FACTOR, PIECE_MAX};
 pub use dense_route::{dense_route, DenseSample, DENSE_CUTOFF, DENSE_STEP};
 pub use error::MapError;
 pub use lookup::MapDir;
+pub use projector::Projector;
 
+use clearance::Clearance;
 use network::Network;
 use projection::{Candidate, Index};
 use road::{road_id_key, Road};
@@ -110,6 +114,7 @@ pub struct Map {
     roads: Vec<Road>,
     net: Network,
     index: Index,
+    clearance: Clearance,
 }
 
 impl Map {
@@ -146,11 +151,13 @@ impl Map {
         let parsed = xodr::parse(xml, file)?;
         let net = Network::build(&parsed.roads, &parsed.junctions);
         let index = Index::build(&parsed.roads, &net);
+        let clearance = Clearance::build(&index, &parsed.roads, &net);
         Ok(Map {
             file: file.to_string(),
             roads: parsed.roads,
             net,
             index,
+            clearance,
         })
     }
 
@@ -308,7 +315,7 @@ impl Map {
         let sec = node.section as usize;
         let piece = &self.index.pieces[c.piece as usize];
         let sel = 0.5 * (piece.s_a + piece.s_b);
-        let at = road.centre_in(sec, node.lane, c.s, sel).p;
+        let at = road.centre_point_in(sec, node.lane, c.s, sel);
         Projection {
             lane: LaneRef {
                 road: node.road,
@@ -417,51 +424,5 @@ impl Map {
         let road = self.roads.get(lane.road as usize)?;
         road.sections.get(lane.section as usize)?.find(lane.lane)?;
         Some(road.lane_width(lane.section as usize, lane.lane, s)[0])
-    }
-}
-
-/// Projects consecutive points (a route's frames) faster: it starts each search from the lane
-/// piece that held the previous answer. The result is the same as [`Map::project`]'s.
-///
-/// ```
-/// use monitor_host::geometry::map::{Map, Projector};
-/// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
-/// let mut projector = Projector::new(&map);
-/// assert_eq!(projector.project(0.0, 0.0, 0.0), map.project(0.0, 0.0, 0.0));
-/// ```
-#[derive(Debug)]
-pub struct Projector<'m> {
-    map: &'m Map,
-    hint: Option<u32>,
-    scratch: Vec<Candidate>,
-}
-
-impl<'m> Projector<'m> {
-    /// A projector over `map` with no history.
-    ///
-    /// ```
-    /// # use monitor_host::geometry::map::{Map, Projector};
-    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
-    /// let _p = Projector::new(&map);
-    /// ```
-    pub fn new(map: &'m Map) -> Self {
-        Projector {
-            map,
-            hint: None,
-            scratch: Vec::with_capacity(8),
-        }
-    }
-
-    /// The exact projection of CARLA point `(x, y, z)`, as [`Map::project`].
-    ///
-    /// ```
-    /// # use monitor_host::geometry::map::{Map, Projector};
-    /// # let map = Map::parse("<OpenDRIVE/>", "empty.xodr").unwrap();
-    /// assert!(Projector::new(&map).project(f64::NAN, 0.0, 0.0).is_none());
-    /// ```
-    pub fn project(&mut self, x: f64, y: f64, z: f64) -> Option<Projection> {
-        let r = self.map.project_with(x, y, z, self.hint, &mut self.scratch);
-        self.hint = r.map(|(_, piece)| piece);
-        r.map(|(p, _)| p)
     }
 }

@@ -12,7 +12,7 @@
 //! [`KNOT_STEP`]: super::network::KNOT_STEP
 
 use super::cubic::eval_coeffs;
-use super::lanes::centre_from;
+use super::lanes::{centre_from, CentrePoint};
 use super::network::Network;
 use super::reference_line::Geometry;
 use super::road::Road;
@@ -50,6 +50,8 @@ pub(crate) struct Index {
     /// `starts[c]..starts[c + 1]` are the pieces of cell `c` (row-major).
     starts: Vec<u32>,
     pub pieces: Vec<Piece>,
+    /// The centre line at both ends of each piece (every query solving the piece starts there).
+    pub ends: Vec<[CentrePoint; 2]>,
     /// Every point of a piece lies within `reach[c]` of the cell `c` holding its chord's
     /// midpoint; `reach_max` is the largest.
     reach: Vec<f64>,
@@ -66,7 +68,13 @@ pub(crate) struct Candidate {
 }
 
 #[inline]
-fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
+pub(crate) fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    seg_dist2(p, a, b).sqrt()
+}
+
+/// The square of [`seg_dist`] (which is its square root, so the two agree to the bit).
+#[inline]
+pub(crate) fn seg_dist2(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
     let ap = [p[0] - a[0], p[1] - a[1], p[2] - a[2]];
     let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -76,7 +84,7 @@ fn seg_dist(p: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> f64 {
         0.0
     };
     let d = [ap[0] - t * ab[0], ap[1] - t * ab[1], ap[2] - t * ab[2]];
-    (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()
+    d[0] * d[0] + d[1] * d[1] + d[2] * d[2]
 }
 
 /// One piece of a lane's centre line, ready to evaluate.
@@ -86,16 +94,21 @@ struct Curve<'a> {
     piece: &'a Piece,
 }
 
-/// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C(s) - p`.
+/// The point of the piece's centre line at road `s`, with its derivatives.
 #[inline]
-fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
+fn centre_at(c: Curve, s: f64) -> CentrePoint {
     let pose = c.geometry.pose(s - c.geometry.s0);
     let v = s - c.piece.s_a;
-    let c = centre_from(
+    centre_from(
         &pose,
         eval_coeffs(&c.piece.t, v),
         eval_coeffs(&c.piece.z, v),
-    );
+    )
+}
+
+/// `|D|²`, `D·C'` and `C'·C' + D·C''` with `D = C - p`.
+#[inline]
+fn objective_of(c: &CentrePoint, p: &[f64; 3]) -> [f64; 3] {
     let d = [c.p[0] - p[0], c.p[1] - p[1], c.p[2] - p[2]];
     let dot = |u: &[f64; 3], v: &[f64; 3]| u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
     [
@@ -103,6 +116,12 @@ fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
         dot(&d, &c.d1),
         dot(&c.d1, &c.d1) + dot(&d, &c.d2),
     ]
+}
+
+/// [`objective_of`] the point at `s`.
+#[inline]
+fn objective(c: Curve, s: f64, p: &[f64; 3]) -> [f64; 3] {
+    objective_of(&centre_at(c, s), p)
 }
 
 /// The root of `g` in `[lo, hi]` where `g(lo) < 0 < g(hi)`: Newton steps, bisection when a step
@@ -137,12 +156,18 @@ fn solve(curve: Curve, p: &[f64; 3], mut lo: f64, mut hi: f64, glo: f64, ghi: f6
     (s, f)
 }
 
-/// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`.
-fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
+/// The nearest point of a piece of a lane's centre line to `p`: `(s, |D|²)`, given the centre
+/// line at the piece's ends (`Index::ends`).
+pub(crate) fn nearest_on(
+    geometry: &Geometry,
+    piece: &Piece,
+    p: &[f64; 3],
+    ends: &[CentrePoint; 2],
+) -> (f64, f64) {
     let curve = Curve { geometry, piece };
     let (a, b) = (piece.s_a, piece.s_b);
-    let [fa, ga, _] = objective(curve, a, p);
-    let [fb, gb, _] = objective(curve, b, p);
+    let [fa, ga, _] = objective_of(&ends[0], p);
+    let [fb, gb, _] = objective_of(&ends[1], p);
     let mut best = if fa <= fb { (a, fa) } else { (b, fb) };
     let mut consider = |r: (f64, f64)| {
         if r.1 < best.1 {
@@ -168,6 +193,7 @@ fn nearest_on(geometry: &Geometry, piece: &Piece, p: &[f64; 3]) -> (f64, f64) {
 impl Index {
     pub fn build(roads: &[Road], net: &Network) -> Index {
         let mut pieces = Vec::new();
+        let mut ends = Vec::new();
         for (ni, node) in net.nodes.iter().enumerate() {
             let road = &roads[node.road as usize];
             let sec = node.section as usize;
@@ -215,6 +241,7 @@ impl Index {
                     z,
                 };
                 let geom = &road.reference.geometries[geometry];
+                // As `centre_at` on the piece (the same arithmetic).
                 let at = |s: f64| {
                     let v = s - s_a;
                     centre_from(
@@ -222,21 +249,22 @@ impl Index {
                         eval_coeffs(&t, v),
                         eval_coeffs(&z, v),
                     )
-                    .p
                 };
-                let (a, b) = (at(s_a), at(s_b));
+                let (ca, cb) = (at(s_a), at(s_b));
+                let (a, b) = (ca.p, cb.p);
                 // The curve's deviation from its chord, measured at the middle and a quarter in;
                 // bounded generously (a smooth curve over a short piece is close to a parabola,
                 // whose deviation peaks in the middle).
                 let mut dev: f64 = 0.0;
                 for f in [0.25, 0.5, 0.75] {
-                    dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)), &a, &b));
+                    dev = dev.max(seg_dist(&at(s_a + f * (s_b - s_a)).p, &a, &b));
                 }
                 if !(a.iter().chain(&b).all(|v| v.is_finite()) && dev.is_finite()) {
                     // A lane whose numbers overflow has no usable geometry here.
                     continue;
                 }
                 pieces.push(piece(a, b, 1.5 * dev + 1e-3));
+                ends.push([ca, cb]);
             }
         }
         if pieces.is_empty() {
@@ -284,9 +312,11 @@ impl Index {
         let starts = counts.clone();
         let mut fill = counts;
         let mut sorted = pieces.clone();
-        for p in &pieces {
+        let mut sorted_ends = ends.clone();
+        for (p, e) in pieces.iter().zip(&ends) {
             let c = cell_of(p);
             sorted[fill[c] as usize] = *p;
+            sorted_ends[fill[c] as usize] = *e;
             fill[c] += 1;
         }
         Index {
@@ -297,9 +327,61 @@ impl Index {
             ny,
             starts,
             pieces: sorted,
+            ends: sorted_ends,
             reach,
             reach_max,
         }
+    }
+
+    /// Calls `f(distance², reach, pieces)` for every cell within about `radius` (2-D) of `c`:
+    /// the squared distance from `c` to the cell, its reach and the range of its pieces.
+    pub fn cells_within(
+        &self,
+        c: [f64; 2],
+        radius: f64,
+        mut f: impl FnMut(f64, f64, std::ops::Range<u32>),
+    ) {
+        if self.pieces.is_empty() || !(c[0].is_finite() && c[1].is_finite()) {
+            return;
+        }
+        let span = radius + self.reach_max;
+        let cell_at = |v: f64, v0: f64, n: i64| {
+            ((v - v0) / self.cell).floor().clamp(0.0, (n - 1) as f64) as i64
+        };
+        let (i0, i1) = (
+            cell_at(c[0] - span, self.x0, self.nx),
+            cell_at(c[0] + span, self.x0, self.nx),
+        );
+        let (j0, j1) = (
+            cell_at(c[1] - span, self.y0, self.ny),
+            cell_at(c[1] + span, self.y0, self.ny),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let (cx0, cy0) = (
+                    self.x0 + i as f64 * self.cell,
+                    self.y0 + j as f64 * self.cell,
+                );
+                let dx = (cx0 - c[0]).max(c[0] - cx0 - self.cell).max(0.0);
+                let dy = (cy0 - c[1]).max(c[1] - cy0 - self.cell).max(0.0);
+                let k = (j * self.nx + i) as usize;
+                f(
+                    dx * dx + dy * dy,
+                    self.reach[k],
+                    self.starts[k]..self.starts[k + 1],
+                );
+            }
+        }
+    }
+
+    /// The order in which [`Index::search`] around `p` visits piece `k`: ring, row, column,
+    /// piece (among pieces at exactly equal distances of one lane, the first visited holds).
+    pub fn visit_key(&self, k: u32, p: &[f64; 3]) -> (i64, i64, i64, u32) {
+        let c = self.starts.partition_point(|&s| s <= k).saturating_sub(1) as i64;
+        let (i, j) = (c % self.nx, c / self.nx);
+        let ci = ((p[0] - self.x0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
+        let cj = ((p[1] - self.y0) / self.cell).floor().clamp(-1e15, 1e15) as i64;
+        ((i - ci).abs().max((j - cj).abs()), j, i, k)
     }
 
     /// Every lane whose nearest point to `p` lies within `tol` of the nearest distance, each
@@ -327,7 +409,7 @@ impl Index {
             }
             let node = &net.nodes[piece.node as usize];
             let geometry = &roads[node.road as usize].reference.geometries[piece.geometry as usize];
-            let (s, f) = nearest_on(geometry, piece, p);
+            let (s, f) = nearest_on(geometry, piece, p, &self.ends[k as usize]);
             let d = f.sqrt();
             if d > *best + tol {
                 return;

@@ -45,10 +45,10 @@ pub(super) fn heading(out: &mut String, report: &Report, name: &str) {
         escape(name),
         report.routes.len(),
         report.profile,
-        num(s.sds, 2),
-        num(s.driving_score, 2),
-        num(s.mean_ds_safe, 2),
-        num(s.mean_comfort, 3),
+        num(s.scores.sds, 2),
+        num(s.scores.driving_score, 2),
+        num(s.scores.mean_ds_safe, 2),
+        num(s.scores.mean_comfort, 3),
     ));
 }
 

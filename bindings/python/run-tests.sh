@@ -45,9 +45,10 @@ sdist=$(ls "$target"/py-sdist/sds_monitor-*.tar.gz)
 venv="$target/py-test-sdist"
 echo "[python] fresh venv $venv: pip install $(basename "$sdist") (built from source, offline)"
 python3 -m venv --clear "$venv"
-# pip builds the wheel in an isolated environment (maturin from the wheelhouse) with cargo; its
-# own target folder keeps the crates.io dependencies compiled between runs (this tree's crates
-# are rebuilt: pip unpacks the sdist into a new folder each time). No wheel cache: always build.
+# pip builds the wheel in an isolated environment (maturin from the wheelhouse) with cargo, from
+# scratch: no wheel cache, and no shared target folder (the sdist's files carry fixed times, so
+# cargo took a previous run's artifacts for fresh and installed a stale build: measured).
+rm -rf "$target/py-sdist-build"
 CARGO_TARGET_DIR="$target/py-sdist-build" "$venv/bin/pip" install -q --no-cache-dir --no-index \
   --find-links "$tools/wheelhouse" "$sdist" pytest numpy
 installed=$("$venv/bin/sds" --version)

@@ -31,7 +31,7 @@ create_exception!(
     sds,
     NeedsLabelsError,
     ConfigError,
-    "A grouping needs a label map that was not given (`group_by=\"family\"` without `labels`)."
+    "A grouping needs a label map that was not given (`group_by=\"family\"` or `\"route\"` without `labels`)."
 );
 create_exception!(sds, IoError, SdsError, "A file or folder cannot be read.");
 create_exception!(

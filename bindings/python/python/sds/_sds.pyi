@@ -16,7 +16,8 @@ class ConfigError(SdsError):
     """An option or setting is invalid (also: a grouping without the label map it needs)."""
 
 class NeedsLabelsError(ConfigError):
-    """A grouping needs a label map that was not given (``group_by="family"`` without ``labels``)."""
+    """A grouping needs a label map that was not given (``group_by="family"`` or ``"route"``
+    without ``labels``)."""
 
 class IoError(SdsError):
     """A file or folder cannot be read."""

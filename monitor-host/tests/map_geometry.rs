@@ -427,6 +427,15 @@ fn broken_maps_name_the_file_and_the_element() {
             "road 7, geometry 1: negative length -30",
         ),
         (
+            "broken_plan_gap.xodr",
+            "road 8, geometry 1: starts at s = 30 but the reference line so far ends at s = 20",
+        ),
+        (
+            // Past its one 50 m spiral the road would coil for 99,950 m.
+            "broken_road_length.xodr",
+            "road 9: length 100000 m, but its geometries end at s = 50",
+        ),
+        (
             "broken_border.xodr",
             "road 5, lane section 0, lane -2: the lane is given by <border> records",
         ),

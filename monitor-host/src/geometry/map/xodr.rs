@@ -15,6 +15,12 @@ use super::road::{Connection, Contact, Junction, Lane, LaneSection, Road, RoadLi
 /// samples every lane every few metres.
 pub(crate) const MAX_LENGTH: f64 = 100_000.0;
 
+/// How far a road's geometries may leave a gap, overlap, or end away from the road's length (m).
+/// CARLA's towns agree to 1e-13 m; beyond the last geometry the reference line would be an
+/// extrapolation that can coil or run away (and make every query on it slow), so a larger
+/// mismatch is an error.
+pub(crate) const PLAN_TOLERANCE: f64 = 0.1;
+
 /// The roads and junctions of a file, links resolved to indices.
 pub(crate) struct Parsed {
     pub roads: Vec<Road>,
@@ -247,6 +253,8 @@ fn parse_road(
 
     // Reference line.
     let mut geometries = Vec::new();
+    // (s, length, index) of each geometry, to check that they tile the road.
+    let mut spans = Vec::new();
     if let Some(pv) = child(node, "planView") {
         for (gi, g) in children(pv, "geometry").enumerate() {
             let el = || format!("road {rid}, geometry {gi}");
@@ -314,12 +322,37 @@ fn parse_road(
                 }
             };
             geometries.push(Geometry::new(s0, x, y, hdg, shape));
+            spans.push((s0, glen, gi));
         }
     }
     if geometries.is_empty() {
         return Err(ctx.err(here(), "has no <planView> geometry"));
     }
     geometries.sort_by(|a, b| a.s0.total_cmp(&b.s0));
+    spans.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut end = 0.0;
+    for &(s0, glen, gi) in &spans {
+        if (s0 - end).abs() > PLAN_TOLERANCE {
+            return Err(ctx.err(
+                format!("road {rid}, geometry {gi}"),
+                format!(
+                    "starts at s = {} but the reference line so far ends at s = {end} \
+                     (geometries must follow each other within {PLAN_TOLERANCE} m)",
+                    s0
+                ),
+            ));
+        }
+        end = s0 + glen;
+    }
+    if (length - end).abs() > PLAN_TOLERANCE {
+        return Err(ctx.err(
+            here(),
+            format!(
+                "length {length} m, but its geometries end at s = {end} \
+                 (they must agree within {PLAN_TOLERANCE} m)"
+            ),
+        ));
+    }
 
     let elevation = match child(node, "elevationProfile") {
         Some(ep) => ctx.cubics(ep, "elevation", "s", &|i| {

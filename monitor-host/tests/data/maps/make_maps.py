@@ -201,5 +201,7 @@ text = HEADER.format(name="broken_truncated") + ok_road + "</OpenDRIVE>\n"
 with open("broken_truncated.xodr", "w") as f:
     f.write(text[: len(text) * 2 // 3])
 write("broken_negative_length", ok_road + road(7, 50.0, [(0.0, 0.0, 10.0, 0.0, 20.0, "<line/>"), (20.0, 20.0, 10.0, 0.0, -30.0, "<line/>")], two_way(50.0)))
+write("broken_plan_gap", road(8, 50.0, [(0.0, 0.0, 0.0, 0.0, 20.0, "<line/>"), (30.0, 30.0, 0.0, 0.0, 20.0, "<line/>")], two_way(50.0)))
+write("broken_road_length", road(9, 100000.0, [(0.0, 0.0, 0.0, 0.0, 50.0, "<spiral curvStart=\"0.0\" curvEnd=\"0.04\"/>")], two_way(100000.0)))
 write("broken_border", road(5, 50.0, [(0.0, 0.0, 0.0, 0.0, 50.0, "<line/>")], [section(0.0, right=[lane(-1), lane(-2, border=True)])]))
 write("broken_missing_road", road(3, 50.0, [(0.0, 0.0, 0.0, 0.0, 50.0, "<line/>")], two_way(50.0), succ=link("successor", "road", 42, "start")))

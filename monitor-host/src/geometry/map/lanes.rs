@@ -102,15 +102,34 @@ impl Road {
         centre_from(&pose, t, z)
     }
 
-    /// The point alone of [`Road::centre_in`] (the same arithmetic, so the same bits, without
-    /// the derivatives).
+    /// The point alone of [`Road::centre_in`] (the same arithmetic, so the same bits, without the
+    /// derivatives) and the lane's width there (the value of [`Road::lane_width_in`]: its record
+    /// is evaluated once, by the same call, for both).
     #[inline]
-    pub fn centre_point_in(&self, sec: usize, id: i32, s: f64, sel: f64) -> [f64; 3] {
+    pub fn centre_point_and_width_in(
+        &self,
+        sec: usize,
+        id: i32,
+        s: f64,
+        sel: f64,
+    ) -> ([f64; 3], f64) {
         let pose = self.reference.pose_in(s, sel);
-        let t = self.lane_t_in(sec, id, s, sel)[0];
+        let section = &self.sections[sec];
+        let mut t = self.lane_offset.eval_in(s, sel)[0];
+        let mut width = 0.0;
+        if let Some((side, i)) = section.find(id) {
+            let (ds, dsel) = (s - section.s0, sel - section.s0);
+            let sign = if id > 0 { 1.0 } else { -1.0 };
+            for (j, lane) in side[..=i].iter().enumerate() {
+                let w = lane.widths.eval_in(ds, dsel)[0];
+                let f = if j == i { 0.5 * sign } else { sign };
+                t += f * w;
+                width = w;
+            }
+        }
         let z = self.elevation.eval_in(s, sel)[0];
         let (nx, ny) = (-pose.sin, pose.cos);
-        [pose.x + t * nx, pose.y + t * ny, z]
+        ([pose.x + t * nx, pose.y + t * ny, z], width)
     }
 
     /// The centre line of lane `id` of section `sec` at `s`.

@@ -315,7 +315,7 @@ impl Map {
         let sec = node.section as usize;
         let piece = &self.index.pieces[c.piece as usize];
         let sel = 0.5 * (piece.s_a + piece.s_b);
-        let at = road.centre_point_in(sec, node.lane, c.s, sel);
+        let (at, width) = road.centre_point_and_width_in(sec, node.lane, c.s, sel);
         Projection {
             lane: LaneRef {
                 road: node.road,
@@ -323,7 +323,7 @@ impl Map {
                 lane: node.lane,
             },
             s: c.s,
-            width: road.lane_width_in(sec, node.lane, c.s, sel)[0],
+            width,
             distance_2d: (at[0] - p[0]).hypot(at[1] - p[1]),
             distance_3d: c.d,
             junction: road.junction.is_some(),

@@ -2,41 +2,15 @@
 //! from the demo's scripts (monitor-host/src/demo.rs).
 
 use std::path::Path;
-use std::process::Command;
 
 use serde_json::Value;
 
-fn sds(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(args)
-        .output()
-        .expect("run sds")
-}
-
-fn demo(dir: &Path) {
-    let out = sds(&["demo", dir.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "sds demo failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
+mod common;
+use common::{demo, sds};
 
 /// `sds score` on the demo in `dir` (results, telemetry, routes), with `extra` arguments.
 fn run_score(dir: &Path, extra: &[&str]) -> std::process::Output {
-    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
-    let (results, telemetry, routes) = (d("results.json"), d("telemetry"), d("routes.xml"));
-    let mut args = vec![
-        "score",
-        "--results",
-        &results,
-        "--telemetry",
-        &telemetry,
-        "--routes",
-        &routes,
-    ];
-    args.extend_from_slice(extra);
-    sds(&args)
+    common::score_demo(dir, None, extra)
 }
 
 /// `sds score ... -o report.json`: the exit code and the report.

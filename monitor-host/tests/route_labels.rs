@@ -2,44 +2,12 @@
 //! its route ids, checked against sums worked out here from the per-route report.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-fn sds(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(args)
-        .output()
-        .expect("run sds")
-}
-
-/// Writes the demo run into `dir`.
-fn demo(dir: &Path) {
-    let out = sds(&["demo", dir.to_str().unwrap()]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-}
-
-/// `sds score` of the demo in `dir` with `results` (default: the demo's) and `extra` arguments.
-fn score(dir: &Path, results: Option<&Path>, extra: &[&str]) -> Output {
-    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
-    let results = results.map_or_else(|| d("results.json"), |p| p.to_str().unwrap().into());
-    let (telemetry, routes) = (d("telemetry"), d("routes.xml"));
-    let mut args = vec![
-        "score",
-        "--results",
-        &results,
-        "--telemetry",
-        &telemetry,
-        "--routes",
-        &routes,
-    ];
-    args.extend_from_slice(extra);
-    sds(&args)
-}
+mod common;
+use common::{demo, score_demo as score};
 
 fn json_of(out: &Output) -> Value {
     assert_eq!(

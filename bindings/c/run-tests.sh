@@ -223,22 +223,21 @@ ssize=$(sed -n 's/^storage_size //p' "$OUT/fw-run.txt")
 stack=$(sed -n 's/^stack //p' "$OUT/fw-run.txt")
 # Instructions per frame through the C API (QEMU's insncount plugin; -icount shift=0 makes the
 # counts repeatable): `bench N` pushes the first N frames of the first route and exits.
-PLUGIN_SRC="$ROOT/../shared/tools/qemu-insncount/insncount.c"
-insns_line="instructions: not measured ($PLUGIN_SRC not found)"
-if [ -f "$PLUGIN_SRC" ]; then
-  gcc -shared -fPIC -O2 -Wall -o "$OUT/libinsncount.so" "$PLUGIN_SRC" || fail "building the QEMU insncount plugin"
-  insns() {
-    timeout "$QEMU_TIMEOUT" qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -monitor none \
-      -serial none -icount shift=0 -semihosting-config "enable=on,target=native,arg=fw,arg=bench,arg=$1" \
-      -plugin "$OUT/libinsncount.so,out=$OUT/insns-$1.txt" -kernel "$ELF" >/dev/null \
-      || fail "the C firmware's bench $1 failed"
-    sed -n 's/^insns: //p' "$OUT/insns-$1.txt"
-  }
-  nfirst=$(sed -n 's/^const uint32_t fw_route_frames\[\] = {\([0-9]*\).*/\1/p' "$OUT/fw_frames.c")
-  i0=$(insns 0); iN=$(insns "$nfirst"); i19=$(insns 19); i20=$(insns 20); i21=$(insns 21); i22=$(insns 22)
-  avg10=$(((iN - i0) * 10 / nfirst))
-  insns_line="instructions through the C API: average $((avg10 / 10)).$((avg10 % 10)) per frame over route ${ROUTES[0]} ($nfirst frames), a chunk end (frame 19) $((i20 - i19)), a plain frame (21) $((i22 - i21))"
-fi
+# The project's own plugin (firmware-example/qemu-plugin/, the one the Rust firmware is counted with).
+PLUGIN_SRC="$ROOT/firmware-example/qemu-plugin/insncount.c"
+gcc -shared -fPIC -O2 -Wall -Wextra -Werror -fvisibility=hidden -o "$OUT/libinsncount.so" "$PLUGIN_SRC" \
+  || fail "building the QEMU insncount plugin ($PLUGIN_SRC)"
+insns() {
+  timeout "$QEMU_TIMEOUT" qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -monitor none \
+    -serial none -icount shift=0 -semihosting-config "enable=on,target=native,arg=fw,arg=bench,arg=$1" \
+    -plugin "$OUT/libinsncount.so,out=$OUT/insns-$1.txt" -kernel "$ELF" >/dev/null \
+    || fail "the C firmware's bench $1 failed"
+  sed -n 's/^insns: //p' "$OUT/insns-$1.txt"
+}
+nfirst=$(sed -n 's/^const uint32_t fw_route_frames\[\] = {\([0-9]*\).*/\1/p' "$OUT/fw_frames.c")
+i0=$(insns 0); iN=$(insns "$nfirst"); i19=$(insns 19); i20=$(insns 20); i21=$(insns 21); i22=$(insns 22)
+avg10=$(((iN - i0) * 10 / nfirst))
+insns_line="instructions through the C API: average $((avg10 / 10)).$((avg10 % 10)) per frame over route ${ROUTES[0]} ($nfirst frames), a chunk end (frame 19) $((i20 - i19)), a plain frame (21) $((i22 - i21))"
 {
   echo "# C API on Cortex-M4F ($(date -u +%Y-%m-%d), $(rustc -V), $(arm-none-eabi-gcc --version | head -1))"
   echo "image: flash $((vectors + text + rodata + data)) bytes (text $text, rodata $rodata incl. frame table $table, vectors $vectors, data $data) = code $((vectors + text + rodata + data - table)) + table $table; RAM $((data + bss)) (bss $bss, of which the monitor storage $ssize) + stack"

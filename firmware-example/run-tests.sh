@@ -32,12 +32,8 @@ fail() {
   printf '[firmware] FAILED: %s\n' "$*" >&2
   exit 1
 }
-loud_skip() {
-  printf '\n[firmware] ##################################################################\n' >&2
-  printf '[firmware] SKIPPED: %s\n' "$*" >&2
-  printf '[firmware] ##################################################################\n\n' >&2
-  exit 0
-}
+# shellcheck source=../scripts/skip.sh
+source "$ROOT/scripts/skip.sh"
 
 rm -rf "$OUT"
 mkdir -p "$OUT"
@@ -63,12 +59,12 @@ if [ ${#missing[@]} -gt 0 ]; then
     export RUSTC_BOOTSTRAP=1
     BUILD_STD=(-Z build-std=core)
   else
-    loud_skip "no thumb target (${missing[*]}): neither rustup targets nor rust-src for -Z build-std; the firmware was NOT tested"
+    loud_skip firmware "no thumb target (${missing[*]}): neither rustup targets nor rust-src for -Z build-std; the firmware was NOT tested"
   fi
 fi
-for tool in qemu-system-arm arm-none-eabi-size arm-none-eabi-nm arm-none-eabi-objdump arm-none-eabi-addr2line gcc timeout; do
-  command -v "$tool" >/dev/null 2>&1 || fail "$tool not found (bash scripts/setup.sh installs it)"
-done
+need_tools firmware qemu-system-arm=qemu-system-arm arm-none-eabi-size=binutils-arm-none-eabi \
+  arm-none-eabi-nm=binutils-arm-none-eabi arm-none-eabi-objdump=binutils-arm-none-eabi \
+  arm-none-eabi-addr2line=binutils-arm-none-eabi gcc=gcc timeout=coreutils
 say "$(qemu-system-arm --version | head -1)"
 
 # The instruction counter: our TCG plugin (qemu-plugin/), API version 2, which QEMU 9.0 and later

@@ -19,6 +19,7 @@ skip() {
   echo "## fuzz smoke SKIPPED: $*"
   echo "## (install: rustup toolchain install nightly && cargo install cargo-fuzz)"
   echo "############################################################"
+  if [ -n "${SDS_SKIP_LOG:-}" ]; then echo "fuzz smoke: $* (rustup toolchain install nightly && cargo install cargo-fuzz)" >>"$SDS_SKIP_LOG"; fi
   exit 0
 }
 command -v cargo >/dev/null 2>&1 || skip "cargo not found"

@@ -42,11 +42,9 @@ if [ -z "$chrome" ]; then
   chrome=$(command -v chromium || command -v chromium-browser || true)
 fi
 if [ -z "$chrome" ]; then
-  echo "########################################################################" >&2
-  echo "## SKIPPED: the browser test of the HTML report: chromium is not installed" >&2
-  echo "## and scripts/setup.sh could not install it (apt-get install chromium)." >&2
-  echo "########################################################################" >&2
-  exit 0
+  # shellcheck source=skip.sh
+  source scripts/skip.sh
+  loud_skip html-report "chromium is not installed and scripts/setup.sh could not install it: the browser test was not run (by hand: apt-get install chromium)"
 fi
 
 # One fresh profile per run; the page's console goes to stderr (--enable-logging).

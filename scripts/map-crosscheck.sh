@@ -22,6 +22,7 @@ skip() {
   echo "############################################################"
   echo "## map cross-check SKIPPED: $*"
   echo "############################################################"
+  if [ -n "${SDS_SKIP_LOG:-}" ]; then echo "map cross-check: $*" >>"$SDS_SKIP_LOG"; fi
   exit 0
 }
 

@@ -36,11 +36,13 @@ rm -rf "$OUT"
 mkdir -p "$OUT"
 cd "$ROOT"
 
-for tool in gcc g++ valgrind pkg-config nm ldd arm-none-eabi-gcc arm-none-eabi-size arm-none-eabi-nm qemu-system-arm timeout; do
-  command -v "$tool" >/dev/null 2>&1 || fail "$tool not found (bash scripts/setup.sh installs it)"
-done
+# shellcheck source=../../scripts/skip.sh
+source "$ROOT/scripts/skip.sh"
+need_tools c-api gcc=gcc g++=g++ valgrind=valgrind pkg-config=pkg-config nm=binutils ldd=libc-bin \
+  arm-none-eabi-gcc=gcc-arm-none-eabi arm-none-eabi-size=binutils-arm-none-eabi \
+  arm-none-eabi-nm=binutils-arm-none-eabi qemu-system-arm=qemu-system-arm timeout=coreutils
 [ -d "$(rustc --print sysroot)/lib/rustlib/$M4F/lib" ] \
-  || fail "rust target $M4F missing (bash scripts/setup.sh adds it: rustup target add $M4F)"
+  || loud_skip c-api "rust target $M4F missing: not tested (bash scripts/setup.sh adds it; by hand: rustup target add $M4F)"
 
 # 1. Rust side ---------------------------------------------------------------------------------
 say "cargo test -p sds-capi (unit tests; header == cbindgen output)"

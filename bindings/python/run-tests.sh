@@ -12,8 +12,8 @@ root=$(cd ../.. && pwd)
 target="${CARGO_TARGET_DIR:-$root/target}"
 tools="$target/py-tools"
 if [ ! -x "$tools/bin/maturin" ] || [ ! -f "$tools/pins" ]; then
-  echo "SKIPPED: Python package tests: $tools has no maturin (run scripts/setup.sh; is PyPI reachable?)" >&2
-  exit 0
+  source "$root/scripts/skip.sh"
+  loud_skip python "Python package tests: $tools has no maturin (run scripts/setup.sh; is PyPI reachable?)"
 fi
 
 echo "[python] building the sds binary (the reference the tests compare with) and the wheel"
@@ -35,8 +35,8 @@ echo "[python] pytest"
 
 # Install from source, as `pip install sds_monitor-X.tar.gz` does on a machine without our wheel.
 if ! ls "$tools"/wheelhouse/maturin-*.whl >/dev/null 2>&1; then
-  echo "SKIPPED: install from the source distribution: no maturin in $tools/wheelhouse to build it offline (rerun scripts/setup.sh; is PyPI reachable?)" >&2
-  exit 0
+  source "$root/scripts/skip.sh"
+  loud_skip python "install from the source distribution: no maturin in $tools/wheelhouse to build it offline (rerun scripts/setup.sh; is PyPI reachable?)"
 fi
 rm -rf "$target/py-sdist"
 "$tools/bin/maturin" sdist -o "$target/py-sdist" >"$target/py-sdist.log" 2>&1 \

@@ -31,6 +31,18 @@ pub enum Error {
         /// The route id looked for.
         route: String,
     },
+    /// Several records of this route are kept under `--duplicates all` (for
+    /// [`crate::route_frames`], which prints one route).
+    #[error(
+        "{route}: {copies} records are scored under --duplicates all; choose one copy with \
+         --duplicates first|last"
+    )]
+    AmbiguousRoute {
+        /// The route id.
+        route: String,
+        /// Records kept with that id.
+        copies: usize,
+    },
     /// The route's record is invalid (for [`crate::route_frames`]).
     #[error("{route}: invalid record")]
     InvalidRecord {

@@ -336,6 +336,14 @@ fn kept_ids(records: &[LoadedRecord]) -> usize {
 pub struct RouteFrames {
     /// One frame per telemetry step, in step order.
     pub frames: Vec<Frame>,
+    /// The telemetry step of each frame.
+    pub steps: Vec<u64>,
+    /// Per frame, the host-side lateral values behind `lat_err` (`None` where it is unknown).
+    pub lateral: Vec<Option<crate::geometry::corridor::LateralSample>>,
+    /// What the lateral error was measured against.
+    pub reference: crate::geometry::corridor::ReferenceKind,
+    /// The route's step period, s.
+    pub dt: f32,
     /// Problems that did not stop the frames from being made.
     pub warnings: Vec<Warning>,
     /// Every input file read (results files, route XML, telemetry files), for front ends that
@@ -367,13 +375,23 @@ pub fn route_frames(
         .as_deref()
         .map(read_route_xml)
         .transpose()?;
-    let loaded = records
+    // The copy `score` would stream: the duplicate rule picks it.
+    let kept = deduplicate(records, settings.duplicates)?;
+    let mut copies = kept
+        .records
         .into_iter()
-        .find(|r| r.entry.as_ref().is_ok_and(|r| r.route_id == route_id))
-        .ok_or_else(|| Error::NoRoute {
-            file: inputs.results.first().cloned().unwrap_or_default(),
+        .filter(|r| r.entry.as_ref().is_ok_and(|r| r.route_id == route_id));
+    let loaded = copies.next().ok_or_else(|| Error::NoRoute {
+        file: inputs.results.first().cloned().unwrap_or_default(),
+        route: route_id.into(),
+    })?;
+    let others = copies.count();
+    if others > 0 {
+        return Err(Error::AmbiguousRoute {
             route: route_id.into(),
-        })?;
+            copies: others + 1,
+        });
+    }
     let Ok(record) = &loaded.entry else {
         return Err(Error::InvalidRecord {
             route: route_id.into(),
@@ -388,6 +406,7 @@ pub fn route_frames(
         map: town.and_then(|t| maps.get(t).ok()),
         telemetry_root: inputs.telemetry.as_deref(),
         settings,
+        keep_lateral: true,
     };
     let telemetry = read_telemetry(&loaded, record, context, &mut warnings, &mut files_read)
         .map_err(|state| Error::Telemetry {
@@ -396,6 +415,10 @@ pub fn route_frames(
         })?;
     Ok(RouteFrames {
         frames: telemetry.prepared.frames,
+        steps: telemetry.prepared.steps,
+        lateral: telemetry.prepared.lateral,
+        reference: telemetry.prepared.reference,
+        dt: telemetry.settings.core.dt,
         warnings,
         files_read,
     })

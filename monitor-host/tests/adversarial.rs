@@ -756,10 +756,22 @@ fn duplicate_keys_are_refused_naming_the_key() {
 // A results directory: nothing lost without an entry, nothing pulled in from outside.
 
 /// Runs `sds score` on a results directory; as root, as user `nobody` (root ignores mode bits,
-/// so an unreadable folder is only unreadable to someone else).
-fn score_dir_as_user(results: &Path, telemetry: &Path) -> (Output, Value) {
+/// so an unreadable folder is only unreadable to someone else). `nobody` may not be able to
+/// reach the build folder (a clone inside root's 0700 home), so it runs a copy of the binary
+/// placed in `scratch`, a folder of the test's that others can enter.
+fn score_dir_as_user(results: &Path, telemetry: &Path, scratch: &Path) -> (Output, Value) {
     use std::os::unix::process::CommandExt;
-    let mut c = Command::new(SDS);
+    // SAFETY: geteuid has no preconditions.
+    let as_root = unsafe { libc::geteuid() } == 0;
+    let program = if as_root {
+        let copy = scratch.join("sds-copy");
+        fs::copy(SDS, &copy).unwrap();
+        fs::set_permissions(&copy, fs::Permissions::from_mode(0o755)).unwrap();
+        copy
+    } else {
+        PathBuf::from(SDS)
+    };
+    let mut c = Command::new(&program);
     c.args(["score", "--results"])
         .arg(results)
         .arg("--telemetry")
@@ -767,8 +779,7 @@ fn score_dir_as_user(results: &Path, telemetry: &Path) -> (Output, Value) {
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
-    // SAFETY: geteuid has no preconditions.
-    if unsafe { libc::geteuid() } == 0 {
+    if as_root {
         c.uid(65534).gid(65534);
     }
     let o = wait_bounded(c.spawn().expect("run sds"), 60);
@@ -828,7 +839,7 @@ fn a_results_directory_loses_nothing_silently() {
         }
     }
 
-    let (o, report) = score_dir_as_user(&res, &d.telemetry);
+    let (o, report) = score_dir_as_user(&res, &d.telemetry, tmp.path());
     assert_eq!(code(&o), 3, "{}", stderr(&o));
     let routes = report["routes"].as_array().unwrap();
     let by_source = |part: &str| -> Vec<&Value> {

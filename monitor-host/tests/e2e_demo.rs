@@ -578,3 +578,105 @@ fn groups_in_the_json_and_csv_with_list_labels() {
     assert!(lines[1].starts_with("family,collisions,3,"));
     assert!(lines[7].starts_with("family,combined,9,"));
 }
+
+/// `sds frames` takes the options of `score` that change a frame (`--maps`, `--set`, ...), and
+/// what it prints is what `score` streamed: the demo with its town map and the lane reference,
+/// every route's frames replayed through the core give the report's lateral and comfort figures,
+/// and each frame's core value follows from its host-side distance and slack.
+#[test]
+fn frames_under_maps_and_the_lane_reference_are_what_score_used() {
+    use monitor_core::{Config, Monitor};
+    use std::process::Output;
+    let stderr = |o: &Output| String::from_utf8_lossy(&o.stderr).into_owned();
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
+    let base = [
+        "--results".to_string(),
+        d("results.json"),
+        "--telemetry".into(),
+        d("telemetry"),
+        "--routes".into(),
+        d("routes.xml"),
+        "--maps".into(),
+        d("maps"),
+    ];
+    let with = |cmd: &str, extra: &[&str]| -> Output {
+        let mut args: Vec<&str> = vec![cmd];
+        args.extend(base.iter().map(String::as_str));
+        args.extend(extra);
+        sds(&args)
+    };
+    let lane = ["--set", "lateral_reference=lane"];
+    let o = with("score", &lane);
+    assert!(
+        o.status.code().is_some_and(|c| c == 0 || c == 3),
+        "{}",
+        stderr(&o)
+    );
+    let report: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let mut lane_differs = false;
+    for route in report["routes"].as_array().unwrap() {
+        let id = route["route_id"].as_str().unwrap();
+        assert_eq!(route["lateral"]["reference"], "map-lane", "{id}");
+        let o = with("frames", &[&lane[..], &["--route-id", id]].concat());
+        assert!(o.status.success(), "{id}: {}", stderr(&o));
+        let text = String::from_utf8(o.stdout).unwrap();
+        let mut config = Config::DEFAULT;
+        config.dt = route["dt"].as_f64().unwrap() as f32;
+        let mut m = Monitor::<20>::new(config).unwrap();
+        for line in text.lines() {
+            let f = monitor_core::json::decode_frame(line.as_bytes()).unwrap();
+            let host: Value = serde_json::from_str::<Value>(line).unwrap()["host"].clone();
+            assert_eq!(host["reference"], "map-lane", "{id}: {line}");
+            if let Some(lat) = host["lat_err"].as_f64() {
+                let slack = host["slack"].as_f64().unwrap();
+                let width = host["lane_width"].as_f64().unwrap();
+                assert_eq!(slack, width / 2.0 - 0.93, "{id}: {line}");
+                let v = (lat.abs() - slack + f64::from(config.slack)).max(0.0) as f32;
+                assert_eq!(f.lat_err, Some(v), "{id}: {line}");
+            } else {
+                assert_eq!(f.lat_err, None, "{id}: {line}");
+            }
+            m.push(&f).unwrap();
+        }
+        let s = m.finish().unwrap().summary;
+        assert_eq!(
+            u64::from(s.frames),
+            route["frames"].as_u64().unwrap(),
+            "{id}"
+        );
+        assert_eq!(
+            u64::from(s.lateral.anomalous),
+            route["lateral"]["anomalous"].as_u64().unwrap(),
+            "{id}"
+        );
+        assert_eq!(
+            u64::from(s.lateral.critical),
+            route["lateral"]["critical"].as_u64().unwrap(),
+            "{id}"
+        );
+        assert_eq!(
+            u64::from(s.comfort.comfortable),
+            route["comfort"]["comfortable"].as_u64().unwrap(),
+            "{id}"
+        );
+        // Without the setting the same route is measured against the route: other values.
+        let core_lat = |text: &str| -> Vec<Option<f32>> {
+            text.lines()
+                .map(|l| {
+                    monitor_core::json::decode_frame(l.as_bytes())
+                        .unwrap()
+                        .lat_err
+                })
+                .collect()
+        };
+        let route_ref = with("frames", &["--route-id", id]);
+        lane_differs |= core_lat(&String::from_utf8(route_ref.stdout).unwrap()) != core_lat(&text);
+    }
+    assert!(
+        lane_differs,
+        "--set lateral_reference=lane changed no frame of the demo"
+    );
+}

@@ -107,6 +107,62 @@ static const char *read_collisions(const char *p, sds_collisions *c) {
   }
 }
 
+/* Skips one JSON value (the "host" object `sds frames` adds: values the host computed, which the
+   monitor does not take); returns the position after it, or NULL. Nesting is bounded. */
+static const char *skip_value(const char *p, int depth) {
+  p = skip_ws(p);
+  if (depth > 8) {
+    return NULL;
+  }
+  if (*p == '"') {
+    for (p++; *p != '"'; p++) {
+      if (*p == '\0') {
+        return NULL;
+      }
+      if (*p == '\\' && p[1] != '\0') {
+        p++;
+      }
+    }
+    return p + 1;
+  }
+  if (*p == '{' || *p == '[') {
+    char close = *p == '{' ? '}' : ']';
+    p = skip_ws(p + 1);
+    if (*p == close) {
+      return p + 1;
+    }
+    for (;;) {
+      if (close == '}') {
+        p = skip_value(p, depth + 1); /* the key */
+        if (p == NULL || *(p = skip_ws(p)) != ':') {
+          return NULL;
+        }
+        p++;
+      }
+      p = skip_value(p, depth + 1);
+      if (p == NULL) {
+        return NULL;
+      }
+      p = skip_ws(p);
+      if (*p == close) {
+        return p + 1;
+      }
+      if (*p != ',') {
+        return NULL;
+      }
+      p++;
+    }
+  }
+  /* A number, true, false or null. */
+  if (!((*p >= '0' && *p <= '9') || *p == '-' || *p == 't' || *p == 'f' || *p == 'n')) {
+    return NULL;
+  }
+  while (*p != '\0' && *p != ',' && *p != '}' && *p != ']' && *p != ' ' && *p != '\n') {
+    p++;
+  }
+  return p;
+}
+
 const char *sds_frame_parse_json(const char *line, sds_frame *frame) {
   char key[32];
   const char *p = skip_ws(line);
@@ -133,6 +189,11 @@ const char *sds_frame_parse_json(const char *line, sds_frame *frame) {
       p = read_collisions(p, &frame->collisions);
       if (p == NULL) {
         return "bad \"collisions\" (an object of pedestrian, vehicle, layout, workzone counts)";
+      }
+    } else if (strcmp(key, "host") == 0) {
+      p = skip_value(p, 0);
+      if (p == NULL) {
+        return "bad \"host\" (a JSON object)";
       }
     } else {
       if (strcmp(key, "a_lon") == 0) {

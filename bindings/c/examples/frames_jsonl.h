@@ -6,6 +6,7 @@
  *    "collisions":{"pedestrian":0,"vehicle":1,"layout":0,"workzone":0}}
  *
  * Keys in any order; "lat_err" null or absent means unknown; absent collision counts are 0.
+ * The "host" object `sds frames` adds (the host's values behind the frame) is skipped.
  * Numbers are read with strtof, which rounds correctly, as Rust's parser does: the same text
  * gives the same bits.
  */

@@ -51,6 +51,16 @@ pub enum ProfileArg {
     B2dLegacy,
 }
 
+impl ProfileArg {
+    /// The core's profile.
+    pub fn profile(self) -> monitor_core::Profile {
+        match self {
+            ProfileArg::Physical => monitor_core::Profile::Physical,
+            ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+        }
+    }
+}
+
 /// Duplicate policies (`--duplicates`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DuplicatesArg {
@@ -237,17 +247,31 @@ pub enum Command {
         #[arg(long)]
         force: bool,
     },
-    /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding).
+    /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding),
+    /// each with the host-side values behind it (`host`: step, reference, distance to it, slack,
+    /// lane width). Takes every option of `score` that changes a frame.
     Frames {
-        /// Results file or directory.
-        #[arg(long)]
-        results: PathBuf,
+        /// Results file or directory (repeatable, as for `score`).
+        #[arg(long, required = true)]
+        results: Vec<PathBuf>,
         /// Telemetry root.
         #[arg(long)]
         telemetry: Option<PathBuf>,
         /// Route XML.
         #[arg(long)]
         routes: Option<PathBuf>,
+        /// The towns' OpenDRIVE maps (as for `score`).
+        #[arg(long)]
+        maps: Option<PathBuf>,
+        /// Comfort profile (changes the configuration the frames are checked against).
+        #[arg(long, value_enum, default_value = "physical")]
+        profile: ProfileArg,
+        /// Which copy of a duplicated route id to print (as for `score`).
+        #[arg(long, value_enum)]
+        duplicates: Option<DuplicatesArg>,
+        /// Override a setting, e.g. `lateral_reference=lane`, `dt=0.1` (as for `score`).
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
         /// The route id (`RouteScenario_<id>_rep<k>`).
         #[arg(long)]
         route_id: String,

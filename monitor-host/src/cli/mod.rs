@@ -188,28 +188,30 @@ fn run(cli: Cli) -> Result<i32> {
             results,
             telemetry,
             routes,
+            maps,
+            profile,
+            duplicates,
+            set,
             route_id,
             output,
         } => {
             let inputs = Inputs {
-                results: vec![results],
+                results,
                 telemetry,
                 route_xml: routes,
-                maps: None,
+                maps,
             };
-            let run = route_frames(&inputs, &route_id, &Settings::default())?;
+            let mut settings = Settings::default();
+            settings.core.profile = profile.profile();
+            if let Some(d) = duplicates {
+                settings.duplicates = d.policy();
+            }
+            settings.apply(&set)?;
+            let run = route_frames(&inputs, &route_id, &settings)?;
             for w in &run.warnings {
                 say!("sds: warning: {route_id}: {w}");
             }
-            let mut out = Vec::new();
-            let mut buf = [0u8; 512];
-            for f in &run.frames {
-                let n = monitor_core::json::encode(f, &mut buf)
-                    .map_err(|e| anyhow::anyhow!("cannot encode a frame: {e}"))?;
-                out.extend_from_slice(&buf[..n]);
-                out.push(b'\n');
-            }
-            write_output(output.as_deref(), &out, &run.files_read)?;
+            write_output(output.as_deref(), &frame_lines(&run)?, &run.files_read)?;
             Ok(0)
         }
     }
@@ -255,16 +257,46 @@ pub fn score_options() -> Vec<String> {
         .unwrap_or_default()
 }
 
+/// `sds frames`' output: per frame, the core's frame (serde-json-core, what the firmware and
+/// `monitor_core::json::decode_frame` read; unknown keys are ignored there) with one more key,
+/// `host`: the step, the lateral reference, and, where the lateral error is known, the distance
+/// to the reference (`lat_err`, m, f64), the slack and the lane width behind the core's value.
+fn frame_lines(run: &crate::RouteFrames) -> Result<Vec<u8>> {
+    let mut out = Vec::new();
+    let mut buf = [0u8; 512];
+    for (k, f) in run.frames.iter().enumerate() {
+        let n = monitor_core::json::encode(f, &mut buf)
+            .map_err(|e| anyhow::anyhow!("cannot encode a frame: {e}"))?;
+        // The core's object without its closing brace, then `,"host":{...}}`.
+        out.extend_from_slice(&buf[..n.saturating_sub(1)]);
+        let mut host = serde_json::json!({
+            "step": run.steps.get(k),
+            "dt": crate::settings::decimal(run.dt),
+            "reference": run.reference.name(),
+        });
+        if let Some(Some(s)) = run.lateral.get(k) {
+            host["lat_err"] = s.lat_err.into();
+            host["slack"] = s.slack.into();
+            host["lane_width"] = s.lane_width.map(|w| w.width).into();
+            host["lane_width_from"] = s
+                .lane_width
+                .map(|w| if w.from_map { "map" } else { "setting" })
+                .into();
+        }
+        out.extend_from_slice(b",\"host\":");
+        serde_json::to_writer(&mut out, &host)?;
+        out.extend_from_slice(b"}\n");
+    }
+    Ok(out)
+}
+
 /// The settings of `sds score`: its options, then `--set` overrides in order.
 ///
 /// # Errors
 /// An invalid `--set`.
 pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
     let mut s = Settings::default();
-    s.core.profile = match args.profile {
-        ProfileArg::Physical => monitor_core::Profile::Physical,
-        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
-    };
+    s.core.profile = args.profile.profile();
     s.expected_routes = args.expected_routes;
     if let Some(d) = args.duplicates {
         s.duplicates = d.policy();
@@ -593,10 +625,7 @@ fn telemetry_of(path: &Path) -> PathBuf {
 /// The settings of `sds compare`, shared by every run.
 fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
     let mut s = Settings::default();
-    s.core.profile = match args.profile {
-        ProfileArg::Physical => monitor_core::Profile::Physical,
-        ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
-    };
+    s.core.profile = args.profile.profile();
     s.expected_routes = args.expected_routes;
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;

@@ -210,6 +210,17 @@ fn write_temp_then_rename(
         std::thread::sleep(std::time::Duration::from_millis(ms));
     }
     let mut pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+    // Checked again just before the rename: a device or FIFO that appeared at the path since
+    // `check_target` (as root, a rename would turn `/dev/null` into a regular file) is refused.
+    if let Ok(m) = fs::symlink_metadata(target) {
+        if !m.is_file() {
+            bail!(
+                "{}: became {} while the report was written; not replaced",
+                target.display(),
+                describe(m.file_type())
+            );
+        }
+    }
     fs::rename(tmp, target)?;
     *pending = None;
     Ok(())

@@ -190,35 +190,81 @@ impl<'a> Corridor<'a> {
     /// rounded to f32 once), or `None` when the lateral error is unknown (no reference, or an
     /// unfilled junction gap).
     pub fn next(&mut self, loc: [f64; 2], z: f64) -> Option<f64> {
+        self.sample(loc, z).map(|s| s.value)
+    }
+
+    /// Like [`Corridor::next`], with the host-side values behind the core's value: what
+    /// `sds frames` prints for each frame.
+    pub fn sample(&mut self, loc: [f64; 2], z: f64) -> Option<LateralSample> {
         match self.kind {
             ReferenceKind::None => None,
-            ReferenceKind::Xml => self.tracker.as_mut()?.next(loc),
+            ReferenceKind::Xml => {
+                let d = self.tracker.as_mut()?.next(loc)?;
+                Some(LateralSample {
+                    lat_err: d,
+                    // The configured slack, as the user wrote it (the core subtracts its f32).
+                    slack: crate::settings::decimal(self.core_slack),
+                    lane_width: None,
+                    value: d,
+                })
+            }
             ReferenceKind::MapRoute => {
                 let (d, foot) = self.tracker.as_mut()?.next_with_point(loc)?;
-                let w = self.width_at(foot, z);
-                Some(core_value(
-                    d,
-                    w / 2.0 - self.ego_half_width,
-                    self.core_slack,
-                ))
+                let (w, from_map) = self.width_at(foot, z);
+                Some(self.with_width(d, w, from_map))
             }
             ReferenceKind::MapLane => {
                 let p = self.projector.as_mut()?.project(loc[0], loc[1], z)?;
-                Some(core_value(
-                    p.distance_2d,
-                    p.width / 2.0 - self.ego_half_width,
-                    self.core_slack,
-                ))
+                Some(self.with_width(p.distance_2d, p.width, true))
             }
         }
     }
 
-    /// The width of the lane under `point` (with the frame's height): the map's, else
-    /// `lane_width`.
-    fn width_at(&mut self, point: [f64; 2], z: f64) -> f64 {
-        self.projector
+    /// A sample whose slack comes from a lane `w` m wide.
+    fn with_width(&self, d: f64, w: f64, from_map: bool) -> LateralSample {
+        let slack = w / 2.0 - self.ego_half_width;
+        LateralSample {
+            lat_err: d,
+            slack,
+            lane_width: Some(LaneWidth { width: w, from_map }),
+            value: core_value(d, slack, self.core_slack),
+        }
+    }
+
+    /// The width of the lane under `point` (with the frame's height): the map's (`true`), else
+    /// `lane_width` (`false`).
+    fn width_at(&mut self, point: [f64; 2], z: f64) -> (f64, bool) {
+        match self
+            .projector
             .as_mut()
             .and_then(|p| p.width(point[0], point[1], z))
-            .unwrap_or(self.lane_width)
+        {
+            Some(w) => (w, true),
+            None => (self.lane_width, false),
+        }
     }
+}
+
+/// One frame's lateral values in the host (f64): the distance to the reference, the slack it is
+/// allowed, and the value handed to the core ([`core_value`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LateralSample {
+    /// Unsigned distance to the reference (route or lane), m.
+    pub lat_err: f64,
+    /// The frame's slack, m: `lane width / 2 - ego half width`, or the configured slack against
+    /// the route XML alone.
+    pub slack: f64,
+    /// The lane width behind the slack, when there is one.
+    pub lane_width: Option<LaneWidth>,
+    /// The core's lateral value (before its rounding to f32).
+    pub value: f64,
+}
+
+/// A lane width and where it came from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneWidth {
+    /// Width, m.
+    pub width: f64,
+    /// From the town's map (`true`) or the `lane_width` setting where the map has no lane.
+    pub from_map: bool,
 }

@@ -6,7 +6,7 @@
 
 use monitor_core::{Collisions, Frame};
 
-use crate::geometry::corridor::{Corridor, ReferenceKind};
+use crate::geometry::corridor::{Corridor, LateralSample, ReferenceKind};
 use crate::geometry::map::Map;
 use crate::input::collision::{self, CollisionList};
 use crate::input::lead_infractions::StepInfraction;
@@ -61,6 +61,9 @@ pub struct PreparedRoute {
     pub events: Vec<CollisionEvent>,
     /// What the lateral error was measured against.
     pub reference: ReferenceKind,
+    /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
+    /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
+    pub lateral: Vec<Option<LateralSample>>,
 }
 
 /// Builds the monitor's frames: signals from the raw vectors (f32 kernels), speed, lateral error
@@ -73,6 +76,19 @@ pub fn prepare(
     map: Option<&Map>,
     infractions: Option<&[StepInfraction]>,
     settings: &Settings,
+) -> PreparedRoute {
+    prepare_with(record, tel, routes, map, infractions, settings, false)
+}
+
+/// [`prepare`], keeping each frame's [`LateralSample`] when `keep_lateral` (for `sds frames`).
+pub fn prepare_with(
+    record: &Record,
+    tel: &Telemetry,
+    routes: Option<&RouteSet>,
+    map: Option<&Map>,
+    infractions: Option<&[StepInfraction]>,
+    settings: &Settings,
+    keep_lateral: bool,
 ) -> PreparedRoute {
     let n = tel.frames.len();
     let steps = tel.steps();
@@ -111,13 +127,17 @@ pub fn prepare(
     }
 
     let mut builder = FrameBuilder::new(settings.core.dt);
+    let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
     let frames: Vec<Frame> = tel
         .frames
         .iter()
         .zip(collisions)
         .map(|(f, c)| {
-            let lat_err = corridor.next(f.location, f.z);
-            builder.push(f, lat_err, c)
+            let sample = corridor.sample(f.location, f.z);
+            if keep_lateral {
+                lateral.push(sample);
+            }
+            builder.push(f, sample.map(|s| s.value), c)
         })
         .collect();
     // The impact speed is the frame's speed (f64, rounded to f32 once).
@@ -129,5 +149,6 @@ pub fn prepare(
         steps,
         events,
         reference: corridor.kind(),
+        lateral,
     }
 }

@@ -17,7 +17,7 @@ use crate::input::metric_info;
 use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
-use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
+use crate::pipeline::prepare::{collision_events, prepare_with, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
@@ -215,6 +215,8 @@ pub struct RouteContext<'a> {
     pub telemetry_root: Option<&'a Path>,
     /// The run's settings.
     pub settings: &'a Settings,
+    /// Keep each frame's host-side lateral values (`PreparedRoute::lateral`): `sds frames`.
+    pub keep_lateral: bool,
 }
 
 /// Locates and reads a record's telemetry (and `infractions.json` beside it), infers its step
@@ -234,6 +236,7 @@ pub fn read_telemetry(
         map,
         telemetry_root,
         settings,
+        keep_lateral,
     } = context;
     // A save_name naming another route's folder would score this record with that telemetry.
     if let Some(other) = record
@@ -312,13 +315,14 @@ pub fn read_telemetry(
     // The period is configuration, set once for the route: the per-frame work is unchanged.
     let mut route_settings = settings.clone();
     route_settings.core.dt = period.as_f32(settings);
-    let prepared = prepare(
+    let prepared = prepare_with(
         record,
         &tel,
         routes,
         map,
         infractions.as_deref(),
         &route_settings,
+        keep_lateral,
     );
     Ok(RouteTelemetry {
         prepared,
@@ -374,6 +378,7 @@ pub fn replay(
         map,
         telemetry_root,
         settings,
+        keep_lateral: false,
     };
     let summary = match read_telemetry(
         loaded,

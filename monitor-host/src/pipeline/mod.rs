@@ -1,10 +1,12 @@
 //! The per-route pipeline: [`prepare`] (record + telemetry → frames built by [`frame`], with
 //! [`align`]ed collision events) → [`replay`] (frames → `Monitor` → summary, checked against the
 //! batch reference) → [`outcome`] (what became of the route, with its [`timeline`]);
-//! [`step_period`] gives each route's `dt`.
+//! [`step_period`] gives each route's `dt`; [`motion`] its distance, stationary share and
+//! moving chunks.
 
 pub mod align;
 pub mod frame;
+pub mod motion;
 pub mod outcome;
 pub mod prepare;
 pub mod replay;

@@ -1,0 +1,259 @@
+//! How far a route drove and how long it stood (`SDS-SPEC.md` v1.3 §8.5): distance, the share
+//! of stationary frames, and which comfort chunks were driven rather than stood through.
+//!
+//! Bench2Drive's comfort counts a chunk in which the car stands still as comfortable, so a car
+//! that barely moves looks smooth. These figures let a report show comfort over the chunks the
+//! car actually drove (`comfort.moving_score`).
+//!
+//! Host geometry, as the lateral error: double precision on the raw coordinates, in step order.
+//! The core does not compute them: its frames carry no position (only the f32 speed), and
+//! adding one would change the frame of every front end (C, firmware, Python) for a figure that
+//! is about the run, not about safety; the comfort verdicts it emits per chunk are matched with
+//! the moving flags here ([`MovingComfort::count`]).
+//!
+//! ```
+//! use monitor_host::pipeline::motion::{measure, MotionSettings};
+//! // 30 frames at 20 Hz: 10 standing, then 20 at 2 m/s.
+//! let steps: Vec<u64> = (0..30).collect();
+//! let locations: Vec<[f64; 2]> =
+//!     (0..30).map(|i| [if i < 10 { 0.0 } else { 0.1 * (i - 9) as f64 }, 0.0]).collect();
+//! let m = measure(&locations, &steps, 0.05, &MotionSettings::default(), 20, 7);
+//! assert!((m.distance_m - 2.0).abs() < 1e-9);
+//! assert_eq!(m.stationary_share, Some(10.0 / 30.0));
+//! assert_eq!(m.moving, vec![true]); // chunk 0 (frames 0..20): 1.0 m in 0.95 s
+//! ```
+
+use monitor_core::ComfortVerdict;
+
+/// The thresholds of §8.5 (settings `motion.stationary_speed`, `motion.moving_speed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionSettings {
+    /// A frame whose speed is below this is stationary, m/s (0.1) **\[decision\]**. (The
+    /// setting `stationary_speed` is §5's collision exemption, 0.5 m/s: another threshold.)
+    pub stationary_speed: f64,
+    /// A chunk whose mean speed (path length over its duration) is at least this is moving,
+    /// m/s (1.0) **\[decision\]**.
+    pub moving_speed: f64,
+}
+
+impl Default for MotionSettings {
+    fn default() -> Self {
+        MotionSettings {
+            stationary_speed: 0.1,
+            moving_speed: 1.0,
+        }
+    }
+}
+
+/// A route's motion figures.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Motion {
+    /// The sum of the 2-D distances between consecutive frames, m.
+    pub distance_m: f64,
+    /// Frames slower than `stationary_speed` / frames (`None` without frames); frame 0 takes
+    /// frame 1's speed, a one-frame route counts as stationary.
+    pub stationary_share: Option<f64>,
+    /// Per comfort chunk (§3: full chunks of `chunk_len`, or one chunk for a short route of at
+    /// least `min_chunk` frames), whether it is moving.
+    pub moving: Vec<bool>,
+    /// Per frame, whether it is stationary (for the timeline of the HTML page); empty unless
+    /// asked for.
+    pub stationary: Vec<bool>,
+}
+
+/// The 2-D distance between two locations.
+fn step_length(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (b[0] - a[0]).hypot(b[1] - a[1])
+}
+
+/// Measures a route from its frames' 2-D `locations` and `steps` (step order) with step period
+/// `dt` (s, the decimal the report prints) and the comfort chunking (`chunk_len`, `min_chunk`).
+pub fn measure(
+    locations: &[[f64; 2]],
+    steps: &[u64],
+    dt: f64,
+    settings: &MotionSettings,
+    chunk_len: usize,
+    min_chunk: usize,
+) -> Motion {
+    let n = locations.len().min(steps.len());
+    let gap = |i: usize| step_length(locations[i - 1], locations[i]);
+    let distance_m = (1..n).map(gap).sum();
+    // speed_i (§2) in double precision; frame 0 takes speed_1.
+    let speed = |i: usize| {
+        let span = steps[i].saturating_sub(steps[i - 1]) as f64 * dt;
+        if span > 0.0 {
+            gap(i) / span
+        } else {
+            0.0
+        }
+    };
+    let stationary: Vec<bool> = (0..n)
+        .map(|i| match (i, n) {
+            (_, 1) => true,
+            (0, _) => speed(1) < settings.stationary_speed,
+            _ => speed(i) < settings.stationary_speed,
+        })
+        .collect();
+    let stationary_share =
+        (n > 0).then(|| stationary.iter().filter(|s| **s).count() as f64 / n as f64);
+    let chunks: Vec<(usize, usize)> = if n >= chunk_len && chunk_len > 0 {
+        (0..n / chunk_len)
+            .map(|k| (k * chunk_len, (k + 1) * chunk_len))
+            .collect()
+    } else if n >= min_chunk.max(1) {
+        vec![(0, n)]
+    } else {
+        Vec::new()
+    };
+    let moving = chunks
+        .into_iter()
+        .map(|(a, b)| {
+            let path: f64 = (a + 1..b).map(gap).sum();
+            let duration = steps[b - 1].saturating_sub(steps[a]) as f64 * dt;
+            duration > 0.0 && path / duration >= settings.moving_speed
+        })
+        .collect();
+    Motion {
+        distance_m,
+        stationary_share,
+        moving,
+        stationary,
+    }
+}
+
+/// Comfort over the moving chunks of a route.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MovingComfort {
+    /// Moving comfort chunks.
+    pub chunks: u32,
+    /// Of those, the comfortable ones.
+    pub comfortable: u32,
+}
+
+impl MovingComfort {
+    /// Matches the monitor's comfort verdicts (one per chunk, in chunk order) with the chunks'
+    /// moving flags.
+    ///
+    /// ```
+    /// use monitor_host::pipeline::motion::MovingComfort;
+    /// let m = MovingComfort::count(&[true, false], &[]);
+    /// assert_eq!((m.chunks, m.comfortable, m.score()), (0, 0, None));
+    /// ```
+    pub fn count(moving: &[bool], verdicts: &[ComfortVerdict]) -> Self {
+        let mut out = MovingComfort::default();
+        for v in verdicts {
+            if moving.get(v.chunk as usize).copied().unwrap_or(false) {
+                out.chunks += 1;
+                out.comfortable += u32::from(v.failed.comfortable());
+            }
+        }
+        out
+    }
+
+    /// Comfortable moving chunks / moving chunks; `None` when no chunk moved.
+    pub fn score(self) -> Option<f64> {
+        (self.chunks > 0).then(|| f64::from(self.comfortable) / f64::from(self.chunks))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn verdict(chunk: u32) -> ComfortVerdict {
+        ComfortVerdict {
+            chunk,
+            frames: 20,
+            failed: Default::default(),
+        }
+    }
+
+    fn line(speeds: &[f64], dt: f64) -> Vec<[f64; 2]> {
+        // Frame i is reached at speeds[i] from frame i-1 (speeds[0] unused).
+        let mut x = 0.0;
+        speeds
+            .iter()
+            .enumerate()
+            .map(|(i, v)| {
+                if i > 0 {
+                    x += v * dt;
+                }
+                [x, 0.0]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn gaps_between_steps_divide_by_the_elapsed_time() {
+        // Steps 0, 1, 5: the third frame is 0.4 m on, over 4 steps of 0.05 s = 2 m/s.
+        let m = measure(
+            &[[0.0, 0.0], [0.0, 0.0], [0.4, 0.0]],
+            &[0, 1, 5],
+            0.05,
+            &MotionSettings::default(),
+            20,
+            7,
+        );
+        assert_eq!(m.distance_m, 0.4);
+        // Frame 0 takes frame 1's speed (0): 2 of 3 stationary.
+        assert_eq!(m.stationary, vec![true, true, false]);
+        assert_eq!(m.stationary_share, Some(2.0 / 3.0));
+        assert!(m.moving.is_empty(), "3 frames: no comfort chunk");
+    }
+
+    #[test]
+    fn a_one_frame_route_is_stationary_and_no_frame_means_no_share() {
+        let one = measure(&[[5.0, 5.0]], &[7], 0.05, &MotionSettings::default(), 20, 7);
+        assert_eq!((one.distance_m, one.stationary_share), (0.0, Some(1.0)));
+        let none = measure(&[], &[], 0.05, &MotionSettings::default(), 20, 7);
+        assert_eq!(none.stationary_share, None);
+    }
+
+    #[test]
+    fn a_route_that_never_moves_has_no_moving_chunk() {
+        let locs = vec![[1.0, 2.0]; 45];
+        let steps: Vec<u64> = (0..45).collect();
+        let m = measure(&locs, &steps, 0.05, &MotionSettings::default(), 20, 7);
+        assert_eq!(m.moving, vec![false, false]);
+        assert_eq!(m.stationary_share, Some(1.0));
+        let verdicts = [verdict(0), verdict(1)];
+        assert_eq!(MovingComfort::count(&m.moving, &verdicts).score(), None);
+    }
+
+    #[test]
+    fn a_chunk_exactly_at_moving_speed_is_moving() {
+        // 20 frames, 19 gaps of 0.05 s: 0.95 s; at exactly 1 m/s the path is 0.95 m.
+        let dt = 0.05;
+        let steps: Vec<u64> = (0..20).collect();
+        let settings = MotionSettings::default();
+        let at = |v: f64| measure(&line(&[v; 20], dt), &steps, dt, &settings, 20, 7).moving;
+        // Sums of 0.05 m steps: compare with the threshold the way `measure` does.
+        let exact: f64 = {
+            let l = line(&[1.0; 20], dt);
+            (1..20).map(|i| step_length(l[i - 1], l[i])).sum::<f64>() / (19.0 * dt)
+        };
+        assert_eq!(at(1.0), vec![exact >= 1.0]);
+        assert_eq!(at(1.01), vec![true]);
+        assert_eq!(at(0.99), vec![false]);
+        // A threshold set exactly to the chunk's mean speed: moving (inclusive).
+        let s = MotionSettings {
+            moving_speed: exact,
+            ..settings
+        };
+        assert_eq!(
+            measure(&line(&[1.0; 20], dt), &steps, dt, &s, 20, 7).moving,
+            vec![true]
+        );
+    }
+
+    #[test]
+    fn moving_comfort_counts_only_moving_chunks() {
+        let mut failed = verdict(1);
+        failed.failed.lon_jerk = true;
+        let verdicts = [verdict(0), failed, verdict(2)];
+        let m = MovingComfort::count(&[false, true, true], &verdicts);
+        assert_eq!((m.chunks, m.comfortable), (2, 1));
+        assert_eq!(m.score(), Some(0.5));
+    }
+}

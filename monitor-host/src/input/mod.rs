@@ -14,6 +14,7 @@
 //! | collision strings (§5, §7) | [`collision`] |
 //! | label maps for the breakdown (§8.3) | [`labels`] |
 //! | duplicate JSON keys, refused | [`json_keys`] |
+//! | the figures an input file stores, checked (§1.5) | [`stored`] |
 //! | the one guarded file reader: regular files, bounded size | [`read`] |
 
 pub mod collision;
@@ -28,3 +29,4 @@ pub mod record;
 pub mod results_file;
 pub mod route_set;
 pub mod route_xml;
+pub mod stored;

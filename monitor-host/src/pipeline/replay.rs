@@ -8,7 +8,6 @@ use monitor_core::{
     RecordScores, RouteSummary,
 };
 
-use crate::aggregate::penalty;
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::map::Map;
 use crate::input::discovery;
@@ -351,7 +350,6 @@ pub fn replay(
         timeline: None,
         events: Vec::new(),
         workzone: 0,
-        penalty: None,
         batch_agrees: None,
         reference: None,
         warnings: Vec::new(),
@@ -368,7 +366,6 @@ pub fn replay(
         map.is_some(),
         settings.lateral_reference,
     ));
-    out.penalty = Some(penalty::check_penalty(record, settings.penalty_flavour));
     let context = RouteContext {
         routes,
         map,

@@ -50,6 +50,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
+// Two audited exceptions are allowed where they are, each with its SAFETY comment: the
+// telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
+// check before the runtime starts (cli/output.rs).
+#![deny(unsafe_code)]
 
 pub mod aggregate;
 #[cfg(feature = "cli")]
@@ -71,9 +75,9 @@ pub use demo::DemoError;
 pub use error::Error;
 pub use input::labels::LabelsError;
 pub use input::lead_infractions::LeadInfractionsError;
-pub use input::metric_info::TelemetryError;
 pub use input::results_file::ResultsError;
 pub use input::route_xml::RouteError;
+pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};

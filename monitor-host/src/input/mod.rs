@@ -8,6 +8,7 @@
 //! | several inputs, duplicate routes (§1.5) | [`duplicates`] |
 //! | the route set, missing and foreign routes, N (§1.5) | [`route_set`] |
 //! | finding files: result trees, telemetry folders (§1.2) | [`discovery`] |
+//! | a route's telemetry, whatever its format; the reader for a file (§1.2) | [`telemetry`] |
 //! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
 //! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
@@ -30,3 +31,4 @@ pub mod results_file;
 pub mod route_set;
 pub mod route_xml;
 pub mod stored;
+pub mod telemetry;

@@ -12,9 +12,9 @@ use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::map::Map;
 use crate::input::discovery;
 use crate::input::lead_infractions;
-use crate::input::metric_info;
 use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
+use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
@@ -272,7 +272,7 @@ pub fn read_telemetry(
             ))
         })?;
     files.push(path.clone());
-    let tel = metric_info::read_metric_info(&path)
+    let tel = read_telemetry_file(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
         None => None,

@@ -15,19 +15,26 @@
 //! ```text
 //! results JSON ─┐  metric_info.json ─┐  route XML ─┐
 //!               v                    v             v
-//! input/     record, results_file, discovery, metric_info, lead_infractions, route_xml,
-//!            collision, labels                     │
-//!               │                                  v
-//!               │                      geometry/  kinematics (speed, yaw unit),
-//!               │                                 lateral (polyline, forward search)
-//!               v                                  │
+//! input/     record, results_file, discovery, duplicates, route_set, stored (§1.5),
+//!            telemetry (types; format picks the reader) ← metric_info, lead_infractions,
+//!            route_xml, collision, labels           │
+//!               │                                   v
+//!               │                       geometry/  kinematics, lateral, corridor, maps,
+//!               │                                  junctions
+//!               v                                   │
 //! pipeline/  prepare → align → frame (f32) → replay: Monitor::push / finish → outcome
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
-//! aggregate/ summary (§8.1), penalty re-check (§8), groups (§8.3)
+//! route/     row per route: penalty re-check (§8), efficiency, abilities (§8.2), traces
 //!               v
-//! report/    model → json, csv, table
+//! aggregate/ aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3),
+//!            compare; report (the Report that holds rows and aggregates)
+//!               v
+//! report/    renderings: json, csv, table, html, figure, trace_csv
 //! ```
+//!
+//! A file imports only from its own stage or those above it in this picture (and `settings`,
+//! `warning`); `scripts/module-graph.py` checks it.
 //!
 //! Around them: [`Settings`] (every setting, typed), [`Inputs`], [`Warning`], [`Error`] (every
 //! layer's error type is re-exported here too), and [`demo`] (writes the built-in demo run).
@@ -50,6 +57,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 #![deny(missing_docs)]
+// Two audited exceptions are allowed where they are, each with its SAFETY comment: the
+// telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
+// check before the runtime starts (cli/output.rs).
+#![deny(unsafe_code)]
 
 pub mod aggregate;
 #[cfg(feature = "cli")]
@@ -61,20 +72,21 @@ pub mod input;
 pub mod pipeline;
 pub mod reference;
 pub mod report;
+pub mod route;
 pub mod run;
 pub mod settings;
 pub mod warning;
 
+pub use aggregate::report::Report;
 pub use demo::DemoError;
 pub use error::Error;
 pub use input::labels::LabelsError;
 pub use input::lead_infractions::LeadInfractionsError;
-pub use input::metric_info::TelemetryError;
 pub use input::results_file::ResultsError;
 pub use input::route_xml::RouteError;
+pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
-pub use report::model::Report;
 pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
 pub use settings::{Settings, SettingsError};
 pub use warning::Warning;

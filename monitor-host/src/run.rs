@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::aggregate::stored::check_inputs;
+use crate::aggregate::report::{assemble, Report, RunFacts};
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{deduplicate, DuplicatePolicy};
@@ -13,9 +13,10 @@ use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set};
 use crate::input::route_xml::read_route_xml;
+use crate::input::stored::check_inputs;
 use crate::pipeline::outcome::TelemetryState;
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
-use crate::report::model::{build, Report, RunFacts};
+use crate::route::row::route_rows;
 use crate::settings::Settings;
 use crate::warning::Warning;
 use monitor_core::Frame;
@@ -244,19 +245,17 @@ pub fn score_run_with(
             example,
         });
     }
-    let mut report = build(
-        &outcomes,
-        settings,
-        RunFacts {
-            n,
-            route_set: set,
-            inputs: input_reports,
-            dropped: kept.dropped,
-            warnings,
-        },
-        routes.as_ref(),
-        &maps,
-    );
+    // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
+    let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
+    let rows = route_rows(&outcomes, missing, settings, routes.as_ref(), &maps);
+    let facts = RunFacts {
+        n,
+        route_set: set,
+        inputs: input_reports,
+        dropped: kept.dropped,
+        warnings,
+    };
+    let mut report = assemble(rows, &outcomes, settings, facts);
     // Every input file, for front ends that must never write over one.
     let mut files = files_read;
     files.extend(inputs.route_xml.iter().cloned());

@@ -20,7 +20,6 @@
 
 use monitor_core::{Config, ConfigError, Profile};
 
-use crate::aggregate::penalty::PenaltyFlavour;
 use crate::input::duplicates::DuplicatePolicy;
 
 /// Why a setting was refused.
@@ -558,6 +557,32 @@ struct Group<'a>(&'a [(&'a str, f64)]);
 impl serde::Serialize for Group<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// Which evaluator's penalty rules to re-check against (§8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PenaltyFlavour {
+    /// Bench2Drive: min-speed infractions carry no factor.
+    Bench2Drive,
+    /// CARLA Leaderboard 2.0: each min-speed infraction multiplies by `1 - 0.3 (1 - pct/100)`.
+    Leaderboard20,
+}
+
+impl PenaltyFlavour {
+    /// `"bench2drive"` or `"leaderboard20"` (the name used in reports and on the command line).
+    pub fn name(self) -> &'static str {
+        match self {
+            PenaltyFlavour::Bench2Drive => "bench2drive",
+            PenaltyFlavour::Leaderboard20 => "leaderboard20",
+        }
+    }
+
+    /// The flavour named `name` (see [`PenaltyFlavour::name`]).
+    pub fn from_name(name: &str) -> Option<Self> {
+        [PenaltyFlavour::Bench2Drive, PenaltyFlavour::Leaderboard20]
+            .into_iter()
+            .find(|f| f.name() == name)
     }
 }
 

@@ -3,8 +3,8 @@
 //! figure's own axis ticks, within a pixel), the collision instant, the shaded deceleration
 //! window, the threshold and the title; two runs give the same bytes (figures, CSV, HTML).
 
-use monitor_host::aggregate::trace::{CollisionTrace, Verdict};
 use monitor_host::report::{figure, html, trace_csv, Report};
+use monitor_host::route::trace::{CollisionTrace, Verdict};
 use monitor_host::{demo, route_frames, score_run, Inputs, Settings};
 
 fn demo_report() -> (tempfile::TempDir, Inputs, Report) {

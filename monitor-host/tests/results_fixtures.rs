@@ -6,10 +6,11 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use monitor_host::aggregate::penalty::{check_penalty, PenaltyFlavour};
 use monitor_host::input::collision::{count_workzone, is_workzone, parse_collision, CollisionList};
 use monitor_host::input::record::Record;
 use monitor_host::input::results_file::{self as results, ResultSet};
+use monitor_host::route::penalty::check_penalty;
+use monitor_host::settings::PenaltyFlavour;
 
 const B2D: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/fixtures/b2d");
 

@@ -10,9 +10,9 @@
 
 use serde::Serialize;
 
-use crate::aggregate::ability::ABILITIES;
 use crate::input::record::KNOWN_LISTS;
-use crate::report::model::RouteReport;
+use crate::route::ability::ABILITIES;
+use crate::route::row::RouteReport;
 
 /// Rates of the five abilities (0..1, null when no route counts in one) and their mean.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]

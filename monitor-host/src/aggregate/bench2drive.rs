@@ -2,41 +2,14 @@
 //! success rate, efficiency, smoothness and the multi-ability rates, with the routes the
 //! ability rates could not count (`ability_missing`), could not decide (`ability_undecided`) or
 //! decided close to the threshold (`ability_marginal`).
-//!
-//! ```
-//! use monitor_host::aggregate::bench2drive::route_efficiency;
-//! let e = route_efficiency(&[
-//!     "Average speed is 80% of the surrounding traffic's one".into(),
-//!     "Average speed is 1098.69% of the surrounding traffic's one".into(), // an outlier
-//!     "Average speed is 100% of the surrounding traffic's one".into(),
-//! ]);
-//! assert_eq!(e, Some(90.0));
-//! assert_eq!(route_efficiency(&[]), None);
-//! ```
 
 use serde::Serialize;
 
-use crate::aggregate::ability::JunctionCredit;
 use crate::aggregate::aggregates::{AbilityCount, AbilityRates, Aggregates, Counts};
-use crate::aggregate::penalty::min_speed_percent;
-use crate::report::model::RouteReport;
+use crate::route::ability::JunctionCredit;
+use crate::route::row::RouteReport;
 
-/// Percentages above this are outliers, left out of a route's efficiency (§8.2).
-pub const EFFICIENCY_MAX: f64 = 1000.0;
-
-/// A route's efficiency: the mean of the `Average speed is X% ...` percentages of its
-/// `min_speed_infractions` with `X <= 1000`, in list order; `None` when it has none.
-pub fn route_efficiency(min_speed_infractions: &[String]) -> Option<f64> {
-    let values: Vec<f64> = min_speed_infractions
-        .iter()
-        .filter_map(|s| min_speed_percent(s))
-        .filter(|x| *x <= EFFICIENCY_MAX)
-        .collect();
-    let n = values.len();
-    (n > 0).then(|| values.iter().fold(0.0, |a, x| a + x) / n as f64)
-}
-
-/// A route decided within [`crate::aggregate::ability::MARGINAL_BAND`] of its threshold.
+/// A route decided within [`crate::route::ability::MARGINAL_BAND`] of its threshold.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Marginal {
     /// The route.

@@ -19,7 +19,8 @@ use std::collections::HashSet;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::report::model::{counted_routes, Report, RouteReport};
+use crate::aggregate::report::Report;
+use crate::route::row::{counted_routes, RouteReport};
 
 /// One run to compare: its name and its report (from [`crate::score_run`]).
 #[derive(Clone, Debug)]

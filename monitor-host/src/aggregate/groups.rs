@@ -18,8 +18,9 @@ use std::collections::BTreeMap;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
+pub use crate::input::labels::Labels;
 use crate::input::route_set::parse_route_id;
-use crate::report::model::{counted_routes, RouteReport};
+use crate::route::row::{counted_routes, RouteReport};
 use crate::warning::Warning;
 
 /// What to group the breakdown by.
@@ -96,10 +97,6 @@ pub fn route_label_key<'a>(route_id: &'a str, labels: &Labels) -> Option<&'a str
     }
     forms.into_iter().find(|f| labels.contains_key(*f))
 }
-
-/// Labels of scenario types (families), weather ids or route ids, read by
-/// [`crate::input::labels::read_labels`]; a key may have several labels.
-pub type Labels = BTreeMap<String, Vec<String>>;
 
 /// The group of routes whose key is unknown (a missing route's weather, a record without town).
 pub const UNKNOWN: &str = "(unknown)";

@@ -6,6 +6,7 @@ use serde::Serialize;
 use crate::aggregate::aggregates::Scores;
 use crate::aggregate::bench2drive::Bench2Drive;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::route::row::RouteReport;
 
 /// Benchmark aggregates (spec section 8).
 #[derive(Clone, Debug, Serialize, PartialEq)]
@@ -30,7 +31,7 @@ pub struct Summary {
     pub invalid_records: usize,
     /// Routes where streaming and batch disagreed (must be empty).
     pub batch_disagreements: Vec<String>,
-    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::report::model::build`], which
+    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::aggregate::report::assemble`], which
     /// knows the route set.
     pub bench2drive: Option<Bench2Drive>,
 }
@@ -38,7 +39,13 @@ pub struct Summary {
 /// The run's summary: the §8.1 `scores` (over N, computed by [`Scores::over`] from the counted
 /// routes' reports), with the counts of the outcomes (in input order) behind them; `missing`
 /// routes of the route set are in N. Foreign routes are left out.
-pub fn summarize(all: &[RouteOutcome], scores: Scores, n: usize, missing: usize) -> Summary {
+pub fn summarize(
+    all: &[RouteOutcome],
+    rows: &[&RouteReport],
+    scores: Scores,
+    n: usize,
+    missing: usize,
+) -> Summary {
     let outcomes: Vec<&RouteOutcome> = all.iter().filter(|o| o.counted()).collect();
     let found = outcomes.len();
     Summary {
@@ -47,10 +54,10 @@ pub fn summarize(all: &[RouteOutcome], scores: Scores, n: usize, missing: usize)
         missing,
         foreign: all.len() - found,
         scores,
-        penalty_mismatches: outcomes
+        penalty_mismatches: rows
             .iter()
-            .filter(|o| o.penalty.is_some_and(|p| !p.agrees))
-            .filter_map(|o| o.record().map(|r| r.route_id.clone()))
+            .filter(|r| r.penalty_check.as_ref().is_some_and(|p| !p.agrees))
+            .filter_map(|r| r.route_id.clone())
             .collect(),
         telemetry_problems: outcomes
             .iter()

@@ -336,7 +336,7 @@ pub struct UnusedLabels;
 /// keys of some routes without a label a warning (added to the report).
 fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
     let labels = read_labels(file)?;
-    let counted = crate::report::model::counted_routes(&report.routes);
+    let counted = crate::route::row::counted_routes(&report.routes);
     let (keys, name, option): (Vec<&str>, _, _) = match what {
         LabelKey::Family => (
             counted.filter_map(|r| r.scenario_type.as_deref()).collect(),

@@ -31,11 +31,13 @@ static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicB
 /// a closed 0, 1 or 2 with `/dev/null` (so no input file can take its number), which would make
 /// a closed standard output look like `> /dev/null` and lose the report without a word.
 #[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
 #[used]
 #[link_section = ".init_array"]
 static CHECK_STDOUT_AT_START: extern "C" fn() = check_stdout_at_start;
 
 #[cfg(target_os = "linux")]
+#[allow(unsafe_code)]
 extern "C" fn check_stdout_at_start() {
     // SAFETY: F_GETFD on a descriptor number has no memory effects.
     if unsafe { libc::fcntl(libc::STDOUT_FILENO, libc::F_GETFD) } == -1 {

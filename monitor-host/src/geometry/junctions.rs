@@ -14,10 +14,13 @@
 //! # Ok::<(), monitor_host::geometry::map::MapError>(())
 //! ```
 
-use crate::aggregate::ability::JunctionSamples;
 use crate::geometry::map::dense_route;
 use crate::geometry::town_maps::TownMaps;
 use crate::input::route_xml::RouteRef;
+
+/// Which samples of a route's dense route (§1.4) lie in a junction, in order; or why they are
+/// not known (no map for the town, ...). The input of the junction credit.
+pub type JunctionSamples = Result<Vec<bool>, String>;
 
 /// The junction flags of `route`'s dense route on the map of `town`, or why they are not
 /// known. `gap_max` decides which XML segments are junction gaps (§1.3).

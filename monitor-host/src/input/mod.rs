@@ -8,12 +8,14 @@
 //! | several inputs, duplicate routes (§1.5) | [`duplicates`] |
 //! | the route set, missing and foreign routes, N (§1.5) | [`route_set`] |
 //! | finding files: result trees, telemetry folders (§1.2) | [`discovery`] |
+//! | a route's telemetry, whatever its format; the reader for a file (§1.2) | [`telemetry`] |
 //! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
 //! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
 //! | collision strings (§5, §7) | [`collision`] |
 //! | label maps for the breakdown (§8.3) | [`labels`] |
 //! | duplicate JSON keys, refused | [`json_keys`] |
+//! | the figures an input file stores, checked (§1.5) | [`stored`] |
 //! | the one guarded file reader: regular files, bounded size | [`read`] |
 
 pub mod collision;
@@ -28,3 +30,5 @@ pub mod record;
 pub mod results_file;
 pub mod route_set;
 pub mod route_xml;
+pub mod stored;
+pub mod telemetry;

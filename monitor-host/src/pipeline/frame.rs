@@ -5,7 +5,7 @@
 use monitor_core::{Collisions, Frame};
 
 use crate::geometry::kinematics::speed_after;
-use crate::input::metric_info::TelemetryFrame;
+use crate::input::telemetry::TelemetryFrame;
 
 /// Builds a route's frames in step order: signals from the raw vectors through the core's f32
 /// kernels ([`Frame::from_vectors`]), speed from the previous frame's location in f64

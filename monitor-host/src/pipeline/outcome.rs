@@ -3,7 +3,6 @@
 
 use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
 
-use crate::aggregate::penalty::PenaltyCheck;
 use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
@@ -173,8 +172,6 @@ pub struct RouteOutcome {
     pub events: Vec<CollisionEvent>,
     /// `N_wz`.
     pub workzone: u32,
-    /// Penalty re-check (spec section 8); `None` for an invalid record.
-    pub penalty: Option<PenaltyCheck>,
     /// The batch reference gave the same summary (spec section 9); `None` when not replayed.
     pub batch_agrees: Option<bool>,
     /// What the lateral error is measured against (§2); `None` for an invalid record.

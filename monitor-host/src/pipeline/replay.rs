@@ -8,14 +8,13 @@ use monitor_core::{
     RecordScores, RouteSummary,
 };
 
-use crate::aggregate::penalty;
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::map::Map;
 use crate::input::discovery;
 use crate::input::lead_infractions;
-use crate::input::metric_info;
 use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
+use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare_with, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
@@ -276,7 +275,7 @@ pub fn read_telemetry(
             ))
         })?;
     files.push(path.clone());
-    let tel = metric_info::read_metric_info(&path)
+    let tel = read_telemetry_file(&path)
         .map_err(|e| TelemetryState::Invalid(format!("{}: {e}", path.display())))?;
     let infractions = match discovery::lead_infractions_beside(&path) {
         None => None,
@@ -355,7 +354,6 @@ pub fn replay(
         timeline: None,
         events: Vec::new(),
         workzone: 0,
-        penalty: None,
         batch_agrees: None,
         reference: None,
         warnings: Vec::new(),
@@ -372,7 +370,6 @@ pub fn replay(
         map.is_some(),
         settings.lateral_reference,
     ));
-    out.penalty = Some(penalty::check_penalty(record, settings.penalty_flavour));
     let context = RouteContext {
         routes,
         map,

@@ -3,8 +3,9 @@
 //! `file#index`. String cells from the inputs are neutralised against formula injection
 //! ([`crate::report::escape::csv_cell`]); numbers are written as numbers.
 
+use crate::aggregate::report::Report;
 use crate::report::escape::csv_cell;
-use crate::report::model::{Report, RouteReport};
+use crate::route::row::RouteReport;
 
 /// The header line's columns.
 pub const COLUMNS: [&str; 30] = [
@@ -118,8 +119,8 @@ pub const GROUP_COLUMNS: [&str; 13] = [
 /// one column per ability rate and one `routes_with_<list>` column per infraction list. `None`
 /// when the report has no groups.
 pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
-    use crate::aggregate::ability::ABILITIES;
     use crate::aggregate::aggregates::Aggregates;
+    use crate::route::ability::ABILITIES;
     let g = report.groups.as_ref()?;
     let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
     let lists: Vec<String> = g

@@ -8,7 +8,7 @@
 
 use plotters::prelude::*;
 
-use crate::aggregate::trace::{CollisionTrace, Verdict, AFTER_S, BEFORE_S};
+use crate::route::trace::{CollisionTrace, Verdict, AFTER_S, BEFORE_S};
 
 /// Figure width, px.
 pub const WIDTH: u32 = 720;
@@ -28,7 +28,7 @@ const KMH: f64 = 3.6;
 /// The figure's title: verdict, route, object and impact speed.
 ///
 /// ```
-/// # use monitor_host::aggregate::trace::{CollisionTrace, Verdict};
+/// # use monitor_host::route::trace::{CollisionTrace, Verdict};
 /// let t = CollisionTrace { route_id: "RouteScenario_1_rep0".into(), event: 0,
 ///     list: "collisions_vehicle", type_id: Some("vehicle.audi.tt".into()), frame: 90,
 ///     time_s: 4.5, impact_speed: 5.0, verdict: Verdict::NoDeceleration, window: None,
@@ -65,7 +65,7 @@ fn range(values: impl Iterator<Item = f64>, must: &[f64]) -> (f64, f64) {
 /// Renders the figure as an SVG document.
 ///
 /// ```
-/// # use monitor_host::aggregate::trace::{CollisionTrace, TracePoint, Verdict};
+/// # use monitor_host::route::trace::{CollisionTrace, TracePoint, Verdict};
 /// let points = (0..81).map(|i| TracePoint { frame: i, t: i as f64 * 0.05 - 3.0, speed: 5.0,
 ///     a_lon: 0.0, lat_err: None }).collect();
 /// let t = CollisionTrace { route_id: "r".into(), event: 0, list: "collisions_layout",

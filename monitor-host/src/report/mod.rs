@@ -1,4 +1,6 @@
-//! The report (`SDS-SPEC.md` v1.2 §10): the [`model`] a run produces and its renderings.
+//! The renderings of the report (`SDS-SPEC.md` v1.2 §10): the model a run produces
+//! ([`Report`], built in [`crate::aggregate::report`] from the rows of [`crate::route::row`])
+//! turned into text. Nothing here computes a score.
 //!
 //! | rendering | module |
 //! |---|---|
@@ -18,8 +20,8 @@ pub mod figure;
 pub mod grid;
 pub mod html;
 pub mod json;
-pub mod model;
 pub mod table;
 pub mod trace_csv;
 
-pub use model::{Report, RouteReport};
+pub use crate::aggregate::report::Report;
+pub use crate::route::row::RouteReport;

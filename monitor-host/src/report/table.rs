@@ -6,8 +6,8 @@
 use crate::aggregate::aggregates::Aggregates;
 use crate::aggregate::compare::{Comparison, Scope, Stat};
 use crate::aggregate::groups::{GroupBy, Groups};
+use crate::aggregate::report::Report;
 use crate::report::grid::{Grid, Style};
-use crate::report::model::Report;
 
 /// The infraction lists of the Table 3-style breakdown, with their headings (the paper's four).
 pub const TABLE3_LISTS: [(&str, &str); 4] = [

@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use crate::aggregate::trace::CollisionTrace;
+use crate::route::trace::CollisionTrace;
 
 /// The CSV header.
 pub const HEADER: &str = "frame,t_minus_tk_s,speed_mps,a_lon_mps2,lat_err_m";
@@ -11,7 +11,7 @@ pub const HEADER: &str = "frame,t_minus_tk_s,speed_mps,a_lon_mps2,lat_err_m";
 /// shortest decimal that reads back to the same value.
 ///
 /// ```
-/// # use monitor_host::aggregate::trace::{CollisionTrace, TracePoint, Verdict};
+/// # use monitor_host::route::trace::{CollisionTrace, TracePoint, Verdict};
 /// let t = CollisionTrace { route_id: "r".into(), event: 0, list: "collisions_vehicle",
 ///     type_id: None, frame: 1, time_s: 0.05, impact_speed: 2.0, verdict: Verdict::Decelerated,
 ///     window: Some((-0.05, -0.05)), threshold: -0.5,
@@ -48,7 +48,7 @@ fn round_t(t: f64) -> f64 {
 /// The files of a trace: `<route_id>_collision<event>`, with `.csv` or `.svg`.
 ///
 /// ```
-/// # use monitor_host::aggregate::trace::{CollisionTrace, Verdict};
+/// # use monitor_host::route::trace::{CollisionTrace, Verdict};
 /// # let t = CollisionTrace { route_id: "RouteScenario_7_rep0".into(), event: 2,
 /// #   list: "collisions_vehicle", type_id: None, frame: 1, time_s: 0.0, impact_speed: 0.0,
 /// #   verdict: Verdict::Exempt, window: None, threshold: -0.5, points: vec![] };

@@ -18,9 +18,13 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::aggregate::groups::Labels;
+use std::collections::BTreeMap;
 
 mod weather_xml;
+
+/// Labels of scenario types (families), weather ids or route ids, read by
+/// [`read_labels`]; a key may have several labels.
+pub type Labels = BTreeMap<String, Vec<String>>;
 
 /// Why a label file cannot be used; names the file (and line).
 #[derive(Debug, thiserror::Error)]

@@ -9,8 +9,8 @@
 use quick_xml::events::Event;
 use quick_xml::Reader;
 
+use super::Labels;
 use super::LabelsError;
-use crate::aggregate::groups::Labels;
 
 /// Parses `weather.xml` text into `weather_id → [label]`.
 pub(super) fn parse(text: &str, file: &str) -> Result<Labels, LabelsError> {

@@ -115,6 +115,7 @@ impl<'a> Cursor<'a> {
 
     /// A number token's value, correctly rounded (`None` if not finite).
     #[inline]
+    #[allow(unsafe_code)]
     fn value(&mut self) -> Option<f64> {
         let start = self.number()?;
         let token = &self.b[start..self.i];

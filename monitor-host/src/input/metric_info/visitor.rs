@@ -188,13 +188,7 @@ pub(super) fn step_number(v: &str) -> Result<u64, TelemetryError> {
     Ok(n)
 }
 
-pub(crate) const FIELD_NAMES: [&str; 5] = [
-    "acceleration",
-    "angular_velocity",
-    "forward_vector",
-    "right_vector",
-    "location",
-];
+pub(crate) const FIELD_NAMES: [&str; 5] = TelemetryFrame::FIELDS;
 
 /// The index in [`FIELD_NAMES`] of a frame key, `None` for a key that is ignored.
 pub(super) fn field_index(name: &[u8]) -> Option<usize> {

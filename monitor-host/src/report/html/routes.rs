@@ -1,9 +1,9 @@
 //! The route table (sortable, filterable: the script) and each route's drill-down.
 
-use crate::aggregate::trace::Verdict;
 use crate::report::figure;
-use crate::report::model::RouteReport;
 use crate::report::Report;
+use crate::route::row::RouteReport;
+use crate::route::trace::Verdict;
 
 use super::page::{escape, num};
 use super::timeline;

@@ -1,6 +1,6 @@
-//! The report model (`SDS-SPEC.md` v1.2 §10): per-route results and benchmark aggregates, typed
-//! until a rendering ([`crate::report::json`], [`crate::report::csv`], [`crate::report::table`])
-//! turns it into text. Field order is the JSON report's key order.
+//! The per-route row of the report (`SDS-SPEC.md` v1.2 §10.1): what one route's record, replay
+//! and checks come to ([`route_report`], [`missing_report`]), and every row of a run with its
+//! collision traces and abilities ([`route_rows`]). Field order is the JSON report's key order.
 //!
 //! New per-route fields go into [`RouteReport`] (and [`route_report`]); new aggregates into
 //! [`crate::aggregate::aggregates::Scores`] (§8.1: the summary, groups and comparisons get them)
@@ -8,28 +8,22 @@
 
 use serde::Serialize;
 
-use crate::aggregate::ability::{route_ability, RouteAbility};
-use crate::aggregate::aggregates::{Aggregates, Scores};
-use crate::aggregate::bench2drive::{route_efficiency, Bench2Drive};
-use crate::aggregate::groups::{groups, GroupBy, Groups, Labels, NeedsLabels};
-use crate::aggregate::stored::InputReport;
-use crate::aggregate::summary::{summarize, Summary};
-use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::junctions::junction_samples;
 use crate::geometry::town_maps::TownMaps;
-use crate::input::duplicates::{Dropped, Source};
+use crate::input::duplicates::Source;
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
-use crate::input::route_set::{MissingRoute, RunRouteSet};
+use crate::input::route_set::MissingRoute;
 use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
 use crate::pipeline::timeline::ChunkLog;
+use crate::route::ability::{route_ability, RouteAbility};
+use crate::route::efficiency::route_efficiency;
+use crate::route::penalty::check_penalty;
+use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
 use crate::warning::Warning;
-
-/// The report's schema name.
-pub const SCHEMA: &str = "sds-report/1";
 
 /// Collision counts of a route.
 #[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
@@ -196,39 +190,9 @@ pub struct RouteReport {
     pub chunks: Option<ChunkLog>,
 }
 
-/// The whole report.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct Report {
-    /// `sds-report/1`.
-    pub schema: &'static str,
-    /// `physical` or `b2d-legacy`.
-    pub profile: &'static str,
-    /// Every threshold and default.
-    pub config: Settings,
-    /// Every results file read, with the figures it stores beside the computed ones (§1.5).
-    pub inputs: Vec<InputReport>,
-    /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
-    pub dropped: Vec<Dropped>,
-    /// Per route, in input order.
-    pub routes: Vec<RouteReport>,
-    /// Aggregates.
-    pub summary: Summary,
-    /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub groups: Option<Groups>,
-    /// Every warning of the run, the per-route ones included (as printed on stderr).
-    pub warnings: Vec<Warning>,
-    /// Every input file of the run (results files, route XML, located telemetry files), for
-    /// front ends that must never write over an input. Not part of the JSON report.
-    #[serde(skip)]
-    pub files_read: Vec<std::path::PathBuf>,
-    /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
-    #[serde(skip)]
-    pub route_set: Option<RunRouteSet>,
-}
-
-/// Turns one outcome into its report entry.
-pub fn route_report(o: &RouteOutcome) -> RouteReport {
+/// Turns one outcome into its report entry, with the penalty re-check of its record (§8) under
+/// `settings.penalty_flavour`.
+pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
     let rec = o.record();
     let count = |name: &str| rec.map_or(0, |r| r.infractions.list(name).len() as u32);
     let s = o.summary;
@@ -294,9 +258,12 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         state: o.state(),
         source: Some(Source::of(&o.loaded)),
         collision_events: o.events.clone(),
-        penalty_check: o.penalty.map(|p| PenaltyReport {
-            recomputed: p.recomputed,
-            agrees: p.agrees,
+        penalty_check: rec.map(|r| {
+            let p = check_penalty(r, settings.penalty_flavour);
+            PenaltyReport {
+                recomputed: p.recomputed,
+                agrees: p.agrees,
+            }
         }),
         batch_agrees: o.batch_agrees,
         warnings: o.warnings.clone(),
@@ -349,33 +316,17 @@ pub fn counted_routes(routes: &[RouteReport]) -> impl Iterator<Item = &RouteRepo
     routes.iter().filter(|r| r.state != RouteState::Foreign)
 }
 
-/// What a run read besides its routes: the pieces of the report that are not per-route.
-#[derive(Clone, Debug, Default)]
-pub struct RunFacts {
-    /// N (spec section 1.5).
-    pub n: usize,
-    /// The route set, when `--routes` was given.
-    pub route_set: Option<RunRouteSet>,
-    /// The inputs and their stored figures.
-    pub inputs: Vec<InputReport>,
-    /// Copies left out by the duplicates policy.
-    pub dropped: Vec<Dropped>,
-    /// Run-level warnings.
-    pub warnings: Vec<Warning>,
-}
-
-/// Builds the report from the outcomes (in input order), then the missing routes (in XML
-/// order), with the route XML (the abilities' scenario types, §8.2) and the towns' maps (the
-/// junction credit). Every per-route warning is added to the run's warnings, naming its route.
-pub fn build(
+/// Every row of a run: the outcomes' rows (in input order) with their collision traces and, with
+/// the route XML, their abilities (§8.2; the towns' maps give the junction credit), then the
+/// missing routes' rows (in XML order).
+pub fn route_rows(
     outcomes: &[RouteOutcome],
+    missing: &[MissingRoute],
     settings: &Settings,
-    facts: RunFacts,
     xml: Option<&RouteSet>,
     maps: &TownMaps,
-) -> Report {
-    let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
-    let mut routes: Vec<RouteReport> = outcomes.iter().map(route_report).collect();
+) -> Vec<RouteReport> {
+    let mut routes: Vec<RouteReport> = outcomes.iter().map(|o| route_report(o, settings)).collect();
     for (r, o) in routes.iter_mut().zip(outcomes) {
         if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
             r.traces = collision_traces(
@@ -403,99 +354,14 @@ pub fn build(
         }
     }
     routes.extend(missing.iter().map(missing_report));
-    let mut warnings = facts.warnings;
-    for r in &routes {
-        let route = r.route_id.clone().unwrap_or_else(|| {
-            r.source
-                .as_ref()
-                .map_or_else(|| "<no route_id>".into(), ToString::to_string)
-        });
-        warnings.extend(r.warnings.iter().map(|w| Warning::Route {
-            route: route.clone(),
-            warning: Box::new(w.clone()),
-        }));
-    }
-    let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
-    let scores = Scores::over(&counted, facts.n);
-    let mut summary = summarize(outcomes, scores, facts.n, missing.len());
-    let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
-    let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
-    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
-    Report {
-        schema: SCHEMA,
-        profile: settings.core.profile.name(),
-        config: settings.clone(),
-        inputs: facts.inputs,
-        dropped: facts.dropped,
-        routes,
-        summary,
-        groups: None,
-        warnings,
-        files_read: outcomes
-            .iter()
-            .flat_map(|o| o.files_read.iter().cloned())
-            .collect(),
-        route_set: facts.route_set,
-    }
+    routes
 }
 
-impl Report {
-    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings. Label
-    /// maps come from [`crate::input::labels::read_labels`] (or are built in code).
-    ///
-    /// ```
-    /// use monitor_host::aggregate::groups::{GroupBy, Labels};
-    /// use monitor_host::{demo, score_run, Inputs, Settings};
-    /// let dir = tempfile::tempdir()?;
-    /// let run = demo::write(dir.path())?;
-    /// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-    /// let mut report = score_run(&inputs, &Settings::default())?;
-    /// // A train/test split of the routes, by XML id.
-    /// let split: Labels = ["900001", "900002"]
-    ///     .iter()
-    ///     .map(|id| (id.to_string(), vec!["test".to_string()]))
-    ///     .chain([("RouteScenario_900003_rep0".to_string(), vec!["train".to_string()])])
-    ///     .collect();
-    /// report.group(GroupBy::Route, Some(&split))?;
-    /// let g = report.groups.as_ref().unwrap();
-    /// let n: Vec<(&str, usize)> =
-    ///     g.rows.iter().map(|r| (r.label.as_str(), r.aggregates.routes)).collect();
-    /// assert_eq!(n, [("test", 2), ("train", 1), ("(unmapped)", report.routes.len() - 3)]);
-    /// assert!(report.group(GroupBy::Route, None).is_err()); // a route grouping needs its map
-    /// # Ok::<(), Box<dyn std::error::Error>>(())
-    /// ```
-    ///
-    /// # Errors
-    /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.
-    pub fn group(&mut self, by: GroupBy, labels: Option<&Labels>) -> Result<(), NeedsLabels> {
-        let (g, warnings) = groups(&self.routes, self.summary.routes, by, labels)?;
-        self.warnings.extend(warnings);
-        self.groups = Some(g);
-        Ok(())
-    }
-
-    /// The routes that make the run's exit status fail: the invalid ones (an invalid record,
-    /// or telemetry missing or invalid without `allow_missing_telemetry`). Missing and foreign
-    /// routes are reported, not problems.
-    pub fn problem_routes(&self) -> impl Iterator<Item = &RouteReport> {
-        self.routes
-            .iter()
-            .filter(|r| matches!(r.state, RouteState::Invalid(_)))
-    }
-
-    /// True when no counted route of the run has telemetry (the report then says so once, in
-    /// [`Warning::NoTelemetry`], instead of once per route).
-    pub fn no_telemetry(&self) -> bool {
-        self.warnings
-            .iter()
-            .any(|w| matches!(w, Warning::NoTelemetry { .. }))
-    }
-
-    /// True when the report has a problem a front end must signal (exit status 3 of `sds`):
-    /// no route at all, a problem route, or a streaming/batch disagreement.
-    pub fn has_problems(&self) -> bool {
-        self.routes.is_empty()
-            || self.problem_routes().next().is_some()
-            || !self.summary.batch_disagreements.is_empty()
-    }
+/// The name of a row in the run's warnings: its route id, else its source.
+pub fn row_name(r: &RouteReport) -> String {
+    r.route_id.clone().unwrap_or_else(|| {
+        r.source
+            .as_ref()
+            .map_or_else(|| "<no route_id>".into(), ToString::to_string)
+    })
 }

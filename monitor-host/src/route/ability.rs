@@ -3,7 +3,7 @@
 //! Traffic_Signs junction credit of a failed route.
 //!
 //! ```
-//! use monitor_host::aggregate::ability::{abilities_of, ABILITIES};
+//! use monitor_host::route::ability::{abilities_of, ABILITIES};
 //! assert_eq!(abilities_of("OppositeVehicleTakingPriority"), vec!["Emergency_Brake", "Traffic_Signs"]);
 //! assert_eq!(abilities_of("InvadingTurn"), vec!["Give_Way"]);
 //! assert!(abilities_of("NoSuchScenario").is_empty());
@@ -12,6 +12,7 @@
 
 use serde::Serialize;
 
+use crate::geometry::junctions::JunctionSamples;
 use crate::input::record::Record;
 
 /// The five abilities and their scenario types, in Bench2Drive's order (§8.2).
@@ -169,15 +170,11 @@ impl RouteAbility {
     }
 }
 
-/// Which samples of a route's dense route (§1.4) lie in a junction, in order; or why they are
-/// not known (no map for the town, ...). The input of the junction credit.
-pub type JunctionSamples = Result<Vec<bool>, String>;
-
 /// `junction_completion = (c + 8) / n_samples`, `c` = 1 + the index of the first sample in a
 /// junction; `None` without a junction sample.
 ///
 /// ```
-/// use monitor_host::aggregate::ability::junction_completion;
+/// use monitor_host::route::ability::junction_completion;
 /// assert_eq!(junction_completion(&[false, false, true, false]), Some((3.0 + 8.0) / 4.0));
 /// assert_eq!(junction_completion(&[false; 3]), None);
 /// ```
@@ -191,7 +188,7 @@ pub fn junction_completion(in_junction: &[bool]) -> Option<f64> {
 /// infractions, the one case where the junction credit decides.
 ///
 /// ```
-/// use monitor_host::aggregate::ability::{route_ability, JunctionCredit};
+/// use monitor_host::route::ability::{route_ability, JunctionCredit};
 /// use monitor_host::input::record::Record;
 /// let r = Record::from_value(&serde_json::json!({
 ///     "route_id": "RouteScenario_1_rep0", "status": "Failed - Agent got blocked",

@@ -2,7 +2,8 @@
 //! v1.2 §8). It only reports: the recorded penalty stays authoritative.
 //!
 //! ```
-//! use monitor_host::aggregate::penalty::{recompute_penalty, PenaltyFlavour};
+//! use monitor_host::route::penalty::recompute_penalty;
+//! use monitor_host::settings::PenaltyFlavour;
 //! use monitor_host::input::record::Infractions;
 //! let inf = Infractions::from_lists([("collisions_vehicle", vec!["hit".to_string()])]);
 //! assert_eq!(recompute_penalty(&inf, PenaltyFlavour::Bench2Drive), Ok(0.6));
@@ -10,32 +11,7 @@
 
 use crate::input::collision::parse_python_float;
 use crate::input::record::{Infractions, Record};
-
-/// Which evaluator's penalty rules to re-check against (§8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PenaltyFlavour {
-    /// Bench2Drive: min-speed infractions carry no factor.
-    Bench2Drive,
-    /// CARLA Leaderboard 2.0: each min-speed infraction multiplies by `1 - 0.3 (1 - pct/100)`.
-    Leaderboard20,
-}
-
-impl PenaltyFlavour {
-    /// `"bench2drive"` or `"leaderboard20"` (the name used in reports and on the command line).
-    pub fn name(self) -> &'static str {
-        match self {
-            PenaltyFlavour::Bench2Drive => "bench2drive",
-            PenaltyFlavour::Leaderboard20 => "leaderboard20",
-        }
-    }
-
-    /// The flavour named `name` (see [`PenaltyFlavour::name`]).
-    pub fn from_name(name: &str) -> Option<Self> {
-        [PenaltyFlavour::Bench2Drive, PenaltyFlavour::Leaderboard20]
-            .into_iter()
-            .find(|f| f.name() == name)
-    }
-}
+use crate::settings::PenaltyFlavour;
 
 /// Per-event factors of the lists with a constant factor (§8), in a fixed order.
 pub const PENALTY_FACTORS: [(&str, f64); 7] = [

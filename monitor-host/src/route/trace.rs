@@ -92,7 +92,7 @@ pub struct CollisionTrace {
 /// run's `decel_window` and `decel_threshold`.
 ///
 /// ```
-/// use monitor_host::aggregate::trace::collision_traces;
+/// use monitor_host::route::trace::collision_traces;
 /// use monitor_host::pipeline::timeline::RouteTimeline;
 /// let t = RouteTimeline { dt: 0.05, ..Default::default() };
 /// assert!(collision_traces("r", &t, &[], 20, -0.5).is_empty());

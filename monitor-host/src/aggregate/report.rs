@@ -1,0 +1,172 @@
+//! The report model (`SDS-SPEC.md` v1.2 §10): the run's rows and its aggregates, typed until a
+//! rendering ([`crate::report::json`], [`crate::report::csv`], [`crate::report::table`]) turns it
+//! into text. Field order is the JSON report's key order. [`assemble`] aggregates the rows
+//! [`crate::route::row::route_rows`] built; [`Report::group`] adds the breakdown by group.
+
+use serde::Serialize;
+
+use crate::aggregate::aggregates::{Aggregates, Scores};
+use crate::aggregate::bench2drive::Bench2Drive;
+use crate::aggregate::groups::{groups, GroupBy, Groups, NeedsLabels};
+use crate::aggregate::summary::{summarize, Summary};
+use crate::input::duplicates::Dropped;
+use crate::input::labels::Labels;
+use crate::input::route_set::{MissingRoute, RunRouteSet};
+use crate::input::stored::InputReport;
+use crate::pipeline::outcome::{RouteOutcome, RouteState};
+use crate::route::row::{counted_routes, row_name, RouteReport};
+use crate::settings::Settings;
+use crate::warning::Warning;
+
+/// The report's schema name.
+pub const SCHEMA: &str = "sds-report/1";
+
+/// The whole report.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct Report {
+    /// `sds-report/1`.
+    pub schema: &'static str,
+    /// `physical` or `b2d-legacy`.
+    pub profile: &'static str,
+    /// Every threshold and default.
+    pub config: Settings,
+    /// Every results file read, with the figures it stores beside the computed ones (§1.5).
+    pub inputs: Vec<InputReport>,
+    /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
+    pub dropped: Vec<Dropped>,
+    /// Per route, in input order.
+    pub routes: Vec<RouteReport>,
+    /// Aggregates.
+    pub summary: Summary,
+    /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub groups: Option<Groups>,
+    /// Every warning of the run, the per-route ones included (as printed on stderr).
+    pub warnings: Vec<Warning>,
+    /// Every input file of the run (results files, route XML, located telemetry files), for
+    /// front ends that must never write over an input. Not part of the JSON report.
+    #[serde(skip)]
+    pub files_read: Vec<std::path::PathBuf>,
+    /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
+    #[serde(skip)]
+    pub route_set: Option<RunRouteSet>,
+}
+
+/// What a run read besides its routes: the pieces of the report that are not per-route.
+#[derive(Clone, Debug, Default)]
+pub struct RunFacts {
+    /// N (spec section 1.5).
+    pub n: usize,
+    /// The route set, when `--routes` was given.
+    pub route_set: Option<RunRouteSet>,
+    /// The inputs and their stored figures.
+    pub inputs: Vec<InputReport>,
+    /// Copies left out by the duplicates policy.
+    pub dropped: Vec<Dropped>,
+    /// Run-level warnings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Builds the report from the run's rows (from [`crate::route::row::route_rows`]: the outcomes'
+/// rows in input order, then the missing routes') and the outcomes behind them: the summary
+/// (§8.1), Bench2Drive's metrics (§8.2), and every per-route warning added to the run's
+/// warnings, naming its route.
+pub fn assemble(
+    routes: Vec<RouteReport>,
+    outcomes: &[RouteOutcome],
+    settings: &Settings,
+    facts: RunFacts,
+) -> Report {
+    let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
+    let mut warnings = facts.warnings;
+    for r in &routes {
+        let route = row_name(r);
+        warnings.extend(r.warnings.iter().map(|w| Warning::Route {
+            route: route.clone(),
+            warning: Box::new(w.clone()),
+        }));
+    }
+    let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
+    let scores = Scores::over(&counted, facts.n);
+    let mut summary = summarize(outcomes, &counted, scores, facts.n, missing.len());
+    let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
+    let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
+    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
+    Report {
+        schema: SCHEMA,
+        profile: settings.core.profile.name(),
+        config: settings.clone(),
+        inputs: facts.inputs,
+        dropped: facts.dropped,
+        routes,
+        summary,
+        groups: None,
+        warnings,
+        files_read: outcomes
+            .iter()
+            .flat_map(|o| o.files_read.iter().cloned())
+            .collect(),
+        route_set: facts.route_set,
+    }
+}
+
+impl Report {
+    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings. Label
+    /// maps come from [`crate::input::labels::read_labels`] (or are built in code).
+    ///
+    /// ```
+    /// use monitor_host::aggregate::groups::{GroupBy, Labels};
+    /// use monitor_host::{demo, score_run, Inputs, Settings};
+    /// let dir = tempfile::tempdir()?;
+    /// let run = demo::write(dir.path())?;
+    /// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+    /// let mut report = score_run(&inputs, &Settings::default())?;
+    /// // A train/test split of the routes, by XML id.
+    /// let split: Labels = ["900001", "900002"]
+    ///     .iter()
+    ///     .map(|id| (id.to_string(), vec!["test".to_string()]))
+    ///     .chain([("RouteScenario_900003_rep0".to_string(), vec!["train".to_string()])])
+    ///     .collect();
+    /// report.group(GroupBy::Route, Some(&split))?;
+    /// let g = report.groups.as_ref().unwrap();
+    /// let n: Vec<(&str, usize)> =
+    ///     g.rows.iter().map(|r| (r.label.as_str(), r.aggregates.routes)).collect();
+    /// assert_eq!(n, [("test", 2), ("train", 1), ("(unmapped)", report.routes.len() - 3)]);
+    /// assert!(report.group(GroupBy::Route, None).is_err()); // a route grouping needs its map
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`NeedsLabels`] when `by` needs a label map that `labels` does not give.
+    pub fn group(&mut self, by: GroupBy, labels: Option<&Labels>) -> Result<(), NeedsLabels> {
+        let (g, warnings) = groups(&self.routes, self.summary.routes, by, labels)?;
+        self.warnings.extend(warnings);
+        self.groups = Some(g);
+        Ok(())
+    }
+
+    /// The routes that make the run's exit status fail: the invalid ones (an invalid record,
+    /// or telemetry missing or invalid without `allow_missing_telemetry`). Missing and foreign
+    /// routes are reported, not problems.
+    pub fn problem_routes(&self) -> impl Iterator<Item = &RouteReport> {
+        self.routes
+            .iter()
+            .filter(|r| matches!(r.state, RouteState::Invalid(_)))
+    }
+
+    /// True when no counted route of the run has telemetry (the report then says so once, in
+    /// [`Warning::NoTelemetry`], instead of once per route).
+    pub fn no_telemetry(&self) -> bool {
+        self.warnings
+            .iter()
+            .any(|w| matches!(w, Warning::NoTelemetry { .. }))
+    }
+
+    /// True when the report has a problem a front end must signal (exit status 3 of `sds`):
+    /// no route at all, a problem route, or a streaming/batch disagreement.
+    pub fn has_problems(&self) -> bool {
+        self.routes.is_empty()
+            || self.problem_routes().next().is_some()
+            || !self.summary.batch_disagreements.is_empty()
+    }
+}

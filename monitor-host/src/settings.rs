@@ -123,6 +123,8 @@ pub struct Settings {
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
     pub threads: Option<usize>,
+    /// Thresholds of the distance and stationary figures (§8.5).
+    pub motion: MotionSettings,
 }
 
 impl Default for Settings {
@@ -142,6 +144,7 @@ impl Default for Settings {
             dt_inference: true,
             allow_missing_telemetry: false,
             threads: None,
+            motion: MotionSettings::default(),
         }
     }
 }
@@ -189,7 +192,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 35] = [
+    pub const NAMES: [&'static str; 37] = [
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -221,6 +224,8 @@ impl Settings {
         "legacy_jerk_spacing",
         "lookahead",
         "min_chunk",
+        "motion.moving_speed",
+        "motion.stationary_speed",
         "penalty_flavour",
         "profile",
         "slack",
@@ -352,6 +357,8 @@ impl Settings {
             "factors.layout" => f.layout = f64_of(key, v)?,
             "factors.nodecel" => f.nodecel = f64_of(key, v)?,
             "factors.workzone" => f.workzone = f64_of(key, v)?,
+            "motion.moving_speed" => self.motion.moving_speed = f64_of(key, v)?,
+            "motion.stationary_speed" => self.motion.stationary_speed = f64_of(key, v)?,
             _ => return Err(SettingsError::Unknown { name: name.into() }),
         }
         Ok(())
@@ -400,6 +407,8 @@ impl Settings {
             "factors.layout" => f.layout.to_string(),
             "factors.nodecel" => f.nodecel.to_string(),
             "factors.workzone" => f.workzone.to_string(),
+            "motion.moving_speed" => self.motion.moving_speed.to_string(),
+            "motion.stationary_speed" => self.motion.stationary_speed.to_string(),
             _ => return None,
         })
     }
@@ -449,6 +458,18 @@ impl Settings {
                 self.align_tie,
                 "finite and not negative",
                 self.align_tie >= 0.0,
+            ),
+            (
+                "motion.moving_speed",
+                self.motion.moving_speed,
+                "finite and not negative",
+                self.motion.moving_speed >= 0.0,
+            ),
+            (
+                "motion.stationary_speed",
+                self.motion.stationary_speed,
+                "finite and not negative",
+                self.motion.stationary_speed >= 0.0,
             ),
         ];
         for (name, x, rule, ok) in checks {
@@ -521,7 +542,7 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(25))?;
+        let mut m = s.serialize_map(Some(26))?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -543,6 +564,11 @@ impl serde::Serialize for Settings {
         m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
         m.serialize_entry("lookahead", &self.lookahead)?;
         m.serialize_entry("min_chunk", &c.min_chunk)?;
+        let motion = [
+            ("moving_speed", self.motion.moving_speed),
+            ("stationary_speed", self.motion.stationary_speed),
+        ];
+        m.serialize_entry("motion", &Group(&motion))?;
         m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
         m.serialize_entry("profile", c.profile.name())?;
         m.serialize_entry("slack", &w(c.slack))?;
@@ -557,6 +583,26 @@ struct Group<'a>(&'a [(&'a str, f64)]);
 impl serde::Serialize for Group<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// The thresholds of §8.5 (settings `motion.stationary_speed`, `motion.moving_speed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionSettings {
+    /// A frame whose speed is below this is stationary, m/s (0.1) **\[decision\]**. (The
+    /// setting `stationary_speed` is §5's collision exemption, 0.5 m/s: another threshold.)
+    pub stationary_speed: f64,
+    /// A chunk whose mean speed (path length over its duration) is at least this is moving,
+    /// m/s (1.0) **\[decision\]**.
+    pub moving_speed: f64,
+}
+
+impl Default for MotionSettings {
+    fn default() -> Self {
+        MotionSettings {
+            stationary_speed: 0.1,
+            moving_speed: 1.0,
+        }
     }
 }
 

@@ -10,6 +10,7 @@
 
 use serde::Serialize;
 
+use crate::aggregate::motion::MotionAggregates;
 use crate::input::record::KNOWN_LISTS;
 use crate::route::ability::ABILITIES;
 use crate::route::row::RouteReport;
@@ -71,7 +72,8 @@ impl<T: Copy + Default> Counts<T> {
             .map_or_else(T::default, |(_, c)| *c)
     }
 
-    fn entry(&mut self, name: &str) -> &mut T {
+    /// The count of `name`, added (as the default) when absent.
+    pub fn entry(&mut self, name: &str) -> &mut T {
         let i = match self.0.iter().position(|(n, _)| n == name) {
             Some(i) => i,
             None => {
@@ -107,6 +109,9 @@ pub struct Scores {
     pub sds: Option<f64>,
     /// 100 × routes with a collision / N.
     pub collision_rate: Option<f64>,
+    /// Distance, stationary time and moving comfort (§8.5).
+    #[serde(flatten)]
+    pub motion: MotionAggregates,
 }
 
 /// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
@@ -173,6 +178,7 @@ impl Scores {
             mean_ds_safe,
             mean_comfort,
             collision_rate: per(100.0 * collided as f64),
+            motion: MotionAggregates::over(routes),
         }
     }
 }

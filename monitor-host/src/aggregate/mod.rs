@@ -9,5 +9,6 @@ pub mod aggregates;
 pub mod bench2drive;
 pub mod compare;
 pub mod groups;
+pub mod motion;
 pub mod report;
 pub mod summary;

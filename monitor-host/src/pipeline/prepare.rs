@@ -15,6 +15,7 @@ use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::Telemetry;
 use crate::pipeline::align::{self, EventRef};
 use crate::pipeline::frame::FrameBuilder;
+use crate::pipeline::motion::{self, Motion};
 use crate::pipeline::outcome::CollisionEvent;
 use crate::settings::{decimal, Settings};
 
@@ -61,6 +62,8 @@ pub struct PreparedRoute {
     pub events: Vec<CollisionEvent>,
     /// What the lateral error was measured against.
     pub reference: ReferenceKind,
+    /// Distance, stationary share and moving chunks (§8.5).
+    pub motion: Motion,
     /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
     /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
     pub lateral: Vec<Option<LateralSample>>,
@@ -126,6 +129,14 @@ pub fn prepare_with(
         events.push(ev);
     }
 
+    let motion = motion::measure(
+        &locations,
+        &steps,
+        decimal(settings.core.dt),
+        &settings.motion,
+        usize::from(settings.core.chunk_len),
+        usize::from(settings.core.min_chunk),
+    );
     let mut builder = FrameBuilder::new(settings.core.dt);
     let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
     let frames: Vec<Frame> = tel
@@ -150,5 +161,6 @@ pub fn prepare_with(
         events,
         reference: corridor.kind(),
         lateral,
+        motion,
     }
 }

@@ -71,6 +71,12 @@ pub struct ComfortReport {
     pub score: Option<f64>,
     /// Chunks failing each bound.
     pub failed: monitor_core::FailureCounts,
+    /// Comfort chunks in which the car moved (§8.5: mean speed at least `motion.moving_speed`).
+    pub moving_chunks: u32,
+    /// Of those, the comfortable ones.
+    pub moving_comfortable: u32,
+    /// Comfort over the moving chunks; null when none moved.
+    pub moving_score: Option<f64>,
 }
 
 /// The penalty re-check of a route.
@@ -146,6 +152,10 @@ pub struct RouteReport {
     pub gaps: u64,
     /// Entries per infraction list (all 12 lists and any unknown ones).
     pub infractions: InfractionCounts,
+    /// Distance driven, m (§8.5: the 2-D path through the frames); null without frames.
+    pub distance_m: Option<f64>,
+    /// Share of frames slower than `motion.stationary_speed` (§8.5); null without frames.
+    pub stationary_share: Option<f64>,
     /// Collision counts.
     pub collisions: CollisionCounts,
     /// Lateral counts.
@@ -188,6 +198,14 @@ pub struct RouteReport {
     /// replayed. Not in the JSON report.
     #[serde(skip)]
     pub chunks: Option<ChunkLog>,
+    /// Stationary stretches as frame ranges (the HTML report's comfort timeline). Not in the
+    /// JSON report.
+    #[serde(skip)]
+    pub stationary: Vec<(u32, u32)>,
+    /// The Leaderboard's driven distance `RC/100 * meta.route_length / 1000`, km, for a route
+    /// with a record (`infractions_per_km`, §8.5). Not in the JSON report.
+    #[serde(skip)]
+    pub driven_km: Option<f64>,
 }
 
 /// Turns one outcome into its report entry, with the penalty re-check of its record (§8) under
@@ -236,12 +254,20 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
                 reference: None,
             })
         },
-        comfort: s.map_or_else(ComfortReport::default, |s| ComfortReport {
-            chunks: s.comfort.chunks,
-            comfortable: s.comfort.comfortable,
-            score: s.comfort_score(),
-            failed: s.comfort.failed,
+        comfort: s.map_or_else(ComfortReport::default, |s| {
+            let moving = o.moving.unwrap_or_default();
+            ComfortReport {
+                chunks: s.comfort.chunks,
+                comfortable: s.comfort.comfortable,
+                score: s.comfort_score(),
+                failed: s.comfort.failed,
+                moving_chunks: moving.chunks,
+                moving_comfortable: moving.comfortable,
+                moving_score: moving.score(),
+            }
         }),
+        distance_m: o.motion.as_ref().map(|m| m.distance_m),
+        stationary_share: o.motion.as_ref().and_then(|m| m.stationary_share),
         smoothness: o
             .legacy_comfort
             .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
@@ -269,6 +295,12 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         warnings: o.warnings.clone(),
         traces: Vec::new(),
         chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
+        stationary: o
+            .motion
+            .as_ref()
+            .map(|m| m.stationary.clone())
+            .unwrap_or_default(),
+        driven_km: rec.map(|r| r.score_route / 100.0 * r.meta.route_length.unwrap_or(0.0) / 1000.0),
     }
 }
 
@@ -289,6 +321,8 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         frames: 0,
         gaps: 0,
         infractions: InfractionCounts::of(None),
+        distance_m: None,
+        stationary_share: None,
         collisions: CollisionCounts::default(),
         lateral: LateralReport::default(),
         comfort: ComfortReport::default(),
@@ -307,6 +341,8 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         warnings: Vec::new(),
         traces: Vec::new(),
         chunks: None,
+        stationary: Vec::new(),
+        driven_km: None,
     }
 }
 

@@ -8,7 +8,7 @@ use crate::report::escape::csv_cell;
 use crate::route::row::RouteReport;
 
 /// The header line's columns.
-pub const COLUMNS: [&str; 30] = [
+pub const COLUMNS: [&str; 35] = [
     "route_id",
     "scenario_type",
     "town",
@@ -36,6 +36,11 @@ pub const COLUMNS: [&str; 30] = [
     "comfort_chunks",
     "comfortable",
     "comfort",
+    "moving_chunks",
+    "moving_comfortable",
+    "moving_comfort",
+    "distance_m",
+    "stationary_share",
     "p_safe",
     "ds_safe",
     "reason",
@@ -47,7 +52,7 @@ fn num(x: Option<f64>) -> String {
         .unwrap_or_default()
 }
 
-fn row(r: &RouteReport) -> [String; 30] {
+fn row(r: &RouteReport) -> [String; 35] {
     let s = |x: &Option<String>| csv_cell(x.as_deref().unwrap_or_default()).into_owned();
     let o = num;
     let c = &r.collisions;
@@ -81,6 +86,11 @@ fn row(r: &RouteReport) -> [String; 30] {
         r.comfort.chunks.to_string(),
         r.comfort.comfortable.to_string(),
         o(r.comfort.score),
+        r.comfort.moving_chunks.to_string(),
+        r.comfort.moving_comfortable.to_string(),
+        o(r.comfort.moving_score),
+        o(r.distance_m),
+        o(r.stationary_share),
         o(r.p_safe),
         o(r.ds_safe),
         s(&r.reason),
@@ -99,7 +109,7 @@ pub fn csv(report: &Report) -> Vec<u8> {
 }
 
 /// The columns of [`groups_csv`].
-pub const GROUP_COLUMNS: [&str; 13] = [
+pub const GROUP_COLUMNS: [&str; 16] = [
     "by",
     "label",
     "routes",
@@ -113,6 +123,9 @@ pub const GROUP_COLUMNS: [&str; 13] = [
     "smoothness",
     "ability_mean",
     "comfort_routes",
+    "mean_comfort_moving",
+    "mean_stationary_share",
+    "distance_km",
 ];
 
 /// The report's `groups` as CSV: one line per group, then `combined`; after [`GROUP_COLUMNS`],
@@ -149,6 +162,9 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
             o(a.smoothness),
             o(ab.mean),
             a.scores.comfort_routes.to_string(),
+            o(a.scores.motion.mean_comfort_moving),
+            o(a.scores.motion.mean_stationary_share),
+            o(a.scores.motion.distance_km),
         ];
         row.extend(ab.rates().into_iter().map(o));
         row.extend(lists.iter().map(|l| a.infraction_routes.get(l).to_string()));

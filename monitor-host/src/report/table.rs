@@ -99,6 +99,15 @@ pub fn bench2drive_table(report: &Report) -> Grid {
             towns.join(", ")
         ));
     }
+    let stuck = &report.summary.scores.motion.stuck_routes;
+    if !stuck.is_empty() {
+        g.note(format!(
+            "{} route(s) stood still for at least half of their frames: Comfortness counts a \
+             standing chunk as comfortable (Table 1's Comfort (moving) leaves them out); see \
+             summary.stuck_routes",
+            stuck.len()
+        ));
+    }
     if !b.ability_marginal.is_empty() {
         g.note(format!(
             "Traffic_Signs: {} junction credit(s) decided within 0.15 of the threshold: \
@@ -109,18 +118,29 @@ pub fn bench2drive_table(report: &Report) -> Grid {
     g
 }
 
-/// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS.
+/// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS; beside Comfort, comfort over
+/// the chunks the car drove and the share of frames it stood still (§8.5).
 pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
     let mut g = Grid::new(
         "Safe2Drive Table 1: SafeDriving Score",
-        ["DS", "SR(%)", "DS_safe", "Comfort", "SDS"],
+        [
+            "DS",
+            "SR(%)",
+            "DS_safe",
+            "Comfort",
+            "Comfort (moving)",
+            "Stationary(%)",
+            "SDS",
+        ],
     );
     g.row([
         num(s.scores.driving_score, 2),
         num(s.scores.success_rate, 2),
         num(s.scores.mean_ds_safe, 2),
         num(s.scores.mean_comfort, 3),
+        num(s.scores.motion.mean_comfort_moving, 3),
+        pct(s.scores.motion.mean_stationary_share),
         num(s.scores.sds, 2),
     ]);
     g.note(format!(
@@ -139,6 +159,8 @@ fn table2_cells(label: &str, a: &Aggregates) -> Vec<String> {
         num(a.scores.collision_rate, 2),
         num(a.scores.mean_ds_safe, 2),
         num(a.scores.mean_comfort, 3),
+        num(a.scores.motion.mean_comfort_moving, 3),
+        pct(a.scores.motion.mean_stationary_share),
         num(a.scores.sds, 2),
     ]
 }
@@ -150,7 +172,16 @@ pub fn table2(report: &Report) -> Option<Grid> {
     let mut g = Grid::new(
         &format!("Safe2Drive Table 2-style breakdown by {}", groups.by),
         [
-            groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS",
+            groups.by,
+            "routes",
+            "DS",
+            "SR(%)",
+            "Coll.(%)",
+            "DS_safe",
+            "Comfort",
+            "Comfort (moving)",
+            "Stationary(%)",
+            "SDS",
         ],
     );
     group_rows(&mut g, groups, table2_cells);

@@ -42,7 +42,7 @@ fn count(n: usize) -> String {
 }
 
 /// The columns: (key the test hook sorts by, header).
-const COLUMNS: [(&str, &str); 15] = [
+const COLUMNS: [(&str, &str); 17] = [
     ("route", "route"),
     ("state", "state"),
     ("town", "town"),
@@ -50,6 +50,8 @@ const COLUMNS: [(&str, &str); 15] = [
     ("ds", "DS"),
     ("ds_safe", "DS_safe"),
     ("comfort", "comfort"),
+    ("comfort_moving", "comfort (moving)"),
+    ("stationary", "stationary %"),
     ("collisions", "collisions"),
     ("decelerated", "decelerated"),
     ("nodecel", "no decel."),
@@ -105,6 +107,8 @@ pub(super) fn route_table(out: &mut String, report: &Report) {
         out.push_str(&cell(r.score_composed, 2));
         out.push_str(&cell(r.ds_safe, 2));
         out.push_str(&cell(r.comfort.score, 3));
+        out.push_str(&cell(r.comfort.moving_score, 3));
+        out.push_str(&cell(r.stationary_share.map(|s| 100.0 * s), 1));
         out.push_str(&count((c.pedestrian + c.vehicle + c.layout) as usize));
         out.push_str(&count(dec));
         out.push_str(&if nodecel > 0 {
@@ -172,7 +176,7 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
         }
         match &r.chunks {
             Some(chunks) => {
-                timeline::comfort(out, chunks, chunk_len);
+                timeline::comfort(out, chunks, chunk_len, &r.stationary);
                 timeline::lateral(out, chunks, r.lateral.chunks, chunk_len);
             }
             None => out.push_str("<p>No telemetry replayed: no timeline.</p>\n"),

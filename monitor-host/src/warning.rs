@@ -146,6 +146,16 @@ pub enum Warning {
         /// The `dt` used instead.
         dt: f64,
     },
+    /// A route whose missing steps exceed 10 % of its span, so that its period is not inferred
+    /// (spec section 1.2, v1.3): the file holds only part of the run.
+    StepPeriodPartial {
+        /// Missing step numbers.
+        gaps: u64,
+        /// Step span.
+        span: u64,
+        /// The `dt` used instead.
+        dt: f64,
+    },
     /// A route whose missing steps exceed 10 % of its span.
     LargeGaps {
         /// Missing step numbers.
@@ -364,6 +374,12 @@ impl std::fmt::Display for Warning {
                 "step period unknown: {span} steps for duration_game {duration_game} s fit no \
                  multiple of 0.05 s; dt {dt} s used (fix it with --set dt=SECONDS)"
             ),
+            Warning::StepPeriodPartial { gaps, span, dt } => write!(
+                f,
+                "step period not inferred: {gaps} of {span} step numbers missing (over 10 %), \
+                 the telemetry holds only part of the run; dt {dt} s used (set the agent's \
+                 period with --set dt=SECONDS); its chunks span missing time"
+            ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,
                 "{gaps} of {span} step numbers missing (over 10 %): its chunks span missing time"
@@ -459,6 +475,27 @@ impl std::fmt::Display for Warning {
             ),
         }
     }
+}
+
+/// How many ids a list in a warning or a note names before it says how many more there are.
+pub const IDS_SHOWN: usize = 10;
+
+/// A list of route ids (or keys) as a warning prints it: the first [`IDS_SHOWN`], then how many
+/// more.
+///
+/// ```
+/// use monitor_host::warning::id_list;
+/// let ids: Vec<String> = (1..=12).map(|i| i.to_string()).collect();
+/// assert_eq!(id_list(&ids), "1, 2, 3, 4, 5, 6, 7, 8, 9, 10 and 2 more");
+/// assert_eq!(id_list(&ids[..2]), "1, 2");
+/// ```
+pub fn id_list<S: AsRef<str>>(ids: &[S]) -> String {
+    let shown: Vec<&str> = ids.iter().take(IDS_SHOWN).map(AsRef::as_ref).collect();
+    let mut s = shown.join(", ");
+    if ids.len() > IDS_SHOWN {
+        s.push_str(&format!(" and {} more", ids.len() - IDS_SHOWN));
+    }
+    s
 }
 
 impl serde::Serialize for Warning {

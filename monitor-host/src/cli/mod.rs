@@ -502,6 +502,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }
+    for note in period_notes(&report) {
+        say!("sds: note: {note}");
+    }
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
         (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
@@ -559,6 +562,38 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
+/// first 10 and a count): a period read wrong would scale every speed and time of a route.
+fn period_notes(report: &Report) -> Vec<String> {
+    let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
+    for r in &report.routes {
+        let (Some(dt), Some(crate::pipeline::step_period::DtSource::Inferred), Some(id)) =
+            (r.dt, r.dt_source, r.route_id.as_deref())
+        else {
+            continue;
+        };
+        if dt == 0.05 {
+            continue;
+        }
+        match by_dt.iter_mut().find(|(d, _)| *d == dt) {
+            Some((_, ids)) => ids.push(id),
+            None => by_dt.push((dt, vec![id])),
+        }
+    }
+    by_dt.sort_by(|a, b| a.0.total_cmp(&b.0));
+    by_dt
+        .into_iter()
+        .map(|(dt, ids)| {
+            format!(
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
+                 (--set dt=SECONDS fixes the period of every route)",
+                ids.len(),
+                crate::warning::id_list(&ids)
+            )
+        })
+        .collect()
 }
 
 /// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).

@@ -1,0 +1,152 @@
+//! What a researcher's day on real result files found (issue 23), one test per finding: the
+//! newest re-run, several runs in one folder, weather names, the step period of partial
+//! telemetry, warning noise, route subsets and output nits. The real fixtures
+//! (`../../shared/fixtures/b2d`) are used where they show the problem; a test that needs them
+//! prints SKIP and passes when they are absent. Re-run folders are built by hand in a temporary
+//! folder, with the time stamps of SimLingo's real re-runs.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use serde_json::{json, Value};
+
+use common::sds;
+
+const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/fixtures/b2d");
+
+/// The real fixtures folder, or `None` after printing why the test is skipped.
+fn fixtures(test: &str) -> Option<PathBuf> {
+    let p = PathBuf::from(FIXTURES);
+    if p.join("routes/bench2drive220.xml").is_file() {
+        Some(p)
+    } else {
+        eprintln!("SKIP {test}: {FIXTURES} is absent (the real Bench2Drive fixtures)");
+        None
+    }
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+/// `sds score` with `args`, the JSON report written to `dir/report.json` and read back.
+fn score_json(dir: &Path, args: &[&str]) -> (Output, Value) {
+    let out = dir.join("report.json");
+    let mut a = vec!["score"];
+    a.extend_from_slice(args);
+    a.extend_from_slice(&["-o", s(&out)]);
+    let o = sds(&a);
+    let report = fs::read(&out)
+        .ok()
+        .and_then(|b| serde_json::from_slice(&b).ok())
+        .unwrap_or(Value::Null);
+    (o, report)
+}
+
+fn warnings(report: &Value) -> Vec<String> {
+    report["warnings"]
+        .as_array()
+        .map(|w| w.iter().map(|x| x.as_str().unwrap().to_string()).collect())
+        .unwrap_or_default()
+}
+
+fn route<'a>(report: &'a Value, id: &str) -> &'a Value {
+    report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["route_id"] == id)
+        .unwrap_or_else(|| panic!("{id} not in the report"))
+}
+
+/// Item 4: the step period is not inferred from telemetry that holds only part of the run, and
+/// an inferred period other than 0.05 s is always said.
+#[test]
+fn step_period_is_not_inferred_from_partial_telemetry() {
+    let dir = tempfile::tempdir().unwrap();
+    common::demo(dir.path());
+    let d = |p: &str| dir.path().join(p);
+    let demo_args = |extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = [
+            "--results",
+            s(&d("results.json")),
+            "--telemetry",
+            s(&d("telemetry")),
+            "--routes",
+            s(&d("routes.xml")),
+        ]
+        .iter()
+        .map(|x| x.to_string())
+        .collect();
+        a.extend(extra.iter().map(|x| x.to_string()));
+        a
+    };
+    // The whole 10 Hz route: inferred as 0.1 s, and said once.
+    let args = demo_args(&[]);
+    let (o, r) = score_json(
+        dir.path(),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let hz10 = "RouteScenario_900008_rep0";
+    assert_eq!(route(&r, hz10)["dt"], 0.1);
+    let err = stderr(&o);
+    let said: Vec<&str> = err
+        .lines()
+        .filter(|w| w.contains("step period inferred as 0.1 s"))
+        .collect();
+    assert_eq!(said.len(), 1, "{err}");
+    assert!(
+        said[0].starts_with("sds: note:") && said[0].contains(hz10),
+        "{}",
+        said[0]
+    );
+    assert!(said[0].contains("1 route(s)"), "{}", said[0]);
+
+    // Keep steps 1..=30 and 61..=100 of its 100: 30 missing (over 10 %). Its 10 s of game time
+    // over a span of 100 would still fit 0.1 s, but a partial file cannot tell: the setting,
+    // with a warning naming the route and --set dt=.
+    let folder = fs::read_dir(d("telemetry"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.file_name().unwrap().to_string_lossy().contains("900008"))
+        .unwrap();
+    let file = folder.join("metric_info.json");
+    let mut frames: serde_json::Map<String, Value> =
+        serde_json::from_slice(&fs::read(&file).unwrap()).unwrap();
+    frames.retain(|k, _| {
+        let step: u64 = k.parse().unwrap();
+        !(31..=60).contains(&step)
+    });
+    fs::write(&file, serde_json::to_vec(&frames).unwrap()).unwrap();
+    let (o, r) = score_json(
+        dir.path(),
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let route10 = route(&r, hz10);
+    assert_eq!(
+        (route10["dt"].clone(), route10["dt_source"].clone()),
+        (json!(0.05), json!("config"))
+    );
+    let w: Vec<String> = warnings(&r)
+        .into_iter()
+        .filter(|w| w.starts_with(hz10))
+        .collect();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("step period not inferred")
+            && w[0].contains("30 of 100")
+            && w[0].contains("--set dt="),
+        "{}",
+        w[0]
+    );
+    assert!(!stderr(&o).contains("inferred as 0.1"), "{}", stderr(&o));
+}

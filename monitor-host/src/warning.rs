@@ -228,6 +228,16 @@ pub enum Warning {
         /// `lateral_reference = lane` was asked for and falls back to `route`.
         lane_fallback: bool,
     },
+    /// Several towns with routes have no map in the `--maps` folder: said in one line (a
+    /// [`Warning::NoMap`] when it is one town).
+    NoMaps {
+        /// Each town and how many of the run's routes are in it, in town order.
+        towns: Vec<(String, usize)>,
+        /// Where the first town's map was looked for.
+        reason: String,
+        /// `lateral_reference = lane` was asked for and falls back to `route`.
+        lane_fallback: bool,
+    },
     /// A collision string that does not parse.
     UnparseableCollision {
         /// Its list.
@@ -461,6 +471,29 @@ impl std::fmt::Display for Warning {
                     f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
                 }
                 f.write_str("; add the town's .xodr to --maps to use its lanes")
+            }
+            Warning::NoMaps {
+                towns,
+                reason,
+                lane_fallback,
+            } => {
+                let listed: Vec<String> = towns
+                    .iter()
+                    .map(|(t, n)| format!("{t} ({n} route{})", if *n == 1 { "" } else { "s" }))
+                    .collect();
+                let routes: usize = towns.iter().map(|(_, n)| n).sum();
+                write!(
+                    f,
+                    "no map for {} towns: {} ({reason}; the same for the others): their {routes} \
+                     routes fall back to the route XML's straight segments (junction gaps \
+                     unscored, every lane `lane_width` wide)",
+                    towns.len(),
+                    id_list(&listed)
+                )?;
+                if *lane_fallback {
+                    f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
+                }
+                f.write_str("; add the towns' .xodr to --maps to use their lanes")
             }
             Warning::UnparseableCollision { list, reason } => write!(
                 f,

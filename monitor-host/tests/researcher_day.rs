@@ -150,3 +150,149 @@ fn step_period_is_not_inferred_from_partial_telemetry() {
     );
     assert!(!stderr(&o).contains("inferred as 0.1"), "{}", stderr(&o));
 }
+
+/// The first `n` records of a real file written as a merge-format file without stored figures
+/// (a short debug run).
+fn first_records(src: &Path, n: usize, dst: &Path) -> Vec<Value> {
+    let doc: Value = serde_json::from_slice(&fs::read(src).unwrap()).unwrap();
+    let records: Vec<Value> = doc["_checkpoint"]["records"].as_array().unwrap()[..n].to_vec();
+    let out = json!({"_checkpoint": {"records": records}});
+    fs::write(dst, serde_json::to_vec(&out).unwrap()).unwrap();
+    records
+}
+
+/// Item 5: shards of one run, a stored figure rounded for printing, several towns without a
+/// map and a long list of missing routes give no noise.
+#[test]
+fn warnings_are_not_noise() {
+    let Some(f) = fixtures("warnings_are_not_noise") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let xml = f.join("routes/bench2drive220.xml");
+    // TransFuser++'s 8 per-GPU raw files: each stores the mean over its own 27 or 28 records.
+    let (o, r) = score_json(
+        dir.path(),
+        &[
+            "--results",
+            s(&f.join("tfpp_raw_shards")),
+            "--routes",
+            s(&xml),
+            "--allow-missing-telemetry",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(warnings(&r).is_empty(), "{:?}", warnings(&r));
+    let inputs = r["inputs"].as_array().unwrap();
+    assert_eq!(inputs.len(), 8);
+    assert!(inputs.iter().all(|i| i["stored"]["denominator"]
+        .as_str()
+        .unwrap()
+        .ends_with(" records")));
+    // The same shards beside a real merged file of another size still warn for a file alone.
+    let (_, r) = score_json(
+        dir.path(),
+        &[
+            "--results",
+            s(&f.join("tfpp_raw_shards/eval_bench2drive220_0.json")),
+            "--allow-missing-telemetry",
+            "--expected-routes",
+            "220",
+        ],
+    );
+    assert_eq!(
+        warnings(&r)
+            .iter()
+            .filter(|w| w.contains("stored driving score"))
+            .count(),
+        1,
+        "a single file whose stored figure uses another N still warns"
+    );
+
+    // SimLingo stores 88.452; the records give 88.451894818...: equal at the stored precision.
+    let (o, r) = score_json(
+        dir.path(),
+        &[
+            "--results",
+            s(&f.join("simlingo_bench2drive220_targetpoint_checkpoint.json")),
+            "--routes",
+            s(&xml),
+            "--allow-missing-telemetry",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(warnings(&r).is_empty(), "{:?}", warnings(&r));
+    let computed = r["inputs"][0]["computed"]["driving_score"]
+        .as_f64()
+        .unwrap();
+    assert!((computed - 88.452).abs() > 1e-6 && (computed - 88.452).abs() < 5e-4);
+
+    // --maps with 5 of the 12 towns: one line naming the 7 others.
+    let maps = f.join("../maps");
+    if maps.join("Town01.xodr").is_file() {
+        let (o, r) = score_json(
+            dir.path(),
+            &[
+                "--results",
+                s(&f.join("carla_garage_tfpp_b2d_traj_merged.json")),
+                "--routes",
+                s(&xml),
+                "--maps",
+                s(&maps),
+                "--allow-missing-telemetry",
+            ],
+        );
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let w: Vec<String> = warnings(&r)
+            .into_iter()
+            .filter(|w| w.contains("no map"))
+            .collect();
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].starts_with("no map for 7 towns: Town03 (11 routes), Town05 (9 routes)"),
+            "{}",
+            w[0]
+        );
+        assert!(w[0].contains("their 190 routes fall back"), "{}", w[0]);
+        assert_eq!(
+            stderr(&o).matches("no map for").count(),
+            2,
+            "the line and its example"
+        );
+    } else {
+        eprintln!(
+            "SKIP (part of warnings_are_not_noise): no CARLA maps in {}",
+            maps.display()
+        );
+    }
+
+    // A 20-route debug run against the 220-route XML: the table note names the first 10 of the
+    // 200 routes without a record and a count.
+    let debug = dir.path().join("debug20.json");
+    first_records(
+        &f.join("carla_garage_tfpp_b2d_traj_merged.json"),
+        20,
+        &debug,
+    );
+    let o = sds(&[
+        "score",
+        "--results",
+        s(&debug),
+        "--routes",
+        s(&xml),
+        "--allow-missing-telemetry",
+        "--format",
+        "table",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let table = String::from_utf8(o.stdout).unwrap();
+    let note = table
+        .lines()
+        .find(|l| l.contains("have no record"))
+        .expect("the missing-routes note");
+    assert!(
+        note.contains("200 route(s)") && note.ends_with(" and 190 more"),
+        "{note}"
+    );
+    assert_eq!(note.matches("RouteScenario_").count(), 10, "{note}");
+}

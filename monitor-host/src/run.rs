@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use crate::aggregate::stored::check_inputs;
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
-use crate::input::duplicates::{deduplicate, DuplicatePolicy};
+use crate::input::duplicates::{deduplicate, DuplicatePolicy, Source};
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set};
@@ -131,6 +131,18 @@ pub fn score_run_with(
             policy: settings.duplicates.name(),
         });
     }
+    let by_order: Vec<String> = kept
+        .kept
+        .iter()
+        .filter(|k| k.by_order)
+        .map(|k| {
+            let r = all.iter().find(|r| Source::of(r) == k.source);
+            r.and_then(route_id_of).unwrap_or_default().to_string()
+        })
+        .collect();
+    if !by_order.is_empty() {
+        warnings.push(Warning::NewestByOrder { routes: by_order });
+    }
     let records = kept.records;
     let routes = inputs
         .route_xml
@@ -252,6 +264,7 @@ pub fn score_run_with(
             route_set: set,
             inputs: input_reports,
             dropped: kept.dropped,
+            kept: kept.kept,
             warnings,
         },
         routes.as_ref(),

@@ -295,7 +295,7 @@ impl Settings {
                 self.duplicates =
                     DuplicatePolicy::from_name(v.trim()).ok_or(SettingsError::Value {
                         name: key,
-                        expected: "error, first, last or all",
+                        expected: "error, first, last, newest or all",
                         value: v.into(),
                     })?
             }

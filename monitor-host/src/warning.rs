@@ -112,8 +112,14 @@ pub enum Warning {
         copies: usize,
         /// Route ids concerned.
         ids: usize,
-        /// `first` or `last`.
+        /// `first`, `last` or `newest`.
         policy: &'static str,
+    },
+    /// Under `duplicates: newest`, routes whose copies could not all be ordered by their
+    /// `save_name` time stamps (a tie, or a stamp missing): the last copy in input order kept.
+    NewestByOrder {
+        /// The route ids.
+        routes: Vec<String>,
     },
     /// A record whose route is not in the route set of `--routes` (spec section 1.5).
     ForeignRoute {
@@ -353,8 +359,18 @@ impl std::fmt::Display for Warning {
                 policy,
             } => write!(
                 f,
-                "duplicates: {policy}: {copies} copies of {ids} route id(s) left out; the \
-                 report's `dropped` lists each with the copy kept"
+                "duplicates: {policy}: {copies} {} of {ids} route id{} left out; the report's \
+                 `dropped` lists each with the copy kept, each route's `kept` says why",
+                if *copies == 1 { "copy" } else { "copies" },
+                if *ids == 1 { "" } else { "s" }
+            ),
+            Warning::NewestByOrder { routes } => write!(
+                f,
+                "duplicates: newest: {} route id(s) kept by input order (the last copy), their \
+                 copies' save_name time stamps tied or unreadable: {} (each route's `kept` says \
+                 why)",
+                routes.len(),
+                id_list(routes)
             ),
             Warning::ForeignRoute { route, routes_file } => write!(
                 f,

@@ -296,3 +296,138 @@ fn warnings_are_not_noise() {
     );
     assert_eq!(note.matches("RouteScenario_").count(), 10, "{note}");
 }
+
+/// A raw evaluator file holding `records`.
+fn write_raw(path: &Path, records: &[Value]) {
+    fs::create_dir_all(path.parent().unwrap()).unwrap();
+    let doc = json!({
+        "_checkpoint": {"global_record": {}, "progress": [records.len(), records.len()],
+                        "records": records},
+        "entry_status": "Finished", "eligible": true,
+    });
+    fs::write(path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+}
+
+/// `record` re-run at `stamp` (`mm_dd_HH_MM_SS`) with `score_route`.
+fn rerun(record: &Value, stamp: &str, score_route: f64) -> Value {
+    let mut r = record.clone();
+    let save = r["save_name"].as_str().unwrap();
+    let base = save.rsplitn(6, '_').last().unwrap();
+    r["save_name"] = json!(format!("{base}_{stamp}"));
+    r["scores"]["score_route"] = json!(score_route);
+    r["scores"]["score_penalty"] = json!(1.0);
+    r["scores"]["score_composed"] = json!(score_route);
+    r
+}
+
+fn find_record<'a>(records: &'a [Value], id: &str) -> &'a Value {
+    records.iter().find(|r| r["route_id"] == id).unwrap()
+}
+
+/// Item 1: `--duplicates newest` keeps the newest re-run by its `save_name` time stamp, not the
+/// last file in path order; each kept route says which copy won and why.
+#[test]
+fn duplicates_newest_keeps_the_latest_rerun() {
+    let Some(f) = fixtures("duplicates_newest_keeps_the_latest_rerun") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("simlingo");
+    // SimLingo's folder: the main run (route 11715 at 01_27_19_06_00) sorts after three re-runs
+    // of 11715 (02_07, 02_10, 02_11), as in the real folder.
+    let main = f.join("simlingo_bench2drive220_targetpoint_checkpoint.json");
+    fs::create_dir_all(&run).unwrap();
+    fs::copy(&main, run.join("simlingo_merged.json")).unwrap();
+    let doc: Value = serde_json::from_slice(&fs::read(&main).unwrap()).unwrap();
+    let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
+    let r11715 = find_record(&records, "RouteScenario_11715_rep0");
+    assert!(r11715["save_name"]
+        .as_str()
+        .unwrap()
+        .ends_with("_01_27_19_06_00"));
+    for (name, stamp, score) in [
+        ("11715_rerun_a.json", "02_11_10_42_13", 77.0),
+        ("11715_rerun_b.json", "02_07_22_15_40", 55.0),
+        ("11715_rerun_c.json", "02_10_08_03_51", 66.0),
+    ] {
+        write_raw(&run.join(name), &[rerun(r11715, stamp, score)]);
+    }
+    // Route 3380 run twice at the same second: input order decides, with a warning.
+    let r3380 = find_record(&records, "RouteScenario_3380_rep0");
+    write_raw(
+        &run.join("3380_x.json"),
+        &[rerun(r3380, "02_12_09_00_00", 40.0)],
+    );
+    write_raw(
+        &run.join("3380_y.json"),
+        &[rerun(r3380, "02_12_09_00_00", 41.0)],
+    );
+    let xml = f.join("routes/bench2drive220.xml");
+    let base = [
+        "--results",
+        s(&run),
+        "--routes",
+        s(&xml),
+        "--allow-missing-telemetry",
+    ];
+
+    // `last` keeps the main run's 01_27 copy (it sorts last): the reported bug, still so.
+    let mut args = base.to_vec();
+    args.extend(["--duplicates", "last"]);
+    let (o, r) = score_json(dir.path(), &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let last = route(&r, "RouteScenario_11715_rep0");
+    assert_eq!(
+        last["score_route"].as_f64(),
+        r11715["scores"]["score_route"].as_f64()
+    );
+    assert_eq!(last["kept"]["why"], "last of 4 copies in input order");
+
+    // `newest` keeps the 02_11 re-run.
+    let mut args = base.to_vec();
+    args.extend(["--duplicates", "newest"]);
+    let (o, r) = score_json(dir.path(), &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let kept = route(&r, "RouteScenario_11715_rep0");
+    assert_eq!(kept["score_route"], 77.0);
+    assert!(kept["source"]["file"]
+        .as_str()
+        .unwrap()
+        .ends_with("11715_rerun_a.json"));
+    assert_eq!(kept["kept"]["policy"], "newest");
+    assert_eq!(kept["kept"]["copies"], 4);
+    assert_eq!(kept["kept"]["stamp"], "02_11_10_42_13");
+    let why = kept["kept"]["why"].as_str().unwrap();
+    assert!(
+        why.starts_with("newest save_name time stamp 02_11_10_42_13 of 4 copies")
+            && why.contains("01_27_19_06_00")
+            && why.contains("02_07_22_15_40"),
+        "{why}"
+    );
+    let dropped: Vec<&Value> = r["dropped"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["route_id"] == "RouteScenario_11715_rep0")
+        .collect();
+    assert_eq!(dropped.len(), 3);
+    // The tie: the last in input order (3380_y), a warning naming the route.
+    let tie = route(&r, "RouteScenario_3380_rep0");
+    assert_eq!(tie["score_route"], 41.0);
+    assert!(tie["kept"]["why"]
+        .as_str()
+        .unwrap()
+        .contains("2 of 3 copies share"));
+    let w: Vec<String> = warnings(&r)
+        .into_iter()
+        .filter(|w| w.starts_with("duplicates: newest: 1 route id(s) kept by input order"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", warnings(&r));
+    assert!(w[0].contains("RouteScenario_3380_rep0"), "{}", w[0]);
+    // A route with one copy has no `kept`; the run's 220 routes are all there once.
+    assert!(route(&r, "RouteScenario_1711_rep0").get("kept").is_none());
+    assert_eq!(r["routes"].as_array().unwrap().len(), 220);
+    assert!(warnings(&r)
+        .iter()
+        .any(|w| w.starts_with("duplicates: newest: 5 copies of 2 route ids left out")));
+}

@@ -60,6 +60,8 @@ pub enum DuplicatesArg {
     First,
     /// Keep the last copy in input order.
     Last,
+    /// Keep the newest run: the latest `save_name` time stamp (ties: the last in input order).
+    Newest,
     /// Score every copy as a route of its own.
     All,
 }
@@ -72,6 +74,7 @@ impl DuplicatesArg {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,
             DuplicatesArg::Last => P::Last,
+            DuplicatesArg::Newest => P::Newest,
             DuplicatesArg::All => P::All,
         }
     }
@@ -118,7 +121,8 @@ pub struct ScoreArgs {
     #[arg(long)]
     pub expected_routes: Option<usize>,
     /// When two records share a route id: `error` (score nothing, name them), keep the
-    /// `first` or `last` copy in input order, or score `all` copies. Default: error (or
+    /// `first` or `last` copy in input order, the `newest` run (latest `save_name` time stamp),
+    /// or score `all` copies. Default: error (or
     /// `--set duplicates=...`).
     #[arg(long, value_enum)]
     pub duplicates: Option<DuplicatesArg>,

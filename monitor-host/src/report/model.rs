@@ -18,7 +18,7 @@ use crate::aggregate::trace::{collision_traces, CollisionTrace};
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::junctions::junction_samples;
 use crate::geometry::town_maps::TownMaps;
-use crate::input::duplicates::{Dropped, Source};
+use crate::input::duplicates::{Dropped, Kept, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
 use crate::input::route_set::{MissingRoute, RunRouteSet};
 use crate::input::route_xml::RouteSet;
@@ -177,6 +177,10 @@ pub struct RouteReport {
     pub reason: Option<String>,
     /// The results file (as found) and record index; null for a missing route.
     pub source: Option<Source>,
+    /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
+    /// `copies`, `stamp`, `why`). Absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept: Option<Kept>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
     /// Penalty re-check; null for an invalid record.
@@ -293,6 +297,7 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
             .map(String::from),
         state: o.state(),
         source: Some(Source::of(&o.loaded)),
+        kept: None,
         collision_events: o.events.clone(),
         penalty_check: o.penalty.map(|p| PenaltyReport {
             recomputed: p.recomputed,
@@ -334,6 +339,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         state: RouteState::Missing,
         reason: None,
         source: None,
+        kept: None,
         collision_events: Vec::new(),
         penalty_check: None,
         batch_agrees: None,
@@ -360,6 +366,8 @@ pub struct RunFacts {
     pub inputs: Vec<InputReport>,
     /// Copies left out by the duplicates policy.
     pub dropped: Vec<Dropped>,
+    /// Per duplicated route id, the copy kept and why.
+    pub kept: Vec<Kept>,
     /// Run-level warnings.
     pub warnings: Vec<Warning>,
 }
@@ -400,6 +408,14 @@ pub fn build(
             r.ability = Some(route_ability(rec, scenario, || {
                 junction_samples(maps, xml, town, settings.gap_max)
             }));
+        }
+    }
+    for k in facts.kept {
+        if let Some(r) = routes
+            .iter_mut()
+            .find(|r| r.source.as_ref() == Some(&k.source))
+        {
+            r.kept = Some(k);
         }
     }
     routes.extend(missing.iter().map(missing_report));

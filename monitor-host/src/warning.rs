@@ -106,7 +106,8 @@ pub enum Warning {
         /// The first few of them, with the sources of each copy.
         first: Vec<Duplicate>,
     },
-    /// Copies of duplicated routes left out by `duplicates: first|last` (listed in `dropped`).
+    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (listed in
+    /// `dropped`).
     DuplicatesDropped {
         /// Copies left out.
         copies: usize,
@@ -345,7 +346,7 @@ impl std::fmt::Display for Warning {
             Warning::DuplicatesScored { ids, first } => write!(
                 f,
                 "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
-                 (--duplicates first|last keeps one): {}{}",
+                 (--duplicates newest|first|last keeps one): {}{}",
                 first
                     .iter()
                     .map(ToString::to_string)

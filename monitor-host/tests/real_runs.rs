@@ -88,7 +88,7 @@ fn merged_file_beside_its_shards_is_refused_then_deduplicated() {
         "RouteScenario_4937_rep0: {m} record 0, {} record 24",
         shards.join("eval_bench2drive220_3.json").display()
     )));
-    assert!(err.contains("--duplicates first|last"), "{err}");
+    assert!(err.contains("--duplicates newest|first|last"), "{err}");
 
     // `last`: the shards' copies are kept; Bench2Drive's figures over 220 routes.
     for how in [["--duplicates", "last"], ["--set", "duplicates=last"]] {

@@ -431,3 +431,68 @@ fn duplicates_newest_keeps_the_latest_rerun() {
         .iter()
         .any(|w| w.starts_with("duplicates: newest: 5 copies of 2 route ids left out")));
 }
+
+/// Item 2: a folder holding several whole runs (three models' files of all 220 routes, and a
+/// re-run) is refused in a few lines per file, pointing to scoring them apart or `sds compare`,
+/// not to `--duplicates`.
+#[test]
+fn several_whole_runs_in_one_folder_are_said_per_file() {
+    let Some(f) = fixtures("several_whole_runs_in_one_folder_are_said_per_file") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("pending_process");
+    for (sub, file) in [
+        (
+            "targetpoint",
+            "simlingo_bench2drive220_targetpoint_checkpoint.json",
+        ),
+        ("tfpp", "carla_garage_tfpp_b2d_traj_merged.json"),
+        ("pdm_lite", "carla_garage_pdm_lite_b2d_traj_merged.json"),
+    ] {
+        fs::create_dir_all(run.join(sub)).unwrap();
+        fs::copy(f.join(file), run.join(sub).join(file)).unwrap();
+    }
+    let doc: Value = serde_json::from_slice(
+        &fs::read(f.join("simlingo_bench2drive220_targetpoint_checkpoint.json")).unwrap(),
+    )
+    .unwrap();
+    let records = doc["_checkpoint"]["records"].as_array().unwrap();
+    let r = find_record(records, "RouteScenario_11715_rep0");
+    write_raw(
+        &run.join("reruns/11715.json"),
+        &[rerun(r, "02_07_22_15_40", 50.0)],
+    );
+    let o = sds(&["score", "--results", s(&run), "--allow-missing-telemetry"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.starts_with("sds: error: 3 files each hold all 220 routes: several runs?"),
+        "{err}"
+    );
+    assert!(
+        err.contains("sds compare") && !err.contains("--duplicates newest"),
+        "{err}"
+    );
+    assert_eq!(err.matches(": 220 of 220 route ids").count(), 3, "{err}");
+    assert!(
+        err.contains("1 route id(s) also have copies in other files"),
+        "{err}"
+    );
+    assert!(
+        err.lines().count() <= 8,
+        "a few lines, not one per route:\n{err}"
+    );
+    // The real case of a merged file beside its own shards keeps the per-id list (one whole
+    // file): the advice there is --duplicates.
+    let o = sds(&[
+        "score",
+        "--results",
+        s(&f.join("carla_garage_tfpp_b2d_traj_merged.json")),
+        "--results",
+        s(&f.join("tfpp_raw_shards")),
+        "--allow-missing-telemetry",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--duplicates newest|first|last"));
+}

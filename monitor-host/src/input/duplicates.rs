@@ -9,7 +9,7 @@
 //! ```
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::input::record::LoadedRecord;
 
@@ -169,16 +169,131 @@ impl std::fmt::Display for Duplicate {
     }
 }
 
-/// Why the run cannot be scored under `duplicates: error`.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "{} route id(s) appear more than once in the results (the same file given twice, a merged \
-     file beside its raw shards, re-runs, or two models in one folder); nothing was scored. \
-     Choose which copy counts with --duplicates first|last (or all to score every copy):\n  {}",
-    .0.len(),
-    .0.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n  ")
-)]
-pub struct DuplicatesError(pub Vec<Duplicate>);
+/// A results file that holds (nearly) every route id of the run: with another such file, the
+/// inputs are most likely several runs (two models, two settings), not re-runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WholeRun {
+    /// The file.
+    pub file: PathBuf,
+    /// Distinct route ids in it.
+    pub routes: usize,
+}
+
+/// A file is a whole run when it holds at least this share of the run's route ids...
+const WHOLE_SHARE: f64 = 0.9;
+/// ... and at least this many (a re-run file of one route is not a run).
+const WHOLE_MIN: usize = 10;
+
+/// Why the run cannot be scored under `duplicates: error`: every duplicated id, and the files
+/// that each hold (nearly) the whole route set when there are several.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DuplicatesError {
+    /// Every duplicated id with its copies.
+    pub duplicates: Vec<Duplicate>,
+    /// Files that each hold (nearly) every route id, when two or more do (else empty).
+    pub whole_runs: Vec<WholeRun>,
+    /// Distinct route ids in all inputs.
+    pub ids: usize,
+}
+
+impl std::fmt::Display for DuplicatesError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.whole_runs.is_empty() {
+            return write!(
+                f,
+                "{} route id(s) appear more than once in the results (the same file given \
+                 twice, a merged file beside its raw shards, re-runs, or two models in one \
+                 folder); nothing was scored. Choose which copy counts with --duplicates \
+                 newest|first|last (or all to score every copy):\n  {}",
+                self.duplicates.len(),
+                self.duplicates
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join("\n  ")
+            );
+        }
+        let n = self.whole_runs.len();
+        let all = self.whole_runs.iter().all(|w| w.routes == self.ids);
+        write!(
+            f,
+            "{n} files each hold {} {} routes: several runs? Nothing was scored: score each \
+             run on its own (sds score --results FILE) or side by side (sds compare A=FILE \
+             B=FILE); --duplicates would pick one copy per route and mix the runs.",
+            if all { "all" } else { "nearly all" },
+            self.ids
+        )?;
+        for w in &self.whole_runs {
+            write!(
+                f,
+                "\n  {}: {} of {} route ids",
+                w.file.display(),
+                w.routes,
+                self.ids
+            )?;
+        }
+        // Ids duplicated outside those files (re-runs, shards): named, the first 10.
+        let other: Vec<&Duplicate> = self
+            .duplicates
+            .iter()
+            .filter(|d| {
+                d.copies
+                    .iter()
+                    .filter(|c| !self.whole_runs.iter().any(|w| w.file == c.file))
+                    .count()
+                    > 0
+            })
+            .collect();
+        if !other.is_empty() {
+            write!(
+                f,
+                "\n  {} route id(s) also have copies in other files:",
+                other.len()
+            )?;
+            for d in other.iter().take(crate::warning::IDS_SHOWN) {
+                write!(f, "\n    {d}")?;
+            }
+            if other.len() > crate::warning::IDS_SHOWN {
+                write!(
+                    f,
+                    "\n    ... and {} more",
+                    other.len() - crate::warning::IDS_SHOWN
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for DuplicatesError {}
+
+/// The files that each hold (nearly) every one of the `ids` distinct route ids, when two or
+/// more do.
+fn whole_runs(records: &[LoadedRecord], ids: usize) -> Vec<WholeRun> {
+    let mut per_file: Vec<(&Path, std::collections::HashSet<&str>)> = Vec::new();
+    for r in records {
+        let Some(id) = id_of(r) else { continue };
+        match per_file.iter_mut().find(|(f, _)| *f == r.source.as_path()) {
+            Some((_, set)) => {
+                set.insert(id);
+            }
+            None => per_file.push((&r.source, [id].into_iter().collect())),
+        }
+    }
+    let whole: Vec<WholeRun> = per_file
+        .into_iter()
+        .filter(|(_, set)| set.len() >= WHOLE_MIN && set.len() as f64 >= WHOLE_SHARE * ids as f64)
+        .map(|(f, set)| WholeRun {
+            file: f.to_path_buf(),
+            routes: set.len(),
+        })
+        .collect();
+    if whole.len() >= 2 {
+        whole
+    } else {
+        Vec::new()
+    }
+}
 
 /// The records to score and the copies left out.
 #[derive(Clone, Debug, Default)]
@@ -240,7 +355,11 @@ pub fn deduplicate(
         });
     }
     if policy == DuplicatePolicy::Error {
-        return Err(DuplicatesError(duplicates));
+        return Err(DuplicatesError {
+            whole_runs: whole_runs(&records, order.len()),
+            ids: order.len(),
+            duplicates,
+        });
     }
     let mut keep = vec![true; records.len()];
     let mut dropped = Vec::new();
@@ -383,6 +502,41 @@ mod tests {
     }
 
     #[test]
+    fn whole_runs_are_said_per_file() {
+        // Two files of the same 12 routes, and a re-run of one of them.
+        let mut rs: Vec<LoadedRecord> = Vec::new();
+        for f in ["m1.json", "m2.json"] {
+            rs.extend((0..12).map(|i| rec(f, i, &format!("R{i}"))));
+        }
+        rs.push(rec("rerun.json", 0, "R3"));
+        let e = deduplicate(rs.clone(), DuplicatePolicy::Error).unwrap_err();
+        assert_eq!(e.whole_runs.len(), 2);
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("2 files each hold all 12 routes: several runs?"),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("sds compare") && !msg.contains("--duplicates newest"),
+            "{msg}"
+        );
+        assert!(msg.contains("\n  m1.json: 12 of 12 route ids"), "{msg}");
+        assert!(
+            msg.contains("1 route id(s) also have copies in other files:\n    R3: "),
+            "{msg}"
+        );
+        assert!(msg.lines().count() <= 6, "{msg}");
+        // One whole file and its shards: the per-id list.
+        let shards: Vec<LoadedRecord> = (0..12)
+            .map(|i| rec("merged.json", i, &format!("R{i}")))
+            .chain((0..12).map(|i| rec(if i < 6 { "s0" } else { "s1" }, i % 6, &format!("R{i}"))))
+            .collect();
+        let e = deduplicate(shards, DuplicatePolicy::Error).unwrap_err();
+        assert!(e.whole_runs.is_empty());
+        assert_eq!(e.to_string().lines().count(), 13);
+    }
+
+    #[test]
     fn stamps() {
         let n = |s: &str| save_name_stamp(&format!("RouteScenario_11715_rep0_Town12_E_1_18_{s}"));
         assert_eq!(n("01_27_19_06_00"), Some([1, 27, 19, 6, 0]));
@@ -397,10 +551,11 @@ mod tests {
     fn policies() {
         let rs = vec![rec("a", 0, "R1"), rec("a", 1, "R2"), rec("b", 0, "R1")];
         let e = deduplicate(rs.clone(), DuplicatePolicy::Error).unwrap_err();
-        assert_eq!(e.0.len(), 1);
+        assert_eq!(e.duplicates.len(), 1);
+        assert!(e.whole_runs.is_empty());
         let msg = e.to_string();
         assert!(msg.contains("R1: a record 0, b record 0"), "{msg}");
-        assert!(msg.contains("--duplicates first|last"), "{msg}");
+        assert!(msg.contains("--duplicates newest|first|last"), "{msg}");
 
         let d = deduplicate(rs.clone(), DuplicatePolicy::First).unwrap();
         assert_eq!(d.records.len(), 2);

@@ -211,7 +211,7 @@ pub struct Report {
     pub config: Settings,
     /// Every results file read, with the figures it stores beside the computed ones (§1.5).
     pub inputs: Vec<InputReport>,
-    /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
+    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (§1.5).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
     pub routes: Vec<RouteReport>,

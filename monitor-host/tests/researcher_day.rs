@@ -496,3 +496,116 @@ fn several_whole_runs_in_one_folder_are_said_per_file() {
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--duplicates newest|first|last"));
 }
+
+/// Item 3: `--weathers weather.xml` names each of Bench2Drive's weathers after the CARLA preset
+/// it is (every parameter the file gives), else by its id; group rows list their ids.
+#[test]
+fn weathers_are_named_after_carla_presets() {
+    let Some(f) = fixtures("weathers_are_named_after_carla_presets") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let weather = f.join("routes/weather.xml");
+    let results = f.join("carla_garage_tfpp_b2d_traj_merged.json");
+    let (o, r) = score_json(
+        dir.path(),
+        &[
+            "--results",
+            s(&results),
+            "--allow-missing-telemetry",
+            "--group-by",
+            "weather",
+            "--weathers",
+            s(&weather),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let rows = r["groups"]["rows"].as_array().unwrap();
+    let row = |label: &str| rows.iter().find(|g| g["label"] == label);
+    // The 10 cases of weather.xml that are CARLA presets, with their ids.
+    let presets = [
+        ("ClearSunset", "1"),
+        ("SoftRainNoon", "2"),
+        ("MidRainyNoon", "3"),
+        ("ClearNoon", "7"),
+        ("HardRainNoon", "8"),
+        ("ClearNight", "22"),
+        ("MidRainyNight", "23"),
+        ("HardRainNight", "25"),
+    ];
+    let ids_in_run: std::collections::BTreeSet<String> = r["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|x| x["weather_id"].as_str().map(String::from))
+        .collect();
+    let mut named = 0;
+    for (name, id) in presets {
+        if !ids_in_run.contains(id) {
+            continue;
+        }
+        let g = row(name).unwrap_or_else(|| panic!("{name} (id {id}) is a group: {rows:?}"));
+        assert_eq!(g["keys"], json!([id]), "{name}");
+        named += 1;
+    }
+    assert!(named >= 5, "the run covers most preset ids");
+    // Sun at 15° is a Sunset, never a Noon; altitude 0 (id 10) and 90 (id 0) are no preset.
+    for id in ["0", "10", "26"] {
+        if ids_in_run.contains(id) {
+            let g = row(id).unwrap_or_else(|| panic!("id {id} keeps its id"));
+            assert!(g.get("keys").is_none());
+        }
+    }
+    let carla_names = [
+        "ClearNoon",
+        "ClearSunset",
+        "ClearNight",
+        "CloudyNoon",
+        "CloudySunset",
+        "CloudyNight",
+        "WetNoon",
+        "WetSunset",
+        "WetNight",
+        "WetCloudyNoon",
+        "WetCloudySunset",
+        "WetCloudyNight",
+        "SoftRainNoon",
+        "SoftRainSunset",
+        "SoftRainNight",
+        "MidRainyNoon",
+        "MidRainSunset",
+        "MidRainyNight",
+        "HardRainNoon",
+        "HardRainSunset",
+        "HardRainNight",
+        "DustStorm",
+    ];
+    for g in rows {
+        let label = g["label"].as_str().unwrap();
+        assert!(
+            carla_names.contains(&label) || ids_in_run.contains(label),
+            "{label} is a CARLA preset or an id"
+        );
+    }
+    // Every route once.
+    let total: u64 = rows.iter().map(|g| g["routes"].as_u64().unwrap()).sum();
+    assert_eq!(total, 220);
+    // The table's row lists the ids.
+    let o = sds(&[
+        "score",
+        "--results",
+        s(&results),
+        "--allow-missing-telemetry",
+        "--format",
+        "table",
+        "--group-by",
+        "weather",
+        "--weathers",
+        s(&weather),
+    ]);
+    let text = String::from_utf8(o.stdout).unwrap();
+    assert!(
+        text.lines().any(|l| l.starts_with("ClearSunset (1) ")),
+        "{text}"
+    );
+}

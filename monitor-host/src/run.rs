@@ -11,7 +11,7 @@ use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{deduplicate, DuplicatePolicy, Source};
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
-use crate::input::route_set::{benchmark_size, route_set};
+use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::pipeline::outcome::TelemetryState;
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
@@ -149,9 +149,10 @@ pub fn score_run_with(
         .as_deref()
         .map(read_route_xml)
         .transpose()?;
-    let set = routes
-        .as_ref()
-        .map(|xml| route_set(xml, records.iter().filter_map(|r| route_id_of(r))));
+    let set = routes.as_ref().map(|xml| {
+        let set = route_set(xml, records.iter().filter_map(|r| route_id_of(r)));
+        route_subset(set, settings.route_subset)
+    });
     let foreign: Vec<bool> = records
         .iter()
         .map(|r| {

@@ -609,3 +609,86 @@ fn weathers_are_named_after_carla_presets() {
         "{text}"
     );
 }
+
+/// Item 6: `--route-subset found` scores a debug run over the route XML's routes that have a
+/// record (abilities and groups included), and says so in the report and the tables.
+#[test]
+fn route_subset_found_scores_a_debug_run_over_its_routes() {
+    let Some(f) = fixtures("route_subset_found_scores_a_debug_run_over_its_routes") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let debug = dir.path().join("debug20.json");
+    let records = first_records(
+        &f.join("carla_garage_tfpp_b2d_traj_merged.json"),
+        20,
+        &debug,
+    );
+    let xml = f.join("routes/bench2drive220.xml");
+    let composed: f64 = records
+        .iter()
+        .map(|r| r["scores"]["score_composed"].as_f64().unwrap())
+        .sum();
+    let base = [
+        "--results",
+        s(&debug),
+        "--routes",
+        s(&xml),
+        "--allow-missing-telemetry",
+    ];
+
+    // Over the whole XML: 200 missing routes, DS over 220.
+    let (_, all) = score_json(dir.path(), &base);
+    let ds_all = all["summary"]["driving_score"].as_f64().unwrap();
+    assert!((ds_all - composed / 220.0).abs() < 1e-9);
+    assert!(all.get("route_subset").is_none());
+
+    let mut args = base.to_vec();
+    args.extend(["--route-subset", "found", "--group-by", "scenario"]);
+    let (o, r) = score_json(dir.path(), &args);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        r["route_subset"],
+        json!({"subset": "found", "routes": 20, "of": 220})
+    );
+    assert_eq!(r["config"]["route_subset"], "found");
+    assert_eq!(
+        r["routes"].as_array().unwrap().len(),
+        20,
+        "no missing route"
+    );
+    assert_eq!(r["summary"]["routes"], 20);
+    let ds = r["summary"]["driving_score"].as_f64().unwrap();
+    assert!((ds - composed / 20.0).abs() < 1e-9, "{ds}");
+    // Abilities over the 20 routes only, none missing.
+    let b = &r["summary"]["bench2drive"];
+    assert!(b["ability_missing"].as_array().unwrap().is_empty(), "{b}");
+    let counted: u64 = b["ability_counts"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|c| c["routes"].as_u64().unwrap())
+        .sum();
+    assert!(counted > 0 && counted <= 20 * 2, "{b}");
+    // Groups: the 20 routes, the combined row over N = 20.
+    let rows = r["groups"]["rows"].as_array().unwrap();
+    let grouped: u64 = rows.iter().map(|g| g["routes"].as_u64().unwrap()).sum();
+    assert_eq!(grouped, 20);
+    assert_eq!(r["groups"]["combined"]["routes"], 20);
+    // The same through --set; and every table says which route set it is.
+    let mut args = base.to_vec();
+    args.extend(["--set", "route_subset=found", "--format", "table"]);
+    let o = sds(&[&["score"], &args[..]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8(o.stdout).unwrap();
+    let note = "route set: the 20 of the route XML's 220 routes that have a record";
+    assert_eq!(
+        text.matches(note).count(),
+        3,
+        "Bench2Drive, Table 1 and 2:\n{text}"
+    );
+    assert!(
+        !text.contains("have no record (not in the ability rates)"),
+        "{text}"
+    );
+}

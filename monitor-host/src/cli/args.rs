@@ -80,6 +80,26 @@ impl DuplicatesArg {
     }
 }
 
+/// Route subsets (`--route-subset`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RouteSubsetArg {
+    /// Every route of the route XML (default).
+    All,
+    /// The route XML's routes that have a record.
+    Found,
+}
+
+impl RouteSubsetArg {
+    /// The library's subset.
+    pub fn subset(self) -> crate::input::route_set::RouteSubset {
+        use crate::input::route_set::RouteSubset as S;
+        match self {
+            RouteSubsetArg::All => S::All,
+            RouteSubsetArg::Found => S::Found,
+        }
+    }
+}
+
 /// Breakdown groups.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum GroupArg {
@@ -126,6 +146,11 @@ pub struct ScoreArgs {
     /// `--set duplicates=...`).
     #[arg(long, value_enum)]
     pub duplicates: Option<DuplicatesArg>,
+    /// Which routes of `--routes` make the route set: `all` (default: a route without a record
+    /// counts as 0) or those `found` with a record (a debug run over part of the XML). Also
+    /// `--set route_subset=...`.
+    #[arg(long, value_enum)]
+    pub route_subset: Option<RouteSubsetArg>,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     #[arg(long)]
     pub allow_missing_telemetry: bool,

@@ -269,6 +269,9 @@ pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
     if let Some(d) = args.duplicates {
         s.duplicates = d.policy();
     }
+    if let Some(r) = args.route_subset {
+        s.route_subset = r.subset();
+    }
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
     s.apply(&args.set)?;
@@ -463,6 +466,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         profile: ProfileArg::Physical,
         expected_routes: None,
         duplicates: None,
+        route_subset: None,
         allow_missing_telemetry: false,
         format: Format::Table,
         output: None,

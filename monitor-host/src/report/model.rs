@@ -211,6 +211,10 @@ pub struct Report {
     pub config: Settings,
     /// Every results file read, with the figures it stores beside the computed ones (§1.5).
     pub inputs: Vec<InputReport>,
+    /// Under `route_subset: found`, the route set actually scored: the route XML's routes that
+    /// have a record. Absent for the whole XML (or without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub route_subset: Option<SubsetReport>,
     /// Copies of duplicated routes left out by `duplicates: first|last|newest` (§1.5).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
@@ -229,6 +233,28 @@ pub struct Report {
     /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
     #[serde(skip)]
     pub route_set: Option<RunRouteSet>,
+}
+
+/// The route set of `route_subset: found`, as the report states it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct SubsetReport {
+    /// `found`.
+    pub subset: &'static str,
+    /// Routes in the set (the route XML's routes with a record).
+    pub routes: usize,
+    /// Routes of the whole route XML.
+    pub of: usize,
+}
+
+impl SubsetReport {
+    /// The sentence the tables print under their figures.
+    pub fn note(&self) -> String {
+        format!(
+            "route set: the {} of the route XML's {} routes that have a record (--route-subset \
+             found); the others are left out, not counted as 0",
+            self.routes, self.of
+        )
+    }
 }
 
 /// Turns one outcome into its report entry.
@@ -442,6 +468,13 @@ pub fn build(
         profile: settings.core.profile.name(),
         config: settings.clone(),
         inputs: facts.inputs,
+        route_subset: facts.route_set.as_ref().and_then(|s| {
+            s.subset_of.map(|of| SubsetReport {
+                subset: "found",
+                routes: s.len(),
+                of,
+            })
+        }),
         dropped: facts.dropped,
         routes,
         summary,

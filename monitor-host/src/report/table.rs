@@ -221,6 +221,12 @@ pub fn report_tables(report: &Report, options: &TableOptions) -> Vec<Grid> {
     let mut out = vec![bench2drive_table(report), table1(report)];
     out.extend(table2(report));
     out.extend(table3(report, &options.extra_infractions));
+    // A subset's figures are not the benchmark's: every table says so.
+    if let Some(s) = &report.route_subset {
+        for g in &mut out {
+            g.note(s.note());
+        }
+    }
     out
 }
 

@@ -552,7 +552,7 @@ fn every_config_name_is_settable_and_penalty_flavour_reaches_leaderboard20() {
             None => sets.push(format!("{k}={}", text(v))),
         }
     }
-    assert_eq!(sets.len(), 35);
+    assert_eq!(sets.len(), 36);
     let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> =
         vec![&"--results", &tfpp, &"--allow-missing-telemetry"];
     for s in &sets {

@@ -692,3 +692,153 @@ fn route_subset_found_scores_a_debug_run_over_its_routes() {
         "{text}"
     );
 }
+
+fn stdout_of(args: &[&str]) -> String {
+    let o = sds(args);
+    assert!(o.status.code().is_some_and(|c| c == 0), "{}", stderr(&o));
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// Item 7: the HTML page and the other renderings of a real run: each warning once, file names
+/// in the title, no status line, `--` for undefined LaTeX cells, CSV floats as short decimals,
+/// no telemetry-problem count under --allow-missing-telemetry, grammar, and why Comfortness is
+/// undefined. (The routes table's width is checked in a browser: scripts/html-report-test.sh.)
+#[test]
+fn output_nits_on_a_real_run() {
+    let Some(f) = fixtures("output_nits_on_a_real_run") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    // PDM-Lite: its hand-edited record gives route warnings.
+    let results = f.join("carla_garage_pdm_lite_b2d_traj_merged.json");
+    let xml = f.join("routes/bench2drive220.xml");
+    let base = [
+        "score",
+        "--results",
+        s(&results),
+        "--routes",
+        s(&xml),
+        "--allow-missing-telemetry",
+    ];
+    let html = stdout_of(&[&base[..], &["--format", "html"]].concat());
+    assert!(html.contains("<title>SDS report: carla_garage_pdm_lite_b2d_traj_merged.json</title>"));
+    assert!(html.contains("<h1>SafeDriving Score: carla_garage_pdm_lite_b2d_traj_merged.json</h1>"));
+    assert!(
+        !html.contains(&format!("{}", f.display())),
+        "no path of the inputs in the page"
+    );
+    assert!(
+        html.contains("<p id=\"status\" hidden>"),
+        "no debug line under the title"
+    );
+
+    // Each warning once: the demo with a route warning (part of its telemetry gone).
+    let demo = tempfile::tempdir().unwrap();
+    common::demo(demo.path());
+    let folder = fs::read_dir(demo.path().join("telemetry"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.file_name().unwrap().to_string_lossy().contains("900008"))
+        .unwrap();
+    let file = folder.join("metric_info.json");
+    let mut frames: serde_json::Map<String, Value> =
+        serde_json::from_slice(&fs::read(&file).unwrap()).unwrap();
+    frames.retain(|k, _| !(31..=60).contains(&k.parse::<u64>().unwrap()));
+    fs::write(&file, serde_json::to_vec(&frames).unwrap()).unwrap();
+    let d = |p: &str| demo.path().join(p).to_str().unwrap().to_string();
+    let demo_args = [
+        "--results".to_string(),
+        d("results.json"),
+        "--telemetry".into(),
+        d("telemetry"),
+    ];
+    let demo_args: Vec<&str> = demo_args.iter().map(String::as_str).collect();
+    let (_, r) = score_json(dir.path(), &demo_args);
+    let json_warnings = warnings(&r);
+    assert!(
+        json_warnings
+            .iter()
+            .any(|w| w.starts_with("RouteScenario_900008_rep0: ")),
+        "{json_warnings:?}"
+    );
+    let html = stdout_of(&[&["score"], &demo_args[..], &["--format", "html"]].concat());
+    // The run's list holds each warning of the JSON once (a route's drill-down repeats its own).
+    let list = &html[html.find("<ul id=\"warnings\">").unwrap()..];
+    let list = &list[..list.find("</ul>").unwrap()];
+    assert_eq!(
+        list.matches("<li class=\"warn\">").count(),
+        json_warnings.len(),
+        "each once"
+    );
+    for w in &json_warnings {
+        let escaped = monitor_host::report::html::escape(w);
+        assert_eq!(list.matches(escaped.as_str()).count(), 1, "{w}");
+    }
+    assert!(html.contains(&format!("Warnings ({})", json_warnings.len())));
+
+    // LaTeX: undefined cells are `--`, never a bare `-`.
+    let tex = stdout_of(&[&base[..], &["--format", "latex"]].concat());
+    let cells: Vec<&str> = tex
+        .lines()
+        .filter(|l| l.ends_with("\\\\"))
+        .flat_map(|l| l.trim_end_matches("\\\\").split(" & "))
+        .map(str::trim)
+        .collect();
+    assert!(cells.contains(&"--"), "{tex}");
+    assert!(!cells.contains(&"-"), "{tex}");
+
+    // Tables: no telemetry-problem count under --allow-missing-telemetry; why Comfortness is -.
+    let table = stdout_of(&[&base[..], &["--format", "table"]].concat());
+    assert!(!table.contains("telemetry problems"), "{table}");
+    assert!(
+        table.contains("Comfortness - : no route has telemetry"),
+        "{table}"
+    );
+    assert!(table.contains("--telemetry DIR"), "{table}");
+
+    // CSV: UniAD-Base's route 4669 has DS_safe 50.15 x 0.6: 30.09, not 30.089999999999996.
+    let uniad = f.join("b2dzoo_UniAD-Base_merged.json");
+    let csv = stdout_of(&[
+        "score",
+        "--results",
+        s(&uniad),
+        "--allow-missing-telemetry",
+        "--format",
+        "csv",
+    ]);
+    let line = csv
+        .lines()
+        .find(|l| l.starts_with("RouteScenario_4669_rep0,"))
+        .unwrap();
+    assert!(line.contains(",30.09,"), "{line}");
+    assert!(
+        !csv.contains("30.089999999999996") && !csv.contains("99999999"),
+        "{line}"
+    );
+
+    // "1 copy of 1 route id": the merged file and one record of it again.
+    let doc: Value = serde_json::from_slice(&fs::read(&results).unwrap()).unwrap();
+    let one = &doc["_checkpoint"]["records"][0];
+    let again = dir.path().join("again.json");
+    write_raw(&again, std::slice::from_ref(one));
+    let (o, r) = score_json(
+        dir.path(),
+        &[
+            "--results",
+            s(&results),
+            "--results",
+            s(&again),
+            "--duplicates",
+            "last",
+            "--allow-missing-telemetry",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        warnings(&r)
+            .iter()
+            .any(|w| w.starts_with("duplicates: last: 1 copy of 1 route id left out")),
+        "{:?}",
+        warnings(&r)
+    );
+}

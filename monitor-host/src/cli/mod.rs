@@ -487,11 +487,17 @@ fn table_options(args: &ScoreArgs) -> TableOptions {
     }
 }
 
-/// The run's name in the HTML page: the results argument(s).
+/// The run's name in the HTML page: the results' file (or folder) names, never their paths (a
+/// page is shared; an absolute path tells where the files sat).
 fn run_name(args: &ScoreArgs) -> String {
     args.results
         .iter()
-        .map(|p| p.display().to_string())
+        .map(|p| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }

@@ -66,6 +66,9 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         pct(a.traffic_signs),
         pct(a.mean),
     ]);
+    if b.smoothness.is_none() && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfortness"));
+    }
     if b.ability.is_none() {
         g.note("abilities need the route XML (--routes)");
     } else {
@@ -109,6 +112,18 @@ pub fn bench2drive_table(report: &Report) -> Grid {
     g
 }
 
+/// The note under a column left undefined (`-`) for want of telemetry.
+const NEEDS_TELEMETRY: &str = "{what} - : no route has telemetry; they need each route's \
+     metric_info.json (--telemetry DIR, the folder holding <save_name>/metric_info.json)";
+
+/// True when some route of the report has its telemetry.
+fn any_telemetry(report: &Report) -> bool {
+    report
+        .routes
+        .iter()
+        .any(|r| r.telemetry == crate::TelemetryState::Ok)
+}
+
 /// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS.
 pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
@@ -123,10 +138,19 @@ pub fn table1(report: &Report) -> Grid {
         num(s.scores.mean_comfort, 3),
         num(s.scores.sds, 2),
     ]);
+    // Under --allow-missing-telemetry a route without telemetry is no problem: not counted.
+    let problems = if report.config.allow_missing_telemetry {
+        String::new()
+    } else {
+        format!(", telemetry problems {}", s.telemetry_problems)
+    };
     g.note(format!(
-        "routes {} (found {}), comfort defined on {}, telemetry problems {}, invalid records {}",
-        s.routes, s.routes_found, s.scores.comfort_routes, s.telemetry_problems, s.invalid_records
+        "routes {} (found {}), comfort defined on {}{problems}, invalid records {}",
+        s.routes, s.routes_found, s.scores.comfort_routes, s.invalid_records
     ));
+    if s.scores.comfort_routes == 0 && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfort and SDS"));
+    }
     g
 }
 

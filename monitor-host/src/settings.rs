@@ -21,6 +21,7 @@
 use monitor_core::{Config, ConfigError, Profile};
 
 use crate::input::duplicates::DuplicatePolicy;
+use crate::input::route_set::RouteSubset;
 
 /// Why a setting was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -116,6 +117,9 @@ pub struct Settings {
     pub expected_routes: Option<usize>,
     /// Which copy of a duplicated route id is scored (§1.5) **\[decision\]**.
     pub duplicates: DuplicatePolicy,
+    /// Which routes of `--routes` make the route set: `all` (default) or those `found` with a
+    /// record **\[decision\]**.
+    pub route_subset: RouteSubset,
     /// Infer each route's step period from its record (§1.2); `false` uses `dt` for every
     /// route. Setting `dt` turns it off.
     pub dt_inference: bool,
@@ -141,6 +145,7 @@ impl Default for Settings {
             penalty_flavour: PenaltyFlavour::Bench2Drive,
             expected_routes: None,
             duplicates: DuplicatePolicy::Error,
+            route_subset: RouteSubset::All,
             dt_inference: true,
             allow_missing_telemetry: false,
             threads: None,
@@ -192,7 +197,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 37] = [
+    pub const NAMES: [&'static str; 38] = [
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -228,6 +233,7 @@ impl Settings {
         "motion.stationary_speed",
         "penalty_flavour",
         "profile",
+        "route_subset",
         "slack",
         "stationary_speed",
     ];
@@ -295,11 +301,19 @@ impl Settings {
             }
             "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
             "dt_inference" => self.dt_inference = bool_of(key, v)?,
+            "route_subset" => {
+                self.route_subset =
+                    RouteSubset::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "all or found",
+                        value: v.into(),
+                    })?
+            }
             "duplicates" => {
                 self.duplicates =
                     DuplicatePolicy::from_name(v.trim()).ok_or(SettingsError::Value {
                         name: key,
-                        expected: "error, first, last or all",
+                        expected: "error, first, last, newest or all",
                         value: v.into(),
                     })?
             }
@@ -380,6 +394,7 @@ impl Settings {
             "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
             "dt_inference" => self.dt_inference.to_string(),
             "duplicates" => self.duplicates.name().into(),
+            "route_subset" => self.route_subset.name().into(),
             "expected_routes" => self
                 .expected_routes
                 .map_or_else(|| "null".into(), |n| n.to_string()),
@@ -571,6 +586,7 @@ impl serde::Serialize for Settings {
         m.serialize_entry("motion", &Group(&motion))?;
         m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
         m.serialize_entry("profile", c.profile.name())?;
+        m.serialize_entry("route_subset", self.route_subset.name())?;
         m.serialize_entry("slack", &w(c.slack))?;
         m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
         m.end()

@@ -70,6 +70,8 @@ pub enum DuplicatesArg {
     First,
     /// Keep the last copy in input order.
     Last,
+    /// Keep the newest run: the latest `save_name` time stamp (ties: the last in input order).
+    Newest,
     /// Score every copy as a route of its own.
     All,
 }
@@ -82,7 +84,28 @@ impl DuplicatesArg {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,
             DuplicatesArg::Last => P::Last,
+            DuplicatesArg::Newest => P::Newest,
             DuplicatesArg::All => P::All,
+        }
+    }
+}
+
+/// Route subsets (`--route-subset`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RouteSubsetArg {
+    /// Every route of the route XML (default).
+    All,
+    /// The route XML's routes that have a record.
+    Found,
+}
+
+impl RouteSubsetArg {
+    /// The library's subset.
+    pub fn subset(self) -> crate::input::route_set::RouteSubset {
+        use crate::input::route_set::RouteSubset as S;
+        match self {
+            RouteSubsetArg::All => S::All,
+            RouteSubsetArg::Found => S::Found,
         }
     }
 }
@@ -128,10 +151,16 @@ pub struct ScoreArgs {
     #[arg(long)]
     pub expected_routes: Option<usize>,
     /// When two records share a route id: `error` (score nothing, name them), keep the
-    /// `first` or `last` copy in input order, or score `all` copies. Default: error (or
+    /// `first` or `last` copy in input order, the `newest` run (latest `save_name` time stamp),
+    /// or score `all` copies. Default: error (or
     /// `--set duplicates=...`).
     #[arg(long, value_enum)]
     pub duplicates: Option<DuplicatesArg>,
+    /// Which routes of `--routes` make the route set: `all` (default: a route without a record
+    /// counts as 0) or those `found` with a record (a debug run over part of the XML). Also
+    /// `--set route_subset=...`.
+    #[arg(long, value_enum)]
+    pub route_subset: Option<RouteSubsetArg>,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     #[arg(long)]
     pub allow_missing_telemetry: bool,

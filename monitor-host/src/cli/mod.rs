@@ -301,6 +301,9 @@ pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
     if let Some(d) = args.duplicates {
         s.duplicates = d.policy();
     }
+    if let Some(r) = args.route_subset {
+        s.route_subset = r.subset();
+    }
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
     s.apply(&args.set)?;
@@ -495,6 +498,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         profile: ProfileArg::Physical,
         expected_routes: None,
         duplicates: None,
+        route_subset: None,
         allow_missing_telemetry: false,
         format: Format::Table,
         output: None,
@@ -515,11 +519,17 @@ fn table_options(args: &ScoreArgs) -> TableOptions {
     }
 }
 
-/// The run's name in the HTML page: the results argument(s).
+/// The run's name in the HTML page: the results' file (or folder) names, never their paths (a
+/// page is shared; an absolute path tells where the files sat).
 fn run_name(args: &ScoreArgs) -> String {
     args.results
         .iter()
-        .map(|p| p.display().to_string())
+        .map(|p| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -533,6 +543,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
         say!("sds: warning: {w}");
+    }
+    for note in period_notes(&report) {
+        say!("sds: note: {note}");
     }
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
@@ -591,6 +604,38 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
+/// first 10 and a count): a period read wrong would scale every speed and time of a route.
+fn period_notes(report: &Report) -> Vec<String> {
+    let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
+    for r in &report.routes {
+        let (Some(dt), Some(crate::pipeline::step_period::DtSource::Inferred), Some(id)) =
+            (r.dt, r.dt_source, r.route_id.as_deref())
+        else {
+            continue;
+        };
+        if dt == 0.05 {
+            continue;
+        }
+        match by_dt.iter_mut().find(|(d, _)| *d == dt) {
+            Some((_, ids)) => ids.push(id),
+            None => by_dt.push((dt, vec![id])),
+        }
+    }
+    by_dt.sort_by(|a, b| a.0.total_cmp(&b.0));
+    by_dt
+        .into_iter()
+        .map(|(dt, ids)| {
+            format!(
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
+                 (--set dt=SECONDS fixes the period of every route)",
+                ids.len(),
+                crate::warning::id_list(&ids)
+            )
+        })
+        .collect()
 }
 
 /// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).

@@ -46,10 +46,30 @@ pub const COLUMNS: [&str; 35] = [
     "reason",
 ];
 
-/// A float as JSON prints it (`100.0`, `0.05`); empty when absent.
+/// A float as JSON prints it (`100.0`, `0.05`), as the shortest decimal of its 15 significant
+/// digits (a product such as 50.15 × 0.6 prints 30.09, not 30.089999999999996); empty when
+/// absent.
+///
+/// ```
+/// use monitor_host::report::csv::float;
+/// assert_eq!(float(Some(50.15 * 0.6)), "30.09");
+/// assert_eq!((float(Some(100.0)), float(Some(0.05)), float(None)), ("100.0".into(), "0.05".into(), "".into()));
+/// assert_eq!(float(Some(1.0 / 3.0)), "0.333333333333333");
+/// ```
+pub fn float(x: Option<f64>) -> String {
+    x.map(|v| {
+        let v = if v.is_finite() {
+            format!("{v:.14e}").parse().unwrap_or(v)
+        } else {
+            v
+        };
+        serde_json::to_string(&v).unwrap_or_default()
+    })
+    .unwrap_or_default()
+}
+
 fn num(x: Option<f64>) -> String {
-    x.and_then(|v| serde_json::to_string(&v).ok())
-        .unwrap_or_default()
+    float(x)
 }
 
 fn row(r: &RouteReport) -> [String; 35] {
@@ -135,7 +155,7 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
     use crate::aggregate::aggregates::Aggregates;
     use crate::route::ability::ABILITIES;
     let g = report.groups.as_ref()?;
-    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let o = float;
     let lists: Vec<String> = g
         .combined
         .infraction_routes

@@ -66,6 +66,9 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         pct(a.traffic_signs),
         pct(a.mean),
     ]);
+    if b.smoothness.is_none() && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfortness"));
+    }
     if b.ability.is_none() {
         g.note("abilities need the route XML (--routes)");
     } else {
@@ -81,7 +84,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         g.note(format!(
             "{} route(s) of the route set have no record (not in the ability rates): {}",
             b.ability_missing.len(),
-            b.ability_missing.join(", ")
+            crate::warning::id_list(&b.ability_missing)
         ));
     }
     if !b.ability_undecided.is_empty() {
@@ -118,6 +121,18 @@ pub fn bench2drive_table(report: &Report) -> Grid {
     g
 }
 
+/// The note under a column left undefined (`-`) for want of telemetry.
+const NEEDS_TELEMETRY: &str = "{what} - : no route has telemetry; they need each route's \
+     metric_info.json (--telemetry DIR, the folder holding <save_name>/metric_info.json)";
+
+/// True when some route of the report has its telemetry.
+fn any_telemetry(report: &Report) -> bool {
+    report
+        .routes
+        .iter()
+        .any(|r| r.telemetry == crate::TelemetryState::Ok)
+}
+
 /// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS; beside Comfort, comfort over
 /// the chunks the car drove and the share of frames it stood still (§8.5).
 pub fn table1(report: &Report) -> Grid {
@@ -143,10 +158,19 @@ pub fn table1(report: &Report) -> Grid {
         pct(s.scores.motion.mean_stationary_share),
         num(s.scores.sds, 2),
     ]);
+    // Under --allow-missing-telemetry a route without telemetry is no problem: not counted.
+    let problems = if report.config.allow_missing_telemetry {
+        String::new()
+    } else {
+        format!(", telemetry problems {}", s.telemetry_problems)
+    };
     g.note(format!(
-        "routes {} (found {}), comfort defined on {}, telemetry problems {}, invalid records {}",
-        s.routes, s.routes_found, s.scores.comfort_routes, s.telemetry_problems, s.invalid_records
+        "routes {} (found {}), comfort defined on {}{problems}, invalid records {}",
+        s.routes, s.routes_found, s.scores.comfort_routes, s.invalid_records
     ));
+    if s.scores.comfort_routes == 0 && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfort and SDS"));
+    }
     g
 }
 
@@ -192,9 +216,15 @@ pub fn table2(report: &Report) -> Option<Grid> {
 /// aggregates.
 fn group_rows(g: &mut Grid, groups: &Groups, cells: impl Fn(&str, &Aggregates) -> Vec<String>) {
     for r in &groups.rows {
-        // Group labels come from the inputs (scenario names, label files).
+        // Group labels come from the inputs (scenario names, label files); a weather label
+        // lists the ids it stands for.
+        let label = if r.keys.is_empty() {
+            r.label.clone()
+        } else {
+            format!("{} ({})", r.label, r.keys.join(", "))
+        };
         g.rows.push(cells(
-            &crate::report::escape::printable(&r.label),
+            &crate::report::escape::printable(&label),
             &r.aggregates,
         ));
     }
@@ -246,6 +276,12 @@ pub fn report_tables(report: &Report, options: &TableOptions) -> Vec<Grid> {
     let mut out = vec![bench2drive_table(report), table1(report)];
     out.extend(table2(report));
     out.extend(table3(report, &options.extra_infractions));
+    // A subset's figures are not the benchmark's: every table says so.
+    if let Some(s) = &report.route_subset {
+        for g in &mut out {
+            g.note(s.note());
+        }
+    }
     out
 }
 

@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::junctions::junction_samples;
 use crate::geometry::town_maps::TownMaps;
-use crate::input::duplicates::Source;
+use crate::input::duplicates::{Kept, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
 use crate::input::route_set::MissingRoute;
 use crate::input::route_xml::RouteSet;
@@ -181,6 +181,10 @@ pub struct RouteReport {
     pub reason: Option<String>,
     /// The results file (as found) and record index; null for a missing route.
     pub source: Option<Source>,
+    /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
+    /// `copies`, `stamp`, `why`). Absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept: Option<Kept>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
     /// Penalty re-check; null for an invalid record.
@@ -283,6 +287,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
             .map(String::from),
         state: o.state(),
         source: Some(Source::of(&o.loaded)),
+        kept: None,
         collision_events: o.events.clone(),
         penalty_check: rec.map(|r| {
             let p = check_penalty(r, settings.penalty_flavour);
@@ -335,6 +340,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         state: RouteState::Missing,
         reason: None,
         source: None,
+        kept: None,
         collision_events: Vec::new(),
         penalty_check: None,
         batch_agrees: None,

@@ -99,7 +99,8 @@ def score(
         maps: A folder of CARLA OpenDRIVE maps (``--maps``).
         profile: ``"physical"`` or ``"b2d-legacy"`` (``--profile``).
         duplicates: Routes recorded more than once: ``"error"`` (score nothing, name them),
-            keep the ``"first"`` or ``"last"`` copy, or score ``"all"`` (``--duplicates``).
+            keep the ``"first"`` or ``"last"`` copy or the ``"newest"`` run, or score ``"all"``
+            (``--duplicates``).
         expected_routes: The benchmark's size N, e.g. 220 (``--expected-routes``).
         allow_missing_telemetry: Score routes without telemetry without telemetry terms.
         settings: Overrides, e.g. ``{"slack": 0.9, "bounds.yaw_rate": 1.0}`` (``--set``; names

@@ -60,7 +60,8 @@ pub fn page(report: &Report, options: &TableOptions, name: &str) -> String {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn compare_page(c: &Comparison, runs: &[crate::aggregate::compare::NamedRun]) -> String {
-    let mut body = String::from("<h1>SDS comparison</h1>\n<p id=\"status\">script not run</p>\n");
+    let mut body =
+        String::from("<h1>SDS comparison</h1>\n<p id=\"status\" hidden>script not run</p>\n");
     for g in table::compare_tables(c) {
         grid(&mut body, &g);
     }

@@ -8,6 +8,19 @@ use crate::route::trace::Verdict;
 use super::page::{escape, num};
 use super::timeline;
 
+/// A results file as a shared page names it: its folder and file name, never the path above
+/// (`10857/checkpoint_endpoint.json`; the JSON report keeps the path as found).
+fn shared_name(path: &std::path::Path) -> String {
+    let parts: Vec<String> = path
+        .components()
+        .filter_map(|c| match c {
+            std::path::Component::Normal(n) => Some(n.to_string_lossy().into_owned()),
+            _ => None,
+        })
+        .collect();
+    parts[parts.len().saturating_sub(2)..].join("/")
+}
+
 /// The id of route `i`'s drill-down (route ids may repeat under `duplicates = all`).
 fn target(i: usize) -> String {
     format!("route-{i}")
@@ -152,7 +165,7 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
         if let Some(src) = &r.source {
             out.push_str(&format!(
                 "<p>source {}#{}</p>\n",
-                escape(&src.file.display().to_string()),
+                escape(&shared_name(&src.file)),
                 src.index
             ));
         }

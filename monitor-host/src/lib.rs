@@ -59,6 +59,7 @@ pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod pipeline;
+pub mod protocol;
 pub mod reference;
 pub mod report;
 pub mod run;

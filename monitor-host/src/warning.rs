@@ -234,6 +234,9 @@ pub enum Warning {
         /// Routes concerned.
         routes: usize,
     },
+    /// A route term a scoring protocol could not read as the spec wants (§8.4): what was
+    /// skipped or approximated.
+    Protocol(String),
 }
 
 impl std::fmt::Display for Warning {
@@ -457,6 +460,7 @@ impl std::fmt::Display for Warning {
                  \"(unmapped)\"; keys without a label: {}",
                 keys.join(", ")
             ),
+            Warning::Protocol(what) => write!(f, "protocols: {what}"),
         }
     }
 }

@@ -22,6 +22,8 @@ use monitor_core::{Config, ConfigError, Profile};
 
 use crate::aggregate::penalty::PenaltyFlavour;
 use crate::input::duplicates::DuplicatePolicy;
+use crate::protocol::ability_rule::AbilityRule;
+use crate::protocol::{parse_protocols, protocols_text, Protocol};
 
 /// Why a setting was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -124,6 +126,10 @@ pub struct Settings {
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
     pub threads: Option<usize>,
+    /// Scoring protocols to add (§8.4; default none).
+    pub protocols: Vec<Protocol>,
+    /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
+    pub ability_rule: AbilityRule,
 }
 
 impl Default for Settings {
@@ -143,6 +149,8 @@ impl Default for Settings {
             dt_inference: true,
             allow_missing_telemetry: false,
             threads: None,
+            protocols: Vec::new(),
+            ability_rule: AbilityRule::B2d004,
         }
     }
 }
@@ -190,7 +198,8 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 35] = [
+    pub const NAMES: [&'static str; 37] = [
+        "ability_rule",
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -224,6 +233,7 @@ impl Settings {
         "min_chunk",
         "penalty_flavour",
         "profile",
+        "protocols",
         "slack",
         "stationary_speed",
     ];
@@ -267,6 +277,22 @@ impl Settings {
             return Err(SettingsError::Unknown { name: name.into() });
         };
         match key {
+            "ability_rule" => {
+                self.ability_rule =
+                    AbilityRule::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "b2d-0.0.4 or b2d-0.0.3",
+                        value: v.into(),
+                    })?
+            }
+            "protocols" => {
+                self.protocols = parse_protocols(v).map_err(|_| SettingsError::Value {
+                    name: key,
+                    expected:
+                        "all, none, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d",
+                    value: v.into(),
+                })?
+            }
             "align_max_dist" => self.align_max_dist = f64_of(key, v)?,
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
@@ -364,6 +390,8 @@ impl Settings {
         let c = &self.core;
         let (b, f) = (&c.bounds, &c.factors);
         Some(match name {
+            "ability_rule" => self.ability_rule.name().into(),
+            "protocols" => protocols_text(&self.protocols),
             "align_max_dist" => self.align_max_dist.to_string(),
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
@@ -522,7 +550,8 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(25))?;
+        let mut m = s.serialize_map(Some(27))?;
+        m.serialize_entry("ability_rule", self.ability_rule.name())?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -546,6 +575,8 @@ impl serde::Serialize for Settings {
         m.serialize_entry("min_chunk", &c.min_chunk)?;
         m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
         m.serialize_entry("profile", c.profile.name())?;
+        let ids: Vec<&str> = self.protocols.iter().map(|p| p.id()).collect();
+        m.serialize_entry("protocols", &ids)?;
         m.serialize_entry("slack", &w(c.slack))?;
         m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
         m.end()
@@ -614,6 +645,15 @@ mod tests {
         assert_eq!(s.duplicates, DuplicatePolicy::Last);
         s.set("penalty_flavour", "leaderboard20").unwrap();
         assert_eq!(s.penalty_flavour, PenaltyFlavour::Leaderboard20);
+        s.set("protocols", "lb2.1, b2d").unwrap();
+        assert_eq!(s.protocols, [Protocol::B2d, Protocol::Lb21]);
+        assert_eq!(s.get("protocols").as_deref(), Some("b2d,lb2.1"));
+        s.set("protocols", "all").unwrap();
+        assert_eq!(s.protocols, Protocol::ALL);
+        assert!(s.set("protocols", "lb3").is_err());
+        s.set("ability_rule", "b2d-0.0.3").unwrap();
+        assert_eq!(s.ability_rule, AbilityRule::B2d003);
+        assert!(s.set("ability_rule", "0.0.3").is_err());
         s.set("dt", "0.1").unwrap();
         assert_eq!(
             (s.core.dt, s.dt_inference, s.get("dt").as_deref()),

@@ -128,6 +128,9 @@ pub struct Aggregates {
     /// Per infraction list (the 12 known ones, then any other), the routes with at least one
     /// entry.
     pub infraction_routes: Counts<usize>,
+    /// Every asked scoring protocol's aggregates (§8.4); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<crate::protocol::aggregate::ProtocolScores>,
 }
 
 fn mean(sum: f64, n: usize) -> Option<f64> {
@@ -239,6 +242,14 @@ impl Aggregates {
             ability,
             ability_counts: counts,
             infraction_routes: inf,
+            protocols: crate::protocol::aggregate::ProtocolScores::over(
+                routes.iter().filter_map(|r| {
+                    r.protocols
+                        .as_ref()
+                        .map(|p| (r.score_route.unwrap_or(0.0), p))
+                }),
+                n,
+            ),
         }
     }
 }

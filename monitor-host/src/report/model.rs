@@ -25,6 +25,8 @@ use crate::input::route_xml::RouteSet;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
 use crate::pipeline::timeline::ChunkLog;
+use crate::protocol::ability_rule::apply_rule;
+use crate::protocol::route::{score_record, RouteProtocols};
 use crate::settings::Settings;
 use crate::warning::Warning;
 
@@ -169,6 +171,9 @@ pub struct RouteReport {
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
     pub ds_safe: Option<f64>,
+    /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<RouteProtocols>,
     /// `ok`, `missing` or `invalid: <reason>`.
     pub telemetry: TelemetryState,
     /// `scored`, `missing`, `foreign` or `invalid` (spec section 10.1).
@@ -285,6 +290,7 @@ pub fn route_report(o: &RouteOutcome) -> RouteReport {
         ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
+        protocols: None,
         telemetry: o.telemetry.clone(),
         reason: o
             .state()
@@ -327,6 +333,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         comfort: ComfortReport::default(),
         p_safe: None,
         ds_safe: Some(0.0),
+        protocols: None,
         smoothness: None,
         efficiency: None,
         ability: None,
@@ -397,12 +404,26 @@ pub fn build(
             };
             let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
             let town = rec.town_name.as_deref().unwrap_or(&xml.town);
-            r.ability = Some(route_ability(rec, scenario, || {
-                junction_samples(maps, xml, town, settings.gap_max)
-            }));
+            let samples = || junction_samples(maps, xml, town, settings.gap_max);
+            let a = route_ability(rec, scenario, samples);
+            r.ability = Some(apply_rule(settings.ability_rule, a, rec, samples));
         }
     }
     routes.extend(missing.iter().map(missing_report));
+    if !settings.protocols.is_empty() {
+        // Protocols read records only (§8.4); missing routes and invalid records score 0.
+        let asked = &settings.protocols;
+        for (i, r) in routes.iter_mut().enumerate() {
+            r.protocols = Some(match outcomes.get(i).and_then(|o| o.record()) {
+                Some(rec) => {
+                    let (p, w) = score_record(rec, asked);
+                    r.warnings.extend(w);
+                    p
+                }
+                None => RouteProtocols::without_record(asked),
+            });
+        }
+    }
     let mut warnings = facts.warnings;
     for r in &routes {
         let route = r.route_id.clone().unwrap_or_else(|| {
@@ -420,7 +441,10 @@ pub fn build(
     let mut summary = summarize(outcomes, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
     let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
-    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
+    summary.protocols = all.protocols.clone();
+    let mut b2d = Bench2Drive::new(&all, &routes, ability_missing);
+    b2d.ability_rule = settings.ability_rule.name();
+    summary.bench2drive = Some(b2d);
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),

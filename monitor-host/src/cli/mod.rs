@@ -303,6 +303,9 @@ pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
     }
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
+    if let Some(list) = &args.protocol {
+        s.set("protocols", list)?;
+    }
     s.apply(&args.set)?;
     Ok(s)
 }
@@ -506,6 +509,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         set: vec![],
         jobs: None,
         traces: None,
+        protocol: None,
     }
 }
 
@@ -629,6 +633,9 @@ fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
     s.expected_routes = args.expected_routes;
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
+    if let Some(list) = &args.protocol {
+        s.set("protocols", list)?;
+    }
     s.apply(&args.set)?;
     Ok(s)
 }

@@ -548,7 +548,7 @@ fn every_config_name_is_settable_and_penalty_flavour_reaches_leaderboard20() {
             None => sets.push(format!("{k}={}", text(v))),
         }
     }
-    assert_eq!(sets.len(), 35);
+    assert_eq!(sets.len(), 37);
     let mut args: Vec<&dyn AsRef<std::ffi::OsStr>> =
         vec![&"--results", &tfpp, &"--allow-missing-telemetry"];
     for s in &sets {
@@ -584,6 +584,9 @@ fn text(v: &Value) -> String {
     match v {
         Value::String(s) => s.clone(),
         Value::Null => "null".into(),
+        // A list setting (`protocols`) is written as ids joined by commas, or `none`.
+        Value::Array(a) if a.is_empty() => "none".into(),
+        Value::Array(a) => a.iter().map(text).collect::<Vec<_>>().join(","),
         v => v.to_string(),
     }
 }

@@ -25,6 +25,7 @@
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
 //! aggregate/ summary (§8.1), penalty re-check (§8), groups (§8.3)
+//!            (+ protocol/: the records rescored under other evaluators' rules, §8.4)
 //!               v
 //! report/    model → json, csv, table
 //! ```

@@ -26,6 +26,7 @@
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
 //! route/     row per route: penalty re-check (§8), efficiency, abilities (§8.2), traces
+//!            (+ protocol/: the records rescored under other evaluators' rules, §8.4)
 //!               v
 //! aggregate/ aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3),
 //!            compare; report (the Report that holds rows and aggregates)
@@ -70,6 +71,7 @@ pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod pipeline;
+pub use route::protocol;
 pub mod reference;
 pub mod report;
 pub mod route;

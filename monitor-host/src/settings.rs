@@ -129,6 +129,10 @@ pub struct Settings {
     pub threads: Option<usize>,
     /// Thresholds of the distance and stationary figures (§8.5).
     pub motion: MotionSettings,
+    /// Scoring protocols to add (§8.4; default none).
+    pub protocols: Vec<Protocol>,
+    /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
+    pub ability_rule: AbilityRule,
 }
 
 impl Default for Settings {
@@ -150,6 +154,8 @@ impl Default for Settings {
             allow_missing_telemetry: false,
             threads: None,
             motion: MotionSettings::default(),
+            protocols: Vec::new(),
+            ability_rule: AbilityRule::B2d004,
         }
     }
 }
@@ -197,7 +203,8 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 38] = [
+    pub const NAMES: [&'static str; 40] = [
+        "ability_rule",
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -233,6 +240,7 @@ impl Settings {
         "motion.stationary_speed",
         "penalty_flavour",
         "profile",
+        "protocols",
         "route_subset",
         "slack",
         "stationary_speed",
@@ -277,6 +285,22 @@ impl Settings {
             return Err(SettingsError::Unknown { name: name.into() });
         };
         match key {
+            "ability_rule" => {
+                self.ability_rule =
+                    AbilityRule::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "b2d-0.0.4 or b2d-0.0.3",
+                        value: v.into(),
+                    })?
+            }
+            "protocols" => {
+                self.protocols = parse_protocols(v).map_err(|_| SettingsError::Value {
+                    name: key,
+                    expected:
+                        "all, none, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d",
+                    value: v.into(),
+                })?
+            }
             "align_max_dist" => self.align_max_dist = f64_of(key, v)?,
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
@@ -384,6 +408,8 @@ impl Settings {
         let c = &self.core;
         let (b, f) = (&c.bounds, &c.factors);
         Some(match name {
+            "ability_rule" => self.ability_rule.name().into(),
+            "protocols" => protocols_text(&self.protocols),
             "align_max_dist" => self.align_max_dist.to_string(),
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
@@ -557,7 +583,8 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(26))?;
+        let mut m = s.serialize_map(Some(28))?;
+        m.serialize_entry("ability_rule", self.ability_rule.name())?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -586,6 +613,8 @@ impl serde::Serialize for Settings {
         m.serialize_entry("motion", &Group(&motion))?;
         m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
         m.serialize_entry("profile", c.profile.name())?;
+        let ids: Vec<&str> = self.protocols.iter().map(|p| p.id()).collect();
+        m.serialize_entry("protocols", &ids)?;
         m.serialize_entry("route_subset", self.route_subset.name())?;
         m.serialize_entry("slack", &w(c.slack))?;
         m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
@@ -619,6 +648,126 @@ impl Default for MotionSettings {
             stationary_speed: 0.1,
             moving_speed: 1.0,
         }
+    }
+}
+
+/// One scoring protocol (§8.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Protocol {
+    /// Bench2Drive's evaluator: the recorded penalty and score.
+    B2d,
+    /// CARLA Leaderboard 2.0 (`master`): a product of per-event factors.
+    Lb20,
+    /// CARLA Leaderboard 2.1 (`leaderboard-2.1`): `f_out / (1 + sum of per-event costs)`.
+    Lb21,
+    /// LEAD's "Normalized DS": per-event factors normalised by the driven kilometres.
+    LeadNds,
+    /// Fail2Drive: DS as `b2d`, its own success rule, and the harmonic mean of DS and SR.
+    F2d,
+}
+
+impl Protocol {
+    /// Every protocol, in the order reports and tables list them.
+    pub const ALL: [Protocol; 5] = [
+        Protocol::B2d,
+        Protocol::Lb20,
+        Protocol::Lb21,
+        Protocol::LeadNds,
+        Protocol::F2d,
+    ];
+
+    /// The id used on the command line and as the report's key (`lb2.1`, ...).
+    pub fn id(self) -> &'static str {
+        match self {
+            Protocol::B2d => "b2d",
+            Protocol::Lb20 => "lb2.0",
+            Protocol::Lb21 => "lb2.1",
+            Protocol::LeadNds => "lead-nds",
+            Protocol::F2d => "f2d",
+        }
+    }
+
+    /// The protocol of an id.
+    pub fn from_id(id: &str) -> Option<Protocol> {
+        Protocol::ALL.into_iter().find(|p| p.id() == id)
+    }
+
+    /// A name for the tables (`CARLA Leaderboard 2.1`, ...).
+    pub fn title(self) -> &'static str {
+        match self {
+            Protocol::B2d => "Bench2Drive (recorded)",
+            Protocol::Lb20 => "CARLA Leaderboard 2.0",
+            Protocol::Lb21 => "CARLA Leaderboard 2.1",
+            Protocol::LeadNds => "LEAD normalized DS",
+            Protocol::F2d => "Fail2Drive",
+        }
+    }
+}
+
+/// Parses the `protocols` setting: `all`, `none` (or empty), or comma-separated ids. The result
+/// is in [`Protocol::ALL`] order without repeats.
+///
+/// # Errors
+/// The text naming the unknown id and the known ones.
+pub fn parse_protocols(text: &str) -> Result<Vec<Protocol>, String> {
+    let text = text.trim();
+    if text == "all" {
+        return Ok(Protocol::ALL.to_vec());
+    }
+    if text.is_empty() || text == "none" {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for id in text.split(',').map(str::trim) {
+        let p = Protocol::from_id(id).ok_or_else(|| {
+            format!(
+                "unknown protocol {id:?}; known: {}, or all",
+                Protocol::ALL.map(Protocol::id).join(", ")
+            )
+        })?;
+        out.push(p);
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
+/// The `protocols` setting as text: `none`, or the ids joined by commas.
+pub fn protocols_text(protocols: &[Protocol]) -> String {
+    if protocols.is_empty() {
+        return "none".into();
+    }
+    protocols
+        .iter()
+        .map(|p| p.id())
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The Traffic_Signs counting rule (§8.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AbilityRule {
+    /// Bench2Drive release 0.0.4: counted once.
+    #[default]
+    B2d004,
+    /// Bench2Drive release 0.0.3: counted twice.
+    B2d003,
+}
+
+impl AbilityRule {
+    /// `b2d-0.0.4` or `b2d-0.0.3`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AbilityRule::B2d004 => "b2d-0.0.4",
+            AbilityRule::B2d003 => "b2d-0.0.3",
+        }
+    }
+
+    /// The rule of a name.
+    pub fn from_name(name: &str) -> Option<AbilityRule> {
+        [AbilityRule::B2d004, AbilityRule::B2d003]
+            .into_iter()
+            .find(|r| r.name() == name)
     }
 }
 
@@ -701,6 +850,15 @@ mod tests {
         assert_eq!(s.duplicates, DuplicatePolicy::Last);
         s.set("penalty_flavour", "leaderboard20").unwrap();
         assert_eq!(s.penalty_flavour, PenaltyFlavour::Leaderboard20);
+        s.set("protocols", "lb2.1, b2d").unwrap();
+        assert_eq!(s.protocols, [Protocol::B2d, Protocol::Lb21]);
+        assert_eq!(s.get("protocols").as_deref(), Some("b2d,lb2.1"));
+        s.set("protocols", "all").unwrap();
+        assert_eq!(s.protocols, Protocol::ALL);
+        assert!(s.set("protocols", "lb3").is_err());
+        s.set("ability_rule", "b2d-0.0.3").unwrap();
+        assert_eq!(s.ability_rule, AbilityRule::B2d003);
+        assert!(s.set("ability_rule", "0.0.3").is_err());
         s.set("dt", "0.1").unwrap();
         assert_eq!(
             (s.core.dt, s.dt_inference, s.get("dt").as_deref()),

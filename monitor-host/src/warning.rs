@@ -261,6 +261,9 @@ pub enum Warning {
         /// Routes concerned.
         routes: usize,
     },
+    /// A route term a scoring protocol could not read as the spec wants (§8.4): what was
+    /// skipped or approximated.
+    Protocol(String),
 }
 
 impl std::fmt::Display for Warning {
@@ -523,12 +526,12 @@ impl std::fmt::Display for Warning {
                  \"(unmapped)\"; keys without a label: {}",
                 keys.join(", ")
             ),
+            Warning::Protocol(what) => write!(f, "protocols: {what}"),
         }
     }
 }
 
-/// How many ids a list in a warning or a note names before it says how many more there are.
-pub const IDS_SHOWN: usize = 10;
+pub use crate::input::duplicates::IDS_SHOWN;
 
 /// A list of route ids (or keys) as a warning prints it: the first [`IDS_SHOWN`], then how many
 /// more.

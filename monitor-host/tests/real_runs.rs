@@ -588,6 +588,9 @@ fn text(v: &Value) -> String {
     match v {
         Value::String(s) => s.clone(),
         Value::Null => "null".into(),
+        // A list setting (`protocols`) is written as ids joined by commas, or `none`.
+        Value::Array(a) if a.is_empty() => "none".into(),
+        Value::Array(a) => a.iter().map(text).collect::<Vec<_>>().join(","),
         v => v.to_string(),
     }
 }

@@ -28,6 +28,9 @@ def test_demo_report_equals_cli(demo: Demo, demo_report: Dict[str, Any]) -> None
             ["--set", "slack=0.9", "--set", "bounds.yaw_rate=1.0", "--set", "gap_max=6"],
         ),
         ({"expected_routes": 10, "jobs": 1}, ["--expected-routes", "10", "--jobs", "1"]),
+        ({"protocols": ["lb2.1", "f2d"]}, ["--protocol", "lb2.1,f2d"]),
+        ({"protocols": ["all"], "settings": {"ability_rule": "b2d-0.0.3"}},
+         ["--protocol", "all", "--set", "ability_rule=b2d-0.0.3"]),
     ],
 )
 def test_options_equal_cli_flags(
@@ -138,3 +141,14 @@ def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> N
         report = sds.score([demo.results, demo.results], telemetry=demo.telemetry, duplicates=policy)
         assert same(report, expected), policy
     assert len(report["routes"]) == 2 * len(demo.records())  # "all" scores every copy
+
+
+def test_protocols_reach_the_report(demo: Demo) -> None:
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes, protocols=["all"])
+    assert list(report["summary"]["protocols"]) == ["b2d", "lb2.0", "lb2.1", "lead-nds", "f2d"]
+    assert report["summary"]["protocols"]["b2d"]["driving_score"] == report["summary"]["driving_score"]
+    assert all(set(r["protocols"]) == set(report["summary"]["protocols"]) for r in report["routes"])
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, telemetry=demo.telemetry, protocols=["lb3"])
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, telemetry=demo.telemetry, protocols="all")  # type: ignore[arg-type]

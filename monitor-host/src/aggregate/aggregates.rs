@@ -10,6 +10,7 @@
 
 use serde::Serialize;
 
+pub use crate::aggregate::counts::Counts;
 use crate::aggregate::motion::MotionAggregates;
 use crate::input::record::KNOWN_LISTS;
 use crate::route::ability::ABILITIES;
@@ -59,38 +60,6 @@ pub struct AbilityCount {
     pub successes: usize,
 }
 
-/// Counts keyed by name, serialised as a JSON object in this order.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Counts<T>(pub Vec<(String, T)>);
-
-impl<T: Copy + Default> Counts<T> {
-    /// The count of `name` (default when absent).
-    pub fn get(&self, name: &str) -> T {
-        self.0
-            .iter()
-            .find(|(n, _)| n == name)
-            .map_or_else(T::default, |(_, c)| *c)
-    }
-
-    /// The count of `name`, added (as the default) when absent.
-    pub fn entry(&mut self, name: &str) -> &mut T {
-        let i = match self.0.iter().position(|(n, _)| n == name) {
-            Some(i) => i,
-            None => {
-                self.0.push((name.to_string(), T::default()));
-                self.0.len() - 1
-            }
-        };
-        &mut self.0[i].1
-    }
-}
-
-impl<T: Serialize> Serialize for Counts<T> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
-    }
-}
-
 /// The §8.1 scores of a set of routes over N: the numbers the run's summary, every breakdown
 /// group, the `combined` row and every compared run share (one computation: [`Scores::over`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -133,6 +102,9 @@ pub struct Aggregates {
     /// Per infraction list (the 12 known ones, then any other), the routes with at least one
     /// entry.
     pub infraction_routes: Counts<usize>,
+    /// Every asked scoring protocol's aggregates (§8.4); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<crate::route::protocol::aggregate::ProtocolScores>,
 }
 
 fn mean(sum: f64, n: usize) -> Option<f64> {
@@ -245,6 +217,14 @@ impl Aggregates {
             ability,
             ability_counts: counts,
             infraction_routes: inf,
+            protocols: crate::route::protocol::aggregate::ProtocolScores::over(
+                routes.iter().filter_map(|r| {
+                    r.protocols
+                        .as_ref()
+                        .map(|p| (r.score_route.unwrap_or(0.0), p))
+                }),
+                n,
+            ),
         }
     }
 }

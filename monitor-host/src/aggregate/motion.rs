@@ -11,7 +11,7 @@
 
 use serde::Serialize;
 
-use crate::aggregate::aggregates::Counts;
+use crate::aggregate::counts::Counts;
 use crate::input::record::KNOWN_LISTS;
 use crate::route::row::RouteReport;
 

@@ -127,7 +127,10 @@ pub fn assemble(
     let mut summary = summarize(outcomes, &counted, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
     let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
-    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
+    summary.protocols = all.protocols.clone();
+    let mut b2d = Bench2Drive::new(&all, &routes, ability_missing);
+    b2d.ability_rule = settings.ability_rule.name();
+    summary.bench2drive = Some(b2d);
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),

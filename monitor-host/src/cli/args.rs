@@ -197,6 +197,11 @@ pub struct ScoreArgs {
     /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Also score every route under these protocols (spec §8.4): comma-separated ids of
+    /// `b2d`, `lb2.0`, `lb2.1`, `lead-nds`, `f2d`, or `all` (setting `protocols`). The recorded
+    /// events under other arithmetic, not a re-run: see docs/PROTOCOLS.md.
+    #[arg(long = "protocol", value_name = "LIST|all")]
+    pub protocol: Option<String>,
     /// Also write every aligned collision's trace (§10.2) into DIR, as
     /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
     #[arg(long, value_name = "DIR")]
@@ -241,6 +246,11 @@ pub struct CompareArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Also score every route under these protocols (spec §8.4): comma-separated ids of
+    /// `b2d`, `lb2.0`, `lb2.1`, `lead-nds`, `f2d`, or `all` (setting `protocols`). The recorded
+    /// events under other arithmetic, not a re-run: see docs/PROTOCOLS.md.
+    #[arg(long = "protocol", value_name = "LIST|all")]
+    pub protocol: Option<String>,
 }
 
 /// Subcommands.

@@ -306,6 +306,9 @@ pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
     }
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
+    if let Some(list) = &args.protocol {
+        s.set("protocols", list)?;
+    }
     s.apply(&args.set)?;
     Ok(s)
 }
@@ -510,6 +513,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         set: vec![],
         jobs: None,
         traces: None,
+        protocol: None,
     }
 }
 
@@ -674,6 +678,9 @@ fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
     s.expected_routes = args.expected_routes;
     s.allow_missing_telemetry = args.allow_missing_telemetry;
     s.threads = args.jobs;
+    if let Some(list) = &args.protocol {
+        s.set("protocols", list)?;
+    }
     s.apply(&args.set)?;
     Ok(s)
 }

@@ -13,6 +13,9 @@ use std::path::{Path, PathBuf};
 
 use crate::input::record::LoadedRecord;
 
+/// How many ids a list in a warning or a note names before it says how many more there are.
+pub const IDS_SHOWN: usize = 10;
+
 /// What to do when two records share a `route_id` **\[decision\]**.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum DuplicatePolicy {
@@ -250,15 +253,11 @@ impl std::fmt::Display for DuplicatesError {
                 "\n  {} route id(s) also have copies in other files:",
                 other.len()
             )?;
-            for d in other.iter().take(crate::warning::IDS_SHOWN) {
+            for d in other.iter().take(IDS_SHOWN) {
                 write!(f, "\n    {d}")?;
             }
-            if other.len() > crate::warning::IDS_SHOWN {
-                write!(
-                    f,
-                    "\n    ... and {} more",
-                    other.len() - crate::warning::IDS_SHOWN
-                )?;
+            if other.len() > IDS_SHOWN {
+                write!(f, "\n    ... and {} more", other.len() - IDS_SHOWN)?;
             }
         }
         Ok(())

@@ -5,6 +5,7 @@
 
 use crate::aggregate::report::Report;
 use crate::report::escape::csv_cell;
+use crate::report::protocol_csv;
 use crate::route::row::RouteReport;
 
 /// The header line's columns.
@@ -117,13 +118,19 @@ fn row(r: &RouteReport) -> [String; 35] {
     ]
 }
 
-/// One CSV line per route, after a header line ([`COLUMNS`]); empty cells for absent values.
+/// One CSV line per route, after a header line ([`COLUMNS`], then the asked protocols'
+/// columns, [`protocol_csv::route_columns`]); empty cells for absent values.
 pub fn csv(report: &Report) -> Vec<u8> {
     let mut w = ::csv::Writer::from_writer(Vec::new());
     // Writing to memory cannot fail; an error here would be a bug in the csv crate.
-    let _ = w.write_record(COLUMNS);
+    let asked = &report.config.protocols;
+    let mut header: Vec<String> = COLUMNS.iter().map(|c| c.to_string()).collect();
+    header.extend(protocol_csv::route_columns(asked));
+    let _ = w.write_record(&header);
     for r in &report.routes {
-        let _ = w.write_record(row(r));
+        let mut cells = row(r).to_vec();
+        cells.extend(protocol_csv::route_cells(r.protocols.as_ref(), asked));
+        let _ = w.write_record(cells);
     }
     w.into_inner().unwrap_or_default()
 }
@@ -166,6 +173,8 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
     let mut header: Vec<String> = GROUP_COLUMNS.iter().map(|c| c.to_string()).collect();
     header.extend(ABILITIES.iter().map(|(n, _)| n.to_string()));
     header.extend(lists.iter().map(|l| format!("routes_with_{l}")));
+    let asked = &report.config.protocols;
+    header.extend(protocol_csv::group_columns(asked));
     let line = |label: &str, a: &Aggregates| {
         let ab = a.ability.clone().unwrap_or_default();
         let mut row = vec![
@@ -188,6 +197,7 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
         ];
         row.extend(ab.rates().into_iter().map(o));
         row.extend(lists.iter().map(|l| a.infraction_routes.get(l).to_string()));
+        row.extend(protocol_csv::group_cells(a.protocols.as_ref(), asked));
         row
     };
     let mut w = ::csv::Writer::from_writer(Vec::new());

@@ -7,6 +7,7 @@
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
 //! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
+//! | the scoring-protocol table (§8.4) | [`protocol_table`] |
 //! | a table's text, Markdown and LaTeX renderings | [`grid`] |
 //! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
 //! | a collision trace as CSV | [`trace_csv`] |
@@ -20,6 +21,8 @@ pub mod figure;
 pub mod grid;
 pub mod html;
 pub mod json;
+pub mod protocol_csv;
+pub mod protocol_table;
 pub mod table;
 pub mod trace_csv;
 

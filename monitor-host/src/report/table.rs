@@ -35,8 +35,9 @@ fn pct(x: Option<f64>) -> String {
 /// Bench2Drive's main table: DS, SR (%), efficiency, comfortness (smoothness × 100), the five
 /// ability rates (%) in the paper's column order, and their mean.
 pub fn bench2drive_table(report: &Report) -> Grid {
+    let rule = report.config.ability_rule.name();
     let mut g = Grid::new(
-        "Bench2Drive: closed-loop metrics and multi-ability (%)",
+        &format!("Bench2Drive: closed-loop metrics and multi-ability (%), ability rule {rule}"),
         [
             "DS",
             "SR(%)",
@@ -96,9 +97,14 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         towns.sort_unstable();
         towns.dedup();
         g.note(format!(
-            "Traffic_Signs: {} failed route(s) whose junction credit is undecided (no map; towns {}) \
+            "Traffic_Signs: {} {}route(s) whose junction credit is undecided (no map; towns {}) \
              count as failed: see summary.bench2drive.ability_undecided",
             b.ability_undecided.len(),
+            if b.ability_rule == "b2d-0.0.4" {
+                "failed "
+            } else {
+                ""
+            },
             towns.join(", ")
         ));
     }
@@ -274,6 +280,7 @@ pub fn table3(report: &Report, extra: &[String]) -> Option<Grid> {
 /// Every table of a report, in order.
 pub fn report_tables(report: &Report, options: &TableOptions) -> Vec<Grid> {
     let mut out = vec![bench2drive_table(report), table1(report)];
+    out.extend(crate::report::protocol_table::protocol_table(report));
     out.extend(table2(report));
     out.extend(table3(report, &options.extra_infractions));
     // A subset's figures are not the benchmark's: every table says so.

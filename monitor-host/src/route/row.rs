@@ -21,6 +21,8 @@ use crate::pipeline::timeline::ChunkLog;
 use crate::route::ability::{route_ability, RouteAbility};
 use crate::route::efficiency::route_efficiency;
 use crate::route::penalty::check_penalty;
+use crate::route::protocol::ability_rule::apply_rule;
+use crate::route::protocol::route::{score_record, RouteProtocols};
 use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -173,6 +175,9 @@ pub struct RouteReport {
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
     pub ds_safe: Option<f64>,
+    /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<RouteProtocols>,
     /// `ok`, `missing` or `invalid: <reason>`.
     pub telemetry: TelemetryState,
     /// `scored`, `missing`, `foreign` or `invalid` (spec section 10.1).
@@ -279,6 +284,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
+        protocols: None,
         telemetry: o.telemetry.clone(),
         reason: o
             .state()
@@ -333,6 +339,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         comfort: ComfortReport::default(),
         p_safe: None,
         ds_safe: Some(0.0),
+        protocols: None,
         smoothness: None,
         efficiency: None,
         ability: None,
@@ -390,12 +397,26 @@ pub fn route_rows(
             };
             let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
             let town = rec.town_name.as_deref().unwrap_or(&xml.town);
-            r.ability = Some(route_ability(rec, scenario, || {
-                junction_samples(maps, xml, town, settings.gap_max)
-            }));
+            let samples = || junction_samples(maps, xml, town, settings.gap_max);
+            let a = route_ability(rec, scenario, samples);
+            r.ability = Some(apply_rule(settings.ability_rule, a, rec, samples));
         }
     }
     routes.extend(missing.iter().map(missing_report));
+    if !settings.protocols.is_empty() {
+        // Protocols read records only (§8.4); missing routes and invalid records score 0.
+        let asked = &settings.protocols;
+        for (i, r) in routes.iter_mut().enumerate() {
+            r.protocols = Some(match outcomes.get(i).and_then(|o| o.record()) {
+                Some(rec) => {
+                    let (p, w) = score_record(rec, asked);
+                    r.warnings.extend(w);
+                    p
+                }
+                None => RouteProtocols::without_record(asked),
+            });
+        }
+    }
     routes
 }
 

@@ -85,6 +85,7 @@ def score(
     labels: Optional[PathLike] = None,
     jobs: Optional[int] = None,
     progress: bool = False,
+    protocols: Optional[Sequence[str]] = None,
 ) -> Dict[str, Any]:
     """Scores a run; returns the report of ``sds score --format json`` as a dict.
 
@@ -114,6 +115,10 @@ def score(
             train/test split). ``family`` and ``route`` need one.
         jobs: Worker threads (``--jobs``).
         progress: Draw a progress bar on standard error (when it is a terminal).
+        protocols: Also score every route under these scoring protocols: ids among ``"b2d"``,
+            ``"lb2.0"``, ``"lb2.1"``, ``"lead-nds"``, ``"f2d"``, or ``["all"]`` (``--protocol``;
+            the report's per-route and summary ``protocols``). The recorded events under other
+            arithmetic, not a re-run.
 
     Returns:
         The report (``schema``, ``profile``, ``config``, ``routes``, ``summary``, ``warnings``).
@@ -149,6 +154,13 @@ def score(
         args += ["--expected-routes", str(int(expected_routes))]
     if allow_missing_telemetry:
         args.append("--allow-missing-telemetry")
+    if protocols is not None:
+        if isinstance(protocols, str):
+            raise ConfigError(
+                f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
+            )
+        _feature("protocol", "protocols", 24)
+        args += ["--protocol", ",".join(protocols)]
     for pair in _sds.settings_args(settings):
         args += ["--set", pair]
     if group_by is not None:

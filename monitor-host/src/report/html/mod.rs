@@ -74,6 +74,9 @@ pub fn compare_page(c: &Comparison, runs: &[crate::aggregate::compare::NamedRun]
         ));
         grid(&mut body, &table::bench2drive_table(&r.report));
         grid(&mut body, &table::table1(&r.report));
+        if let Some(g) = crate::report::protocol_table::protocol_table(&r.report) {
+            grid(&mut body, &g);
+        }
         body.push_str("</section>\n");
     }
     body.push_str("</div>\n");

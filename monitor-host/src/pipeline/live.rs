@@ -11,8 +11,8 @@
 //! use monitor_host::pipeline::live::{LiveFrames, Tick};
 //! use monitor_host::Settings;
 //!
-//! // A straight route along x; the ego drives 0.5 m beside it.
-//! let route = [[0.0, 0.0, 0.0], [100.0, 0.0, 0.0]];
+//! // A straight route along x (waypoints 5 m apart); the ego drives 0.5 m beside it.
+//! let route = [[0.0, 0.0, 0.0], [5.0, 0.0, 0.0], [10.0, 0.0, 0.0]];
 //! let mut live = LiveFrames::new(Some(&route), None, &Settings::default())?;
 //! let tick = |x: f64| Tick {
 //!     acceleration: [0.5, 0.0, 9.8], angular_velocity: [0.0, 0.0, 2.0],

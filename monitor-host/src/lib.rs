@@ -76,6 +76,7 @@ pub mod reference;
 pub mod report;
 pub mod route;
 pub mod run;
+pub mod scored;
 pub mod settings;
 pub mod warning;
 
@@ -90,5 +91,6 @@ pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
-pub use settings::{Settings, SettingsError};
+pub use scored::{score_labelled, LabelFiles, Scored};
+pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;

@@ -265,12 +265,40 @@ impl Settings {
     /// # Errors
     /// As [`Settings::set`], or [`SettingsError::Syntax`] for text without `=`.
     pub fn apply(&mut self, overrides: &[String]) -> Result<(), SettingsError> {
+        let pairs = overrides
+            .iter()
+            .map(|s| {
+                s.split_once('=')
+                    .ok_or_else(|| SettingsError::Syntax(s.clone()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        self.apply_pairs(pairs)
+    }
+
+    /// Applies `(NAME, VALUE)` overrides in order, then validates once (so a pair may pass
+    /// through a state that only a later pair makes valid); nothing changes on an error. What
+    /// [`Settings::apply`] does after splitting `NAME=VALUE`, for front ends that hold names and
+    /// values apart (the Python `settings={...}` mapping).
+    ///
+    /// ```
+    /// use monitor_host::Settings;
+    /// let mut s = Settings::default();
+    /// s.apply_pairs([("slack", "0.9"), ("bounds.yaw_rate", "1.0")])?;
+    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+    /// assert!(s.apply_pairs([("slack", "1.0"), ("nope", "1")]).is_err());
+    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+    /// # Ok::<(), monitor_host::SettingsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Settings::set`].
+    pub fn apply_pairs<N: AsRef<str>, V: AsRef<str>>(
+        &mut self,
+        pairs: impl IntoIterator<Item = (N, V)>,
+    ) -> Result<(), SettingsError> {
         let mut next = self.clone();
-        for s in overrides {
-            let (name, value) = s
-                .split_once('=')
-                .ok_or_else(|| SettingsError::Syntax(s.clone()))?;
-            next.set_unchecked(name, value)?;
+        for (name, value) in pairs {
+            next.set_unchecked(name.as_ref(), value.as_ref())?;
         }
         next.validate()?;
         *self = next;
@@ -885,5 +913,73 @@ mod tests {
             e.contains("bounds.yaw_rate") && e.contains("penalty_flavour"),
             "{e}"
         );
+    }
+}
+
+/// The options every front end of a scored run shares (`sds score`, `sds compare`, the Python
+/// `sds.score`), before the overrides by name: one mapping to [`Settings`] for all of them.
+///
+/// ```
+/// use monitor_core::Profile;
+/// use monitor_host::settings::RunOptions;
+///
+/// let options = RunOptions {
+///     profile: Profile::B2dLegacy,
+///     expected_routes: Some(220),
+///     overrides: vec![("slack".into(), "0.9".into())],
+///     ..RunOptions::default()
+/// };
+/// let s = options.settings()?;
+/// assert_eq!((s.core.profile, s.expected_routes), (Profile::B2dLegacy, Some(220)));
+/// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+/// # Ok::<(), monitor_host::SettingsError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunOptions {
+    /// The comfort profile.
+    pub profile: Profile,
+    /// Benchmark size N.
+    pub expected_routes: Option<usize>,
+    /// The duplicate policy (`None`: the setting's default, or an override's).
+    pub duplicates: Option<DuplicatePolicy>,
+    /// Score routes without telemetry without telemetry terms.
+    pub allow_missing_telemetry: bool,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Overrides by name, applied in order after the options above (`--set NAME=VALUE`).
+    pub overrides: Vec<(String, String)>,
+}
+
+impl Default for RunOptions {
+    /// The defaults: physical profile, no option given, no override.
+    fn default() -> Self {
+        RunOptions {
+            profile: Profile::Physical,
+            expected_routes: None,
+            duplicates: None,
+            allow_missing_telemetry: false,
+            threads: None,
+            overrides: Vec::new(),
+        }
+    }
+}
+
+impl RunOptions {
+    /// The settings: the defaults, the options, then the overrides in order, validated.
+    ///
+    /// # Errors
+    /// An override that names no setting or whose value does not parse, or settings that do
+    /// not validate.
+    pub fn settings(&self) -> Result<Settings, SettingsError> {
+        let mut s = Settings::default();
+        s.core.profile = self.profile;
+        s.expected_routes = self.expected_routes;
+        if let Some(d) = self.duplicates {
+            s.duplicates = d;
+        }
+        s.allow_missing_telemetry = self.allow_missing_telemetry;
+        s.threads = self.threads;
+        s.apply_pairs(self.overrides.iter().map(|(n, v)| (n, v)))?;
+        Ok(s)
     }
 }

@@ -14,7 +14,7 @@ use crate::input::record::Record;
 use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::Telemetry;
 use crate::pipeline::align::{self, EventRef};
-use crate::pipeline::frame::FrameBuilder;
+use crate::pipeline::live::LiveFrames;
 use crate::pipeline::motion::{self, Motion};
 use crate::pipeline::outcome::CollisionEvent;
 use crate::settings::{decimal, Settings};
@@ -98,7 +98,7 @@ pub fn prepare_with(
     let locations = tel.locations();
 
     let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
-    let mut corridor = Corridor::new(reference, map, settings);
+    let corridor = Corridor::new(reference, map, settings);
 
     let parsed = collision_events(record);
     let refs: Vec<EventRef> = parsed
@@ -137,18 +137,18 @@ pub fn prepare_with(
         usize::from(settings.core.chunk_len),
         usize::from(settings.core.min_chunk),
     );
-    let mut builder = FrameBuilder::new(settings.core.dt);
+    let mut live = LiveFrames::with_corridor(corridor, settings.core.dt);
     let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
     let frames: Vec<Frame> = tel
         .frames
         .iter()
         .zip(collisions)
         .map(|(f, c)| {
-            let sample = corridor.sample(f.location, f.z);
+            let (frame, sample) = live.build(f, c);
             if keep_lateral {
                 lateral.push(sample);
             }
-            builder.push(f, sample.map(|s| s.value), c)
+            frame
         })
         .collect();
     // The impact speed is the frame's speed (f64, rounded to f32 once).
@@ -159,7 +159,7 @@ pub fn prepare_with(
         frames,
         steps,
         events,
-        reference: corridor.kind(),
+        reference: live.reference(),
         lateral,
         motion,
     }

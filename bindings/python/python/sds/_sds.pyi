@@ -1,5 +1,6 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
+import os
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
 
 __version__: str
@@ -28,16 +29,9 @@ class FeatureUnavailableError(SdsError):
 def cli_main(argv: Sequence[str]) -> int:
     """Runs the ``sds`` command line with ``argv`` (program name first); returns its status."""
 
-def score_json(args: Sequence[str], progress: bool = False) -> str:
-    """Scores a run given the arguments of ``sds score``; returns the JSON report's text."""
-
-def score_options() -> List[str]:
-    """The long names of the options ``sds score`` has in this build."""
-
-def settings_args(
-    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
-) -> List[str]:
-    """``name=value`` pairs of a settings mapping, as ``--set`` takes them."""
+def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
+    """Scores a run through the library; ``options`` holds every keyword argument of
+    ``sds.score`` but ``results``, by name. Returns the report (see ``sds.score``)."""
 
 class Monitor:
     """The streaming monitor of one route (see ``sds.Monitor``)."""
@@ -49,6 +43,9 @@ class Monitor:
         settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
         *,
         route: Optional[Iterable[Any]] = None,
+        maps: Optional[Union[str, "os.PathLike[str]"]] = None,
+        town: Optional[str] = None,
+        lateral_reference: Optional[str] = None,
     ) -> "Monitor": ...
     def push(
         self,
@@ -93,6 +90,10 @@ class Monitor:
     @property
     def finished(self) -> bool:
         """True once ``finish`` has run."""
+    @property
+    def reference(self) -> str:
+        """What the lateral error is measured against: ``map-route``, ``xml``, ``map-lane`` or
+        ``none``."""
     @property
     def config(self) -> Dict[str, Any]:
         """The monitor's configuration."""

@@ -178,7 +178,7 @@ fn run(cli: Cli) -> Result<i32> {
                 traces: Some(dir.join("traces")),
                 ..demo_args(&run)
             })?;
-            eprintln!("sds: the demo's HTML report: {}", html.display());
+            say!("sds: the demo's HTML report: {}", html.display());
             if code != 0 {
                 return Ok(code);
             }
@@ -520,7 +520,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;
-        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
 
     // The exit status comes from the report's data, never from its rendering.

@@ -161,11 +161,9 @@ pub fn table2(report: &Report) -> Option<Grid> {
 /// aggregates.
 fn group_rows(g: &mut Grid, groups: &Groups, cells: impl Fn(&str, &Aggregates) -> Vec<String>) {
     for r in &groups.rows {
-        // Group labels come from the inputs (scenario names, label files).
-        g.rows.push(cells(
-            &crate::report::escape::printable(&r.label),
-            &r.aggregates,
-        ));
+        // Group labels come from the inputs (scenario names, label files): every cell is
+        // escaped when the grid is rendered.
+        g.rows.push(cells(&r.label, &r.aggregates));
     }
     g.total = Some(cells("Combined", &groups.combined));
 }

@@ -1,0 +1,287 @@
+//! Reliability, round 2 (issue 29): what an adversarial trial of the HTML page, the traces, the
+//! maps, the label files, `sds compare` and the Python package found, one test per finding
+//! (`docs/RELIABILITY.md`). Each test builds the demo run in a temporary folder, breaks it the
+//! way the finding did, and checks the fixed behaviour.
+
+mod common;
+
+use std::fs;
+use std::path::PathBuf;
+use std::process::Output;
+
+use serde_json::{json, Value};
+
+use common::sds;
+
+/// The demo run in a temporary folder, and its records (raw evaluator values).
+struct Run {
+    tmp: tempfile::TempDir,
+    records: Vec<Value>,
+}
+
+impl Run {
+    fn new() -> Run {
+        let tmp = tempfile::tempdir().unwrap();
+        common::demo(tmp.path());
+        let doc: Value =
+            serde_json::from_slice(&fs::read(tmp.path().join("results.json")).unwrap()).unwrap();
+        let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
+        Run { tmp, records }
+    }
+
+    fn path(&self, p: &str) -> PathBuf {
+        self.tmp.path().join(p)
+    }
+
+    fn s(&self, p: &str) -> String {
+        self.path(p).to_str().unwrap().to_string()
+    }
+
+    /// Writes `records` as a raw evaluator file `name` in the run's folder.
+    fn write(&self, name: &str, records: &[Value]) -> String {
+        let doc = json!({
+            "_checkpoint": {"global_record": {}, "progress": [records.len(), records.len()],
+                            "records": records},
+            "entry_status": "Finished", "eligible": true, "sensors": [], "values": [], "labels": []
+        });
+        let p = self.path(name);
+        fs::write(&p, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+        p.to_str().unwrap().to_string()
+    }
+
+    /// `sds score --results results --telemetry <demo's>` and `extra`.
+    fn score(&self, results: &str, extra: &[&str]) -> Output {
+        let telemetry = self.s("telemetry");
+        let mut args = vec!["score", "--results", results, "--telemetry", &telemetry];
+        args.extend_from_slice(extra);
+        sds(&args)
+    }
+}
+
+fn code(o: &Output) -> i32 {
+    o.status.code().expect("sds was killed by a signal")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    text(&o.stderr)
+}
+
+/// Every cell of a CSV text.
+fn csv_cells(b: &[u8]) -> Vec<Vec<String>> {
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .from_reader(b)
+        .records()
+        .map(|r| r.unwrap().iter().map(str::to_string).collect())
+        .collect()
+}
+
+/// A CSV cell a spreadsheet would run as a formula: it starts with `=`, `+`, `-`, `@`, TAB or CR
+/// and is not a number.
+fn is_formula(cell: &str) -> bool {
+    cell.starts_with(['=', '+', '-', '@', '\t', '\r']) && cell.parse::<f64>().is_err()
+}
+
+/// Finding 1: `--group-by ... --format csv` wrote group labels raw.
+#[test]
+fn grouped_csv_neutralises_formulas_in_every_cell() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    let evil = [
+        "=HYPERLINK(\"http://x\")",
+        "+cmd|' /C calc'!A0",
+        "@SUM(A1)",
+        "\tTAB",
+        "-2+3+cmd|' /C calc'!A0",
+    ];
+    for (r, e) in recs.iter_mut().zip(evil) {
+        r["scenario_name"] = json!(format!("{e}_1"));
+        r["town_name"] = json!(e);
+        r["weather_id"] = json!(e);
+    }
+    let results = run.write("evil.json", &recs);
+    let labels = run.path("labels.csv");
+    fs::write(
+        &labels,
+        "id,label\nRouteScenario_900001_rep0,\"-2+3+cmd|' /C calc'!A0\"\nRouteScenario_900002_rep0,=1+1\n",
+    )
+    .unwrap();
+    let labels = labels.to_str().unwrap();
+    for by in [
+        &["--group-by", "scenario"][..],
+        &["--group-by", "town"],
+        &["--group-by", "weather"],
+        &["--group-by", "route", "--labels", labels],
+    ] {
+        let mut args = vec!["--format", "csv"];
+        args.extend_from_slice(by);
+        let o = run.score(&results, &args);
+        assert_eq!(code(&o), 0, "{by:?}: {}", stderr(&o));
+        let cells = csv_cells(&o.stdout);
+        assert!(cells.len() > 2, "{by:?}");
+        for row in &cells {
+            for c in row {
+                assert!(!is_formula(c), "{by:?}: formula cell {c:?} in {row:?}");
+            }
+        }
+        // The labels are kept, as text.
+        let out = text(&o.stdout);
+        assert!(
+            out.contains("'=HYPERLINK") || out.contains("'-2+3+cmd"),
+            "{by:?}: {out}"
+        );
+    }
+    // The per-route CSV too.
+    let o = run.score(&results, &["--format", "csv"]);
+    for row in csv_cells(&o.stdout) {
+        for c in &row {
+            assert!(!is_formula(c), "per-route: formula cell {c:?}");
+        }
+    }
+}
+
+/// The characters that make text read as other text: bidi embeddings, overrides and isolates,
+/// zero-width characters and marks, the BOM, and control characters.
+const HIDDEN: [char; 9] = [
+    '\u{202e}', '\u{202a}', '\u{2066}', '\u{2069}', '\u{200b}', '\u{200f}', '\u{feff}', '\u{1b}',
+    '\u{7}',
+];
+
+fn assert_no_hidden(what: &str, s: &str) {
+    for c in HIDDEN {
+        assert!(!s.contains(c), "{what}: raw {:?} in the output", c);
+    }
+}
+
+/// Finding 2: bidi and invisible format characters reached the page, tables, Markdown, LaTeX,
+/// CSV and stderr raw, so a route id could be made to read as another; the per-route CSV kept
+/// ESC raw.
+#[test]
+fn bidi_and_invisible_characters_are_escaped_in_every_rendering() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    recs[0]["route_id"] = json!("RouteScenario_1\u{202e}01_rep0\u{1b}[2K");
+    recs[0]["town_name"] = json!("Town\u{2066}05\u{2069}");
+    recs[0]["scenario_name"] = json!("Acc\u{200b}ident\u{feff}_1");
+    recs[0]["weather_id"] = json!("1\u{202a}\u{7}");
+    recs[0]["status"] = json!("Completed\u{200f}");
+    // A route without telemetry: its id is printed on stderr.
+    recs[1]["route_id"] = json!("RouteScenario_2\u{202e}02_rep0\u{1b}]0;x\u{7}");
+    recs[1]["save_name"] = json!("nowhere\u{202e}");
+    let results = run.write("bidi.json", &recs);
+    let labels = run.path("labels.json");
+    fs::write(
+        &labels,
+        serde_json::to_vec(&json!({"RouteScenario_900003_rep0": "hard\u{202e}easy"})).unwrap(),
+    )
+    .unwrap();
+    let labels = labels.to_str().unwrap();
+    for format in ["csv", "table", "markdown", "latex", "html"] {
+        for by in [
+            &[][..],
+            &["--group-by", "town"],
+            &["--group-by", "weather"],
+            &["--group-by", "scenario"],
+            &["--group-by", "route", "--labels", labels],
+        ] {
+            let mut args = vec!["--format", format];
+            args.extend_from_slice(by);
+            let o = run.score(&results, &args);
+            assert_eq!(code(&o), 3, "{format} {by:?}: {}", stderr(&o));
+            let what = format!("{format} {by:?}");
+            assert_no_hidden(&format!("{what} stdout"), &text(&o.stdout));
+            assert_no_hidden(&format!("{what} stderr"), &stderr(&o));
+        }
+    }
+    let o = run.score(&results, &["--format", "csv"]);
+    let out = text(&o.stdout);
+    assert!(
+        out.contains("RouteScenario_1\\u{202e}01_rep0\\u{1b}[2K"),
+        "{out}"
+    );
+    assert!(
+        stderr(&o).contains("RouteScenario_2\\u{202e}02_rep0"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// Finding 3: a table cell of 65,536+ characters aborted `--format table` (a u16 format width).
+#[test]
+fn a_table_cell_of_any_length_renders() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    let long = "x".repeat(70_000);
+    recs[0]["scenario_name"] = json!(format!("{long}_1"));
+    recs[1]["town_name"] = json!(long);
+    recs[2]["weather_id"] = json!(format!("w{long}"));
+    let results = run.write("long.json", &recs);
+    let labels = run.path("labels.csv");
+    fs::write(&labels, format!("RouteScenario_900004_rep0,L{long}\n")).unwrap();
+    let labels = labels.to_str().unwrap();
+    for format in ["table", "markdown", "latex", "html"] {
+        for by in [
+            &["--group-by", "scenario"][..],
+            &["--group-by", "town"],
+            &["--group-by", "weather"],
+            &["--group-by", "route", "--labels", labels],
+        ] {
+            let mut args = vec!["--format", format];
+            args.extend_from_slice(by);
+            let o = run.score(&results, &args);
+            assert_eq!(code(&o), 0, "{format} {by:?}: {}", stderr(&o));
+            assert!(text(&o.stdout).contains(&long), "{format} {by:?}");
+        }
+    }
+    // A run name as long, in `sds compare`.
+    let name = format!("{}=", "r".repeat(70_000));
+    let a = format!("{name}{}", run.s("results.json"));
+    let o = sds(&[
+        "compare",
+        &a,
+        &run.s("results.json"),
+        "--allow-missing-telemetry",
+        "--format",
+        "table",
+    ]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(text(&o.stdout).contains(&"r".repeat(70_000)));
+}
+
+/// Finding 14: a control character in a route id made the standalone trace SVG malformed XML.
+#[test]
+fn a_control_character_in_a_route_id_leaves_the_trace_svg_well_formed() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    for (i, r) in recs.iter_mut().enumerate() {
+        let id = r["route_id"].as_str().unwrap().to_string();
+        r["route_id"] = json!(format!("{id}\u{1}\u{8}<&\u{202e}"));
+        // The telemetry under a save_name that names no route.
+        let from = run.path("telemetry").join(r["save_name"].as_str().unwrap());
+        let to = run.path("telemetry").join(format!("t{i}"));
+        fs::create_dir_all(&to).unwrap();
+        fs::copy(from.join("metric_info.json"), to.join("metric_info.json")).unwrap();
+        r["save_name"] = json!(format!("t{i}"));
+    }
+    let results = run.write("ctl.json", &recs);
+    let traces = run.s("traces");
+    let o = run.score(&results, &["--traces", &traces, "-o", &run.s("r.json")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let mut svgs = 0;
+    for e in fs::read_dir(&traces).unwrap() {
+        let p = e.unwrap().path();
+        if p.extension().is_some_and(|x| x == "svg") {
+            let s = fs::read_to_string(&p).unwrap();
+            roxmltree::Document::parse(&s)
+                .unwrap_or_else(|e| panic!("{}: not well-formed XML: {e}", p.display()));
+            assert_no_hidden(&p.display().to_string(), &s);
+            svgs += 1;
+        }
+    }
+    assert!(svgs > 0, "no trace written");
+}

@@ -285,3 +285,129 @@ fn a_control_character_in_a_route_id_leaves_the_trace_svg_well_formed() {
     }
     assert!(svgs > 0, "no trace written");
 }
+
+/// The JSON report of `sds score`, which must exit with `expect`.
+fn report(o: &Output, expect: i32) -> Value {
+    assert_eq!(code(o), expect, "{}", stderr(o));
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("not JSON: {e}"))
+}
+
+/// Moves every geometry of an OpenDRIVE text by `dy` metres across (its `y="..."`).
+fn move_map(xodr: &str, dy: f64) -> String {
+    let mut out = String::new();
+    let mut rest = xodr;
+    while let Some(i) = rest.find(" y=\"") {
+        out.push_str(&rest[..i + 4]);
+        rest = &rest[i + 4..];
+        let j = rest.find('"').unwrap();
+        let x: f64 = rest[..j].parse().unwrap();
+        out.push_str(&(x + dy).to_string());
+        rest = &rest[j..];
+    }
+    out + rest
+}
+
+/// Finding 4: a map that serves no route (no roads, no driving lane, or the right map moved
+/// 40 m: a wrong town) was used silently: every route `map-route` / `map-lane`, the lateral
+/// penalty gone under `lane`, or every chunk critical. Now it is reported per route, with the
+/// distance, and not used: the routes score as without a map.
+#[test]
+fn a_map_that_serves_no_route_is_reported_per_route_and_not_used() {
+    let run = Run::new();
+    let results = run.s("results.json");
+    let routes = run.s("routes.xml");
+    let good = fs::read_to_string(run.path("maps/DemoTown.xodr")).unwrap();
+    let variants = [
+        ("moved", move_map(&good, 40.0), "does not serve"),
+        (
+            "no-roads",
+            "<OpenDRIVE><header revMajor=\"1\" revMinor=\"4\"/></OpenDRIVE>".to_string(),
+            "has no driving lane",
+        ),
+        (
+            "no-driving-lane",
+            good.replace("type=\"driving\"", "type=\"sidewalk\""),
+            "has no driving lane",
+        ),
+    ];
+    for lateral in ["route", "lane"] {
+        let set = format!("lateral_reference={lateral}");
+        let base = report(
+            &run.score(&results, &["--routes", &routes, "--set", &set]),
+            0,
+        );
+        let with_good = report(
+            &run.score(
+                &results,
+                &["--routes", &routes, "--set", &set, "--maps", &run.s("maps")],
+            ),
+            0,
+        );
+        assert!(
+            with_good["routes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|r| r["lateral"]["reference"] != "xml"),
+            "the demo's own map serves its routes"
+        );
+        for (name, xodr, says) in &variants {
+            let dir = run.path(&format!("maps-{name}"));
+            fs::create_dir_all(&dir).unwrap();
+            fs::write(dir.join("DemoTown.xodr"), xodr).unwrap();
+            let o = run.score(
+                &results,
+                &[
+                    "--routes",
+                    &routes,
+                    "--set",
+                    &set,
+                    "--maps",
+                    dir.to_str().unwrap(),
+                ],
+            );
+            let r = report(&o, 0);
+            let warnings: Vec<String> = r["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|w| w.as_str().unwrap().to_string())
+                .collect();
+            for route in r["routes"].as_array().unwrap() {
+                let id = route["route_id"].as_str().unwrap();
+                assert_eq!(
+                    route["lateral"]["reference"], "xml",
+                    "{name} {lateral}: {id}"
+                );
+                assert!(
+                    warnings
+                        .iter()
+                        .any(|w| w.contains(id) && w.contains(says) && w.contains("DemoTown.xodr")),
+                    "{name} {lateral}: no warning for {id}: {warnings:#?}"
+                );
+            }
+            if *name == "moved" {
+                assert!(
+                    warnings
+                        .iter()
+                        .any(|w| w.contains(" m (median) from the nearest")),
+                    "{warnings:#?}"
+                );
+            }
+            // Scored as without a map.
+            assert_eq!(
+                r["summary"]["sds"], base["summary"]["sds"],
+                "{name} {lateral}"
+            );
+            for (a, b) in r["routes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .zip(base["routes"].as_array().unwrap())
+            {
+                assert_eq!(a["lateral"]["critical"], b["lateral"]["critical"], "{name}");
+                assert_eq!(a["ds_safe"], b["ds_safe"], "{name} {lateral}");
+            }
+        }
+    }
+}

@@ -411,3 +411,142 @@ fn a_map_that_serves_no_route_is_reported_per_route_and_not_used() {
         }
     }
 }
+
+/// One road `length` m long with `shape` as its only geometry, `lanes` right lanes of width
+/// record `width`, and the road's `junction` attribute.
+fn one_road(length: f64, shape: &str, lanes: usize, width: &str, junction: &str) -> String {
+    let right: String = (1..=lanes)
+        .map(|i| {
+            format!("<lane id=\"-{i}\" type=\"driving\"><width sOffset=\"0\" {width}/></lane>")
+        })
+        .collect();
+    format!(
+        "<OpenDRIVE><road id=\"1\" length=\"{length}\" junction=\"{junction}\">\
+         <planView><geometry s=\"0\" x=\"0\" y=\"0\" hdg=\"0\" length=\"{length}\">{shape}</geometry></planView>\
+         <lanes><laneSection s=\"0\"><center><lane id=\"0\" type=\"none\"/></center>\
+         <right>{right}</right></laneSection></lanes></road></OpenDRIVE>"
+    )
+}
+
+fn map_error(xodr: &str) -> String {
+    use monitor_host::geometry::map::Map;
+    match Map::parse(xodr, "hostile.xodr") {
+        Ok(_) => panic!("accepted: {}", &xodr[..xodr.len().min(300)]),
+        Err(e) => e.to_string(),
+    }
+}
+
+const W: &str = "a=\"3.5\" b=\"0\" c=\"0\" d=\"0\"";
+
+/// Finding 5: small maps, huge cost (an arc of curvature 1e300: 7-14 s per run; coiled over
+/// 99,999 m: past 60 s; a 10 KB road with 100 lanes: 2.9 GB). The work per map is bounded by
+/// its real extent: what no CARLA town has is refused, naming the road and geometry or lane
+/// section; CARLA's own towns still load.
+#[test]
+fn map_work_is_bounded_by_the_real_extent() {
+    use monitor_host::geometry::map::Map;
+    let e = map_error(&one_road(50.0, "<arc curvature=\"1e300\"/>", 1, W, "-1"));
+    assert!(
+        e.contains("hostile.xodr: road 1, geometry 0: curvature"),
+        "{e}"
+    );
+    let e = map_error(&one_road(99_999.0, "<arc curvature=\"0.1\"/>", 1, W, "-1"));
+    assert!(
+        e.contains("road 1, geometry 0") && e.contains("full circle"),
+        "{e}"
+    );
+    let e = map_error(&one_road(
+        99_999.0,
+        "<spiral curvStart=\"0\" curvEnd=\"0.01\"/>",
+        1,
+        W,
+        "-1",
+    ));
+    assert!(e.contains("full circle"), "{e}");
+    let e = map_error(&one_road(1000.0, "<line/>", 100, W, "-1"));
+    assert!(
+        e.contains("road 1, lane section 0") && e.contains("100 lanes"),
+        "{e}"
+    );
+    // 30 lanes of 100 km: 3,000 km of driving lanes.
+    let e = map_error(&one_road(99_999.0, "<line/>", 30, W, "-1"));
+    assert!(e.contains("km long, more than 2000 km"), "{e}");
+    // Within the bounds: a tight but real curve, a wide road.
+    let ok = one_road(5.0, "<arc curvature=\"0.8\"/>", 10, W, "-1");
+    assert_eq!(Map::parse(&ok, "ok.xodr").unwrap().lane_count(), 10);
+    // CARLA's towns (when the fixtures are present).
+    let maps = PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../shared/fixtures/maps"
+    ));
+    let towns: Vec<PathBuf> = fs::read_dir(&maps)
+        .map(|d| {
+            d.filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "xodr"))
+                .collect()
+        })
+        .unwrap_or_default();
+    if towns.is_empty() {
+        eprintln!("SKIP (CARLA towns): {} not found", maps.display());
+    }
+    for t in towns {
+        Map::load(&t).unwrap_or_else(|e| panic!("a CARLA town is refused: {e}"));
+    }
+}
+
+/// Finding 11: map numbers unchecked: lanes 1e300 m wide made the slack infinite (SDS up, 0
+/// critical; under `lane` the error blamed the telemetry), and `junction="777"` naming no
+/// junction was accepted.
+#[test]
+fn map_numbers_are_checked() {
+    let e = map_error(&one_road(
+        100.0,
+        "<line/>",
+        2,
+        "a=\"1e300\" b=\"0\" c=\"0\" d=\"0\"",
+        "-1",
+    ));
+    assert!(
+        e.contains("road 1, lane section 0, lane -1, width 0") && e.contains("m wide"),
+        "{e}"
+    );
+    // 3.5 m at both ends, 28.5 m in the middle.
+    let e = map_error(&one_road(
+        100.0,
+        "<line/>",
+        1,
+        "a=\"3.5\" b=\"1\" c=\"-0.01\" d=\"0\"",
+        "-1",
+    ));
+    assert!(e.contains("m wide"), "{e}");
+    let e = map_error(&one_road(100.0, "<line/>", 1, W, "777"));
+    assert!(
+        e.contains("road 1") && e.contains("junction=\"777\" names no <junction>"),
+        "{e}"
+    );
+    // Through the CLI: the run stops, naming the map file (never scored with it).
+    let run = Run::new();
+    let maps = run.path("wide-maps");
+    fs::create_dir_all(&maps).unwrap();
+    let good = fs::read_to_string(run.path("maps/DemoTown.xodr")).unwrap();
+    fs::write(
+        maps.join("DemoTown.xodr"),
+        good.replacen("a=\"3.5\"", "a=\"1e300\"", 1),
+    )
+    .unwrap();
+    let o = run.score(
+        &run.s("results.json"),
+        &[
+            "--routes",
+            &run.s("routes.xml"),
+            "--maps",
+            maps.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("DemoTown.xodr") && stderr(&o).contains("m wide"),
+        "{}",
+        stderr(&o)
+    );
+}

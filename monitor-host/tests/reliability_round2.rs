@@ -550,3 +550,214 @@ fn map_numbers_are_checked() {
         stderr(&o)
     );
 }
+
+/// Finding 6: under `--routes` an invalid record whose id is not in the XML was hidden as
+/// `foreign` (empty reason, exit 0); without `--routes` it is `invalid`, exit 3.
+#[test]
+fn an_invalid_record_stays_invalid_under_routes() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    recs[0]["route_id"] = json!("RouteScenario_424242_rep0");
+    recs[0]["scores"]["score_route"] = json!("oops");
+    let results = run.write("bad.json", &recs);
+    for extra in [&[][..], &["--routes", &run.s("routes.xml")]] {
+        let r = report(&run.score(&results, extra), 3);
+        let route = r["routes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|x| x["route_id"] == "RouteScenario_424242_rep0")
+            .unwrap_or_else(|| panic!("{extra:?}: the record is not in the report"));
+        assert_eq!(route["state"], "invalid", "{extra:?}: {route}");
+        assert!(
+            route["reason"].as_str().unwrap().contains("score_route"),
+            "{extra:?}: {route}"
+        );
+    }
+}
+
+/// Finding 7: a mistyped `--infraction` added a column of zeros.
+#[test]
+fn an_unknown_infraction_list_is_a_usage_error() {
+    let run = Run::new();
+    let o = run.score(
+        &run.s("results.json"),
+        &[
+            "--group-by",
+            "weather",
+            "--infraction",
+            "collisions_vehicel",
+        ],
+    );
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("collisions_vehicel") && e.contains("collisions_vehicle, collisions_layout"),
+        "{e}"
+    );
+    assert!(o.stdout.is_empty());
+    let o = run.score(
+        &run.s("results.json"),
+        &[
+            "--group-by",
+            "weather",
+            "--infraction",
+            "collisions_vehicle",
+            "--format",
+            "table",
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+}
+
+/// Copies each record's telemetry to a save_name that names no route (`t<i>`), so that its
+/// route id can be changed freely.
+fn free_ids(run: &Run, recs: &mut [Value]) {
+    for (i, r) in recs.iter_mut().enumerate() {
+        let from = run.path("telemetry").join(r["save_name"].as_str().unwrap());
+        let to = run.path("telemetry").join(format!("t{i}"));
+        fs::create_dir_all(&to).unwrap();
+        fs::copy(from.join("metric_info.json"), to.join("metric_info.json")).unwrap();
+        r["save_name"] = json!(format!("t{i}"));
+    }
+}
+
+/// The number `sds` says it wrote in "wrote N collision trace(s)".
+fn traces_announced(o: &Output) -> usize {
+    let e = stderr(o);
+    let i = e.find("wrote ").unwrap_or_else(|| panic!("{e}")) + 6;
+    e[i..].split(' ').next().unwrap().parse().unwrap()
+}
+
+/// Finding 8: trace file names collided when ids differ only in replaced characters or under
+/// `--duplicates all` (6 traces announced, 5 pairs on disk).
+#[test]
+fn trace_file_names_are_unique_and_the_count_true() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    // Every record twice, and each colliding id once more with a `/` where the `_` was.
+    let mut more: Vec<Value> = recs.clone();
+    for r in &recs {
+        let mut c = r.clone();
+        c["route_id"] = json!(r["route_id"].as_str().unwrap().replace("_rep", "/rep"));
+        more.push(c);
+    }
+    recs.extend(more);
+    free_ids(&run, &mut recs);
+    let results = run.write("dups.json", &recs);
+    let traces = run.path("traces");
+    let o = run.score(
+        &results,
+        &[
+            "--duplicates",
+            "all",
+            "--traces",
+            traces.to_str().unwrap(),
+            "-o",
+            &run.s("r.json"),
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let n = traces_announced(&o);
+    let files: Vec<String> = fs::read_dir(&traces)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    let svgs = files.iter().filter(|f| f.ends_with(".svg")).count();
+    let csvs = files.iter().filter(|f| f.ends_with(".csv")).count();
+    assert!(n >= 6, "{n}");
+    assert_eq!((svgs, csvs), (n, n), "{files:#?}");
+    // The plain name stays for a trace whose name is its own.
+    let o = run.score(
+        &run.s("results.json"),
+        &["--traces", &run.s("plain"), "-o", &run.s("r2.json")],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(run
+        .path("plain/RouteScenario_900005_rep0_collision0.svg")
+        .is_file());
+}
+
+/// Finding 13: a `--traces` failure (a 254-character route id: name too long) exited 1, "no
+/// report" by the README, after the report was written, leaving traces half-written. Now the
+/// traces are written first: a long id is cut, and a trace that cannot be written stops the
+/// run before the report, with the traces written so far removed.
+#[test]
+fn a_traces_failure_leaves_no_report_and_no_half_written_traces() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    free_ids(&run, &mut recs);
+    let long = format!("RouteScenario_{}", "9".repeat(240));
+    recs[4]["route_id"] = json!(long);
+    let results = run.write("long.json", &recs);
+    let out = run.path("report.json");
+    let traces = run.path("traces");
+    let o = run.score(
+        &results,
+        &[
+            "--traces",
+            traces.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    assert!(out.is_file());
+    let n = traces_announced(&o);
+    assert_eq!(fs::read_dir(&traces).unwrap().count(), 2 * n);
+    // A trace that cannot be written: its name is taken by a folder.
+    let (out2, traces2) = (run.path("report2.json"), run.path("traces2"));
+    fs::create_dir_all(traces2.join("RouteScenario_900006_rep0_collision0.svg")).unwrap();
+    let o = sds(&[
+        "score",
+        "--results",
+        &run.s("results.json"),
+        "--telemetry",
+        &run.s("telemetry"),
+        "--traces",
+        traces2.to_str().unwrap(),
+        "-o",
+        out2.to_str().unwrap(),
+    ]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(!out2.exists(), "a report was written");
+    assert!(
+        stderr(&o).contains("RouteScenario_900006_rep0_collision0.svg"),
+        "{}",
+        stderr(&o)
+    );
+    let left: Vec<_> = fs::read_dir(&traces2).unwrap().collect();
+    assert_eq!(left.len(), 1, "traces left behind: {left:?}");
+}
+
+/// Finding 12: `sds demo DIR --score` overwrote an existing `report.html` and `traces/` without
+/// `--force`.
+#[test]
+fn demo_score_never_overwrites_a_report_without_force() {
+    for leftover in ["report.html", "traces"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path();
+        if leftover == "traces" {
+            fs::create_dir_all(dir.join("traces")).unwrap();
+        } else {
+            fs::write(dir.join(leftover), "mine").unwrap();
+        }
+        let o = sds(&["demo", dir.to_str().unwrap(), "--score"]);
+        assert_ne!(code(&o), 0, "{leftover}: overwritten");
+        assert!(
+            stderr(&o).contains(leftover) && stderr(&o).contains("--force"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(
+            !dir.join("results.json").exists(),
+            "{leftover}: demo written"
+        );
+        if leftover == "report.html" {
+            assert_eq!(fs::read_to_string(dir.join(leftover)).unwrap(), "mine");
+        }
+        let o = sds(&["demo", dir.to_str().unwrap(), "--score", "--force"]);
+        assert_eq!(code(&o), 0, "{}", stderr(&o));
+        assert!(dir.join("report.html").is_file());
+    }
+}

@@ -233,7 +233,8 @@ pub enum Command {
         /// Routes of the large run that collide (at frame 2,000).
         #[arg(long, default_value_t = 0)]
         large_collisions: usize,
-        /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
+        /// Overwrite an earlier run in DIR (its results.json, routes.xml, telemetry and maps;
+        /// with --score also report.html and traces/).
         #[arg(long)]
         force: bool,
     },

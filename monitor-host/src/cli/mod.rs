@@ -95,6 +95,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
         || e.downcast_ref::<crate::aggregate::groups::NeedsLabels>()
             .is_some()
         || e.downcast_ref::<UnusedLabels>().is_some()
+        || e.downcast_ref::<UnknownInfraction>().is_some()
         || e.downcast_ref::<crate::LabelsError>()
             .is_some_and(|l| matches!(l, crate::LabelsError::NoMatch { .. }))
     {
@@ -141,7 +142,16 @@ fn run(cli: Cli) -> Result<i32> {
             large_collisions,
             force,
         } => {
-            let existing = demo::existing_run(&dir);
+            let mut existing = demo::existing_run(&dir);
+            if then_score {
+                // `--score` writes these too: never over an earlier report without --force.
+                existing.extend(
+                    ["report.html", "traces"]
+                        .iter()
+                        .map(|n| dir.join(n))
+                        .filter(|p| std::fs::symlink_metadata(p).is_ok()),
+                );
+            }
             if !existing.is_empty() && !force {
                 let names: Vec<String> = existing.iter().map(|p| p.display().to_string()).collect();
                 anyhow::bail!(
@@ -300,6 +310,15 @@ enum LabelKey {
 )]
 pub struct UnusedLabels;
 
+/// `--infraction NAME` naming no infraction list of a record: a mistyped name would add a
+/// column of zeros.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "--infraction {0}: no such infraction list; the lists are {known}",
+    known = crate::input::record::KNOWN_LISTS.join(", ")
+)]
+pub struct UnknownInfraction(pub String);
+
 /// Reads a label file and checks it against the report's routes: no key matching is an error,
 /// keys of some routes without a label a warning (added to the report).
 fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
@@ -359,6 +378,13 @@ pub struct Scored {
 /// [`crate::LabelsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
+    if let Some(bad) = args
+        .infractions
+        .iter()
+        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
+    {
+        return Err(UnknownInfraction(bad.clone()).into());
+    }
     // Usage errors of the grouping before the run is scored.
     if args.labels.is_some() && args.group_by != Some(GroupArg::Route) {
         return Err(UnusedLabels.into());
@@ -517,11 +543,13 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     inputs_read.extend(args.families.iter().cloned());
     inputs_read.extend(args.weathers.iter().cloned());
     inputs_read.extend(args.labels.iter().cloned());
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    // The traces first, then the report: a trace that cannot be written stops the run (exit
+    // 1, "no report") before the report is written, and the traces written are removed.
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;
         say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {

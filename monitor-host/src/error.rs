@@ -74,6 +74,18 @@ pub enum Error {
         /// Why it cannot be used.
         reason: String,
     },
+    /// The `--maps` folder does not exist or is not a folder.
+    #[error(
+        "--maps {}: {reason}; give the folder that holds the towns' OpenDRIVE maps \
+         (Town01.xodr, ... or a CARLA install's Maps folder)",
+        path.display()
+    )]
+    MapsFolder {
+        /// The path given.
+        path: std::path::PathBuf,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// The inputs hold no record at all: nothing to score.
     #[error(
         "no records in {}: every results file is empty (a run that crashed before any route \

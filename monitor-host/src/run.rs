@@ -106,6 +106,9 @@ pub fn score_run_with(
     if let Some(root) = &inputs.telemetry {
         check_telemetry_root(root)?;
     }
+    if let Some(dir) = &inputs.maps {
+        check_maps_folder(dir)?;
+    }
     let mut warnings = Vec::new();
     let (sets, all) = read_inputs(&inputs.results, &mut warnings)?;
     let files_read: Vec<PathBuf> = sets
@@ -282,6 +285,20 @@ fn check_telemetry_root(root: &Path) -> Result<(), Error> {
     })
 }
 
+/// A `--maps` folder that does not exist is a mistyped path, not a run without maps.
+fn check_maps_folder(dir: &Path) -> Result<(), Error> {
+    let reason = match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => return Ok(()),
+        Ok(_) => "not a folder".to_string(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "no such folder".to_string(),
+        Err(e) => e.to_string(),
+    };
+    Err(Error::MapsFolder {
+        path: dir.to_path_buf(),
+        reason,
+    })
+}
+
 /// Reads every results input in the order given: the sets (one per input) and every record
 /// (an unreadable file in a directory is an invalid entry: its routes are unknown, but nothing
 /// found is silently lost).
@@ -380,6 +397,9 @@ pub fn route_frames(
         });
     };
     let town = town_of(record, routes.as_ref());
+    if let Some(dir) = &inputs.maps {
+        check_maps_folder(dir)?;
+    }
     let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
     files_read.extend(maps.files().iter().cloned());
     let mut warnings = Vec::new();

@@ -6,7 +6,7 @@
 mod common;
 
 use std::fs;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use serde_json::{json, Value};
@@ -759,5 +759,63 @@ fn demo_score_never_overwrites_a_report_without_force() {
         let o = sds(&["demo", dir.to_str().unwrap(), "--score", "--force"]);
         assert_eq!(code(&o), 0, "{}", stderr(&o));
         assert!(dir.join("report.html").is_file());
+    }
+}
+
+/// Finding 10: `--maps` problems ended as "no map", exit 0: a mistyped folder, a file instead
+/// of a folder (now usage errors, exit 2, as `--telemetry`), a town map that is a FIFO, a
+/// dangling or looping link or a directory (now an error naming the file and the cause).
+#[test]
+fn maps_usage_errors_are_reported() {
+    use std::os::unix::fs::symlink;
+    let run = Run::new();
+    let results = run.s("results.json");
+    let routes = run.s("routes.xml");
+    let score = |maps: &Path| {
+        run.score(
+            &results,
+            &["--routes", &routes, "--maps", maps.to_str().unwrap()],
+        )
+    };
+    for (what, path, says) in [
+        ("missing", run.path("mpas"), "no such folder"),
+        ("a file", run.path("results.json"), "not a folder"),
+    ] {
+        let o = score(&path);
+        assert_eq!(code(&o), 2, "{what}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("--maps") && stderr(&o).contains(says),
+            "{what}: {}",
+            stderr(&o)
+        );
+    }
+    let cases: [(&str, &dyn Fn(&Path), &str); 4] = [
+        (
+            "fifo",
+            &|p: &Path| {
+                let c = std::ffi::CString::new(p.to_str().unwrap()).unwrap();
+                assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o644) }, 0);
+            },
+            "FIFO",
+        ),
+        (
+            "dangling",
+            &|p: &Path| symlink(p.with_file_name("nowhere.xodr"), p).unwrap(),
+            "No such file",
+        ),
+        ("loop", &|p: &Path| symlink(p, p).unwrap(), "symbolic links"),
+        ("dir", &|p: &Path| fs::create_dir(p).unwrap(), "directory"),
+    ];
+    for (what, make, says) in cases {
+        let dir = run.path(&format!("maps-{what}"));
+        fs::create_dir_all(&dir).unwrap();
+        make(&dir.join("DemoTown.xodr"));
+        let o = score(&dir);
+        assert_eq!(code(&o), 1, "{what}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains(&format!("maps-{what}/DemoTown.xodr")) && e.contains(says),
+            "{what}: {e}"
+        );
     }
 }

@@ -2,7 +2,7 @@
 //! text the `sds` command prints after `sds: error: `.
 
 use monitor_host::aggregate::groups::NeedsLabels;
-use monitor_host::cli::{error_message, UnusedLabels};
+use monitor_host::cli::{error_message, UnknownInfraction, UnusedLabels};
 use monitor_host::geometry::map::MapError;
 use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
@@ -48,7 +48,7 @@ pub fn run_error(e: &Error) -> PyErr {
         Error::Results(ResultsError::Io { .. })
         | Error::RouteXml(RouteError::Io { .. })
         | Error::Map(MapError::Io { .. }) => IoError::new_err(msg),
-        Error::TelemetryRoot { .. } => IoError::new_err(msg),
+        Error::TelemetryRoot { .. } | Error::MapsFolder { .. } => IoError::new_err(msg),
         Error::Settings(_) | Error::TooFewRoutes { .. } => ConfigError::new_err(msg),
         Error::Threads(_) => SdsError::new_err(msg),
         _ => InputError::new_err(msg),
@@ -69,7 +69,10 @@ pub fn score_error(e: &anyhow::Error) -> PyErr {
     if e.downcast_ref::<NeedsLabels>().is_some() {
         return NeedsLabelsError::new_err(msg);
     }
-    if e.downcast_ref::<SettingsError>().is_some() || e.downcast_ref::<UnusedLabels>().is_some() {
+    if e.downcast_ref::<SettingsError>().is_some()
+        || e.downcast_ref::<UnusedLabels>().is_some()
+        || e.downcast_ref::<UnknownInfraction>().is_some()
+    {
         return ConfigError::new_err(msg);
     }
     SdsError::new_err(msg)

@@ -86,6 +86,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             Error::Duplicates(_)
             | Error::TooFewRoutes { .. }
             | Error::TelemetryRoot { .. }
+            | Error::MapsFolder { .. }
             | Error::Settings(_) => EXIT_USAGE,
             Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
             _ => 1,

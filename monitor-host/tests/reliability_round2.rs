@@ -819,3 +819,72 @@ fn maps_usage_errors_are_reported() {
         );
     }
 }
+
+/// Finding 16: label files parsed leniently: an unclosed CSV quote swallowed the rest of the
+/// file (exit 0), an empty label became a group `""`, JSON `null` / objects / nested lists
+/// became labels, a JSON file with a BOM was read as CSV.
+#[test]
+fn label_files_are_parsed_strictly() {
+    use monitor_host::input::labels::parse_labels;
+    let bad = [
+        (
+            "unclosed.csv",
+            "RouteScenario_900001_rep0,\"easy\nRouteScenario_900002_rep0,hard\n",
+            "unclosed",
+        ),
+        ("empty.csv", "RouteScenario_900001_rep0,\n", "empty label"),
+        ("empty-key.csv", ",hard\n", "empty key"),
+        (
+            "null.json",
+            r#"{"RouteScenario_900001_rep0": null}"#,
+            "null is not a label",
+        ),
+        (
+            "object.json",
+            r#"{"RouteScenario_900001_rep0": {"a": 1}}"#,
+            "is not a label",
+        ),
+        (
+            "nested.json",
+            r#"{"RouteScenario_900001_rep0": [["a"]]}"#,
+            "is not a label",
+        ),
+        (
+            "bool.json",
+            r#"{"RouteScenario_900001_rep0": true}"#,
+            "is not a label",
+        ),
+        (
+            "empty.json",
+            r#"{"RouteScenario_900001_rep0": ""}"#,
+            "empty label",
+        ),
+        (
+            "none.json",
+            r#"{"RouteScenario_900001_rep0": []}"#,
+            "empty list",
+        ),
+    ];
+    let run = Run::new();
+    for (name, text, says) in bad {
+        let e = parse_labels(text, name).expect_err(name).to_string();
+        assert!(e.contains(name) && e.contains(says), "{name}: {e}");
+        let path = run.path(name);
+        fs::write(&path, text).unwrap();
+        let o = run.score(
+            &run.s("results.json"),
+            &["--group-by", "route", "--labels", path.to_str().unwrap()],
+        );
+        assert_ne!(code(&o), 0, "{name}: accepted");
+        assert!(o.stdout.is_empty(), "{name}: a report was written");
+        assert!(stderr(&o).contains(says), "{name}: {}", stderr(&o));
+    }
+    // A BOM before JSON: still JSON.
+    let m = parse_labels("\u{feff}{\"RouteScenario_1_rep0\": [\"a\", 7]}", "bom.json").unwrap();
+    assert_eq!(m["RouteScenario_1_rep0"], ["a", "7"]);
+    let m = parse_labels("\u{feff}k,v\n", "bom.csv").unwrap();
+    assert_eq!(m["k"], ["v"]);
+    // What was accepted still is: quoted commas, several labels, comments.
+    let m = parse_labels("# c\nA,\"x, y\"\nA,z\n", "ok.csv").unwrap();
+    assert_eq!(m["A"], ["x, y", "z"]);
+}

@@ -888,3 +888,67 @@ fn label_files_are_parsed_strictly() {
     let m = parse_labels("# c\nA,\"x, y\"\nA,z\n", "ok.csv").unwrap();
     assert_eq!(m["A"], ["x, y", "z"]);
 }
+
+/// Finding 15: `sds compare`: the same file as three seeds gave `± 0.00` without a word; a run
+/// in two `--seeds` models counted only in the first; a missing run folder was blamed on
+/// `--telemetry` (an option compare does not have); a folder named `lr=0.1` was split into a
+/// name and a path.
+#[test]
+fn compare_problems_are_named() {
+    let run = Run::new();
+    // Its own folder per run: the results beside their telemetry.
+    let results = run.s("results.json");
+    let compare = |args: &[&str]| {
+        let mut a = vec!["compare", "--allow-missing-telemetry", "--format", "json"];
+        a.extend_from_slice(args);
+        sds(&a)
+    };
+    let (a, b, c) = (
+        format!("m_1={results}"),
+        format!("m_2={results}"),
+        format!("m_3={results}"),
+    );
+    let o = compare(&[&a, &b, &c]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("runs m_1 and m_2 are the same results") && e.contains("m_3"),
+        "{e}"
+    );
+    let o = compare(&[&a, &b, "--seeds", "x=m_1,m_2", "--seeds", "y=m_2"]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("run m_2 is a seed of x and of y"),
+        "{}",
+        stderr(&o)
+    );
+    let missing = run.s("no-such-run");
+    let o = compare(&[&a, &missing]);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains("run no-such-run") && e.contains("no such results file or folder"),
+        "{e}"
+    );
+    assert!(!e.contains("--telemetry"), "{e}");
+    // A folder named `lr=0.1`: a path, named by its folder.
+    let lr = run.path("lr=0.1");
+    fs::create_dir_all(&lr).unwrap();
+    fs::copy(run.path("results.json"), lr.join("results.json")).unwrap();
+    // Given relative to the working folder, as typed.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_sds"))
+        .current_dir(run.tmp.path())
+        .args([
+            "compare",
+            "--allow-missing-telemetry",
+            "--format",
+            "json",
+            "lr=0.1",
+            &a,
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v.to_string().contains("\"lr=0.1\""), "{v}");
+}

@@ -167,8 +167,9 @@ pub struct ScoreArgs {
 /// Arguments of `sds compare`.
 #[derive(Debug, clap::Args)]
 pub struct CompareArgs {
-    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name). Each PATH is a results
-    /// file or folder; its telemetry is looked for in that folder.
+    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name; an argument that is an
+    /// existing path is a PATH even when it holds `=`). Each PATH is a results file or folder;
+    /// its telemetry is looked for in that folder.
     #[arg(required = true, value_name = "RUN")]
     pub runs: Vec<String>,
     /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs not

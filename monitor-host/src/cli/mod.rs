@@ -592,7 +592,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 
 /// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
 fn parse_run(arg: &str) -> (String, PathBuf) {
-    if let Some((name, path)) = arg.split_once('=') {
+    // A folder named `lr=0.1` is a path, not a name and a path.
+    let exists = std::fs::symlink_metadata(arg).is_ok();
+    if let Some((name, path)) = arg.split_once('=').filter(|_| !exists) {
         if !name.is_empty() && !name.contains(['/', '\\']) {
             return (name.to_string(), PathBuf::from(path));
         }
@@ -647,18 +649,40 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
             say!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
             return Ok(EXIT_USAGE);
         };
-        seeds.extend(
-            runs.split(',')
-                .map(|r| (r.trim().to_string(), model.to_string())),
-        );
+        for run in runs.split(',').map(str::trim) {
+            // A run counts in one model: in two it would count only in the first.
+            if let Some((_, other)) = seeds.iter().find(|(r, _)| r == run) {
+                say!("sds: error: --seeds: run {run} is a seed of {other} and of {model}; a run belongs to one model");
+                return Ok(EXIT_USAGE);
+            }
+            seeds.push((run.to_string(), model.to_string()));
+        }
     }
     let mut runs = Vec::new();
     let mut problems = false;
+    // Each run's results path as the file system knows it, to find one file given twice.
+    let mut same_file: Vec<(String, PathBuf)> = Vec::new();
     for arg in &args.runs {
         let (name, path) = parse_run(arg);
         if runs.iter().any(|r: &NamedRun| r.name == name) {
             say!("sds: error: two runs are named {name}: name them with NAME=PATH");
             return Ok(EXIT_USAGE);
+        }
+        if std::fs::symlink_metadata(&path).is_err() {
+            anyhow::bail!(
+                "run {name}: {}: no such results file or folder (a run is NAME=PATH or PATH)",
+                path.display()
+            );
+        }
+        if let Ok(real) = std::fs::canonicalize(&path) {
+            if let Some((other, _)) = same_file.iter().find(|(_, p)| *p == real) {
+                say!(
+                    "sds: warning: runs {other} and {name} are the same results ({}): as seeds of \
+                     one model their ± is 0 and says nothing about the spread",
+                    path.display()
+                );
+            }
+            same_file.push((name.clone(), real));
         }
         let inputs = Inputs {
             results: vec![path.clone()],

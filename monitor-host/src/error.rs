@@ -96,6 +96,10 @@ pub enum Error {
         /// The results inputs.
         inputs: Vec<std::path::PathBuf>,
     },
+    /// The run was cancelled ([`crate::Progress::cancelled`], e.g. Ctrl-C in Python) before
+    /// every route was scored: no report.
+    #[error("cancelled before every route was scored: no report")]
+    Cancelled,
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),

@@ -55,6 +55,12 @@ pub trait Progress: Sync {
     }
     /// One more route is scored (called from a worker thread, in any order).
     fn route_done(&self) {}
+    /// True once the run should stop: checked before each route (from the worker threads); the
+    /// routes not started then are not scored and the run ends with [`Error::Cancelled`]. A
+    /// binding sets it on Ctrl-C, which it can only see on its own thread.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// A [`Progress`] that ignores everything.
@@ -198,18 +204,24 @@ pub fn score_run_with(
     warnings.extend(map_warnings(&maps, &towns, settings));
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let mut outcomes: Vec<_> = pool.install(|| {
+    let outcomes: Vec<Option<_>> = pool.install(|| {
         records
             .par_iter()
             .zip(&towns)
             .map(|(r, town)| {
+                if progress.cancelled() {
+                    return None;
+                }
                 let map = town.and_then(|t| maps.get(t).ok());
                 let o = replay(r, routes.as_ref(), map, telemetry, settings);
                 progress.route_done();
-                o
+                Some(o)
             })
             .collect()
     });
+    let Some(mut outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
+        return Err(Error::Cancelled);
+    };
     for (o, f) in outcomes.iter_mut().zip(foreign) {
         if f {
             o.foreign = true;

@@ -789,7 +789,9 @@ fn maps_usage_errors_are_reported() {
             stderr(&o)
         );
     }
-    let cases: [(&str, &dyn Fn(&Path), &str); 4] = [
+    /// A way to break a town map: its name, how, and what the error says.
+    type Breakage<'a> = (&'a str, &'a dyn Fn(&Path), &'a str);
+    let cases: [Breakage; 4] = [
         (
             "fifo",
             &|p: &Path| {

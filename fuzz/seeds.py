@@ -131,6 +131,18 @@ def map_seeds():
     put("labels", "# type,family\nAccident, obstacles\n\"Hazard\",\"obstacles, static\"\n")
     put("labels", "1\tClear\n2\tRain\n1\tSun\n")
     put("labels", "=cmd|' /C calc'!A0,\u001b[2Kx\n")
+    # Issue 29: bidi and invisible characters, an unclosed quote, empty labels, JSON non-labels,
+    # a BOM before JSON, a label of 70,000 characters.
+    put("labels", "RouteScenario_1\u202e01_rep0,hard\u2066easy\u2069\n\u200bA,\ufeffB\n")
+    put("labels", "A,\"easy\nB,hard\n")
+    put("labels", "A,\n,B\n")
+    put("labels", '{"A": null, "B": {"x": 1}, "C": [["d"]], "D": [], "E": ""}')
+    put("labels", '\ufeff{"7": ["ClearNoon", 3]}')
+    put("labels", "A," + "x" * 70000 + "\n")
+
+    # --- table: cells split at `|`, a leading digit d repeats a cell 4^d times (issue 29).
+    put("table", "title|route|DS|RouteScenario_1\u202e01_rep0|9x|8\u2066y\u2069|\u200b\ufeff|a_b%&#$")
+    put("table", "T|9" + "AB" * 10 + "|\u001b[2K\r\n\t|=HYPERLINK(\"x\")|±~^\\")
 
     # --- settings: NAME=VALUE lines as --set takes them.
     put("settings", "slack=0.9\nbounds.yaw_rate=1.0\ngap_max=6\n")

@@ -88,6 +88,18 @@ pub enum Error {
         /// Why it cannot be used.
         reason: String,
     },
+    /// The `--maps` folder does not exist or is not a folder.
+    #[error(
+        "--maps {}: {reason}; give the folder that holds the towns' OpenDRIVE maps \
+         (Town01.xodr, ... or a CARLA install's Maps folder)",
+        path.display()
+    )]
+    MapsFolder {
+        /// The path given.
+        path: std::path::PathBuf,
+        /// Why it cannot be used.
+        reason: String,
+    },
     /// The inputs hold no record at all: nothing to score.
     #[error(
         "no records in {}: every results file is empty (a run that crashed before any route \
@@ -98,6 +110,10 @@ pub enum Error {
         /// The results inputs.
         inputs: Vec<std::path::PathBuf>,
     },
+    /// The run was cancelled ([`crate::Progress::cancelled`], e.g. Ctrl-C in Python) before
+    /// every route was scored: no report.
+    #[error("cancelled before every route was scored: no report")]
+    Cancelled,
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),

@@ -56,6 +56,12 @@ pub trait Progress: Sync {
     }
     /// One more route is scored (called from a worker thread, in any order).
     fn route_done(&self) {}
+    /// True once the run should stop: checked before each route (from the worker threads); the
+    /// routes not started then are not scored and the run ends with [`Error::Cancelled`]. A
+    /// binding sets it on Ctrl-C, which it can only see on its own thread.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// A [`Progress`] that ignores everything.
@@ -106,6 +112,9 @@ pub fn score_run_with(
     settings.validate()?;
     if let Some(root) = &inputs.telemetry {
         check_telemetry_root(root)?;
+    }
+    if let Some(dir) = &inputs.maps {
+        check_maps_folder(dir)?;
     }
     let mut warnings = Vec::new();
     let (sets, all) = read_inputs(&inputs.results, &mut warnings)?;
@@ -209,18 +218,24 @@ pub fn score_run_with(
     warnings.extend(map_warnings(&maps, &towns, settings));
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let mut outcomes: Vec<_> = pool.install(|| {
+    let outcomes: Vec<Option<_>> = pool.install(|| {
         records
             .par_iter()
             .zip(&towns)
             .map(|(r, town)| {
+                if progress.cancelled() {
+                    return None;
+                }
                 let map = town.and_then(|t| maps.get(t).ok());
                 let o = replay(r, routes.as_ref(), map, telemetry, settings);
                 progress.route_done();
-                o
+                Some(o)
             })
             .collect()
     });
+    let Some(mut outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
+        return Err(Error::Cancelled);
+    };
     for (o, f) in outcomes.iter_mut().zip(foreign) {
         if f {
             o.foreign = true;
@@ -291,6 +306,20 @@ fn check_telemetry_root(root: &Path) -> Result<(), Error> {
     };
     Err(Error::TelemetryRoot {
         path: root.to_path_buf(),
+        reason,
+    })
+}
+
+/// A `--maps` folder that does not exist is a mistyped path, not a run without maps.
+fn check_maps_folder(dir: &Path) -> Result<(), Error> {
+    let reason = match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => return Ok(()),
+        Ok(_) => "not a folder".to_string(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "no such folder".to_string(),
+        Err(e) => e.to_string(),
+    };
+    Err(Error::MapsFolder {
+        path: dir.to_path_buf(),
         reason,
     })
 }
@@ -411,6 +440,9 @@ pub fn route_frames(
         });
     };
     let town = town_of(record, routes.as_ref());
+    if let Some(dir) = &inputs.maps {
+        check_maps_folder(dir)?;
+    }
     let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
     files_read.extend(maps.files().iter().cloned());
     let mut warnings = Vec::new();

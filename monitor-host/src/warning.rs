@@ -245,6 +245,20 @@ pub enum Warning {
         /// `lateral_reference = lane` was asked for and falls back to `route`.
         lane_fallback: bool,
     },
+    /// The town's map does not serve this route (no driving lane, or its lanes lie far from
+    /// the route's frames: a wrong or moved map): the route is measured against the route XML
+    /// instead ([`crate::geometry::map_fit`]).
+    MapNotServing {
+        /// The map file.
+        file: String,
+        /// The town.
+        town: String,
+        /// The median distance (m) from the frames to the nearest driving lane; `None` when the
+        /// map has no driving lane.
+        distance: Option<f64>,
+        /// `lateral_reference = lane` was asked for and falls back to `route`.
+        lane_fallback: bool,
+    },
     /// A collision string that does not parse.
     UnparseableCollision {
         /// Its list.
@@ -509,11 +523,36 @@ impl std::fmt::Display for Warning {
                      unscored, every lane `lane_width` wide)",
                     towns.len(),
                     id_list(&listed)
-                )?;
+)?;
                 if *lane_fallback {
                     f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
                 }
                 f.write_str("; add the towns' .xodr to --maps to use their lanes")
+            }
+            Warning::MapNotServing {
+                file,
+                town,
+                distance,
+                lane_fallback,
+            } => {
+                match distance {
+                    None => write!(f, "{file}: the map of {town} has no driving lane")?,
+                    Some(d) => write!(
+                        f,
+                        "{file}: the map of {town} does not serve this route: its frames lie \
+                         {d:.1} m (median) from the nearest driving lane, more than {} m (a wrong \
+                         or moved map?)",
+                        crate::geometry::map_fit::MAP_REACH
+                    )?,
+                }
+                f.write_str(
+                    "; the map is not used for this route: measured against the route XML's \
+                     straight segments",
+                )?;
+                if *lane_fallback {
+                    f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
+                }
+                Ok(())
             }
             Warning::UnparseableCollision { list, reason } => write!(
                 f,

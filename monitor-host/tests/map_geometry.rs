@@ -478,9 +478,13 @@ fn map_lookup_tries_the_four_layouts_in_order() {
     }
     assert_eq!(found("Town02"), None);
     assert_eq!(found("../Town01"), None);
-    // A folder named like a map is not a map.
-    std::fs::create_dir_all(root.join("Town03.xodr")).unwrap();
-    assert_eq!(found("Town03"), None);
+    // A folder named like a map is found, and refused when read, naming it (issue 29: never a
+    // silent "no map").
+    let folder = root.join("Town03.xodr");
+    std::fs::create_dir_all(&folder).unwrap();
+    assert_eq!(found("Town03").as_ref(), Some(&folder));
+    let err = Map::load(&folder).unwrap_err().to_string();
+    assert!(err.contains("Town03.xodr"), "{err}");
 }
 
 fn town(name: &str) -> Option<Map> {

@@ -49,7 +49,7 @@ pub fn run_error(e: &Error) -> PyErr {
         Error::Results(ResultsError::Io { .. })
         | Error::RouteXml(RouteError::Io { .. })
         | Error::Map(MapError::Io { .. }) => IoError::new_err(msg),
-        Error::TelemetryRoot { .. } => IoError::new_err(msg),
+        Error::TelemetryRoot { .. } | Error::MapsFolder { .. } => IoError::new_err(msg),
         Error::Settings(_) | Error::TooFewRoutes { .. } | Error::UnusedLabels => {
             ConfigError::new_err(msg)
         }

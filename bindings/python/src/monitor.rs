@@ -342,6 +342,18 @@ impl Monitor {
                 "push_arrays: every array must have one row per frame (vectors: 3 columns)",
             ));
         }
+        // A collision on a row that is not one of these frames would be dropped silently.
+        if let Some(d) = collisions {
+            for k in d.keys() {
+                let row: Option<i64> = k.extract().ok();
+                if !row.is_some_and(|r| r >= 0 && (r as u64) < n as u64) {
+                    return Err(InputError::new_err(format!(
+                        "push_arrays: collisions: row {k} is not a row of the {n} frames (0 to {})",
+                        n.saturating_sub(1)
+                    )));
+                }
+            }
+        }
         let out = PyList::empty(py);
         for i in 0..n {
             let step = self.next_step(steps.as_ref().map(|s| s[i]));
@@ -370,6 +382,22 @@ impl Monitor {
         score_penalty: Option<f64>,
         workzone: u32,
     ) -> PyResult<Bound<'py, PyDict>> {
+        // As the CLI checks a record: the route's scores are finite and in range, both or none.
+        for (name, v, max) in [
+            ("score_route", score_route, 100.0),
+            ("score_penalty", score_penalty, 1.0),
+        ] {
+            if let Some(v) = v.filter(|v| !(0.0..=max).contains(v)) {
+                return Err(InputError::new_err(format!(
+                    "finish: {name} = {v:?} is not a number from 0 to {max}"
+                )));
+            }
+        }
+        if score_route.is_some() != score_penalty.is_some() {
+            return Err(InputError::new_err(
+                "finish: give score_route and score_penalty together (DS_safe needs both)",
+            ));
+        }
         let done = self
             .core
             .finish()

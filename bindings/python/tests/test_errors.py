@@ -142,3 +142,41 @@ def test_monitor_misuse() -> None:
         sds.Monitor(route=[(0.0, 0.0), ("a", 1.0)])
     with pytest.raises(sds.InputError):
         sds.Monitor().push_arrays([[0, 0, 0]], [[0, 0, 0]], [[1, 0, 0]], [[0, 1, 0]], [[0, 0, 0], [1, 0, 0]])
+
+
+def test_finish_validates_the_route_scores() -> None:
+    """Issue 29, finding 9: NaN, 1e308 or negative scores gave DS_safe -250 or NaN."""
+    for kwargs, says in [
+        ({"score_route": math.nan, "score_penalty": 1.0}, "score_route = NaN"),
+        ({"score_route": 1e308, "score_penalty": 1.0}, "score_route = 1e308"),
+        ({"score_route": -250.0, "score_penalty": 1.0}, "score_route = -250"),
+        ({"score_route": 100.0, "score_penalty": 1.5}, "score_penalty = 1.5"),
+        ({"score_route": 100.0, "score_penalty": -math.inf}, "score_penalty = -inf"),
+        ({"score_route": 100.0}, "together"),
+    ]:
+        m = sds.Monitor()
+        m.push(TICK, step=1)
+        with pytest.raises(sds.InputError, match=says):
+            m.finish(**kwargs)
+        assert not m.finished  # nothing changed: the route can still be finished
+        done = m.finish(score_route=100.0, score_penalty=1.0)
+        assert done["ds_safe"] is not None and 0.0 <= done["ds_safe"] <= 100.0
+
+
+def test_push_arrays_refuses_collisions_on_rows_it_does_not_have() -> None:
+    """Issue 29, finding 9: collisions on rows -1 or 99 of 2 frames were dropped silently."""
+    rows = dict(
+        acceleration=[[0, 0, 0]] * 2,
+        angular_velocity=[[0, 0, 0]] * 2,
+        forward_vector=[[1, 0, 0]] * 2,
+        right_vector=[[0, 1, 0]] * 2,
+        location=[[0, 0, 0], [1, 0, 0]],
+    )
+    for row in (-1, 2, 99):
+        m = sds.Monitor()
+        with pytest.raises(sds.InputError, match=f"collisions: row {row} is not a row of the 2 frames"):
+            m.push_arrays(**rows, collisions={row: ["vehicle"]})
+        assert m.frames == 0
+    m = sds.Monitor()
+    m.push_arrays(**rows, collisions={1: ["vehicle"]})
+    assert m.frames == 2

@@ -166,3 +166,41 @@ def test_protocols_reach_the_report(demo: Demo) -> None:
         sds.score(demo.results, telemetry=demo.telemetry, protocols=["lb3"])
     with pytest.raises(sds.ConfigError):
         sds.score(demo.results, telemetry=demo.telemetry, protocols="all")  # type: ignore[arg-type]
+
+
+def test_ctrl_c_stops_the_run_between_routes(sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 29, finding 17: Ctrl-C in `sds.score` took effect only when the run ended."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    run = tmp_path / "large"
+    code, _, err = run_cli(sds_bin, ["demo", str(run), "--large", "--large-routes", "60", "--large-frames", "4000"])
+    assert code == 0, err
+    script = (
+        "import sds, sys\n"
+        "print('start', flush=True)\n"
+        f"sds.score({str(run / 'results.json')!r}, telemetry={str(run / 'telemetry')!r}, jobs=1)\n"
+        "print('done', flush=True)\n"
+    )
+
+    def launch() -> "subprocess.Popen[str]":
+        p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        assert p.stdout is not None and p.stdout.readline() == "start\n"
+        return p
+
+    t0 = time.monotonic()
+    p = launch()
+    out, err = p.communicate(timeout=600)
+    whole = time.monotonic() - t0
+    assert p.returncode == 0 and "done" in out, err
+    # Interrupted a fifth into the run, it must stop long before the run's end.
+    t0 = time.monotonic()
+    p = launch()
+    time.sleep(whole / 5)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=600)
+    interrupted = time.monotonic() - t0
+    assert "KeyboardInterrupt" in err and "done" not in out, (out, err)
+    assert interrupted < whole * 0.7, f"stopped after {interrupted:.2f} s of a {whole:.2f} s run"

@@ -260,8 +260,9 @@ pub struct ScoreArgs {
 /// Arguments of `sds compare`.
 #[derive(Debug, clap::Args)]
 pub struct CompareArgs {
-    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name). Each PATH is a results
-    /// file or folder; its telemetry is looked for in that folder.
+    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name; an argument that is an
+    /// existing path is a PATH even when it holds `=`). Each PATH is a results file or folder;
+    /// its telemetry is looked for in that folder.
     #[arg(required = true, value_name = "RUN")]
     pub runs: Vec<String>,
     /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs not
@@ -308,7 +309,8 @@ pub enum Command {
         /// Routes of the large run that collide (at frame 2,000).
         #[arg(long, default_value_t = 0)]
         large_collisions: usize,
-        /// Overwrite an earlier run in DIR (its results.json, routes.xml and telemetry).
+        /// Overwrite an earlier run in DIR (its results.json, routes.xml, telemetry and maps;
+        /// with --score also report.html and traces/).
         #[arg(long)]
         force: bool,
     },

@@ -90,6 +90,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             | Error::TooFewRoutes { .. }
             | Error::TelemetryRoot { .. }
             | Error::Settings(_)
+            | Error::MapsFolder { .. }
             | Error::NeedsLabels(_)
             | Error::UnusedLabels
             | Error::Labels(crate::LabelsError::NoMatch { .. }) => EXIT_USAGE,
@@ -97,7 +98,9 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             _ => 1,
         };
     }
-    if e.downcast_ref::<SettingsError>().is_some() {
+    if e.downcast_ref::<SettingsError>().is_some()
+        || e.downcast_ref::<UnknownInfraction>().is_some()
+    {
         return EXIT_USAGE;
     }
     1
@@ -131,7 +134,16 @@ fn run(cli: Cli) -> Result<i32> {
             large_collisions,
             force,
         } => {
-            let existing = demo::existing_run(&dir);
+            let mut existing = demo::existing_run(&dir);
+            if then_score {
+                // `--score` writes these too: never over an earlier report without --force.
+                existing.extend(
+                    ["report.html", "traces"]
+                        .iter()
+                        .map(|n| dir.join(n))
+                        .filter(|p| std::fs::symlink_metadata(p).is_ok()),
+                );
+            }
             if !existing.is_empty() && !force {
                 let names: Vec<String> = existing.iter().map(|p| p.display().to_string()).collect();
                 anyhow::bail!(
@@ -168,7 +180,7 @@ fn run(cli: Cli) -> Result<i32> {
                 traces: Some(dir.join("traces")),
                 ..demo_args(&run)
             })?;
-            eprintln!("sds: the demo's HTML report: {}", html.display());
+            say!("sds: the demo's HTML report: {}", html.display());
             if code != 0 {
                 return Ok(code);
             }
@@ -264,6 +276,15 @@ pub fn inputs(args: &ScoreArgs) -> Inputs {
     }
 }
 
+/// `--infraction NAME` naming no infraction list of a record: a mistyped name would add a
+/// column of zeros.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "--infraction {0}: no such infraction list; the lists are {known}",
+    known = crate::input::record::KNOWN_LISTS.join(", ")
+)]
+pub struct UnknownInfraction(pub String);
+
 /// The label files `sds score` reads.
 fn label_files(args: &ScoreArgs) -> LabelFiles {
     LabelFiles {
@@ -292,6 +313,13 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// A typed error inside (a [`crate::Error`] or [`SettingsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
+    if let Some(bad) = args
+        .infractions
+        .iter()
+        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
+    {
+        return Err(UnknownInfraction(bad.clone()).into());
+    }
     let tables = matches!(
         args.format,
         Format::Table | Format::Markdown | Format::Latex
@@ -394,11 +422,13 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    // The traces first, then the report: a trace that cannot be written stops the run (exit
+    // 1, "no report") before the report is written, and the traces written are removed.
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;
-        eprintln!("sds: wrote {n} collision trace(s) to {}", dir.display());
+        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
+    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
@@ -472,7 +502,9 @@ fn period_notes(report: &crate::Report) -> Vec<String> {
 
 /// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
 fn parse_run(arg: &str) -> (String, PathBuf) {
-    if let Some((name, path)) = arg.split_once('=') {
+    // A folder named `lr=0.1` is a path, not a name and a path.
+    let exists = std::fs::symlink_metadata(arg).is_ok();
+    if let Some((name, path)) = arg.split_once('=').filter(|_| !exists) {
         if !name.is_empty() && !name.contains(['/', '\\']) {
             return (name.to_string(), PathBuf::from(path));
         }
@@ -513,18 +545,40 @@ fn compare_runs(args: &CompareArgs) -> Result<i32> {
             say!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
             return Ok(EXIT_USAGE);
         };
-        seeds.extend(
-            runs.split(',')
-                .map(|r| (r.trim().to_string(), model.to_string())),
-        );
+        for run in runs.split(',').map(str::trim) {
+            // A run counts in one model: in two it would count only in the first.
+            if let Some((_, other)) = seeds.iter().find(|(r, _)| r == run) {
+                say!("sds: error: --seeds: run {run} is a seed of {other} and of {model}; a run belongs to one model");
+                return Ok(EXIT_USAGE);
+            }
+            seeds.push((run.to_string(), model.to_string()));
+        }
     }
     let mut runs = Vec::new();
     let mut problems = false;
+    // Each run's results path as the file system knows it, to find one file given twice.
+    let mut same_file: Vec<(String, PathBuf)> = Vec::new();
     for arg in &args.runs {
         let (name, path) = parse_run(arg);
         if runs.iter().any(|r: &NamedRun| r.name == name) {
             say!("sds: error: two runs are named {name}: name them with NAME=PATH");
             return Ok(EXIT_USAGE);
+        }
+        if std::fs::symlink_metadata(&path).is_err() {
+            anyhow::bail!(
+                "run {name}: {}: no such results file or folder (a run is NAME=PATH or PATH)",
+                path.display()
+            );
+        }
+        if let Ok(real) = std::fs::canonicalize(&path) {
+            if let Some((other, _)) = same_file.iter().find(|(_, p)| *p == real) {
+                say!(
+                    "sds: warning: runs {other} and {name} are the same results ({}): as seeds of \
+                     one model their ± is 0 and says nothing about the spread",
+                    path.display()
+                );
+            }
+            same_file.push((name.clone(), real));
         }
         let inputs = Inputs {
             results: vec![path.clone()],

@@ -69,8 +69,10 @@ pub fn install_signal_cleanup() -> Result<()> {
     Ok(())
 }
 
-/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG;
-/// returns the number of traces.
+/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG,
+/// under unique names ([`crate::report::trace_csv::unique_stems`]); returns the number of
+/// traces. All or nothing: when one file cannot be written, the files this call wrote are
+/// removed again and the error names the file.
 pub fn write_traces(
     dir: &Path,
     report: &crate::report::Report,
@@ -78,22 +80,37 @@ pub fn write_traces(
 ) -> Result<usize> {
     use crate::report::{figure, trace_csv};
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let mut n = 0;
-    for t in report.routes.iter().flat_map(|r| &r.traces) {
-        let stem = trace_csv::file_stem(t);
-        write_output(
-            Some(&dir.join(format!("{stem}.csv"))),
-            trace_csv::csv(t).as_bytes(),
-            inputs,
-        )?;
-        write_output(
-            Some(&dir.join(format!("{stem}.svg"))),
-            figure::svg(t).as_bytes(),
-            inputs,
-        )?;
-        n += 1;
+    let traces: Vec<(usize, &crate::route::trace::CollisionTrace)> = report
+        .routes
+        .iter()
+        .enumerate()
+        .flat_map(|(i, r)| r.traces.iter().map(move |t| (i, t)))
+        .collect();
+    let stems = trace_csv::unique_stems(&traces);
+    let mut written: Vec<PathBuf> = Vec::new();
+    let mut write_all = || -> Result<()> {
+        for ((_, t), stem) in traces.iter().zip(&stems) {
+            for (ext, bytes) in [
+                ("csv", trace_csv::csv(t).into_bytes()),
+                ("svg", figure::svg(t).into_bytes()),
+            ] {
+                let path = dir.join(format!("{stem}.{ext}"));
+                write_output(Some(&path), &bytes, inputs)?;
+                written.push(path);
+            }
+        }
+        Ok(())
+    };
+    if let Err(e) = write_all() {
+        for p in &written {
+            let _ = fs::remove_file(p);
+        }
+        return Err(e.context(format!(
+            "--traces {}: no trace written and no report (fix the folder, or leave out --traces)",
+            dir.display()
+        )));
     }
-    Ok(n)
+    Ok(traces.len())
 }
 
 fn describe(ft: fs::FileType) -> &'static str {

@@ -1,6 +1,7 @@
 //! Host geometry, in f64: [`kinematics`] (speed, the yaw-rate unit), the [`lateral`] tracker
 //! (the reference polyline and its bounded forward search), the [`nearest`] frame index,
-//! OpenDRIVE [`map`]s (`SDS-SPEC.md` §1.4, §2), the run's [`town_maps`], the lane
+//! OpenDRIVE [`map`]s (`SDS-SPEC.md` §1.4, §2), whether a map serves a route ([`map_fit`]),
+//! the run's [`town_maps`], the lane
 //! [`corridor`] (the lateral value per frame) and the dense route's [`junctions`] (§8.2's
 //! junction credit).
 
@@ -9,5 +10,6 @@ pub mod junctions;
 pub mod kinematics;
 pub mod lateral;
 pub mod map;
+pub mod map_fit;
 pub mod nearest;
 pub mod town_maps;

@@ -195,10 +195,14 @@ impl RouteOutcome {
         self.loaded.entry.as_ref().ok()
     }
 
-    /// The route's state: foreign first, then an invalid record, then what became of its
-    /// telemetry (a route scored without telemetry terms, as `allow_missing_telemetry` lets it,
-    /// is `scored`).
+    /// The route's state: an invalid record first (whatever the route XML holds: a broken
+    /// record is never hidden as foreign), then foreign, then what became of its telemetry (a
+    /// route scored without telemetry terms, as `allow_missing_telemetry` lets it, is
+    /// `scored`).
     pub fn state(&self) -> RouteState {
+        if let Err(e) = &self.loaded.entry {
+            return RouteState::Invalid(e.reason.clone());
+        }
         if self.foreign {
             return RouteState::Foreign;
         }

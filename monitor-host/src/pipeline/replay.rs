@@ -10,6 +10,8 @@ use monitor_core::{
 
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::map::Map;
+use crate::geometry::map_fit::{self, MapFit};
+use crate::geometry::town_maps::town_of;
 use crate::input::discovery;
 use crate::input::lead_infractions;
 use crate::input::record::{LoadedRecord, Record};
@@ -201,6 +203,8 @@ pub struct RouteTelemetry {
     pub gaps: u64,
     /// The `metric_info.json` read.
     pub path: PathBuf,
+    /// The town's map was used (given, and it serves the route: [`crate::geometry::map_fit`]).
+    pub map_used: bool,
 }
 
 /// What reading one route's telemetry needs from the run besides the record: the route's
@@ -312,6 +316,26 @@ pub fn read_telemetry(
     let (period, period_warnings) =
         step_period::infer(first, last, tel.gaps, record.meta.duration_game, settings);
     warnings.extend(period_warnings);
+    // A map that serves no route (no driving lane, or far from every frame) is not used.
+    let map = map.filter(|m| {
+        let points: Vec<[f64; 3]> = tel
+            .frames
+            .iter()
+            .map(|f| [f.location[0], f.location[1], f.z])
+            .collect();
+        let distance = match map_fit::fit(m, &points) {
+            MapFit::Serves => return true,
+            MapFit::NoLanes => None,
+            MapFit::TooFar { median } => Some(median),
+        };
+        warnings.push(Warning::MapNotServing {
+            file: m.file().to_string(),
+            town: town_of(record, routes).unwrap_or_default().to_string(),
+            distance,
+            lane_fallback: settings.lateral_reference == crate::settings::LateralReference::Lane,
+        });
+        false
+    });
     // The period is configuration, set once for the route: the per-frame work is unchanged.
     let mut route_settings = settings.clone();
     route_settings.core.dt = period.as_f32(settings);
@@ -330,6 +354,7 @@ pub fn read_telemetry(
         settings: route_settings,
         gaps: tel.gaps,
         path,
+        map_used: map.is_some(),
     })
 }
 
@@ -393,7 +418,13 @@ pub fn replay(
             settings: route_settings,
             gaps,
             path,
+            map_used,
         }) => {
+            out.reference = Some(ReferenceKind::of(
+                has_route,
+                map_used,
+                settings.lateral_reference,
+            ));
             out.frames = prepared.frames.len() as u32;
             out.gaps = gaps;
             out.period = Some(period);

@@ -172,14 +172,19 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
         .collect();
     let mut header: Vec<String> = GROUP_COLUMNS.iter().map(|c| c.to_string()).collect();
     header.extend(ABILITIES.iter().map(|(n, _)| n.to_string()));
-    header.extend(lists.iter().map(|l| format!("routes_with_{l}")));
+    header.extend(
+        lists
+            .iter()
+            .map(|l| csv_cell(&format!("routes_with_{l}")).into_owned()),
+    );
     let asked = &report.config.protocols;
     header.extend(protocol_csv::group_columns(asked));
     let line = |label: &str, a: &Aggregates| {
         let ab = a.ability.clone().unwrap_or_default();
         let mut row = vec![
-            g.by.to_string(),
-            label.to_string(),
+            csv_cell(g.by).into_owned(),
+            // Labels come from the inputs (scenario names, towns, label files).
+            csv_cell(label).into_owned(),
             a.routes.to_string(),
             o(a.scores.driving_score),
             o(a.scores.success_rate),

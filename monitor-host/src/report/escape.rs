@@ -1,16 +1,21 @@
 //! Text from the inputs, made safe for its reader: the one place where strings read from files
-//! (route ids, statuses, scenario names, paths, parser messages) are escaped before they reach a
-//! terminal or a spreadsheet.
+//! (route ids, statuses, scenario names, labels, paths, parser messages) are escaped before they
+//! reach a terminal, a table, a page or a spreadsheet.
 //!
-//! - [`printable`] (terminal): every control character (C0 such as ESC, CR, LF, TAB; DEL; C1) is
-//!   written as a Rust escape (`\u{1b}`, `\r`, `\n`, `\t`), so an id holding an escape sequence
-//!   cannot erase or rewrite the line it is printed on. Everything else, non-ASCII letters
-//!   included, is kept.
-//! - [`csv_cell`] (CSV): a cell that starts with `=`, `+`, `-`, `@`, TAB or CR is prefixed with
-//!   `'`, so a spreadsheet shows it as text instead of running it as a formula (formula
-//!   injection from a submitted results file). Only string cells from the inputs go through it:
-//!   numbers are written as numbers (a negative number stays a number). Quoting of `"`, `,`,
-//!   CR and LF is the `csv` crate's.
+//! - [`printable`] (every rendering: stderr, the text, Markdown and LaTeX tables, the HTML page
+//!   and the trace SVG, CSV): every character for which [`is_hidden`] holds is written as a
+//!   Rust escape (`\u{1b}`, `\r`, `\n`, `\t`, `\u{202e}`): control characters (C0 such as ESC,
+//!   CR, LF, TAB; DEL; C1), so an id holding an escape sequence cannot erase or rewrite the line
+//!   it is printed on, and the bidirectional and invisible format characters (U+061C,
+//!   U+200B-U+200F, U+2028-U+202E, U+2066-U+2069, U+FEFF), so a route id cannot be made to read
+//!   as another (`RouteScenario_1\u{202e}01` shown as `RouteScenario_110`). Everything else,
+//!   non-ASCII letters included, is kept.
+//! - [`csv_cell`] (CSV): [`printable`], then a cell that starts with `=`, `+`, `-`, `@`, TAB or
+//!   CR is prefixed with `'`, so a spreadsheet shows it as text instead of running it as a
+//!   formula (formula injection from a submitted results file or label file). Every string
+//!   cell of every CSV rendering (per route, per group) goes through it: numbers are written as
+//!   numbers (a negative number stays a number). Quoting of `"`, `,`, CR and LF is the `csv`
+//!   crate's.
 //!
 //! ```
 //! use monitor_host::report::escape::{csv_cell, printable};
@@ -22,14 +27,40 @@
 
 use std::borrow::Cow;
 
-/// `s` with every control character escaped (see the module docs).
+/// Whether `c` must not reach a reader raw: a control character, or a bidirectional or
+/// invisible format character (see the module docs).
+///
+/// ```
+/// use monitor_host::report::escape::is_hidden;
+/// assert!(is_hidden('\u{202e}') && is_hidden('\u{200b}') && is_hidden('\u{feff}') && is_hidden('\u{1b}'));
+/// assert!(!is_hidden('ß') && !is_hidden(' '));
+/// ```
+pub fn is_hidden(c: char) -> bool {
+    c.is_control()
+        || matches!(
+            c,
+            '\u{061c}'
+                | '\u{200b}'..='\u{200f}'
+                | '\u{2028}'..='\u{202e}'
+                | '\u{2066}'..='\u{2069}'
+                | '\u{feff}'
+        )
+}
+
+/// `s` with every control, bidirectional and invisible format character escaped (see the
+/// module docs).
+///
+/// ```
+/// use monitor_host::report::escape::printable;
+/// assert_eq!(printable("Route_1\u{202e}01"), "Route_1\\u{202e}01");
+/// ```
 pub fn printable(s: &str) -> Cow<'_, str> {
-    if !s.chars().any(char::is_control) {
+    if !s.chars().any(is_hidden) {
         return Cow::Borrowed(s);
     }
     let mut out = String::with_capacity(s.len() + 8);
     for c in s.chars() {
-        if c.is_control() {
+        if is_hidden(c) {
             out.extend(c.escape_default());
         } else {
             out.push(c);
@@ -50,13 +81,20 @@ pub fn printable_lines(s: &str) -> String {
     s.split('\n').map(printable).collect::<Vec<_>>().join("\n")
 }
 
-/// A string cell of a CSV rendering, neutralised against formula injection (see the module
-/// docs).
+/// A string cell of a CSV rendering: [`printable`], and neutralised against formula injection
+/// (see the module docs).
+///
+/// ```
+/// use monitor_host::report::escape::csv_cell;
+/// assert_eq!(csv_cell("-2+3+cmd|' /C calc'!A0"), "'-2+3+cmd|' /C calc'!A0");
+/// assert_eq!(csv_cell("\tx"), "'\\tx");
+/// assert_eq!(csv_cell("a\u{1b}b"), "a\\u{1b}b");
+/// ```
 pub fn csv_cell(s: &str) -> Cow<'_, str> {
     if s.starts_with(['=', '+', '-', '@', '\t', '\r']) {
-        Cow::Owned(format!("'{s}"))
+        Cow::Owned(format!("'{}", printable(s)))
     } else {
-        Cow::Borrowed(s)
+        printable(s)
     }
 }
 
@@ -76,5 +114,13 @@ mod tests {
             assert!(csv_cell(s).starts_with('\''), "{s:?}");
         }
         assert_eq!(csv_cell(""), "");
+        for c in [
+            '\u{061c}', '\u{200b}', '\u{200e}', '\u{200f}', '\u{202a}', '\u{202e}', '\u{2066}',
+            '\u{2069}', '\u{feff}',
+        ] {
+            let s = format!("a{c}b");
+            assert_eq!(printable(&s), format!("a\\u{{{:x}}}b", c as u32));
+            assert_eq!(csv_cell(&s), printable(&s));
+        }
     }
 }

@@ -8,6 +8,7 @@
 
 use plotters::prelude::*;
 
+use crate::report::escape::printable;
 use crate::route::trace::{CollisionTrace, Verdict, AFTER_S, BEFORE_S};
 
 /// Figure width, px.
@@ -37,11 +38,13 @@ const KMH: f64 = 3.6;
 ///     "RouteScenario_1_rep0: no deceleration · vehicle.audi.tt at 18.0 km/h");
 /// ```
 pub fn title(t: &CollisionTrace) -> String {
+    // The id and type come from the inputs: a control character would make the SVG malformed
+    // XML, a bidi override would make the id read as another.
     format!(
         "{}: {} · {} at {:.1} km/h",
-        t.route_id,
+        printable(&t.route_id),
         t.verdict.label(),
-        t.type_id.as_deref().unwrap_or("unknown object"),
+        printable(t.type_id.as_deref().unwrap_or("unknown object")),
         f64::from(t.impact_speed) * KMH
     )
 }

@@ -12,8 +12,6 @@
 //! assert!(tex.contains("\\toprule") && tex.contains("a\\_b & 1.50 \\\\") && tex.contains("\\midrule\nCombined"));
 //! ```
 
-use std::fmt::Write as _;
-
 /// The rendering of a [`Grid`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Style {
@@ -69,12 +67,28 @@ impl Grid {
         self.notes.push(note.into());
     }
 
-    /// The table in `style`, ending with a newline.
+    /// The table in `style`, ending with a newline. Every cell, the title and the notes are
+    /// escaped first ([`crate::report::escape::printable`]: labels, towns and run names come
+    /// from the inputs); a cell may be of any length.
     pub fn render(&self, style: Style) -> String {
+        let shown = self.printable();
         match style {
-            Style::Text => self.text(),
-            Style::Markdown => self.markdown(),
-            Style::Latex => self.latex(),
+            Style::Text => shown.text(),
+            Style::Markdown => shown.markdown(),
+            Style::Latex => shown.latex(),
+        }
+    }
+
+    /// The grid with every string escaped for display.
+    fn printable(&self) -> Grid {
+        let p = |s: &String| crate::report::escape::printable(s).into_owned();
+        let row = |r: &Vec<String>| r.iter().map(p).collect();
+        Grid {
+            title: p(&self.title),
+            header: row(&self.header),
+            rows: self.rows.iter().map(row).collect(),
+            total: self.total.as_ref().map(row),
+            notes: self.notes.iter().map(p).collect(),
         }
     }
 
@@ -92,13 +106,19 @@ impl Grid {
                 *w = (*w).max(c.chars().count());
             }
         }
+        // Padded by hand: a `{c:<w$}` width is a u16, and a cell from the inputs (a scenario
+        // name, a label) may be longer than 65,535 characters.
         let line = |r: &Vec<String>| {
             let mut s = String::new();
             for (i, (c, w)) in r.iter().zip(&width).enumerate() {
+                let pad = " ".repeat(w.saturating_sub(c.chars().count()));
                 if i == 0 {
-                    let _ = write!(s, "{c:<w$}");
+                    s.push_str(c);
+                    s.push_str(&pad);
                 } else {
-                    let _ = write!(s, "  {c:>w$}");
+                    s.push_str("  ");
+                    s.push_str(&pad);
+                    s.push_str(c);
                 }
             }
             s.trim_end().to_string() + "\n"

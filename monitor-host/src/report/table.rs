@@ -222,17 +222,14 @@ pub fn table2(report: &Report) -> Option<Grid> {
 /// aggregates.
 fn group_rows(g: &mut Grid, groups: &Groups, cells: impl Fn(&str, &Aggregates) -> Vec<String>) {
     for r in &groups.rows {
-        // Group labels come from the inputs (scenario names, label files); a weather label
-        // lists the ids it stands for.
+        // Group labels come from the inputs (scenario names, label files): every cell is
+        // escaped when the grid is rendered. A weather label lists the ids it stands for.
         let label = if r.keys.is_empty() {
             r.label.clone()
         } else {
             format!("{} ({})", r.label, r.keys.join(", "))
         };
-        g.rows.push(cells(
-            &crate::report::escape::printable(&label),
-            &r.aggregates,
-        ));
+        g.rows.push(cells(&label, &r.aggregates));
     }
     g.total = Some(cells("Combined", &groups.combined));
 }

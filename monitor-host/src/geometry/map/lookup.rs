@@ -55,8 +55,10 @@ impl MapDir {
         ]
     }
 
-    /// The map of town `town`: the first of [`MapDir::candidates`] that is a file. A town name
-    /// that is empty or holds a path separator finds nothing.
+    /// The map of town `town`: the first of [`MapDir::candidates`] that exists, whatever it is
+    /// (a FIFO, a directory, a dangling or looping link is then refused when it is read, naming
+    /// the file and the cause: never silently "no map"). A town name that is empty or holds a
+    /// path separator finds nothing.
     ///
     /// ```
     /// # use monitor_host::geometry::map::MapDir;
@@ -66,6 +68,8 @@ impl MapDir {
         if town.is_empty() || town.contains(['/', '\\']) || town == "." || town == ".." {
             return None;
         }
-        self.candidates(town).into_iter().find(|p| p.is_file())
+        self.candidates(town)
+            .into_iter()
+            .find(|p| std::fs::symlink_metadata(p).is_ok())
     }
 }

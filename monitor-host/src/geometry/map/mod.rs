@@ -23,6 +23,7 @@
 //! assert_eq!(p.foot, [30.0, 1.75]);
 //! ```
 
+pub mod bounds;
 mod chain;
 mod clearance;
 mod cubic;

@@ -6,6 +6,7 @@ use std::collections::HashMap;
 
 use roxmltree::Node;
 
+use super::bounds;
 use super::cubic::{Cubic, Piecewise};
 use super::error::MapError;
 use super::reference_line::{Geometry, ReferenceLine, Shape};
@@ -159,8 +160,28 @@ pub(crate) fn parse(xml: &str, file: &str) -> Result<Parsed, MapError> {
     }
 
     let mut roads = Vec::with_capacity(road_nodes.len());
+    let mut lane_length = 0.0;
     for r in &road_nodes {
-        roads.push(parse_road(&ctx, *r, &road_index, &junction_index)?);
+        let road = parse_road(&ctx, *r, &road_index, &junction_index)?;
+        lane_length += road
+            .sections
+            .iter()
+            .map(|s| {
+                (s.s1 - s.s0) * s.left.iter().chain(&s.right).filter(|l| l.driving).count() as f64
+            })
+            .sum::<f64>();
+        if lane_length > bounds::MAX_LANE_LENGTH {
+            return Err(ctx.err(
+                format!("road {}", road.id),
+                format!(
+                    "the driving lanes up to this road are {:.0} km long, more than {:.0} km \
+                     (the largest CARLA town has under 100 km)",
+                    lane_length / 1000.0,
+                    bounds::MAX_LANE_LENGTH / 1000.0
+                ),
+            ));
+        }
+        roads.push(road);
     }
     let mut junctions = Vec::with_capacity(junction_nodes.len());
     for j in &junction_nodes {
@@ -238,6 +259,12 @@ fn parse_road(
     }
     let junction = match node.attribute("junction").map(str::trim) {
         None | Some("-1") | Some("") => None,
+        Some(j) if !junctions.contains_key(j) => {
+            return Err(ctx.err(
+                here(),
+                format!("junction=\"{j}\" names no <junction> of the map (-1: not in a junction)"),
+            ))
+        }
         Some(j) => Some(j.to_string()),
     };
 
@@ -277,12 +304,19 @@ fn parse_road(
             })?;
             let shape = match kind.tag_name().name() {
                 "line" => Shape::Line,
-                "arc" => Shape::Arc {
-                    k: ctx.num(kind, "curvature", &el)?,
-                },
+                "arc" => {
+                    let k = ctx.num(kind, "curvature", &el)?;
+                    if let Some(why) = bounds::curvature(k, k, glen) {
+                        return Err(ctx.err(el(), why));
+                    }
+                    Shape::Arc { k }
+                }
                 "spiral" => {
                     let k0 = ctx.num(kind, "curvStart", &el)?;
                     let k1 = ctx.num(kind, "curvEnd", &el)?;
+                    if let Some(why) = bounds::curvature(k0, k1, glen) {
+                        return Err(ctx.err(el(), why));
+                    }
                     Shape::spiral(hdg, glen, k0, k1)
                 }
                 "poly3" => {
@@ -387,6 +421,16 @@ fn parse_road(
             let Some(side) = children(sec, side_tag).next() else {
                 continue;
             };
+            let n = children(side, "lane").count();
+            if n > bounds::MAX_LANES_PER_SIDE {
+                return Err(ctx.err(
+                    el(),
+                    format!(
+                        "{n} lanes on the <{side_tag}> side, more than {} (no road has that many)",
+                        bounds::MAX_LANES_PER_SIDE
+                    ),
+                ));
+            }
             for lane in children(side, "lane") {
                 let id = ctx.int(lane, "id", &el)?;
                 let lel = || format!("road {rid}, lane section {si}, lane {id}");
@@ -444,6 +488,28 @@ fn parse_road(
     }
     for i in 1..sections.len() {
         sections[i - 1].s1 = sections[i].s0;
+    }
+    // A driving lane wider than any road's would make its slack (nearly) infinite.
+    for (si, sec) in sections.iter().enumerate() {
+        for lane in sec.left.iter().chain(&sec.right).filter(|l| l.driving) {
+            let records = &lane.widths.0;
+            for (wi, w) in records.iter().enumerate() {
+                let to = records.get(wi + 1).map_or(sec.s1 - sec.s0, |n| n.start);
+                let widest = bounds::max_abs(w, w.start, to.max(w.start));
+                if widest > bounds::MAX_LANE_WIDTH {
+                    return Err(ctx.err(
+                        format!(
+                            "road {rid}, lane section {si}, lane {}, width {wi}",
+                            lane.id
+                        ),
+                        format!(
+                            "{widest} m wide, more than {} m (no driving lane is that wide)",
+                            bounds::MAX_LANE_WIDTH
+                        ),
+                    ));
+                }
+            }
+        }
     }
 
     Ok(Road {

@@ -66,6 +66,27 @@ pub enum LabelsError {
         /// 1-based line.
         line: u64,
     },
+    /// A CSV line whose key or label is empty, or whose quoted cell runs over several lines
+    /// (an unclosed quote would otherwise swallow the rest of the file).
+    #[error("{file}:{line}: {problem}")]
+    Cell {
+        /// The file.
+        file: String,
+        /// 1-based line.
+        line: u64,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A JSON label that is not a non-empty string or a number (or a list of them).
+    #[error("{file}: key {key:?}: {problem}")]
+    Value {
+        /// The file.
+        file: String,
+        /// The key.
+        key: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// A `weather.xml` that cannot be read.
     #[error("{file}: {message}")]
     Xml {
@@ -153,6 +174,8 @@ pub fn read_labels(path: &Path) -> Result<Labels, LabelsError> {
 /// # Errors
 /// [`LabelsError::Json`] or [`LabelsError::Line`].
 pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
+    // A byte order mark is not part of the text (a JSON file saved with one is still JSON).
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let start = text.trim_start();
     if start.starts_with('<') {
         return weather_xml::parse(text, file);
@@ -169,17 +192,40 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
                 file: file.into(),
                 message: e.to_string(),
             })?;
-        let one = |v: &serde_json::Value| v.as_str().map_or_else(|| v.to_string(), str::to_string);
-        return Ok(map
-            .into_iter()
-            .map(|(k, v)| {
-                let labels = match &v {
-                    serde_json::Value::Array(a) => a.iter().map(one).collect(),
-                    v => vec![one(v)],
-                };
-                (k, labels)
-            })
-            .collect());
+        let bad = |k: &str, problem: String| LabelsError::Value {
+            file: file.into(),
+            key: k.to_string(),
+            problem,
+        };
+        // A label is a non-empty string or a number; null, true, objects and nested lists
+        // are mistakes, not labels.
+        let one = |k: &str, v: &serde_json::Value| match v {
+            serde_json::Value::String(s) if s.trim().is_empty() => {
+                Err(bad(k, "an empty label".into()))
+            }
+            serde_json::Value::String(s) => Ok(s.clone()),
+            serde_json::Value::Number(n) => Ok(n.to_string()),
+            other => Err(bad(
+                k,
+                format!(
+                    "{other} is not a label (a label is a string or a number, or a list of them)"
+                ),
+            )),
+        };
+        let mut out = Labels::new();
+        for (k, v) in map {
+            let labels = match &v {
+                serde_json::Value::Array(a) if a.is_empty() => {
+                    return Err(bad(&k, "an empty list: no label".into()))
+                }
+                serde_json::Value::Array(a) => {
+                    a.iter().map(|x| one(&k, x)).collect::<Result<_, _>>()?
+                }
+                v => vec![one(&k, v)?],
+            };
+            out.insert(k, labels);
+        }
+        return Ok(out);
     }
     // Tab-separated when the file has tabs and no comma.
     let delimiter = if text.contains('\t') && !text.contains(',') {
@@ -209,11 +255,26 @@ pub fn parse_labels(text: &str, file: &str) -> Result<Labels, LabelsError> {
         let (Some(key), Some(_)) = (cells.next(), record.get(1)) else {
             return Err(bad(line));
         };
+        let cell_error = |problem: &str| LabelsError::Cell {
+            file: file.into(),
+            line,
+            problem: problem.into(),
+        };
+        if record.iter().any(|c| c.contains(['\n', '\r'])) {
+            return Err(cell_error(
+                "a quoted cell runs over several lines (an unclosed `\"`?)",
+            ));
+        }
         // An unquoted label may itself hold the delimiter: keep the rest of the line.
         let label: Vec<&str> = record.iter().skip(1).collect();
-        map.entry(key.to_string())
-            .or_default()
-            .push(label.join(if delimiter == b'\t' { "\t" } else { "," }));
+        let label = label.join(if delimiter == b'\t' { "\t" } else { "," });
+        if key.is_empty() {
+            return Err(cell_error("an empty key"));
+        }
+        if label.trim_matches([',', '\t', ' ']).is_empty() {
+            return Err(cell_error(&format!("key {key:?} has an empty label")));
+        }
+        map.entry(key.to_string()).or_default().push(label);
     }
     Ok(map)
 }

@@ -5,14 +5,16 @@ use crate::report::Report;
 const STYLE: &str = include_str!("report.css");
 const SCRIPT: &str = include_str!("report.js");
 
-/// Escapes text for HTML content and attribute values.
+/// Escapes text for HTML content and attribute values; control, bidirectional and invisible
+/// format characters are shown as escapes ([`crate::report::escape::printable`]).
 ///
 /// ```
 /// assert_eq!(monitor_host::report::html::escape("a<b & \"c\""), "a&lt;b &amp; &quot;c&quot;");
+/// assert_eq!(monitor_host::report::html::escape("r\u{202e}1"), "r\\u{202e}1");
 /// ```
 pub fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
+    for c in crate::report::escape::printable(s).chars() {
         match c {
             '&' => o.push_str("&amp;"),
             '<' => o.push_str("&lt;"),

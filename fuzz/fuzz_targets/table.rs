@@ -1,0 +1,46 @@
+//! The table renderer (`monitor_host::report::grid`) and the HTML escaping on arbitrary cells:
+//! long ones (a length byte repeats a cell up to ~200,000 characters, past the 65,535 a format
+//! width holds) and ones full of bidirectional, invisible and control characters (seeded). Never
+//! a panic; no rendering lets such a character through raw (issue 29): the text, Markdown and
+//! LaTeX tables hold none but their own line breaks, the HTML escape none at all.
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+use monitor_host::report::escape::is_hidden;
+use monitor_host::report::grid::{Grid, Style};
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    // Cells are separated by `|`; a cell starting with a digit d is repeated 2^(2d) times.
+    let mut cells: Vec<String> = Vec::new();
+    for c in text.split('|').take(64) {
+        let reps = match c.as_bytes().first() {
+            Some(d @ b'0'..=b'9') if !c.is_empty() => 1usize << (2 * (d - b'0') as usize).min(16),
+            _ => 1,
+        };
+        cells.push(c.repeat(reps.min(200_000 / c.len().max(1)).max(1)));
+    }
+    if cells.is_empty() {
+        return;
+    }
+    let cols = (cells.len() % 5) + 1;
+    let mut g = Grid::new(&cells[0], cells.iter().take(cols).cloned());
+    for row in cells.chunks(cols).skip(1) {
+        g.row(row.iter().cloned());
+    }
+    g.total(cells.iter().rev().take(cols).cloned());
+    g.note(cells.last().cloned().unwrap_or_default());
+    for style in [Style::Text, Style::Markdown, Style::Latex] {
+        let out = g.render(style);
+        assert!(
+            !out.chars().any(|c| is_hidden(c) && c != '\n'),
+            "{style:?}: a raw hidden character"
+        );
+    }
+    for c in &cells {
+        let e = monitor_host::report::html::escape(c);
+        assert!(!e.chars().any(is_hidden) && !e.contains(['<', '>', '"']));
+    }
+});

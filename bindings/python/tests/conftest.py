@@ -49,6 +49,12 @@ def monitor_lateral(lateral: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in lateral.items() if k != "reference"}
 
 
+def monitor_comfort(comfort: dict[str, Any]) -> dict[str, Any]:
+    """A report route's `comfort` block without the host's moving-comfort figures (spec §8.5:
+    from positions, which the monitor does not see)."""
+    return {k: v for k, v in comfort.items() if not k.startswith("moving_")}
+
+
 class Demo:
     """The built-in demo run written by `sds demo`."""
 

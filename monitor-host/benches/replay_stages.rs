@@ -16,6 +16,8 @@
 //! | `stream`  | `replay::stream`: the monitor over every frame                            |
 //! | `batch`   | `batch::compute`: the batch reference check on the same frames           |
 //! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
+//! | `motion`  | `motion::measure` (§8.5 distance, stationary share, moving chunks), with    |
+//! |           | the locations and steps it is given (inside `prepare` they exist already)  |
 //!
 //! Prints one line per stage: `stage=NAME routes=R frames=F bytes=B wall_s=W cpu_s=C`, where
 //! `cpu_s` is this thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`; equal to `wall_s` where that
@@ -26,7 +28,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use monitor_host::input::{metric_info, results_file, route_xml};
-use monitor_host::pipeline::{prepare, replay};
+use monitor_host::pipeline::{motion, prepare, replay};
 use monitor_host::reference::batch;
 use monitor_host::Settings;
 
@@ -86,8 +88,9 @@ fn main() -> anyhow::Result<()> {
     let telemetry_root = dir.join("telemetry");
     let names = [
         "read", "skip", "dom", "parse", "prepare", "stream", "batch", "replay", "reader", "serde",
+        "motion",
     ];
-    let mut acc = [Acc::default(); 10];
+    let mut acc = [Acc::default(); 11];
     let mut agree = true;
     for (k, loaded) in set.records.iter().take(max).enumerate() {
         let record = loaded.entry.as_ref().map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -127,6 +130,16 @@ fn main() -> anyhow::Result<()> {
         acc[3].frames += frames as u64;
         acc[8].frames += frames as u64;
         acc[9].frames += frames as u64;
+        timed(&mut acc[10], frames, n, || {
+            black_box(motion::measure(
+                &tel.locations(),
+                &tel.steps(),
+                0.05,
+                &settings.motion,
+                usize::from(settings.core.chunk_len),
+                usize::from(settings.core.min_chunk),
+            ))
+        });
         let mut prepared = timed(&mut acc[4], frames, n, || {
             prepare::prepare(record, &tel, Some(&routes), None, None, &settings)
         });

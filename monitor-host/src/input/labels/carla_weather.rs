@@ -1,5 +1,5 @@
 //! CARLA's weather presets (`carla.WeatherParameters.ClearNoon`, ...), as CARLA 0.9.15 and
-//! 0.9.16 define them, every parameter: the names [`super::weather_xml`] gives to the cases of
+//! 0.9.16 define them, every parameter: the names `weather_xml` gives to the cases of
 //! Bench2Drive's `weather.xml`. A test checks the table against the `carla` Python package when
 //! it is installed (the venv of `scripts/map-crosscheck.sh`).
 

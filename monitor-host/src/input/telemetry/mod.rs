@@ -1,6 +1,6 @@
 //! A route's telemetry, whatever file it was read from (`SDS-SPEC.md` v1.2 §1.2): the frames
 //! ([`TelemetryFrame`], [`Telemetry`]) and why a file is invalid ([`TelemetryError`]). The one
-//! place that picks the reader for a file is [`format`] ([`format::read_telemetry`]).
+//! place that picks the reader for a file is [`format`](mod@format) ([`format::read_telemetry`]).
 //! Bench2Drive's `metric_info.json` ([`crate::input::metric_info`]) is the one format today; a
 //! second one (another simulator's logs) is a new variant of [`format::TelemetryFormat`] and its
 //! reader, giving the same types.

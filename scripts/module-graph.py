@@ -33,7 +33,7 @@ STAGES = [
     ("route",),
     ("aggregate",),
     ("report",),
-    ("run", "error"),
+    ("run", "error", "compare_runs"),
     ("cli", "demo"),
 ]
 

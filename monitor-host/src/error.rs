@@ -99,4 +99,25 @@ pub enum Error {
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
+    /// The runs cannot be compared (`sds compare`, spec v1.3 section 11).
+    #[error(transparent)]
+    Compare(#[from] crate::aggregate::compare::CompareError),
+    /// One run of a comparison could not be scored.
+    #[error("run {run}: {error}")]
+    InRun {
+        /// The run's name.
+        run: String,
+        /// Why.
+        error: Box<Error>,
+    },
+}
+
+impl Error {
+    /// The error itself, or the one a run of a comparison met ([`Error::InRun`]).
+    pub fn inner(&self) -> &Error {
+        match self {
+            Error::InRun { error, .. } => error.inner(),
+            e => e,
+        }
+    }
 }

@@ -11,7 +11,7 @@ use crate::aggregate::groups::{groups, GroupBy, Groups, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
 use crate::input::duplicates::Dropped;
 use crate::input::labels::Labels;
-use crate::input::route_set::{MissingRoute, RunRouteSet};
+use crate::input::route_set::{route_set_id, MissingRoute, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
 use crate::route::row::{counted_routes, row_name, RouteReport};
@@ -30,8 +30,9 @@ pub struct Report {
     pub profile: &'static str,
     /// Every threshold and default.
     pub config: Settings,
-    /// Every results file read, with the figures it stores beside the computed ones (§1.5).
-    pub inputs: Vec<InputReport>,
+    /// Every results file read, with the figures it stores beside the computed ones (§1.5),
+    /// and the route set's fingerprint (v1.3 §10.3).
+    pub inputs: ReportInputs,
     /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
@@ -50,6 +51,15 @@ pub struct Report {
     /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
     #[serde(skip)]
     pub route_set: Option<RunRouteSet>,
+}
+
+/// The report's `inputs`: the files read and the route set's fingerprint.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ReportInputs {
+    /// Every results file read, with its stored and computed figures (§1.5).
+    pub files: Vec<InputReport>,
+    /// The counted routes' fingerprint (`{"routes", "sha256"}`, v1.3 §10.3).
+    pub route_set: RouteSetId,
 }
 
 /// What a run read besides its routes: the pieces of the report that are not per-route.
@@ -96,7 +106,10 @@ pub fn assemble(
         schema: SCHEMA,
         profile: settings.core.profile.name(),
         config: settings.clone(),
-        inputs: facts.inputs,
+        inputs: ReportInputs {
+            files: facts.inputs,
+            route_set: route_set_id(counted.iter().filter_map(|r| r.route_id.as_deref())),
+        },
         dropped: facts.dropped,
         routes,
         summary,

@@ -7,7 +7,9 @@
 //! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
 //! route); 3 the report was written but some route has a problem (missing or invalid telemetry
 //! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
-//! every such route is in the report with its state; 4 the inputs hold no record at all.
+//! every such route is in the report with its state; 4 the inputs hold no record at all;
+//! 5 (`sds compare --fail-if-worse`) the report was written and a model is worse than the
+//! baseline on a gated metric.
 
 pub mod args;
 pub mod output;
@@ -22,13 +24,14 @@ macro_rules! say {
     };
 }
 
+pub mod compare;
+
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use anyhow::Result;
 use clap::Parser;
 
-use crate::aggregate::compare::{compare, NamedRun};
 use crate::aggregate::groups::{route_label_key, GroupBy, Labels};
 use crate::input::labels::{check_coverage, read_labels};
 use crate::report::grid::Style;
@@ -39,7 +42,7 @@ use crate::{
     TelemetryState, Warning,
 };
 
-use args::{Cli, Command, CompareArgs, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
+use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -48,6 +51,8 @@ const EXIT_ROUTE_PROBLEMS: i32 = 3;
 const EXIT_USAGE: i32 = 2;
 /// Exit code: the inputs hold no record at all.
 const EXIT_EMPTY_RUN: i32 = 4;
+/// Exit code: `sds compare --fail-if-worse` found a model worse than the baseline.
+const EXIT_WORSE: i32 = 5;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
 /// `std::env::args_os()`) and returns the exit code. Never exits the process: usage errors,
@@ -82,8 +87,9 @@ where
 fn exit_code(e: &anyhow::Error) -> i32 {
     use crate::Error;
     if let Some(e) = e.downcast_ref::<Error>() {
-        return match e {
+        return match e.inner() {
             Error::Duplicates(_)
+            | Error::Compare(_)
             | Error::TooFewRoutes { .. }
             | Error::TelemetryRoot { .. }
             | Error::Settings(_) => EXIT_USAGE,
@@ -130,7 +136,7 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Score(args) => score(&args),
-        Command::Compare(args) => compare_runs(&args),
+        Command::Compare(args) => compare::compare(&args),
         Command::Demo {
             dir,
             score: then_score,
@@ -591,124 +597,4 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
-}
-
-/// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
-fn parse_run(arg: &str) -> (String, PathBuf) {
-    if let Some((name, path)) = arg.split_once('=') {
-        if !name.is_empty() && !name.contains(['/', '\\']) {
-            return (name.to_string(), PathBuf::from(path));
-        }
-    }
-    let path = PathBuf::from(arg);
-    let name = if path.is_dir() {
-        path.file_name()
-    } else {
-        path.file_stem()
-    }
-    .map_or_else(|| arg.to_string(), |n| n.to_string_lossy().into_owned());
-    (name, path)
-}
-
-/// The telemetry root of a run: its folder (a results file's own folder).
-fn telemetry_of(path: &Path) -> PathBuf {
-    if path.is_dir() {
-        path.to_path_buf()
-    } else {
-        path.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."))
-            .to_path_buf()
-    }
-}
-
-/// The settings of `sds compare`, shared by every run.
-fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
-    let mut s = Settings::default();
-    s.core.profile = args.profile.profile();
-    s.expected_routes = args.expected_routes;
-    s.allow_missing_telemetry = args.allow_missing_telemetry;
-    s.threads = args.jobs;
-    s.apply(&args.set)?;
-    Ok(s)
-}
-
-fn compare_runs(args: &CompareArgs) -> Result<i32> {
-    let Some(style) = style(args.format)
-        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
-    else {
-        say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
-        return Ok(EXIT_USAGE);
-    };
-    let settings = compare_settings(args)?;
-    let mut seeds: Vec<(String, String)> = Vec::new();
-    for s in &args.seeds {
-        let Some((model, runs)) = s.split_once('=') else {
-            say!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
-            return Ok(EXIT_USAGE);
-        };
-        seeds.extend(
-            runs.split(',')
-                .map(|r| (r.trim().to_string(), model.to_string())),
-        );
-    }
-    let mut runs = Vec::new();
-    let mut problems = false;
-    for arg in &args.runs {
-        let (name, path) = parse_run(arg);
-        if runs.iter().any(|r: &NamedRun| r.name == name) {
-            say!("sds: error: two runs are named {name}: name them with NAME=PATH");
-            return Ok(EXIT_USAGE);
-        }
-        let inputs = Inputs {
-            results: vec![path.clone()],
-            telemetry: Some(telemetry_of(&path)),
-            route_xml: args.routes.clone(),
-            maps: args.maps.clone(),
-        };
-        let report = score_run_with(&inputs, &settings, &crate::NoProgress)?;
-        for w in &report.warnings {
-            say!("sds: warning: {name}: {w}");
-        }
-        if report.has_problems() {
-            problems = true;
-            say!(
-                "sds: {name}: {} route(s) with problems (score it alone with sds score for details)",
-                report.problem_routes().count()
-            );
-        }
-        let model = seeds
-            .iter()
-            .find(|(r, _)| *r == name)
-            .map(|(_, m)| m.clone());
-        runs.push(NamedRun {
-            name,
-            model,
-            report,
-        });
-    }
-    for (run, _) in &seeds {
-        if !runs.iter().any(|r| &r.name == run) {
-            say!("sds: error: --seeds names {run}, which is not a run");
-            return Ok(EXIT_USAGE);
-        }
-    }
-    let route_set = args.routes.is_some() || args.expected_routes.is_some();
-    let comparison = compare(&runs, route_set);
-    let bytes = if args.format == Format::Json {
-        let mut v = serde_json::to_vec_pretty(&comparison)?;
-        v.push(b'\n');
-        v
-    } else if args.format == Format::Html {
-        html::compare_page(&comparison, &runs).into_bytes()
-    } else {
-        table::render(&table::compare_tables(&comparison), style).into_bytes()
-    };
-    // Never write over any run's input.
-    let inputs_read: Vec<PathBuf> = runs
-        .iter()
-        .flat_map(|r| r.report.files_read.iter().cloned())
-        .collect();
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
-    Ok(if problems { EXIT_ROUTE_PROBLEMS } else { 0 })
 }

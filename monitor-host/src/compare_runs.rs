@@ -1,0 +1,137 @@
+//! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.3 §11): score each run with
+//! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
+//! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
+
+use crate::aggregate::compare::{
+    compare, CompareError, CompareOptions, Comparison, Model, NamedRun,
+};
+use crate::error::Error;
+use crate::run::{score_run_with, Inputs, Progress};
+use crate::settings::Settings;
+
+/// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunInputs {
+    /// The run's name (unique).
+    pub name: String,
+    /// Its files.
+    pub inputs: Inputs,
+}
+
+/// Seeds of one model: `model` = the runs named in `runs` (`--seeds MODEL=RUN,RUN`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Seeds {
+    /// The model's name.
+    pub model: String,
+    /// Its runs' names, in the order given.
+    pub runs: Vec<String>,
+}
+
+/// The comparison and the scored runs behind it (for renderings that show each run).
+#[derive(Clone, Debug)]
+pub struct Compared {
+    /// The `sds-compare/1` report.
+    pub comparison: Comparison,
+    /// The models, each with its runs' reports.
+    pub models: Vec<Model>,
+}
+
+/// Groups the runs into models: each `seeds` entry is one model, at the place of its first run;
+/// every other run is a model of its own name.
+///
+/// # Errors
+/// [`CompareError::DuplicateName`] when a run is in two seed groups or a model's name is taken.
+pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Error> {
+    let unknown = |name: &str| Error::Compare(CompareError::UnknownRun(name.to_string()));
+    for s in seeds {
+        for r in &s.runs {
+            if !runs.iter().any(|x| &x.name == r) {
+                return Err(unknown(r));
+            }
+            if seeds
+                .iter()
+                .flat_map(|t| &t.runs)
+                .filter(|x| *x == r)
+                .count()
+                > 1
+            {
+                return Err(Error::Compare(CompareError::DuplicateName {
+                    what: "seed-group members",
+                    name: r.clone(),
+                }));
+            }
+        }
+    }
+    let mut models: Vec<Model> = Vec::new();
+    for run in runs {
+        let group = seeds.iter().find(|s| s.runs.contains(&run.name));
+        let name = group.map_or_else(|| run.name.clone(), |g| g.model.clone());
+        match models
+            .iter_mut()
+            .find(|m| m.name == name && group.is_some())
+        {
+            Some(m) => m.runs.push(run),
+            None => models.push(Model {
+                name,
+                runs: vec![run],
+            }),
+        }
+    }
+    // Seeds in the order `--seeds` names them.
+    for s in seeds {
+        if let Some(m) = models.iter_mut().find(|m| m.name == s.model) {
+            m.runs
+                .sort_by_key(|r| s.runs.iter().position(|x| *x == r.name));
+        }
+    }
+    Ok(models)
+}
+
+/// Scores every run (in order, each on the thread pool [`crate::score_run`] makes) and compares
+/// them. `progress` hears each run's routes.
+///
+/// ```
+/// use monitor_host::compare_runs::{compare_runs, RunInputs};
+/// use monitor_host::aggregate::compare::CompareOptions;
+/// use monitor_host::{demo, Inputs, NoProgress, Settings};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+/// let runs = ["base", "new"].map(|n| RunInputs { name: n.into(), inputs: inputs.clone() });
+/// let c = compare_runs(&runs, &[], &Settings::default(), &CompareOptions::default(), &NoProgress)?;
+/// assert_eq!(c.comparison.paired.len(), 4); // new vs base: ds, success, ds_safe, comfort
+/// assert!(c.comparison.gate_failures().is_empty());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// A run's [`Error`] (naming it is the caller's: the order is the order given), or
+/// [`Error::Compare`].
+pub fn compare_runs(
+    runs: &[RunInputs],
+    seeds: &[Seeds],
+    settings: &Settings,
+    options: &CompareOptions,
+    progress: &dyn Progress,
+) -> Result<Compared, Error> {
+    let mut scored = Vec::new();
+    for r in runs {
+        if scored.iter().any(|x: &NamedRun| x.name == r.name) {
+            return Err(Error::Compare(CompareError::DuplicateName {
+                what: "runs",
+                name: r.name.clone(),
+            }));
+        }
+        let report = score_run_with(&r.inputs, settings, progress).map_err(|e| Error::InRun {
+            run: r.name.clone(),
+            error: Box::new(e),
+        })?;
+        scored.push(NamedRun {
+            name: r.name.clone(),
+            report,
+        });
+    }
+    let models = group_runs(scored, seeds)?;
+    let comparison = compare(&models, options)?;
+    Ok(Compared { comparison, models })
+}

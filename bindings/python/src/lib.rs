@@ -3,11 +3,14 @@
 //!
 //! - `score_json` (`score.rs`): `sds score` through the library's [`monitor_host::score_run`], the
 //!   report as the CLI's JSON text (the Python layer parses it), GIL released while scoring;
+//! - `compare_json` (`compare.rs`): `sds compare` through the library's `compare_runs`, the
+//!   `sds-compare/1` report as JSON text;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick;
 //! - `cli_main`: the package's `sds` command, the same command line as the binary;
 //! - `errors.rs`: the exception classes.
 #![deny(missing_docs)]
 
+mod compare;
 mod convert;
 mod errors;
 mod monitor;
@@ -30,6 +33,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(score::score_json, m)?)?;
     m.add_function(wrap_pyfunction!(score::score_options, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare_json, m)?)?;
     m.add_class::<monitor::Monitor>()?;
     m.add_function(wrap_pyfunction!(monitor::settings_args, m)?)?;
     m.add(

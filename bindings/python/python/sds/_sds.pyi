@@ -31,6 +31,9 @@ def cli_main(argv: Sequence[str]) -> int:
 def score_json(args: Sequence[str], progress: bool = False) -> str:
     """Scores a run given the arguments of ``sds score``; returns the JSON report's text."""
 
+def compare_json(args: Sequence[str]) -> str:
+    """Compares runs given the arguments of ``sds compare``; returns the JSON report's text."""
+
 def score_options() -> List[str]:
     """The long names of the options ``sds score`` has in this build."""
 

@@ -103,7 +103,7 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         ]);
     }
     if c.models.iter().all(|m| m.ability.mean.mean.is_none()) {
-        b2d.note("abilities need the route XML (--routes)");
+        b2d.note("no ability rate: abilities need the route XML (--routes) and routes of Bench2Drive's scenario types");
     }
     for m in c.models.iter().filter(|m| m.runs.len() > 1) {
         t1.note(format!("{}: seeds {}", m.name, m.runs.join(", ")));
@@ -172,6 +172,7 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         let largest: Vec<String> = f
             .largest
             .iter()
+            .filter(|m| m.delta != 0.0)
             .take(3)
             .map(|m| format!("{}: {:+.2}", m.key, m.delta))
             .collect();

@@ -78,8 +78,20 @@ fn draw(
             lo = lo.min(*a).min(*d);
             hi = hi.max(*b).max(*d);
         }
-        let pad = ((hi - lo) * 0.1).max(1e-3);
-        let y_area = if i == 0 { 90 } else { 10 };
+        // A fraction-valued metric (success, comfort) gets a narrower empty range than a score.
+        let unit = if *metric == "success" || *metric == "comfort" {
+            0.05
+        } else {
+            1.0
+        };
+        let pad = ((hi - lo) * 0.1).max(if hi > lo { 0.0 } else { unit });
+        let digits = if unit < 1.0 { 3 } else { 1 };
+        let longest = models.iter().map(|m| m.chars().count()).max().unwrap_or(1) as u32;
+        let y_area = if i == 0 {
+            (12 + 7 * longest).min(160)
+        } else {
+            10
+        };
         let mut chart = ChartBuilder::on(panel)
             .caption(format!("Δ {metric}"), (FONT, 15))
             .margin(8)
@@ -94,7 +106,7 @@ fn draw(
             .bold_line_style(BLACK.mix(0.08))
             .x_labels(5)
             .y_labels(models.len().max(1))
-            .x_label_formatter(&|v| format!("{v:.2}"))
+            .x_label_formatter(&|v| format!("{v:.digits$}"))
             .y_label_formatter(&|v| {
                 let j = v.round();
                 if i == 0 && (v - j).abs() < 1e-6 && j >= 0.0 {
@@ -106,6 +118,7 @@ fn draw(
                 }
             })
             .label_style((FONT, 12))
+            .y_label_style((FONT, 13))
             .draw()?;
         chart.draw_series(DashedLineSeries::new(
             [(0.0, -0.5), (0.0, k - 0.5)],

@@ -42,9 +42,12 @@ impl SplitMix64 {
     /// One draw of an index in `0..n`: `floor(((next() >> 11) * 2^-53) * n)`. The top 53 bits
     /// make a double in [0, 1) exactly; the product is below `n`, so the index is in range.
     pub fn index(&mut self, n: usize) -> usize {
-        let unit = (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64);
-        // `unit * n` < n for every n below 2^53; `min` keeps that true whatever n is.
-        ((unit * n as f64).floor() as usize).min(n.saturating_sub(1))
+        // Below 2^53, so the signed conversion (one instruction) is exact.
+        let unit = ((self.next_u64() >> 11) as i64) as f64 * (1.0 / (1u64 << 53) as f64);
+        // The product is >= 0, so the cast's truncation is the floor (and needs no libm call,
+        // which `f64::floor` is on x86-64 without SSE4.1). `unit * n` < n for every n below
+        // 2^53; `min` keeps that true whatever n is.
+        ((unit * n as f64) as i64 as usize).min(n.saturating_sub(1))
     }
 }
 

@@ -500,10 +500,7 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
     let cmp = json_of(&out);
     // Only the routes present in every run, and the report says which were left out.
     assert_eq!(cmp["scope"]["routes"], 218);
-    let gone = vec![
-        "RouteScenario_23670_rep0".to_string(),
-        "RouteScenario_3800_rep0".to_string(),
-    ];
+    let gone = ["RouteScenario_23670_rep0", "RouteScenario_3800_rep0"];
     let left: Vec<String> = cmp["scope"]["left_out"]
         .as_array()
         .unwrap()
@@ -512,7 +509,7 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
         .collect();
     assert_eq!(left, ["m_1", "m_2", "t"]);
     // By hand: each run's DS over the 218 common routes, then mean and sample std.
-    let keep = |id: &str| !gone.iter().any(|g| g == id);
+    let keep = |id: &str| !gone.contains(&id);
     let ds: Vec<f64> = [&a, &b, &c]
         .iter()
         .map(|f| ds_of(f, keep))

@@ -230,7 +230,7 @@ impl Comparison {
     pub fn gate_failures(&self) -> Vec<GateFailure> {
         self.paired
             .iter()
-            .filter(|p| self.config.fail_if_worse.iter().any(|m| *m == p.metric))
+            .filter(|p| self.config.fail_if_worse.contains(&p.metric))
             .filter(|p| p.result.verdict == Some(Verdict::Worse))
             .filter_map(|p| {
                 Some(GateFailure {

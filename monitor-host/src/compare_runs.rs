@@ -62,21 +62,27 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
             }
         }
     }
-    let mut models: Vec<Model> = Vec::new();
+    // (model, from a seed group): a run of a group joins only its group's model, so a group
+    // named like another run stays a model of its own (and `compare` refuses the two names).
+    let mut grouped: Vec<(Model, bool)> = Vec::new();
     for run in runs {
         let group = seeds.iter().find(|s| s.runs.contains(&run.name));
         let name = group.map_or_else(|| run.name.clone(), |g| g.model.clone());
-        match models
+        match grouped
             .iter_mut()
-            .find(|m| m.name == name && group.is_some())
+            .find(|(m, from_group)| *from_group && group.is_some() && m.name == name)
         {
-            Some(m) => m.runs.push(run),
-            None => models.push(Model {
-                name,
-                runs: vec![run],
-            }),
+            Some((m, _)) => m.runs.push(run),
+            None => grouped.push((
+                Model {
+                    name,
+                    runs: vec![run],
+                },
+                group.is_some(),
+            )),
         }
     }
+    let mut models: Vec<Model> = grouped.into_iter().map(|(m, _)| m).collect();
     // Seeds in the order `--seeds` names them.
     for s in seeds {
         if let Some(m) = models.iter_mut().find(|m| m.name == s.model) {

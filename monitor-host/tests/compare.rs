@@ -407,6 +407,13 @@ fn seeds_are_grouped_only_by_the_seeds_option() {
         text.contains("70.00 ± 14.14") && text.contains("m: seeds m_1, m_2"),
         "{text}"
     );
+    // A seed group named like another run is refused, never merged with it.
+    let (code, _, err) = compare_json(
+        &["--seeds", "b=m_1,m_2"],
+        &[("b", &b), ("m_1", &m1), ("m_2", &m2)],
+    );
+    assert_eq!(code, Some(2));
+    assert!(err.contains("two models are named b"), "{err}");
     // A seed that is not a run.
     let (code, _, err) = compare_json(&["--seeds", "m=m_1,m_9"], &[("b", &b), ("m_1", &m1)]);
     assert_eq!(code, Some(2));

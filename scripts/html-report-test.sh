@@ -92,7 +92,7 @@ def dom(name):
     return open(f"{out}/{name}", encoding="utf-8").read()
 
 def status(d):
-    m = re.search(r'<p id="status">([^<]*)</p>', d)
+    m = re.search(r'<p id="status"[^>]*>([^<]*)</p>', d)
     return m.group(1) if m else None
 
 def title(d):
@@ -160,3 +160,25 @@ n_shown=$(sed -n '/<pre id="test-result">/,/<\/pre>/p' "$out/dom-state.html" | g
 [ "$n_shown" = "$n_state" ] || { echo "browser test: state filter $state shows $n_shown routes, expected $n_state" >&2; exit 1; }
 echo "browser test: state filter '$state' shows $n_shown route(s)"
 python3 -c 'import sys; b=open(sys.argv[1],"rb").read(); assert b[:8]==b"\x89PNG\r\n\x1a\n" and len(b) > 20000, len(b); print(f"browser test: screenshot {sys.argv[1]} ({len(b)} bytes)")' "$out/report.png"
+
+# A real 220-route run (long route ids and scenario names) at a 1440 px window: the routes table
+# fits the page's 1400 px column (no sideways scrolling), and no status line shows.
+fixtures=../shared/fixtures/b2d
+if [ -f "$fixtures/carla_garage_tfpp_b2d_traj_merged.json" ]; then
+  "$sds" score --results "$fixtures/carla_garage_tfpp_b2d_traj_merged.json" \
+    --routes "$fixtures/routes/bench2drive220.xml" --allow-missing-telemetry --format html \
+    -o "$out/real.html" 2>/dev/null
+  browse "file://$(realpath "$out/real.html")" --window-size=1440,1000 --dump-dom >"$out/dom-real.html"
+  python3 - "$out/dom-real.html" <<'PY'
+import re, sys
+d = open(sys.argv[1], encoding="utf-8").read()
+m = re.search(r'<table id="routes"[^>]*data-width="(\d+)"[^>]*data-room="(\d+)"', d)
+assert m, "the routes table has no measured width"
+width, room = int(m.group(1)), int(m.group(2))
+assert width <= room <= 1400, f"routes table {width} px wide in {room} px: it overflows"
+assert re.search(r'<p id="status" hidden', d), "the status line is shown"
+print(f"browser test: the 220-route table is {width} px wide in its {room} px")
+PY
+else
+  echo "## browser test: $fixtures absent: the 220-route width check SKIPPED" >&2
+fi

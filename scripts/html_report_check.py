@@ -105,7 +105,8 @@ def main(html_path, json_path):
     check(page.scripts == 1, f"{page.scripts} scripts, expected 1 inline script")
     check(len(page.rows) == len(routes), f"{len(page.rows)} rows for {len(routes)} routes")
     check(page.sds == fmt(report["summary"]["sds"], 2), f"headline SDS {page.sds}")
-    columns = ["route", "state", "town", "scenario", "ds", "ds_safe", "comfort", "collisions",
+    columns = ["route", "state", "town", "scenario", "ds", "ds_safe", "comfort", "comfort_moving",
+               "stationary", "collisions",
                "decelerated", "nodecel", "exempt", "unaligned", "anomalous", "critical", "warnings"]
     for i, (r, (attrs, cells)) in enumerate(zip(routes, page.rows)):
         rid = r["route_id"] or "<no route_id>"
@@ -119,6 +120,8 @@ def main(html_path, json_path):
             "ds": (r["score_composed"], 2),
             "ds_safe": (r["ds_safe"], 2),
             "comfort": (r["comfort"]["score"], 3),
+            "comfort_moving": (r["comfort"]["moving_score"], 3),
+            "stationary": (None if r["stationary_share"] is None else 100 * r["stationary_share"], 1),
             "collisions": (c["pedestrian"] + c["vehicle"] + c["layout"], 0),
             "decelerated": (sum(1 for e in aligned if e["decelerated"] and not e["exempt"]), 0),
             "nodecel": (c["nodecel"], 0),

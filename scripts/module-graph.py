@@ -33,7 +33,7 @@ STAGES = [
     ("route",),
     ("aggregate",),
     ("report",),
-    ("run", "error", "compare_runs"),
+    ("run", "error", "scored", "compare_runs"),  # scored: a run and its label files, for every front end
     ("cli", "demo"),
 ]
 

@@ -2,6 +2,8 @@
 //! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
 //! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
 
+use std::path::{Path, PathBuf};
+
 use crate::aggregate::compare::{
     compare, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
@@ -16,6 +18,28 @@ pub struct RunInputs {
     pub name: String,
     /// Its files.
     pub inputs: Inputs,
+}
+
+/// The telemetry root of a run given none: the folder of its results file (or the results
+/// folder itself), where Bench2Drive writes a run's `<save_name>/metric_info.json`. Every front
+/// end of `sds compare` uses this default.
+///
+/// ```
+/// use monitor_host::compare_runs::telemetry_beside;
+/// use std::path::Path;
+/// assert_eq!(telemetry_beside(Path::new("out/results.json")), Path::new("out"));
+/// assert_eq!(telemetry_beside(Path::new("results.json")), Path::new("."));
+/// ```
+pub fn telemetry_beside(results: &Path) -> PathBuf {
+    if results.is_dir() {
+        results.to_path_buf()
+    } else {
+        results
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf()
+    }
 }
 
 /// Seeds of one model: `model` = the runs named in `runs` (`--seeds MODEL=RUN,RUN`).

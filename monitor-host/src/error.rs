@@ -1,8 +1,10 @@
 //! The error of a run: why [`crate::score_run`] produced no report at all. Problems of single
 //! routes are not errors: they are route states and warnings in the report.
 
+use crate::aggregate::groups::NeedsLabels;
 use crate::geometry::map::MapError;
 use crate::input::duplicates::DuplicatesError;
+use crate::input::labels::LabelsError;
 use crate::input::results_file::ResultsError;
 use crate::input::route_xml::RouteError;
 use crate::settings::SettingsError;
@@ -110,6 +112,17 @@ pub enum Error {
         /// Why.
         error: Box<Error>,
     },
+    /// A label file cannot be read, or matches no route (for [`crate::score_labelled`]).
+    #[error(transparent)]
+    Labels(#[from] LabelsError),
+    /// A breakdown needs a label map that was not given (for [`crate::score_labelled`]).
+    #[error(transparent)]
+    NeedsLabels(#[from] NeedsLabels),
+    /// A route label map was given without the breakdown by route that reads it.
+    #[error(
+        "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
+    )]
+    UnusedLabels,
 }
 
 impl Error {
@@ -120,4 +133,28 @@ impl Error {
             e => e,
         }
     }
+}
+
+/// The text a front end shows for an error that stops it (`sds: error: <text>`, the Python
+/// exceptions' message): the error and each of its causes, joined by `": "`, a cause that the
+/// text already ends with written once.
+///
+/// ```
+/// use monitor_host::input::results_file::read_results;
+/// let e = read_results(std::path::Path::new("/nonexistent")).unwrap_err();
+/// assert_eq!(monitor_host::error::message(&e),
+///            "/nonexistent: cannot read: No such file or directory (os error 2)");
+/// ```
+pub fn message(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut text = e.to_string();
+    let mut cause = e.source();
+    while let Some(c) = cause {
+        let c_text = c.to_string();
+        if !text.ends_with(&c_text) {
+            text.push_str(": ");
+            text.push_str(&c_text);
+        }
+        cause = c.source();
+    }
+    text
 }

@@ -26,6 +26,7 @@
 //!               │                              └─> reference/batch (must agree, spec §9)
 //!               v
 //! route/     row per route: penalty re-check (§8), efficiency, abilities (§8.2), traces
+//!            (+ protocol/: the records rescored under other evaluators' rules, §8.4)
 //!               v
 //! aggregate/ aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3),
 //!            compare; report (the Report that holds rows and aggregates)
@@ -74,10 +75,12 @@ pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod pipeline;
+pub use route::protocol;
 pub mod reference;
 pub mod report;
 pub mod route;
 pub mod run;
+pub mod scored;
 pub mod settings;
 pub mod warning;
 
@@ -93,5 +96,6 @@ pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
-pub use settings::{Settings, SettingsError};
+pub use scored::{score_labelled, LabelFiles, Scored};
+pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;

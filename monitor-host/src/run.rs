@@ -8,10 +8,10 @@ use rayon::prelude::*;
 use crate::aggregate::report::{assemble, Report, RunFacts};
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
-use crate::input::duplicates::{deduplicate, DuplicatePolicy};
+use crate::input::duplicates::{deduplicate, DuplicatePolicy, Source};
 use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, ResultSet};
-use crate::input::route_set::{benchmark_size, route_set};
+use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
 use crate::pipeline::outcome::TelemetryState;
@@ -132,15 +132,28 @@ pub fn score_run_with(
             policy: settings.duplicates.name(),
         });
     }
+    let by_order: Vec<String> = kept
+        .kept
+        .iter()
+        .filter(|k| k.by_order)
+        .map(|k| {
+            let r = all.iter().find(|r| Source::of(r) == k.source);
+            r.and_then(route_id_of).unwrap_or_default().to_string()
+        })
+        .collect();
+    if !by_order.is_empty() {
+        warnings.push(Warning::NewestByOrder { routes: by_order });
+    }
     let records = kept.records;
     let routes = inputs
         .route_xml
         .as_deref()
         .map(read_route_xml)
         .transpose()?;
-    let set = routes
-        .as_ref()
-        .map(|xml| route_set(xml, records.iter().filter_map(|r| route_id_of(r))));
+    let set = routes.as_ref().map(|xml| {
+        let set = route_set(xml, records.iter().filter_map(|r| route_id_of(r)));
+        route_subset(set, settings.route_subset)
+    });
     let foreign: Vec<bool> = records
         .iter()
         .map(|r| {
@@ -253,6 +266,7 @@ pub fn score_run_with(
         route_set: set,
         inputs: input_reports,
         dropped: kept.dropped,
+        kept: kept.kept,
         warnings,
     };
     let mut report = assemble(rows, &outcomes, settings, facts);
@@ -434,16 +448,23 @@ fn map_warnings(maps: &TownMaps, towns: &[Option<&str>], settings: &Settings) ->
     for t in towns.iter().flatten() {
         *count.entry(t).or_default() += 1;
     }
-    count
+    let absent: Vec<(&str, usize, String)> = count
         .into_iter()
-        .filter_map(|(town, routes)| {
-            let reason = maps.get(town).err()?;
-            Some(Warning::NoMap {
-                town: town.to_string(),
-                routes,
-                reason,
-                lane_fallback: lane,
-            })
-        })
-        .collect()
+        .filter_map(|(town, routes)| Some((town, routes, maps.get(town).err()?)))
+        .collect();
+    // Several towns in one line: a run over CARLA's 12 towns with a few maps is one fact.
+    match &absent[..] {
+        [] => Vec::new(),
+        [(town, routes, reason)] => vec![Warning::NoMap {
+            town: town.to_string(),
+            routes: *routes,
+            reason: reason.clone(),
+            lane_fallback: lane,
+        }],
+        [(_, _, reason), ..] => vec![Warning::NoMaps {
+            towns: absent.iter().map(|(t, n, _)| (t.to_string(), *n)).collect(),
+            reason: reason.clone(),
+            lane_fallback: lane,
+        }],
+    }
 }

@@ -21,6 +21,7 @@
 use monitor_core::{Config, ConfigError, Profile};
 
 use crate::input::duplicates::DuplicatePolicy;
+use crate::input::route_set::RouteSubset;
 
 /// Why a setting was refused.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -116,6 +117,9 @@ pub struct Settings {
     pub expected_routes: Option<usize>,
     /// Which copy of a duplicated route id is scored (§1.5) **\[decision\]**.
     pub duplicates: DuplicatePolicy,
+    /// Which routes of `--routes` make the route set: `all` (default) or those `found` with a
+    /// record **\[decision\]**.
+    pub route_subset: RouteSubset,
     /// Infer each route's step period from its record (§1.2); `false` uses `dt` for every
     /// route. Setting `dt` turns it off.
     pub dt_inference: bool,
@@ -123,6 +127,12 @@ pub struct Settings {
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
     pub threads: Option<usize>,
+    /// Thresholds of the distance and stationary figures (§8.5).
+    pub motion: MotionSettings,
+    /// Scoring protocols to add (§8.4; default none).
+    pub protocols: Vec<Protocol>,
+    /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
+    pub ability_rule: AbilityRule,
 }
 
 impl Default for Settings {
@@ -139,9 +149,13 @@ impl Default for Settings {
             penalty_flavour: PenaltyFlavour::Bench2Drive,
             expected_routes: None,
             duplicates: DuplicatePolicy::Error,
+            route_subset: RouteSubset::All,
             dt_inference: true,
             allow_missing_telemetry: false,
             threads: None,
+            motion: MotionSettings::default(),
+            protocols: Vec::new(),
+            ability_rule: AbilityRule::B2d004,
         }
     }
 }
@@ -189,7 +203,8 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 35] = [
+    pub const NAMES: [&'static str; 40] = [
+        "ability_rule",
         "align_max_dist",
         "align_tie",
         "allow_missing_telemetry",
@@ -221,8 +236,12 @@ impl Settings {
         "legacy_jerk_spacing",
         "lookahead",
         "min_chunk",
+        "motion.moving_speed",
+        "motion.stationary_speed",
         "penalty_flavour",
         "profile",
+        "protocols",
+        "route_subset",
         "slack",
         "stationary_speed",
     ];
@@ -246,12 +265,40 @@ impl Settings {
     /// # Errors
     /// As [`Settings::set`], or [`SettingsError::Syntax`] for text without `=`.
     pub fn apply(&mut self, overrides: &[String]) -> Result<(), SettingsError> {
+        let pairs = overrides
+            .iter()
+            .map(|s| {
+                s.split_once('=')
+                    .ok_or_else(|| SettingsError::Syntax(s.clone()))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        self.apply_pairs(pairs)
+    }
+
+    /// Applies `(NAME, VALUE)` overrides in order, then validates once (so a pair may pass
+    /// through a state that only a later pair makes valid); nothing changes on an error. What
+    /// [`Settings::apply`] does after splitting `NAME=VALUE`, for front ends that hold names and
+    /// values apart (the Python `settings={...}` mapping).
+    ///
+    /// ```
+    /// use monitor_host::Settings;
+    /// let mut s = Settings::default();
+    /// s.apply_pairs([("slack", "0.9"), ("bounds.yaw_rate", "1.0")])?;
+    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+    /// assert!(s.apply_pairs([("slack", "1.0"), ("nope", "1")]).is_err());
+    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+    /// # Ok::<(), monitor_host::SettingsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// As [`Settings::set`].
+    pub fn apply_pairs<N: AsRef<str>, V: AsRef<str>>(
+        &mut self,
+        pairs: impl IntoIterator<Item = (N, V)>,
+    ) -> Result<(), SettingsError> {
         let mut next = self.clone();
-        for s in overrides {
-            let (name, value) = s
-                .split_once('=')
-                .ok_or_else(|| SettingsError::Syntax(s.clone()))?;
-            next.set_unchecked(name, value)?;
+        for (name, value) in pairs {
+            next.set_unchecked(name.as_ref(), value.as_ref())?;
         }
         next.validate()?;
         *self = next;
@@ -266,6 +313,22 @@ impl Settings {
             return Err(SettingsError::Unknown { name: name.into() });
         };
         match key {
+            "ability_rule" => {
+                self.ability_rule =
+                    AbilityRule::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "b2d-0.0.4 or b2d-0.0.3",
+                        value: v.into(),
+                    })?
+            }
+            "protocols" => {
+                self.protocols = parse_protocols(v).map_err(|_| SettingsError::Value {
+                    name: key,
+                    expected:
+                        "all, none, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d",
+                    value: v.into(),
+                })?
+            }
             "align_max_dist" => self.align_max_dist = f64_of(key, v)?,
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
@@ -290,11 +353,19 @@ impl Settings {
             }
             "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
             "dt_inference" => self.dt_inference = bool_of(key, v)?,
+            "route_subset" => {
+                self.route_subset =
+                    RouteSubset::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "all or found",
+                        value: v.into(),
+                    })?
+            }
             "duplicates" => {
                 self.duplicates =
                     DuplicatePolicy::from_name(v.trim()).ok_or(SettingsError::Value {
                         name: key,
-                        expected: "error, first, last or all",
+                        expected: "error, first, last, newest or all",
                         value: v.into(),
                     })?
             }
@@ -352,6 +423,8 @@ impl Settings {
             "factors.layout" => f.layout = f64_of(key, v)?,
             "factors.nodecel" => f.nodecel = f64_of(key, v)?,
             "factors.workzone" => f.workzone = f64_of(key, v)?,
+            "motion.moving_speed" => self.motion.moving_speed = f64_of(key, v)?,
+            "motion.stationary_speed" => self.motion.stationary_speed = f64_of(key, v)?,
             _ => return Err(SettingsError::Unknown { name: name.into() }),
         }
         Ok(())
@@ -363,6 +436,8 @@ impl Settings {
         let c = &self.core;
         let (b, f) = (&c.bounds, &c.factors);
         Some(match name {
+            "ability_rule" => self.ability_rule.name().into(),
+            "protocols" => protocols_text(&self.protocols),
             "align_max_dist" => self.align_max_dist.to_string(),
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
@@ -373,6 +448,7 @@ impl Settings {
             "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
             "dt_inference" => self.dt_inference.to_string(),
             "duplicates" => self.duplicates.name().into(),
+            "route_subset" => self.route_subset.name().into(),
             "expected_routes" => self
                 .expected_routes
                 .map_or_else(|| "null".into(), |n| n.to_string()),
@@ -400,6 +476,8 @@ impl Settings {
             "factors.layout" => f.layout.to_string(),
             "factors.nodecel" => f.nodecel.to_string(),
             "factors.workzone" => f.workzone.to_string(),
+            "motion.moving_speed" => self.motion.moving_speed.to_string(),
+            "motion.stationary_speed" => self.motion.stationary_speed.to_string(),
             _ => return None,
         })
     }
@@ -449,6 +527,18 @@ impl Settings {
                 self.align_tie,
                 "finite and not negative",
                 self.align_tie >= 0.0,
+            ),
+            (
+                "motion.moving_speed",
+                self.motion.moving_speed,
+                "finite and not negative",
+                self.motion.moving_speed >= 0.0,
+            ),
+            (
+                "motion.stationary_speed",
+                self.motion.stationary_speed,
+                "finite and not negative",
+                self.motion.stationary_speed >= 0.0,
             ),
         ];
         for (name, x, rule, ok) in checks {
@@ -521,7 +611,8 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(25))?;
+        let mut m = s.serialize_map(Some(28))?;
+        m.serialize_entry("ability_rule", self.ability_rule.name())?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
         m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
@@ -543,8 +634,16 @@ impl serde::Serialize for Settings {
         m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
         m.serialize_entry("lookahead", &self.lookahead)?;
         m.serialize_entry("min_chunk", &c.min_chunk)?;
+        let motion = [
+            ("moving_speed", self.motion.moving_speed),
+            ("stationary_speed", self.motion.stationary_speed),
+        ];
+        m.serialize_entry("motion", &Group(&motion))?;
         m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
         m.serialize_entry("profile", c.profile.name())?;
+        let ids: Vec<&str> = self.protocols.iter().map(|p| p.id()).collect();
+        m.serialize_entry("protocols", &ids)?;
+        m.serialize_entry("route_subset", self.route_subset.name())?;
         m.serialize_entry("slack", &w(c.slack))?;
         m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
         m.end()
@@ -557,6 +656,146 @@ struct Group<'a>(&'a [(&'a str, f64)]);
 impl serde::Serialize for Group<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
+    }
+}
+
+/// The thresholds of §8.5 (settings `motion.stationary_speed`, `motion.moving_speed`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionSettings {
+    /// A frame whose speed is below this is stationary, m/s (0.1) **\[decision\]**. (The
+    /// setting `stationary_speed` is §5's collision exemption, 0.5 m/s: another threshold.)
+    pub stationary_speed: f64,
+    /// A chunk whose mean speed (path length over its duration) is at least this is moving,
+    /// m/s (1.0) **\[decision\]**.
+    pub moving_speed: f64,
+}
+
+impl Default for MotionSettings {
+    fn default() -> Self {
+        MotionSettings {
+            stationary_speed: 0.1,
+            moving_speed: 1.0,
+        }
+    }
+}
+
+/// One scoring protocol (§8.4).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Protocol {
+    /// Bench2Drive's evaluator: the recorded penalty and score.
+    B2d,
+    /// CARLA Leaderboard 2.0 (`master`): a product of per-event factors.
+    Lb20,
+    /// CARLA Leaderboard 2.1 (`leaderboard-2.1`): `f_out / (1 + sum of per-event costs)`.
+    Lb21,
+    /// LEAD's "Normalized DS": per-event factors normalised by the driven kilometres.
+    LeadNds,
+    /// Fail2Drive: DS as `b2d`, its own success rule, and the harmonic mean of DS and SR.
+    F2d,
+}
+
+impl Protocol {
+    /// Every protocol, in the order reports and tables list them.
+    pub const ALL: [Protocol; 5] = [
+        Protocol::B2d,
+        Protocol::Lb20,
+        Protocol::Lb21,
+        Protocol::LeadNds,
+        Protocol::F2d,
+    ];
+
+    /// The id used on the command line and as the report's key (`lb2.1`, ...).
+    pub fn id(self) -> &'static str {
+        match self {
+            Protocol::B2d => "b2d",
+            Protocol::Lb20 => "lb2.0",
+            Protocol::Lb21 => "lb2.1",
+            Protocol::LeadNds => "lead-nds",
+            Protocol::F2d => "f2d",
+        }
+    }
+
+    /// The protocol of an id.
+    pub fn from_id(id: &str) -> Option<Protocol> {
+        Protocol::ALL.into_iter().find(|p| p.id() == id)
+    }
+
+    /// A name for the tables (`CARLA Leaderboard 2.1`, ...).
+    pub fn title(self) -> &'static str {
+        match self {
+            Protocol::B2d => "Bench2Drive (recorded)",
+            Protocol::Lb20 => "CARLA Leaderboard 2.0",
+            Protocol::Lb21 => "CARLA Leaderboard 2.1",
+            Protocol::LeadNds => "LEAD normalized DS",
+            Protocol::F2d => "Fail2Drive",
+        }
+    }
+}
+
+/// Parses the `protocols` setting: `all`, `none` (or empty), or comma-separated ids. The result
+/// is in [`Protocol::ALL`] order without repeats.
+///
+/// # Errors
+/// The text naming the unknown id and the known ones.
+pub fn parse_protocols(text: &str) -> Result<Vec<Protocol>, String> {
+    let text = text.trim();
+    if text == "all" {
+        return Ok(Protocol::ALL.to_vec());
+    }
+    if text.is_empty() || text == "none" {
+        return Ok(Vec::new());
+    }
+    let mut out = Vec::new();
+    for id in text.split(',').map(str::trim) {
+        let p = Protocol::from_id(id).ok_or_else(|| {
+            format!(
+                "unknown protocol {id:?}; known: {}, or all",
+                Protocol::ALL.map(Protocol::id).join(", ")
+            )
+        })?;
+        out.push(p);
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
+/// The `protocols` setting as text: `none`, or the ids joined by commas.
+pub fn protocols_text(protocols: &[Protocol]) -> String {
+    if protocols.is_empty() {
+        return "none".into();
+    }
+    protocols
+        .iter()
+        .map(|p| p.id())
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+/// The Traffic_Signs counting rule (§8.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum AbilityRule {
+    /// Bench2Drive release 0.0.4: counted once.
+    #[default]
+    B2d004,
+    /// Bench2Drive release 0.0.3: counted twice.
+    B2d003,
+}
+
+impl AbilityRule {
+    /// `b2d-0.0.4` or `b2d-0.0.3`.
+    pub fn name(self) -> &'static str {
+        match self {
+            AbilityRule::B2d004 => "b2d-0.0.4",
+            AbilityRule::B2d003 => "b2d-0.0.3",
+        }
+    }
+
+    /// The rule of a name.
+    pub fn from_name(name: &str) -> Option<AbilityRule> {
+        [AbilityRule::B2d004, AbilityRule::B2d003]
+            .into_iter()
+            .find(|r| r.name() == name)
     }
 }
 
@@ -639,6 +878,15 @@ mod tests {
         assert_eq!(s.duplicates, DuplicatePolicy::Last);
         s.set("penalty_flavour", "leaderboard20").unwrap();
         assert_eq!(s.penalty_flavour, PenaltyFlavour::Leaderboard20);
+        s.set("protocols", "lb2.1, b2d").unwrap();
+        assert_eq!(s.protocols, [Protocol::B2d, Protocol::Lb21]);
+        assert_eq!(s.get("protocols").as_deref(), Some("b2d,lb2.1"));
+        s.set("protocols", "all").unwrap();
+        assert_eq!(s.protocols, Protocol::ALL);
+        assert!(s.set("protocols", "lb3").is_err());
+        s.set("ability_rule", "b2d-0.0.3").unwrap();
+        assert_eq!(s.ability_rule, AbilityRule::B2d003);
+        assert!(s.set("ability_rule", "0.0.3").is_err());
         s.set("dt", "0.1").unwrap();
         assert_eq!(
             (s.core.dt, s.dt_inference, s.get("dt").as_deref()),
@@ -665,5 +913,73 @@ mod tests {
             e.contains("bounds.yaw_rate") && e.contains("penalty_flavour"),
             "{e}"
         );
+    }
+}
+
+/// The options every front end of a scored run shares (`sds score`, `sds compare`, the Python
+/// `sds.score`), before the overrides by name: one mapping to [`Settings`] for all of them.
+///
+/// ```
+/// use monitor_core::Profile;
+/// use monitor_host::settings::RunOptions;
+///
+/// let options = RunOptions {
+///     profile: Profile::B2dLegacy,
+///     expected_routes: Some(220),
+///     overrides: vec![("slack".into(), "0.9".into())],
+///     ..RunOptions::default()
+/// };
+/// let s = options.settings()?;
+/// assert_eq!((s.core.profile, s.expected_routes), (Profile::B2dLegacy, Some(220)));
+/// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+/// # Ok::<(), monitor_host::SettingsError>(())
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunOptions {
+    /// The comfort profile.
+    pub profile: Profile,
+    /// Benchmark size N.
+    pub expected_routes: Option<usize>,
+    /// The duplicate policy (`None`: the setting's default, or an override's).
+    pub duplicates: Option<DuplicatePolicy>,
+    /// Score routes without telemetry without telemetry terms.
+    pub allow_missing_telemetry: bool,
+    /// Worker threads (`None`: all cores).
+    pub threads: Option<usize>,
+    /// Overrides by name, applied in order after the options above (`--set NAME=VALUE`).
+    pub overrides: Vec<(String, String)>,
+}
+
+impl Default for RunOptions {
+    /// The defaults: physical profile, no option given, no override.
+    fn default() -> Self {
+        RunOptions {
+            profile: Profile::Physical,
+            expected_routes: None,
+            duplicates: None,
+            allow_missing_telemetry: false,
+            threads: None,
+            overrides: Vec::new(),
+        }
+    }
+}
+
+impl RunOptions {
+    /// The settings: the defaults, the options, then the overrides in order, validated.
+    ///
+    /// # Errors
+    /// An override that names no setting or whose value does not parse, or settings that do
+    /// not validate.
+    pub fn settings(&self) -> Result<Settings, SettingsError> {
+        let mut s = Settings::default();
+        s.core.profile = self.profile;
+        s.expected_routes = self.expected_routes;
+        if let Some(d) = self.duplicates {
+            s.duplicates = d;
+        }
+        s.allow_missing_telemetry = self.allow_missing_telemetry;
+        s.threads = self.threads;
+        s.apply_pairs(self.overrides.iter().map(|(n, v)| (n, v)))?;
+        Ok(s)
     }
 }

@@ -106,14 +106,21 @@ pub enum Warning {
         /// The first few of them, with the sources of each copy.
         first: Vec<Duplicate>,
     },
-    /// Copies of duplicated routes left out by `duplicates: first|last` (listed in `dropped`).
+    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (listed in
+    /// `dropped`).
     DuplicatesDropped {
         /// Copies left out.
         copies: usize,
         /// Route ids concerned.
         ids: usize,
-        /// `first` or `last`.
+        /// `first`, `last` or `newest`.
         policy: &'static str,
+    },
+    /// Under `duplicates: newest`, routes whose copies could not all be ordered by their
+    /// `save_name` time stamps (a tie, or a stamp missing): the last copy in input order kept.
+    NewestByOrder {
+        /// The route ids.
+        routes: Vec<String>,
     },
     /// A record whose route is not in the route set of `--routes` (spec section 1.5).
     ForeignRoute {
@@ -143,6 +150,16 @@ pub enum Warning {
         span: u64,
         /// `meta.duration_game`, s.
         duration_game: f64,
+        /// The `dt` used instead.
+        dt: f64,
+    },
+    /// A route whose missing steps exceed 10 % of its span, so that its period is not inferred
+    /// (spec section 1.2, v1.3): the file holds only part of the run.
+    StepPeriodPartial {
+        /// Missing step numbers.
+        gaps: u64,
+        /// Step span.
+        span: u64,
         /// The `dt` used instead.
         dt: f64,
     },
@@ -218,6 +235,16 @@ pub enum Warning {
         /// `lateral_reference = lane` was asked for and falls back to `route`.
         lane_fallback: bool,
     },
+    /// Several towns with routes have no map in the `--maps` folder: said in one line (a
+    /// [`Warning::NoMap`] when it is one town).
+    NoMaps {
+        /// Each town and how many of the run's routes are in it, in town order.
+        towns: Vec<(String, usize)>,
+        /// Where the first town's map was looked for.
+        reason: String,
+        /// `lateral_reference = lane` was asked for and falls back to `route`.
+        lane_fallback: bool,
+    },
     /// A collision string that does not parse.
     UnparseableCollision {
         /// Its list.
@@ -234,6 +261,9 @@ pub enum Warning {
         /// Routes concerned.
         routes: usize,
     },
+    /// A route term a scoring protocol could not read as the spec wants (§8.4): what was
+    /// skipped or approximated.
+    Protocol(String),
 }
 
 impl std::fmt::Display for Warning {
@@ -319,7 +349,7 @@ impl std::fmt::Display for Warning {
             Warning::DuplicatesScored { ids, first } => write!(
                 f,
                 "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
-                 (--duplicates first|last keeps one): {}{}",
+                 (--duplicates newest|first|last keeps one): {}{}",
                 first
                     .iter()
                     .map(ToString::to_string)
@@ -333,8 +363,18 @@ impl std::fmt::Display for Warning {
                 policy,
             } => write!(
                 f,
-                "duplicates: {policy}: {copies} copies of {ids} route id(s) left out; the \
-                 report's `dropped` lists each with the copy kept"
+                "duplicates: {policy}: {copies} {} of {ids} route id{} left out; the report's \
+                 `dropped` lists each with the copy kept, each route's `kept` says why",
+                if *copies == 1 { "copy" } else { "copies" },
+                if *ids == 1 { "" } else { "s" }
+            ),
+            Warning::NewestByOrder { routes } => write!(
+                f,
+                "duplicates: newest: {} route id(s) kept by input order (the last copy), their \
+                 copies' save_name time stamps tied or unreadable: {} (each route's `kept` says \
+                 why)",
+                routes.len(),
+                id_list(routes)
             ),
             Warning::ForeignRoute { route, routes_file } => write!(
                 f,
@@ -363,6 +403,12 @@ impl std::fmt::Display for Warning {
                 f,
                 "step period unknown: {span} steps for duration_game {duration_game} s fit no \
                  multiple of 0.05 s; dt {dt} s used (fix it with --set dt=SECONDS)"
+            ),
+            Warning::StepPeriodPartial { gaps, span, dt } => write!(
+                f,
+                "step period not inferred: {gaps} of {span} step numbers missing (over 10 %), \
+                 the telemetry holds only part of the run; dt {dt} s used (set the agent's \
+                 period with --set dt=SECONDS); its chunks span missing time"
             ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,
@@ -446,6 +492,29 @@ impl std::fmt::Display for Warning {
                 }
                 f.write_str("; add the town's .xodr to --maps to use its lanes")
             }
+            Warning::NoMaps {
+                towns,
+                reason,
+                lane_fallback,
+            } => {
+                let listed: Vec<String> = towns
+                    .iter()
+                    .map(|(t, n)| format!("{t} ({n} route{})", if *n == 1 { "" } else { "s" }))
+                    .collect();
+                let routes: usize = towns.iter().map(|(_, n)| n).sum();
+                write!(
+                    f,
+                    "no map for {} towns: {} ({reason}; the same for the others): their {routes} \
+                     routes fall back to the route XML's straight segments (junction gaps \
+                     unscored, every lane `lane_width` wide)",
+                    towns.len(),
+                    id_list(&listed)
+                )?;
+                if *lane_fallback {
+                    f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
+                }
+                f.write_str("; add the towns' .xodr to --maps to use their lanes")
+            }
             Warning::UnparseableCollision { list, reason } => write!(
                 f,
                 "{}: unparseable collision string ({reason}): counted, not aligned",
@@ -457,8 +526,29 @@ impl std::fmt::Display for Warning {
                  \"(unmapped)\"; keys without a label: {}",
                 keys.join(", ")
             ),
+            Warning::Protocol(what) => write!(f, "protocols: {what}"),
         }
     }
+}
+
+pub use crate::input::duplicates::IDS_SHOWN;
+
+/// A list of route ids (or keys) as a warning prints it: the first [`IDS_SHOWN`], then how many
+/// more.
+///
+/// ```
+/// use monitor_host::warning::id_list;
+/// let ids: Vec<String> = (1..=12).map(|i| i.to_string()).collect();
+/// assert_eq!(id_list(&ids), "1, 2, 3, 4, 5, 6, 7, 8, 9, 10 and 2 more");
+/// assert_eq!(id_list(&ids[..2]), "1, 2");
+/// ```
+pub fn id_list<S: AsRef<str>>(ids: &[S]) -> String {
+    let shown: Vec<&str> = ids.iter().take(IDS_SHOWN).map(AsRef::as_ref).collect();
+    let mut s = shown.join(", ");
+    if ids.len() > IDS_SHOWN {
+        s.push_str(&format!(" and {} more", ids.len() - IDS_SHOWN));
+    }
+    s
 }
 
 impl serde::Serialize for Warning {

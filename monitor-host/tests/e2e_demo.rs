@@ -680,3 +680,88 @@ fn frames_under_maps_and_the_lane_reference_are_what_score_used() {
         "--set lateral_reference=lane changed no frame of the demo"
     );
 }
+
+/// §8.5 on the demo: the route that stands through most of its frames (DemoStandingHit) is
+/// stuck, and its comfort over the chunks it drove is below its comfort (its standing chunks
+/// are all comfortable); a route that never stops has no stationary frame and the same comfort
+/// both ways; the summary's figures follow from the routes'.
+#[test]
+fn a_standing_route_is_stuck_and_its_moving_comfort_is_lower() {
+    let tmp = tempfile::tempdir().unwrap();
+    demo(tmp.path());
+    let d = |p: &str| tmp.path().join(p).to_str().unwrap().to_string();
+    let o = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--telemetry",
+        &d("telemetry"),
+        "--routes",
+        &d("routes.xml"),
+    ]);
+    let report: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let routes = report["routes"].as_array().unwrap();
+    let by_type = |t: &str| routes.iter().find(|r| r["scenario_type"] == t).unwrap();
+    let standing = by_type("DemoStandingHit");
+    let share = standing["stationary_share"].as_f64().unwrap();
+    assert!(share >= 0.5, "{share}");
+    let (comfort, moving) = (
+        standing["comfort"]["score"].as_f64().unwrap(),
+        standing["comfort"]["moving_score"].as_f64().unwrap(),
+    );
+    assert!(moving < comfort, "moving {moving} vs comfort {comfort}");
+    assert!(
+        standing["comfort"]["moving_chunks"].as_u64().unwrap()
+            < standing["comfort"]["chunks"].as_u64().unwrap()
+    );
+    let cruise = by_type("DemoCruising");
+    assert_eq!(cruise["stationary_share"], 0.0);
+    assert_eq!(
+        cruise["comfort"]["moving_score"],
+        cruise["comfort"]["score"]
+    );
+    // 200 frames at 10 m/s and 20 Hz: 199 gaps of 0.5 m.
+    assert!((cruise["distance_m"].as_f64().unwrap() - 99.5).abs() < 1e-6);
+
+    let s = &report["summary"];
+    let stuck: Vec<&str> = s["stuck_routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    let expected: Vec<&str> = routes
+        .iter()
+        .filter(|r| r["stationary_share"].as_f64().is_some_and(|x| x >= 0.5))
+        .map(|r| r["route_id"].as_str().unwrap())
+        .collect();
+    assert_eq!(stuck, expected);
+    assert!(stuck.contains(&standing["route_id"].as_str().unwrap()));
+    let km: f64 = routes
+        .iter()
+        .filter_map(|r| r["distance_m"].as_f64())
+        .sum::<f64>()
+        / 1000.0;
+    assert!((s["distance_km"].as_f64().unwrap() - km).abs() < 1e-12);
+    assert!(s["mean_comfort_moving"].as_f64().unwrap() < s["mean_comfort"].as_f64().unwrap());
+    // Leaderboard-style rate: entries over the sum of RC/100 * route_length / 1000.
+    let results: Value =
+        serde_json::from_slice(&std::fs::read(tmp.path().join("results.json")).unwrap()).unwrap();
+    let (mut km, mut vehicle) = (0.0, 0.0);
+    for rec in results["_checkpoint"]["records"].as_array().unwrap() {
+        km += rec["scores"]["score_route"].as_f64().unwrap() / 100.0
+            * rec["meta"]["route_length"].as_f64().unwrap()
+            / 1000.0;
+        vehicle += rec["infractions"]["collisions_vehicle"]
+            .as_array()
+            .unwrap()
+            .len() as f64;
+    }
+    assert!(vehicle > 0.0);
+    assert_eq!(
+        s["infractions_per_km"]["collisions_vehicle"]
+            .as_f64()
+            .unwrap(),
+        vehicle / km
+    );
+}

@@ -1,9 +1,9 @@
 //! The exception classes, and the host's typed errors mapped onto them. Every message is the
 //! text the `sds` command prints after `sds: error: `.
 
-use monitor_host::aggregate::groups::NeedsLabels;
-use monitor_host::cli::{error_message, UnusedLabels};
+use monitor_host::error::message;
 use monitor_host::geometry::map::MapError;
+use monitor_host::pipeline::live::LiveError;
 use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
 use pyo3::create_exception;
 use pyo3::exceptions::PyException;
@@ -41,45 +41,45 @@ create_exception!(
     "An option this build of sds does not have yet (its message names the feature)."
 );
 
-/// The exception for an error of [`monitor_host::score_run`].
+/// The exception for an error of [`monitor_host::score_run`] or
+/// [`monitor_host::score_labelled`].
 pub fn run_error(e: &Error) -> PyErr {
-    let msg = error_message(e);
+    let msg = message(e);
     match e {
         Error::Results(ResultsError::Io { .. })
         | Error::RouteXml(RouteError::Io { .. })
         | Error::Map(MapError::Io { .. }) => IoError::new_err(msg),
         Error::TelemetryRoot { .. } => IoError::new_err(msg),
-        Error::Settings(_) | Error::TooFewRoutes { .. } => ConfigError::new_err(msg),
+        Error::Settings(_) | Error::TooFewRoutes { .. } | Error::UnusedLabels => {
+            ConfigError::new_err(msg)
+        }
+        Error::NeedsLabels(_) => NeedsLabelsError::new_err(msg),
+        Error::Labels(l) => labels_error(l),
         Error::Threads(_) => SdsError::new_err(msg),
         _ => InputError::new_err(msg),
     }
 }
 
-/// The exception for an error of `sds score` ([`monitor_host::cli::score_report`]): the typed
-/// error inside tells the class.
-pub fn score_error(e: &anyhow::Error) -> PyErr {
-    if let Some(e) = e.downcast_ref::<Error>() {
-        return run_error(e);
-    }
-    if let Some(e) = e.downcast_ref::<LabelsError>() {
-        return labels_error(e);
-    }
-    let msg = error_message(&**e);
-    // The CLI's usage errors (exit 2).
-    if e.downcast_ref::<NeedsLabels>().is_some() {
-        return NeedsLabelsError::new_err(msg);
-    }
-    if e.downcast_ref::<SettingsError>().is_some() || e.downcast_ref::<UnusedLabels>().is_some() {
-        return ConfigError::new_err(msg);
-    }
-    SdsError::new_err(msg)
+/// The exception for settings the library refuses.
+pub fn settings_error(e: &SettingsError) -> PyErr {
+    ConfigError::new_err(message(e))
 }
 
 /// The exception for a labels file that cannot be used.
 pub fn labels_error(e: &LabelsError) -> PyErr {
-    let msg = error_message(e);
+    let msg = message(e);
     match e {
         LabelsError::Io { .. } => IoError::new_err(msg),
+        _ => InputError::new_err(msg),
+    }
+}
+
+/// The exception for a live monitor that cannot be set up, or a tick it refuses.
+pub fn live_error(e: &LiveError) -> PyErr {
+    let msg = message(e);
+    match e {
+        LiveError::Map(MapError::Io { .. }) | LiveError::NoMap(_) => IoError::new_err(msg),
+        LiveError::NeedsTown { .. } | LiveError::LaneWithoutMap => ConfigError::new_err(msg),
         _ => InputError::new_err(msg),
     }
 }

@@ -1,12 +1,18 @@
 //! `sds._sds`: the extension module of the Python package `sds`, a thin layer over
 //! `monitor-host` and `monitor-core` (no scoring logic here).
 //!
-//! - `score_json` (`score.rs`): `sds score` through the library's [`monitor_host::score_run`], the
-//!   report as the CLI's JSON text (the Python layer parses it), GIL released while scoring;
-//! - `compare_json` (`compare.rs`): `sds compare` through the library's `compare_runs`, the
-//!   `sds-compare/1` report as JSON text;
-//! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick;
-//! - `cli_main`: the package's `sds` command, the same command line as the binary;
+//! - `score` (`score.rs`): the library's [`monitor_host::score_labelled`] with `Inputs`,
+//!   `Settings` and label files built from the keyword arguments (`options.rs`, shared by every
+//!   scored-run function), the report converted to Python objects directly (`pyser.rs`), GIL
+//!   released while scoring;
+//! - `compare` (`compare.rs`): the library's `compare_runs` with the runs, `Settings` (the same
+//!   `options.rs`) and the comparison's options built from the keyword arguments, the
+//!   `sds-compare/1` report converted by `pyser.rs`, GIL released while scoring;
+//! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
+//!   its frames built by the library's [`monitor_host::pipeline::live`];
+//! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
+//!   the command line (the one use of `monitor_host::cli`: the installed `sds` is the binary's
+//!   program, run in-process);
 //! - `errors.rs`: the exception classes.
 #![deny(missing_docs)]
 
@@ -14,6 +20,8 @@ mod compare;
 mod convert;
 mod errors;
 mod monitor;
+mod options;
+mod pyser;
 mod score;
 
 use std::ffi::OsString;
@@ -31,14 +39,12 @@ fn cli_main(py: Python<'_>, argv: Vec<OsString>) -> i32 {
 fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
-    m.add_function(wrap_pyfunction!(score::score_json, m)?)?;
-    m.add_function(wrap_pyfunction!(score::score_options, m)?)?;
-    m.add_function(wrap_pyfunction!(compare::compare_json, m)?)?;
+    m.add_function(wrap_pyfunction!(score::score, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_class::<monitor::Monitor>()?;
-    m.add_function(wrap_pyfunction!(monitor::settings_args, m)?)?;
     m.add(
         "FIELDS",
-        monitor_host::input::metric_info::TelemetryFrame::FIELDS.to_vec(),
+        monitor_host::input::telemetry::TelemetryFrame::FIELDS.to_vec(),
     )?;
     m.add("SdsError", py.get_type::<errors::SdsError>())?;
     m.add("InputError", py.get_type::<errors::InputError>())?;

@@ -1,47 +1,34 @@
 //! `sds.Monitor`: the streaming monitor of one route, fed one Bench2Drive `get_metric_info()`
-//! dict per tick. Frames are built by the host's [`FrameBuilder`] (the code `sds score` and
-//! `sds frames` use) and pushed through [`monitor_core::Monitor`] (the firmware's code).
+//! dict per tick. Frames are built by the host library's [`LiveFrames`] (the frame builder and
+//! lateral corridor `sds score` and `sds frames` use, with the route, the town's map and the
+//! lane reference) and pushed through [`monitor_core::Monitor`] (the firmware's code).
 
 use monitor_core::score::{self, RecordScores};
 use monitor_core::{Collisions, Event, Events, Frame, MonitorError};
-use monitor_host::cli::error_message;
-use monitor_host::geometry::lateral::LateralTracker;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use monitor_host::error::message;
 use monitor_host::input::collision::{is_workzone, CollisionList};
-use monitor_host::input::metric_info::{FieldProblem, TelemetryError, TelemetryFrame};
-use monitor_host::pipeline::frame::FrameBuilder;
+use monitor_host::input::telemetry::{FieldProblem, TelemetryError, TelemetryFrame};
+use monitor_host::pipeline::live::{load_map, LiveFrames, Tick};
 use monitor_host::Settings;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
 use crate::convert::serialize;
-use crate::errors::{ConfigError, InputError, SdsError};
+use crate::errors::{live_error, settings_error, ConfigError, InputError, SdsError};
+use crate::options::setting_pairs;
 
 /// The streaming monitor of one route (see the Python class `sds.Monitor`).
 #[pyclass(module = "sds._sds", subclass)]
 pub struct Monitor {
     core: monitor_core::Monitor,
-    builder: FrameBuilder,
+    /// The frames of the route: signals, speed, and the lateral error against the route or
+    /// lane (the library's live frame building).
+    builder: LiveFrames<'static>,
     last: Option<Frame>,
     settings: Settings,
-    /// The route reference, when given: the lateral error of each frame.
-    route: Option<LateralTracker<'static>>,
-}
-
-/// `name=value` pairs of a settings mapping, as `--set` takes them (`True` → `true`).
-pub fn setting_pairs(settings: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
-    let Some(map) = settings else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vec::new();
-    for item in map.call_method0("items")?.try_iter()? {
-        let (k, v): (String, Bound<'_, PyAny>) = item?.extract()?;
-        let value = match v.extract::<bool>() {
-            Ok(b) if v.is_instance_of::<pyo3::types::PyBool>() => b.to_string(),
-            _ => v.str()?.to_string(),
-        };
-        out.push(format!("{k}={value}"));
-    }
-    Ok(out)
 }
 
 fn field_error(step: u64, field: &'static str, problem: FieldProblem) -> TelemetryError {
@@ -102,15 +89,29 @@ fn vec3(
     Ok(out)
 }
 
-/// A waypoint: `(x, y, ...)` or an object with `x` and `y` (`carla.Location`), finite.
-fn vec2(w: &Bound<'_, PyAny>) -> Option<[f64; 2]> {
+/// A waypoint: `(x, y)`, `(x, y, z)` or an object with `x`, `y` and maybe `z`
+/// (`carla.Location`), finite; `z` is 0 when absent (as in a route XML without heights).
+fn waypoint(w: &Bound<'_, PyAny>) -> Option<[f64; 3]> {
     let p = if w.hasattr("x").unwrap_or(false) {
+        let z = match w.getattr("z") {
+            Ok(z) => number(&z)?,
+            Err(_) => 0.0,
+        };
         [
             number(&w.getattr("x").ok()?)?,
             number(&w.getattr("y").ok()?)?,
+            z,
         ]
     } else {
-        [number(&w.get_item(0).ok()?)?, number(&w.get_item(1).ok()?)?]
+        let z = match w.len() {
+            Ok(n) if n >= 3 => number(&w.get_item(2).ok()?)?,
+            _ => 0.0,
+        };
+        [
+            number(&w.get_item(0).ok()?)?,
+            number(&w.get_item(1).ok()?)?,
+            z,
+        ]
     };
     p.iter().all(|v| v.is_finite()).then_some(p)
 }
@@ -202,11 +203,7 @@ fn append_events(py: Python<'_>, out: &Bound<'_, PyList>, events: &Events) -> Py
 impl Monitor {
     /// The step of the next frame: `step`, or the previous step + 1 (0 for the first frame).
     fn next_step(&self, step: Option<u64>) -> u64 {
-        match (step, self.builder.last_step()) {
-            (Some(s), _) => s,
-            (None, Some(l)) => l.saturating_add(1),
-            (None, None) => 0,
-        }
+        self.builder.next_step(step)
     }
 
     /// Builds and pushes one frame; nothing changes when the frame is refused.
@@ -217,31 +214,23 @@ impl Monitor {
         collisions: Collisions,
         lat_err: Option<f64>,
     ) -> PyResult<Events> {
-        let last = self.builder.last_step();
         let step = self.next_step(step);
-        if let Some(l) = last.filter(|&l| step <= l) {
-            return Err(InputError::new_err(format!(
-                "step {step}: not after the previous step {l} (steps must increase)"
-            )));
-        }
-        let t = raw(step)
-            .and_then(|r| TelemetryFrame::from_raw(step, r))
-            .map_err(|e| InputError::new_err(error_message(&e)))?;
-        let segment = self.route.as_ref().map(LateralTracker::segment);
-        let from_route = self.route.as_mut().and_then(|r| r.next(t.location));
-        let mut builder = self.builder.clone();
-        let frame = builder.push(&t, lat_err.or(from_route), collisions);
+        let tick = raw(step)
+            .map(Tick::from_raw)
+            .map_err(|e| InputError::new_err(message(&e)))?;
+        let checkpoint = self.builder.checkpoint();
+        let frame = self
+            .builder
+            .push(Some(step), &tick, collisions, lat_err)
+            .map_err(|e| live_error(&e))?;
         let events = match self.core.push(&frame) {
             Ok(events) => events,
             Err(e) => {
-                // Nothing changes for a refused frame: the route search goes back too.
-                if let (Some(r), Some(m)) = (self.route.as_mut(), segment) {
-                    r.set_segment(m);
-                }
+                // Nothing changes for a refused frame: the builder and route search go back.
+                self.builder.rewind(checkpoint);
                 return Err(monitor_error(step, e));
             }
         };
-        self.builder = builder;
         self.last = Some(frame);
         Ok(events)
     }
@@ -250,18 +239,29 @@ impl Monitor {
 #[pymethods]
 impl Monitor {
     #[new]
-    #[pyo3(signature = (profile="physical", dt=0.05, settings=None, *, route=None))]
+    #[pyo3(signature = (
+        profile="physical", dt=0.05, settings=None, *, route=None, maps=None, town=None,
+        lateral_reference=None
+    ))]
     fn new(
         profile: &str,
         dt: f64,
         settings: Option<&Bound<'_, PyAny>>,
         route: Option<&Bound<'_, PyAny>>,
+        maps: Option<PathBuf>,
+        town: Option<&str>,
+        lateral_reference: Option<&str>,
     ) -> PyResult<Self> {
-        let config_err = |e: monitor_host::SettingsError| ConfigError::new_err(error_message(&e));
         let mut s = Settings::default();
-        s.set("profile", profile).map_err(config_err)?;
-        s.set("dt", &dt.to_string()).map_err(config_err)?;
-        s.apply(&setting_pairs(settings)?).map_err(config_err)?;
+        let mut pairs = vec![
+            ("profile".to_string(), profile.to_string()),
+            ("dt".to_string(), dt.to_string()),
+        ];
+        if let Some(r) = lateral_reference {
+            pairs.push(("lateral_reference".to_string(), r.to_string()));
+        }
+        pairs.extend(setting_pairs(settings)?);
+        s.apply_pairs(pairs).map_err(|e| settings_error(&e))?;
         let core = monitor_core::Monitor::new(s.core)
             .map_err(|e| ConfigError::new_err(format!("invalid configuration: {e}")))?;
         let route = match route {
@@ -269,22 +269,31 @@ impl Monitor {
             Some(r) => {
                 let mut waypoints = Vec::new();
                 for (i, w) in r.try_iter()?.enumerate() {
-                    let p = vec2(&w?).ok_or_else(|| {
+                    let p = waypoint(&w?).ok_or_else(|| {
                         InputError::new_err(format!(
-                            "route: waypoint {i}: expected (x, y) or an object with x and y"
+                            "route: waypoint {i}: expected (x, y), (x, y, z) or an object with \
+                             x and y"
                         ))
                     })?;
                     waypoints.push(p);
                 }
-                Some(LateralTracker::owned(waypoints, s.gap_max, s.lookahead))
+                Some(waypoints)
             }
         };
+        let map = match maps {
+            None => None,
+            Some(path) => Some(Arc::new(
+                // A town's map takes a while to parse: other Python threads run meanwhile.
+                Python::attach(|py| py.detach(|| load_map(&path, town)))
+                    .map_err(|e| live_error(&e))?,
+            )),
+        };
+        let builder = LiveFrames::new(route.as_deref(), map, &s).map_err(|e| live_error(&e))?;
         Ok(Monitor {
             core,
-            builder: FrameBuilder::new(s.core.dt),
+            builder,
             last: None,
             settings: s,
-            route,
         })
     }
 
@@ -414,16 +423,16 @@ impl Monitor {
         self.core.is_finished()
     }
 
+    /// What the lateral error is measured against: `map-route`, `xml` (the route without a
+    /// map), `map-lane` or `none` (the report's `lateral.reference`).
+    #[getter]
+    fn reference(&self) -> &'static str {
+        self.builder.reference().name()
+    }
+
     /// The monitor's configuration (the report's `config` names), as a dict.
     #[getter]
     fn config<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         serialize(py, &self.settings.core)
     }
-}
-
-/// `name=value` pairs of a settings mapping, as `--set` takes them (`True` → `true`).
-#[pyfunction]
-#[pyo3(signature = (settings=None))]
-pub fn settings_args(settings: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
-    setting_pairs(settings)
 }

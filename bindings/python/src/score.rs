@@ -1,42 +1,124 @@
-//! `sds score` for Python: the CLI's options parsed by the CLI's parser, the run scored by the
-//! library, the report rendered by the CLI's JSON renderer.
+//! `sds.score`: the library's [`score_labelled`] called with [`Inputs`], [`Settings`] and
+//! [`LabelFiles`] built from the keyword arguments, the report converted to Python objects
+//! directly ([`crate::pyser`]). No command line in between.
 
-use std::ffi::OsString;
+use std::path::PathBuf;
 
-use monitor_host::cli::{self, error_message, progress::Bar};
-use monitor_host::report::json;
-use monitor_host::NoProgress;
+use indicatif::{ProgressBar, ProgressStyle};
+use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::{score_labelled, Inputs, LabelFiles, NoProgress, Progress, Settings};
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 
-use crate::errors::{score_error, ConfigError, SdsError};
+use crate::errors::{run_error, ConfigError};
+use crate::options::RunKwargs;
+use crate::pyser::to_python;
 
-/// Scores a run given the arguments of `sds score` (without `sds score`), as the command does
-/// ([`cli::score_report`]); returns the report as the JSON text `sds score --format json` writes. The GIL is released while scoring; a progress
-/// bar is drawn on standard error when `progress` is true (and standard error is a terminal).
+/// A progress bar on standard error (hidden when it is not a terminal), as the command draws.
+struct Bar(ProgressBar);
+
+impl Bar {
+    fn new() -> Self {
+        let bar = ProgressBar::new(0);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} routes {elapsed_precise} eta {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        Bar(bar)
+    }
+}
+
+impl Progress for Bar {
+    fn start(&self, routes: usize) {
+        self.0.set_length(routes as u64);
+    }
+    fn route_done(&self) {
+        self.0.inc(1);
+    }
+}
+
+/// The grouping named `name`, and the label files with `labels` as its map.
+fn breakdown(
+    group_by: Option<&str>,
+    labels: Option<PathBuf>,
+) -> PyResult<(Option<GroupBy>, LabelFiles)> {
+    let by = group_by
+        .map(|g| {
+            [
+                GroupBy::Scenario,
+                GroupBy::Family,
+                GroupBy::Town,
+                GroupBy::Weather,
+                GroupBy::Route,
+            ]
+            .into_iter()
+            .find(|b| b.name() == g)
+            .ok_or_else(|| {
+                ConfigError::new_err(format!(
+                    "group_by={g:?}: expected one of scenario, family, town, weather, route"
+                ))
+            })
+        })
+        .transpose()?;
+    let mut files = LabelFiles::default();
+    if let Some(l) = labels {
+        match by {
+            Some(GroupBy::Family) => files.families = Some(l),
+            Some(GroupBy::Weather) => files.weathers = Some(l),
+            Some(GroupBy::Route) => files.routes = Some(l),
+            _ => {
+                return Err(ConfigError::new_err(
+                    "labels: give group_by='family' (scenario families), 'weather' (weather \
+                     names) or 'route' (labels of route ids)",
+                ))
+            }
+        }
+    }
+    Ok((by, files))
+}
+
+/// The keyword arguments of `sds.score` beyond the shared ones ([`RunKwargs`]).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct ScoreKwargs {
+    telemetry: Option<PathBuf>,
+    routes: Option<PathBuf>,
+    maps: Option<PathBuf>,
+    group_by: Option<String>,
+    labels: Option<PathBuf>,
+    progress: bool,
+}
+
+/// Scores a run (see the Python `sds.score`, which passes its keyword arguments as the dict
+/// `options`); returns the report as Python objects, keys in the JSON report's order. The GIL
+/// is released while scoring.
 #[pyfunction]
-#[pyo3(signature = (args, progress=false))]
-pub fn score_json(py: Python<'_>, args: Vec<OsString>, progress: bool) -> PyResult<String> {
-    let args = cli::parse_score_args(args)
-        .map_err(|e| ConfigError::new_err(e.render().to_string().trim_end().to_string()))?;
+pub fn score<'py>(
+    py: Python<'py>,
+    results: Vec<PathBuf>,
+    options: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
+    let kw: ScoreKwargs = options.extract()?;
+    let (by, files) = breakdown(kw.group_by.as_deref(), kw.labels)?;
+    let inputs = Inputs {
+        results,
+        telemetry: kw.telemetry,
+        route_xml: kw.routes,
+        maps: kw.maps,
+    };
+    let progress = kw.progress;
     let scored = py
         .detach(|| {
             if progress {
                 let bar = Bar::new();
-                let r = cli::score_report(&args, &bar);
-                bar.finish();
+                let r = score_labelled(&inputs, &settings, &files, by, &bar);
+                bar.0.finish_and_clear();
                 r
             } else {
-                cli::score_report(&args, &NoProgress)
+                score_labelled(&inputs, &settings, &files, by, &NoProgress)
             }
         })
-        .map_err(|e| score_error(&e))?;
-    let report = scored.report;
-    let bytes = json::json(&report).map_err(|e| SdsError::new_err(error_message(&e)))?;
-    String::from_utf8(bytes).map_err(|e| SdsError::new_err(e.to_string()))
-}
-
-/// The long names of the options `sds score` has in this build.
-#[pyfunction]
-pub fn score_options() -> Vec<String> {
-    cli::score_options()
+        .map_err(|e| run_error(&e))?;
+    to_python(py, &scored.report)
 }

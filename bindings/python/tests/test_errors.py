@@ -41,8 +41,6 @@ def test_group_by_without_labels_is_needs_labels_error(sds_bin: Path, demo: Demo
 
 
 def test_unreadable_map_is_io_error(sds_bin: Path, demo: Demo, tmp_path: Path) -> None:
-    if "maps" not in sds._sds.score_options():
-        pytest.skip("this build of sds score has no --maps")
     maps = tmp_path / "maps"
     maps.mkdir()
     with open(maps / "DemoTown.xodr", "wb") as f:
@@ -86,17 +84,10 @@ def test_bad_setting_is_config_error(sds_bin: Path, demo: Demo) -> None:
         with pytest.raises(sds.ConfigError) as e:
             sds.score(demo.results, settings=settings)
         assert str(e.value) == cli_error(sds_bin, ["--results", str(demo.results), "--set", flag])
-    with pytest.raises(sds.ConfigError, match="invalid value 'fast' for '--profile"):
+    with pytest.raises(sds.ConfigError, match="profile=\"fast\": expected one of physical, b2d-legacy"):
         sds.score(demo.results, profile="fast")
-
-
-def test_options_not_built_yet(demo: Demo, tmp_path: Path) -> None:
-    options = sds._sds.score_options()
-    for kwargs, option in [({"maps": tmp_path}, "maps"), ({"duplicates": "first"}, "duplicates")]:
-        if option in options:
-            continue  # built: the CLI equality tests cover it
-        with pytest.raises(sds.FeatureUnavailableError, match=f"--{option}"):
-            sds.score(demo.results, **kwargs)
+    with pytest.raises(sds.ConfigError, match="duplicates=\"most\": expected one of error, first, last, all"):
+        sds.score(demo.results, duplicates="most")
 
 
 TICK: Dict[str, Any] = {

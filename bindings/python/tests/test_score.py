@@ -17,6 +17,22 @@ def test_demo_report_equals_cli(demo: Demo, demo_report: Dict[str, Any]) -> None
     assert report["summary"]["sds"] is not None
     assert len(report["routes"]) == len(demo.records()) >= 7
     assert same(report, demo_report)
+    # The same dict, keys in the JSON report's order too (what json.dumps(report) shows).
+    assert json.dumps(report) == json.dumps(demo_report)
+
+
+def test_no_command_line_in_between() -> None:
+    """`sds.score` calls the library: the binding builds no argument list and calls no CLI code
+    for it (the one `cli::` use is the package's `sds` command itself)."""
+    src = Path(__file__).resolve().parents[1] / "src"
+    uses = [
+        (p.name, line.strip())
+        for p in sorted(src.glob("*.rs"))
+        for line in p.read_text().splitlines()
+        if "cli::" in line and not line.lstrip().startswith("//")
+    ]
+    assert uses == [("lib.rs", "py.detach(|| monitor_host::cli::main(argv))")], uses
+    assert not hasattr(sds._sds, "score_json")
 
 
 @pytest.mark.parametrize(
@@ -28,6 +44,9 @@ def test_demo_report_equals_cli(demo: Demo, demo_report: Dict[str, Any]) -> None
             ["--set", "slack=0.9", "--set", "bounds.yaw_rate=1.0", "--set", "gap_max=6"],
         ),
         ({"expected_routes": 10, "jobs": 1}, ["--expected-routes", "10", "--jobs", "1"]),
+        ({"protocols": ["lb2.1", "f2d"]}, ["--protocol", "lb2.1,f2d"]),
+        ({"protocols": ["all"], "settings": {"ability_rule": "b2d-0.0.3"}},
+         ["--protocol", "all", "--set", "ability_rule=b2d-0.0.3"]),
     ],
 )
 def test_options_equal_cli_flags(
@@ -126,8 +145,6 @@ def test_group_by_route_labels_like_the_cli(demo: Demo, sds_bin: Path, tmp_path:
 
 
 def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
-    if "duplicates" not in sds._sds.score_options():
-        pytest.skip("this build of sds score has no --duplicates")
     twice = ["--results", str(demo.results), "--results", str(demo.results), "--telemetry", str(demo.telemetry)]
     with pytest.raises(sds.InputError) as e:
         sds.score([demo.results, demo.results], telemetry=demo.telemetry)
@@ -138,3 +155,14 @@ def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> N
         report = sds.score([demo.results, demo.results], telemetry=demo.telemetry, duplicates=policy)
         assert same(report, expected), policy
     assert len(report["routes"]) == 2 * len(demo.records())  # "all" scores every copy
+
+
+def test_protocols_reach_the_report(demo: Demo) -> None:
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes, protocols=["all"])
+    assert list(report["summary"]["protocols"]) == ["b2d", "lb2.0", "lb2.1", "lead-nds", "f2d"]
+    assert report["summary"]["protocols"]["b2d"]["driving_score"] == report["summary"]["driving_score"]
+    assert all(set(r["protocols"]) == set(report["summary"]["protocols"]) for r in report["routes"])
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, telemetry=demo.telemetry, protocols=["lb3"])
+    with pytest.raises(sds.ConfigError):
+        sds.score(demo.results, telemetry=demo.telemetry, protocols="all")  # type: ignore[arg-type]

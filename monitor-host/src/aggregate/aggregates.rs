@@ -10,6 +10,8 @@
 
 use serde::Serialize;
 
+pub use crate::aggregate::counts::Counts;
+use crate::aggregate::motion::MotionAggregates;
 use crate::input::record::KNOWN_LISTS;
 use crate::route::ability::ABILITIES;
 use crate::route::row::RouteReport;
@@ -58,37 +60,6 @@ pub struct AbilityCount {
     pub successes: usize,
 }
 
-/// Counts keyed by name, serialised as a JSON object in this order.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Counts<T>(pub Vec<(String, T)>);
-
-impl<T: Copy + Default> Counts<T> {
-    /// The count of `name` (default when absent).
-    pub fn get(&self, name: &str) -> T {
-        self.0
-            .iter()
-            .find(|(n, _)| n == name)
-            .map_or_else(T::default, |(_, c)| *c)
-    }
-
-    fn entry(&mut self, name: &str) -> &mut T {
-        let i = match self.0.iter().position(|(n, _)| n == name) {
-            Some(i) => i,
-            None => {
-                self.0.push((name.to_string(), T::default()));
-                self.0.len() - 1
-            }
-        };
-        &mut self.0[i].1
-    }
-}
-
-impl<T: Serialize> Serialize for Counts<T> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
-    }
-}
-
 /// The §8.1 scores of a set of routes over N: the numbers the run's summary, every breakdown
 /// group, the `combined` row and every compared run share (one computation: [`Scores::over`]).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -107,6 +78,9 @@ pub struct Scores {
     pub sds: Option<f64>,
     /// 100 × routes with a collision / N.
     pub collision_rate: Option<f64>,
+    /// Distance, stationary time and moving comfort (§8.5).
+    #[serde(flatten)]
+    pub motion: MotionAggregates,
 }
 
 /// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
@@ -128,6 +102,9 @@ pub struct Aggregates {
     /// Per infraction list (the 12 known ones, then any other), the routes with at least one
     /// entry.
     pub infraction_routes: Counts<usize>,
+    /// Every asked scoring protocol's aggregates (§8.4); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<crate::route::protocol::aggregate::ProtocolScores>,
 }
 
 fn mean(sum: f64, n: usize) -> Option<f64> {
@@ -173,6 +150,7 @@ impl Scores {
             mean_ds_safe,
             mean_comfort,
             collision_rate: per(100.0 * collided as f64),
+            motion: MotionAggregates::over(routes),
         }
     }
 }
@@ -239,6 +217,14 @@ impl Aggregates {
             ability,
             ability_counts: counts,
             infraction_routes: inf,
+            protocols: crate::route::protocol::aggregate::ProtocolScores::over(
+                routes.iter().filter_map(|r| {
+                    r.protocols
+                        .as_ref()
+                        .map(|p| (r.score_route.unwrap_or(0.0), p))
+                }),
+                n,
+            ),
         }
     }
 }

@@ -54,6 +54,8 @@ pub struct Bench2Drive {
     pub ability_undecided: Vec<Undecided>,
     /// Routes whose `score_route / 100` is within 0.15 of their `junction_completion`.
     pub ability_marginal: Vec<Marginal>,
+    /// The Traffic_Signs counting rule (`ability_rule`, §8.2): `b2d-0.0.4` or `b2d-0.0.3`.
+    pub ability_rule: &'static str,
 }
 
 impl Bench2Drive {
@@ -94,6 +96,7 @@ impl Bench2Drive {
             ability_missing: missing,
             ability_undecided: undecided,
             ability_marginal: marginal,
+            ability_rule: crate::route::protocol::ability_rule::AbilityRule::default().name(),
         }
     }
 }

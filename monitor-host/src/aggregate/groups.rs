@@ -120,6 +120,10 @@ pub struct NeedsLabels {
 pub struct GroupRow {
     /// The group's key or label.
     pub label: String,
+    /// The keys a weather label map put in this group (the weather ids of `ClearNoon`), when
+    /// they are not just the label; absent otherwise.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub keys: Vec<String>,
     /// Its aggregates (N = its routes).
     #[serde(flatten)]
     pub aggregates: Aggregates,
@@ -198,7 +202,17 @@ pub fn groups(
     let mut members: BTreeMap<String, Vec<&RouteReport>> = BTreeMap::new();
     let mut unmapped_keys: Vec<String> = Vec::new();
     let mut unmapped_routes = 0;
+    // Under a weather label map, the ids behind each label (the table lists them).
+    let mut keys_of: BTreeMap<String, Vec<String>> = BTreeMap::new();
     for r in &counted {
+        if let (GroupBy::Weather, Some(map), Some(id)) = (by, labels, &r.weather_id) {
+            for l in map.get(id).into_iter().flatten() {
+                let ks = keys_of.entry(l.clone()).or_default();
+                if !ks.contains(id) {
+                    ks.push(id.clone());
+                }
+            }
+        }
         let ks = keys(r, by, labels).unwrap_or_else(|key| {
             unmapped_routes += 1;
             if !unmapped_keys.contains(&key) {
@@ -216,9 +230,17 @@ pub fn groups(
     }
     let mut rows: Vec<GroupRow> = members
         .into_iter()
-        .map(|(label, rs)| GroupRow {
-            aggregates: Aggregates::over(&rs, rs.len()),
-            label,
+        .map(|(label, rs)| {
+            let mut keys = keys_of.remove(&label).unwrap_or_default();
+            keys.sort_by(|a, b| order(a).cmp(&order(b)));
+            if keys.len() == 1 && keys[0] == label {
+                keys.clear();
+            }
+            GroupRow {
+                aggregates: Aggregates::over(&rs, rs.len()),
+                label,
+                keys,
+            }
         })
         .collect();
     rows.sort_by(|a, b| order(&a.label).cmp(&order(&b.label)));

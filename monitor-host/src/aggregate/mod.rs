@@ -8,6 +8,8 @@
 pub mod aggregates;
 pub mod bench2drive;
 pub mod compare;
+pub mod counts;
 pub mod groups;
+pub mod motion;
 pub mod report;
 pub mod summary;

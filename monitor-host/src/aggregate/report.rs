@@ -9,7 +9,7 @@ use crate::aggregate::aggregates::{Aggregates, Scores};
 use crate::aggregate::bench2drive::Bench2Drive;
 use crate::aggregate::groups::{groups, GroupBy, Groups, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
-use crate::input::duplicates::Dropped;
+use crate::input::duplicates::{Dropped, Kept};
 use crate::input::labels::Labels;
 use crate::input::route_set::{route_set_id, MissingRoute, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
@@ -33,7 +33,11 @@ pub struct Report {
     /// Every results file read, with the figures it stores beside the computed ones (§1.5),
     /// and the route set's fingerprint (v1.3 §10.3).
     pub inputs: ReportInputs,
-    /// Copies of duplicated routes left out by `duplicates: first|last` (§1.5).
+    /// Under `route_subset: found`, the route set actually scored: the route XML's routes that
+    /// have a record. Absent for the whole XML (or without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub route_subset: Option<SubsetReport>,
+    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (§1.5).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
     pub routes: Vec<RouteReport>,
@@ -62,6 +66,28 @@ pub struct ReportInputs {
     pub route_set: RouteSetId,
 }
 
+/// The route set of `route_subset: found`, as the report states it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct SubsetReport {
+    /// `found`.
+    pub subset: &'static str,
+    /// Routes in the set (the route XML's routes with a record).
+    pub routes: usize,
+    /// Routes of the whole route XML.
+    pub of: usize,
+}
+
+impl SubsetReport {
+    /// The sentence the tables print under their figures.
+    pub fn note(&self) -> String {
+        format!(
+            "route set: the {} of the route XML's {} routes that have a record (--route-subset \
+             found); the others are left out, not counted as 0",
+            self.routes, self.of
+        )
+    }
+}
+
 /// What a run read besides its routes: the pieces of the report that are not per-route.
 #[derive(Clone, Debug, Default)]
 pub struct RunFacts {
@@ -73,6 +99,8 @@ pub struct RunFacts {
     pub inputs: Vec<InputReport>,
     /// Copies left out by the duplicates policy.
     pub dropped: Vec<Dropped>,
+    /// Per duplicated route id, the copy kept and why.
+    pub kept: Vec<Kept>,
     /// Run-level warnings.
     pub warnings: Vec<Warning>,
 }
@@ -82,12 +110,20 @@ pub struct RunFacts {
 /// (§8.1), Bench2Drive's metrics (§8.2), and every per-route warning added to the run's
 /// warnings, naming its route.
 pub fn assemble(
-    routes: Vec<RouteReport>,
+    mut routes: Vec<RouteReport>,
     outcomes: &[RouteOutcome],
     settings: &Settings,
     facts: RunFacts,
 ) -> Report {
     let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
+    for k in facts.kept {
+        if let Some(r) = routes
+            .iter_mut()
+            .find(|r| r.source.as_ref() == Some(&k.source))
+        {
+            r.kept = Some(k);
+        }
+    }
     let mut warnings = facts.warnings;
     for r in &routes {
         let route = row_name(r);
@@ -101,7 +137,10 @@ pub fn assemble(
     let mut summary = summarize(outcomes, &counted, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
     let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
-    summary.bench2drive = Some(Bench2Drive::new(&all, &routes, ability_missing));
+    summary.protocols = all.protocols.clone();
+    let mut b2d = Bench2Drive::new(&all, &routes, ability_missing);
+    b2d.ability_rule = settings.ability_rule.name();
+    summary.bench2drive = Some(b2d);
     Report {
         schema: SCHEMA,
         profile: settings.core.profile.name(),
@@ -110,6 +149,13 @@ pub fn assemble(
             files: facts.inputs,
             route_set: route_set_id(counted.iter().filter_map(|r| r.route_id.as_deref())),
         },
+        route_subset: facts.route_set.as_ref().and_then(|s| {
+            s.subset_of.map(|of| SubsetReport {
+                subset: "found",
+                routes: s.len(),
+                of,
+            })
+        }),
         dropped: facts.dropped,
         routes,
         summary,

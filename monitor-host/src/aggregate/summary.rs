@@ -34,6 +34,9 @@ pub struct Summary {
     /// Bench2Drive's own metrics (§8.2); filled in by [`crate::aggregate::report::assemble`], which
     /// knows the route set.
     pub bench2drive: Option<Bench2Drive>,
+    /// Every asked scoring protocol's aggregates (§8.4, §10.3); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<crate::route::protocol::aggregate::ProtocolScores>,
 }
 
 /// The run's summary: the §8.1 `scores` (over N, computed by [`Scores::over`] from the counted
@@ -70,5 +73,6 @@ pub fn summarize(
             .filter_map(|o| o.record().map(|r| r.route_id.clone()))
             .collect(),
         bench2drive: None,
+        protocols: None,
     }
 }

@@ -4,6 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use crate::settings::{RunOptions, Settings, SettingsError};
+
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]
 #[command(name = "sds", version, about, long_about = None)]
@@ -70,6 +72,8 @@ pub enum DuplicatesArg {
     First,
     /// Keep the last copy in input order.
     Last,
+    /// Keep the newest run: the latest `save_name` time stamp (ties: the last in input order).
+    Newest,
     /// Score every copy as a route of its own.
     All,
 }
@@ -82,7 +86,28 @@ impl DuplicatesArg {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,
             DuplicatesArg::Last => P::Last,
+            DuplicatesArg::Newest => P::Newest,
             DuplicatesArg::All => P::All,
+        }
+    }
+}
+
+/// Route subsets (`--route-subset`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RouteSubsetArg {
+    /// Every route of the route XML (default).
+    All,
+    /// The route XML's routes that have a record.
+    Found,
+}
+
+impl RouteSubsetArg {
+    /// The library's subset.
+    pub fn subset(self) -> crate::input::route_set::RouteSubset {
+        use crate::input::route_set::RouteSubset as S;
+        match self {
+            RouteSubsetArg::All => S::All,
+            RouteSubsetArg::Found => S::Found,
         }
     }
 }
@@ -102,20 +127,13 @@ pub enum GroupArg {
     Route,
 }
 
-/// Arguments of `sds score`.
+/// The options `sds score` and `sds compare` share, defined once; [`RunArgs::settings`] maps
+/// them to the library's [`Settings`] through [`RunOptions`], as the Python `sds.score` does.
 #[derive(Debug, clap::Args)]
-pub struct ScoreArgs {
-    /// Results: a raw evaluator file, a merged file, or a directory of per-route files.
-    /// Repeat to read several: inputs in the order given, a directory's files in byte-wise
-    /// path order, a file's records in order.
-    #[arg(long, required = true)]
-    pub results: Vec<PathBuf>,
-    /// Telemetry root holding `<save_name>/metric_info.json`.
-    #[arg(long)]
-    pub telemetry: Option<PathBuf>,
+pub struct RunArgs {
     /// Bench2Drive route XML: the lateral reference, the route set (its routes without a
     /// record are reported as missing and count as 0 / failed; N defaults to its size) and the
-    /// scenario types of the ability rates.
+    /// scenario types of the ability rates. `sds compare`: shared by every run.
     #[arg(long)]
     pub routes: Option<PathBuf>,
     /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
@@ -127,14 +145,86 @@ pub struct ScoreArgs {
     /// Benchmark size N (missing routes count as 0 / failed), e.g. 220.
     #[arg(long)]
     pub expected_routes: Option<usize>,
-    /// When two records share a route id: `error` (score nothing, name them), keep the
-    /// `first` or `last` copy in input order, or score `all` copies. Default: error (or
-    /// `--set duplicates=...`).
-    #[arg(long, value_enum)]
-    pub duplicates: Option<DuplicatesArg>,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     #[arg(long)]
     pub allow_missing_telemetry: bool,
+    /// Override a setting, e.g. `--set slack=0.9 --set bounds.yaw_rate=1.0 --set gap_max=6`.
+    /// Names are those of the report's `config` block.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Worker threads (default: all cores; never more than routes, at most 256).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Also score every route under these protocols (spec §8.4): comma-separated ids of
+    /// `b2d`, `lb2.0`, `lb2.1`, `lead-nds`, `f2d`, or `all` (setting `protocols`). The recorded
+    /// events under other arithmetic, not a re-run: see docs/PROTOCOLS.md.
+    #[arg(long = "protocol", value_name = "LIST|all")]
+    pub protocol: Option<String>,
+}
+
+impl RunArgs {
+    /// The library's options: these, the duplicate policy (`sds score` only), and `--set`
+    /// split into names and values.
+    ///
+    /// # Errors
+    /// [`SettingsError::Syntax`]: a `--set` without `=`.
+    pub fn options(&self, duplicates: Option<DuplicatesArg>) -> Result<RunOptions, SettingsError> {
+        // Option flags first, as settings by name: `--set` after them overrides them.
+        let flags = self
+            .protocol
+            .iter()
+            .map(|list| Ok(("protocols".to_string(), list.clone())));
+        let overrides = flags
+            .chain(self.set.iter().map(|s| {
+                s.split_once('=')
+                    .map(|(n, v)| (n.to_string(), v.to_string()))
+                    .ok_or_else(|| SettingsError::Syntax(s.clone()))
+            }))
+            .collect::<Result<_, _>>()?;
+        Ok(RunOptions {
+            profile: self.profile.profile(),
+            expected_routes: self.expected_routes,
+            duplicates: duplicates.map(DuplicatesArg::policy),
+            allow_missing_telemetry: self.allow_missing_telemetry,
+            threads: self.jobs,
+            overrides,
+        })
+    }
+
+    /// The settings: [`RunArgs::options`], then [`RunOptions::settings`].
+    ///
+    /// # Errors
+    /// An invalid `--set`.
+    pub fn settings(&self, duplicates: Option<DuplicatesArg>) -> Result<Settings, SettingsError> {
+        self.options(duplicates)?.settings()
+    }
+}
+
+/// Arguments of `sds score`.
+#[derive(Debug, clap::Args)]
+pub struct ScoreArgs {
+    /// Results: a raw evaluator file, a merged file, or a directory of per-route files.
+    /// Repeat to read several: inputs in the order given, a directory's files in byte-wise
+    /// path order, a file's records in order.
+    #[arg(long, required = true)]
+    pub results: Vec<PathBuf>,
+    /// Telemetry root holding `<save_name>/metric_info.json`.
+    #[arg(long)]
+    pub telemetry: Option<PathBuf>,
+    /// The options `sds compare` shares.
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// When two records share a route id: `error` (score nothing, name them), keep the
+    /// `first` or `last` copy in input order, the `newest` run (latest `save_name` time stamp),
+    /// or score `all` copies. Default: error (or
+    /// `--set duplicates=...`).
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
+    /// Which routes of `--routes` make the route set: `all` (default: a route without a record
+    /// counts as 0) or those `found` with a record (a debug run over part of the XML). Also
+    /// `--set route_subset=...`.
+    #[arg(long, value_enum)]
+    pub route_subset: Option<RouteSubsetArg>,
     /// Output format.
     #[arg(long, value_enum, default_value = "json")]
     pub format: Format,
@@ -161,13 +251,6 @@ pub struct ScoreArgs {
     /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.
     #[arg(long = "infraction", value_name = "LIST")]
     pub infractions: Vec<String>,
-    /// Override a setting, e.g. `--set slack=0.9 --set bounds.yaw_rate=1.0 --set gap_max=6`.
-    /// Names are those of the report's `config` block.
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// Worker threads (default: all cores; never more than routes, at most 256).
-    #[arg(long)]
-    pub jobs: Option<usize>,
     /// Also write every aligned collision's trace (§10.2) into DIR, as
     /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
     #[arg(long, value_name = "DIR")]
@@ -206,33 +289,15 @@ pub struct CompareArgs {
     /// Seed of the bootstrap's SplitMix64 generator.
     #[arg(long, default_value_t = 0)]
     pub bootstrap_seed: u64,
-    /// Route XML shared by every run (then each run is scored over the route set).
-    #[arg(long)]
-    pub routes: Option<PathBuf>,
-    /// Maps folder shared by every run.
-    #[arg(long)]
-    pub maps: Option<PathBuf>,
-    /// Comfort profile.
-    #[arg(long, value_enum, default_value = "physical")]
-    pub profile: ProfileArg,
-    /// Benchmark size N of every run (then each run is scored over N routes).
-    #[arg(long)]
-    pub expected_routes: Option<usize>,
-    /// Score routes without telemetry without telemetry terms.
-    #[arg(long)]
-    pub allow_missing_telemetry: bool,
+    /// The options `sds score` shares (each run scored with them).
+    #[command(flatten)]
+    pub run: RunArgs,
     /// Output format (`csv` is not available here).
     #[arg(long, value_enum, default_value = "table")]
     pub format: Format,
     /// Write here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// Override a setting (as for `sds score`).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
 }
 
 /// Subcommands.

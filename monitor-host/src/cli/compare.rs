@@ -3,46 +3,18 @@
 //! `--seeds` groups; the output is the `sds-compare/1` report or its tables; `--fail-if-worse`
 //! exits 5 after writing it.
 
-use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use clap::Parser;
 
-use super::args::{Cli, Command, CompareArgs, Format};
+use super::args::{CompareArgs, Format};
 use super::output::write_output;
 use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
 use crate::aggregate::compare::CompareOptions;
-use crate::compare_runs::{compare_runs, Compared, RunInputs, Seeds};
+use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
 use crate::report::grid::Style;
 use crate::report::{compare_table, html};
-use crate::{Inputs, NoProgress, Settings, SettingsError};
-
-/// Parses the arguments of `sds compare` (without `sds compare`), for front ends that take the
-/// command's options (the Python package's `sds.compare`).
-///
-/// ```
-/// let args = monitor_host::cli::compare::parse_compare_args(["a=x.json", "b=y.json:tel"])?;
-/// assert_eq!(args.runs.len(), 2);
-/// # Ok::<(), clap::Error>(())
-/// ```
-///
-/// # Errors
-/// The usage error `sds compare` would print.
-pub fn parse_compare_args<I, T>(args: I) -> Result<CompareArgs, clap::Error>
-where
-    I: IntoIterator<Item = T>,
-    T: Into<OsString> + Clone,
-{
-    let argv = ["sds".into(), "compare".into()]
-        .into_iter()
-        .chain(args.into_iter().map(Into::into));
-    match Cli::try_parse_from(argv)?.command {
-        Command::Compare(args) => Ok(args),
-        // Never: `compare` is the subcommand given.
-        _ => Err(clap::Error::new(clap::error::ErrorKind::InvalidSubcommand)),
-    }
-}
+use crate::{Inputs, NoProgress};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
@@ -83,29 +55,6 @@ pub fn parse_run(arg: &str) -> (String, PathBuf, Option<PathBuf>) {
     (name, results, telemetry)
 }
 
-/// The telemetry root of a run without one given: its results file's folder (or the folder).
-fn telemetry_beside(path: &Path) -> PathBuf {
-    if path.is_dir() {
-        path.to_path_buf()
-    } else {
-        path.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."))
-            .to_path_buf()
-    }
-}
-
-/// The settings of `sds compare`, shared by every run.
-fn compare_settings(args: &CompareArgs) -> Result<Settings, SettingsError> {
-    let mut s = Settings::default();
-    s.core.profile = args.profile.profile();
-    s.expected_routes = args.expected_routes;
-    s.allow_missing_telemetry = args.allow_missing_telemetry;
-    s.threads = args.jobs;
-    s.apply(&args.set)?;
-    Ok(s)
-}
-
 /// A usage error of `sds compare` (exit 2), with its message.
 #[derive(Debug, thiserror::Error)]
 #[error("{0}")]
@@ -127,8 +76,8 @@ pub fn plan(
             inputs: Inputs {
                 telemetry: Some(telemetry.unwrap_or_else(|| telemetry_beside(&results))),
                 results: vec![results],
-                route_xml: args.routes.clone(),
-                maps: args.maps.clone(),
+                route_xml: args.run.routes.clone(),
+                maps: args.run.maps.clone(),
             },
         });
     }
@@ -171,7 +120,7 @@ pub fn plan(
 /// # Errors
 /// A usage error, a run's error, or a comparison error.
 pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
-    let settings = compare_settings(args)?;
+    let settings = args.run.settings(None)?;
     let (runs, seeds, options) = plan(args)?;
     let compared = compare_runs(&runs, &seeds, &settings, &options, &NoProgress)?;
     let mut problems = false;

@@ -27,22 +27,22 @@ macro_rules! say {
 pub mod compare;
 
 use std::ffi::OsString;
-use std::path::Path;
 
 use anyhow::Result;
 use clap::Parser;
 
-use crate::aggregate::groups::{route_label_key, GroupBy, Labels};
-use crate::input::labels::{check_coverage, read_labels};
+use crate::aggregate::groups::GroupBy;
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
 use crate::report::{csv, html, json};
 use crate::{
-    demo, route_frames, score_run_with, Inputs, Progress, Report, Settings, SettingsError,
-    TelemetryState, Warning,
+    demo, route_frames, score_labelled, Inputs, LabelFiles, Progress, Settings, SettingsError,
+    TelemetryState,
 };
 
-use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, ScoreArgs};
+use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
+
+pub use crate::scored::Scored;
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -92,18 +92,15 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             | Error::Compare(_)
             | Error::TooFewRoutes { .. }
             | Error::TelemetryRoot { .. }
-            | Error::Settings(_) => EXIT_USAGE,
+            | Error::Settings(_)
+            | Error::NeedsLabels(_)
+            | Error::UnusedLabels
+            | Error::Labels(crate::LabelsError::NoMatch { .. }) => EXIT_USAGE,
             Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
             _ => 1,
         };
     }
-    if e.downcast_ref::<SettingsError>().is_some()
-        || e.downcast_ref::<crate::aggregate::groups::NeedsLabels>()
-            .is_some()
-        || e.downcast_ref::<UnusedLabels>().is_some()
-        || e.downcast_ref::<crate::LabelsError>()
-            .is_some_and(|l| matches!(l, crate::LabelsError::NoMatch { .. }))
-    {
+    if e.downcast_ref::<SettingsError>().is_some() {
         return EXIT_USAGE;
     }
     1
@@ -120,17 +117,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
 ///            "/nonexistent: cannot read: No such file or directory (os error 2)");
 /// ```
 pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
-    let mut text = e.to_string();
-    let mut cause = e.source();
-    while let Some(c) = cause {
-        let c_text = c.to_string();
-        if !text.ends_with(&c_text) {
-            text.push_str(": ");
-            text.push_str(&c_text);
-        }
-        cause = c.source();
-    }
-    text
+    crate::error::message(e)
 }
 
 fn run(cli: Cli) -> Result<i32> {
@@ -223,46 +210,6 @@ fn run(cli: Cli) -> Result<i32> {
     }
 }
 
-/// Parses the arguments of `sds score` (without the program name and subcommand), as the
-/// command line would: for front ends that take the same options (the Python `sds.score`).
-///
-/// ```
-/// let args = monitor_host::cli::parse_score_args(["--results", "r.json", "--set", "slack=0.9"])?;
-/// assert_eq!(args.set, ["slack=0.9"]);
-/// assert!(monitor_host::cli::parse_score_args(["--profile", "nope"]).is_err());
-/// # Ok::<(), clap::Error>(())
-/// ```
-///
-/// # Errors
-/// The usage error `sds score` would print.
-pub fn parse_score_args<I, T>(args: I) -> Result<ScoreArgs, clap::Error>
-where
-    I: IntoIterator<Item = T>,
-    T: Into<OsString> + Clone,
-{
-    let argv = ["sds".into(), "score".into()]
-        .into_iter()
-        .chain(args.into_iter().map(Into::into));
-    match Cli::try_parse_from(argv)?.command {
-        Command::Score(args) => Ok(args),
-        // Never: `score` is the subcommand given.
-        _ => Err(clap::Error::new(clap::error::ErrorKind::InvalidSubcommand)),
-    }
-}
-
-/// The long names of the options of `sds score` (`results`, `telemetry`, ...): what a front
-/// end can pass through [`parse_score_args`].
-pub fn score_options() -> Vec<String> {
-    let cmd = <Cli as clap::CommandFactory>::command();
-    cmd.find_subcommand("score")
-        .map(|c| {
-            c.get_arguments()
-                .filter_map(|a| a.get_long().map(str::to_string))
-                .collect()
-        })
-        .unwrap_or_default()
-}
-
 /// `sds frames`' output: per frame, the core's frame (serde-json-core, what the firmware and
 /// `monitor_core::json::decode_frame` read; unknown keys are ignored there) with one more key,
 /// `host`: the step, the lateral reference, and, where the lateral error is known, the distance
@@ -301,16 +248,13 @@ fn frame_lines(run: &crate::RouteFrames) -> Result<Vec<u8>> {
 /// # Errors
 /// An invalid `--set`.
 pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
-    let mut s = Settings::default();
-    s.core.profile = args.profile.profile();
-    s.expected_routes = args.expected_routes;
-    if let Some(d) = args.duplicates {
-        s.duplicates = d.policy();
+    let mut options = args.run.options(args.duplicates)?;
+    if let Some(r) = args.route_subset {
+        options
+            .overrides
+            .insert(0, ("route_subset".into(), r.subset().name().into()));
     }
-    s.allow_missing_telemetry = args.allow_missing_telemetry;
-    s.threads = args.jobs;
-    s.apply(&args.set)?;
-    Ok(s)
+    options.settings()
 }
 
 /// The files `sds score` reads.
@@ -318,168 +262,55 @@ pub fn inputs(args: &ScoreArgs) -> Inputs {
     Inputs {
         results: args.results.clone(),
         telemetry: args.telemetry.clone(),
-        route_xml: args.routes.clone(),
-        maps: args.maps.clone(),
+        route_xml: args.run.routes.clone(),
+        maps: args.run.maps.clone(),
     }
 }
 
-/// What a label file's keys are.
-#[derive(Clone, Copy)]
-enum LabelKey {
-    Family,
-    Weather,
-    Route,
-}
-
-/// `--labels` given without `--group-by route`, the only grouping that reads it.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
-)]
-pub struct UnusedLabels;
-
-/// Reads a label file and checks it against the report's routes: no key matching is an error,
-/// keys of some routes without a label a warning (added to the report).
-fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels> {
-    let labels = read_labels(file)?;
-    let counted = crate::route::row::counted_routes(&report.routes);
-    let (keys, name, option): (Vec<&str>, _, _) = match what {
-        LabelKey::Family => (
-            counted.filter_map(|r| r.scenario_type.as_deref()).collect(),
-            "scenario type",
-            "--families",
-        ),
-        LabelKey::Weather => (
-            counted.filter_map(|r| r.weather_id.as_deref()).collect(),
-            "weather id",
-            "--weathers",
-        ),
-        // A route counts as labelled when the map has any form of its id.
-        LabelKey::Route => (
-            counted
-                .filter_map(|r| r.route_id.as_deref())
-                .map(|id| route_label_key(id, &labels).unwrap_or(id))
-                .collect(),
-            "route id (1711, RouteScenario_1711 or RouteScenario_1711_rep0)",
-            "--labels",
-        ),
-    };
-    let unlabelled = check_coverage(&labels, keys, file, name, option)?;
-    if !unlabelled.is_empty() {
-        report.warnings.push(Warning::LabelsMissKeys {
-            file: file.to_path_buf(),
-            count: unlabelled.len(),
-            keys: unlabelled.into_iter().take(8).collect(),
-        });
+/// The label files `sds score` reads.
+fn label_files(args: &ScoreArgs) -> LabelFiles {
+    LabelFiles {
+        families: args.families.clone(),
+        weathers: args.weathers.clone(),
+        routes: args.labels.clone(),
     }
-    Ok(labels)
 }
 
-/// The report of `sds score` and the label files it read (checked against the report, their
-/// warnings in it).
-#[derive(Debug)]
-pub struct Scored {
-    /// The report.
-    pub report: Report,
-    /// `--families`, read.
-    pub families: Option<Labels>,
-    /// `--weathers`, read.
-    pub weathers: Option<Labels>,
-    /// `--labels`, read.
-    pub labels: Option<Labels>,
+/// The library's grouping.
+fn group_by(g: GroupArg) -> GroupBy {
+    match g {
+        GroupArg::Scenario => GroupBy::Scenario,
+        GroupArg::Family => GroupBy::Family,
+        GroupArg::Town => GroupBy::Town,
+        GroupArg::Weather => GroupBy::Weather,
+        GroupArg::Route => GroupBy::Route,
+    }
 }
 
-/// Everything `sds score` does before rendering: the settings, the run scored (telling
-/// `progress`), the label files read and checked. The Python `sds.score` calls it too.
+/// Everything `sds score` does before rendering: the settings, then the library's
+/// [`score_labelled`] (the run scored, telling `progress`, the label files read and checked, the
+/// breakdown: `--group-by`, or by scenario for the table formats).
 ///
 /// # Errors
-/// As the command: a typed error inside (a [`crate::Error`], [`SettingsError`] or
-/// [`crate::LabelsError`]; `downcast_ref` tells which).
+/// A typed error inside (a [`crate::Error`] or [`SettingsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
-    // Usage errors of the grouping before the run is scored.
-    if args.labels.is_some() && args.group_by != Some(GroupArg::Route) {
-        return Err(UnusedLabels.into());
-    }
-    if let Some(g) = args.group_by {
-        let files = GroupLabels {
-            families: args.families.as_deref(),
-            weathers: args.weathers.as_deref(),
-            routes: args.labels.as_deref(),
-        };
-        let (by, file) = files.of(g);
-        by.check_labels(file.is_some())?;
-    }
-    let mut report = score_run_with(&inputs(args), &settings, progress)?;
-    let families = args
-        .families
-        .as_deref()
-        .map(|f| label_file(&mut report, f, LabelKey::Family))
-        .transpose()?;
-    let weathers = args
-        .weathers
-        .as_deref()
-        .map(|f| label_file(&mut report, f, LabelKey::Weather))
-        .transpose()?;
-    let labels = args
-        .labels
-        .as_deref()
-        .map(|f| label_file(&mut report, f, LabelKey::Route))
-        .transpose()?;
-    let maps = GroupLabels {
-        families: families.as_ref(),
-        weathers: weathers.as_ref(),
-        routes: labels.as_ref(),
-    };
-    add_groups(&mut report, args, maps)?;
-    Ok(Scored {
-        report,
-        families,
-        weathers,
-        labels,
-    })
-}
-
-/// The label maps of the groupings (or their files).
-#[derive(Clone, Copy)]
-struct GroupLabels<T> {
-    families: Option<T>,
-    weathers: Option<T>,
-    routes: Option<T>,
-}
-
-impl<T> GroupLabels<T> {
-    /// The grouping `by` asks for, and its label map.
-    fn of(self, by: GroupArg) -> (GroupBy, Option<T>) {
-        match by {
-            GroupArg::Scenario => (GroupBy::Scenario, None),
-            GroupArg::Town => (GroupBy::Town, None),
-            GroupArg::Family => (GroupBy::Family, self.families),
-            GroupArg::Weather => (GroupBy::Weather, self.weathers),
-            GroupArg::Route => (GroupBy::Route, self.routes),
-        }
-    }
-}
-
-/// Adds the breakdown the options ask for (the tables default to scenario types), with the
-/// label maps read by [`label_file`].
-///
-/// # Errors
-/// [`crate::aggregate::groups::NeedsLabels`]: `--group-by family` without `--families`,
-/// `--group-by route` without `--labels`.
-fn add_groups(report: &mut Report, args: &ScoreArgs, maps: GroupLabels<&Labels>) -> Result<()> {
     let tables = matches!(
         args.format,
         Format::Table | Format::Markdown | Format::Latex
     );
     let by = match (args.group_by, tables) {
-        (Some(g), _) => g,
-        (None, true) => GroupArg::Scenario,
-        (None, false) => return Ok(()),
+        (Some(g), _) => Some(group_by(g)),
+        (None, true) => Some(GroupBy::Scenario),
+        (None, false) => None,
     };
-    let (by, labels) = maps.of(by);
-    report.group(by, labels)?;
-    Ok(())
+    Ok(score_labelled(
+        &inputs(args),
+        &settings,
+        &label_files(args),
+        by,
+        progress,
+    )?)
 }
 
 fn style(format: Format) -> Option<Style> {
@@ -496,12 +327,18 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
     ScoreArgs {
         results: vec![run.results.clone()],
         telemetry: Some(run.telemetry.clone()),
-        routes: Some(run.routes.clone()),
-        maps: Some(run.maps.clone()),
-        profile: ProfileArg::Physical,
-        expected_routes: None,
+        run: RunArgs {
+            routes: Some(run.routes.clone()),
+            maps: Some(run.maps.clone()),
+            profile: ProfileArg::Physical,
+            expected_routes: None,
+            allow_missing_telemetry: false,
+            set: vec![],
+            jobs: None,
+            protocol: None,
+        },
         duplicates: None,
-        allow_missing_telemetry: false,
+        route_subset: None,
         format: Format::Table,
         output: None,
         group_by: None,
@@ -509,8 +346,6 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         weathers: None,
         labels: None,
         infractions: vec![],
-        set: vec![],
-        jobs: None,
         traces: None,
     }
 }
@@ -521,11 +356,17 @@ fn table_options(args: &ScoreArgs) -> TableOptions {
     }
 }
 
-/// The run's name in the HTML page: the results argument(s).
+/// The run's name in the HTML page: the results' file (or folder) names, never their paths (a
+/// page is shared; an absolute path tells where the files sat).
 fn run_name(args: &ScoreArgs) -> String {
     args.results
         .iter()
-        .map(|p| p.display().to_string())
+        .map(|p| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        })
         .collect::<Vec<_>>()
         .join(", ")
 }
@@ -540,6 +381,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }
+    for note in period_notes(&report) {
+        say!("sds: note: {note}");
+    }
     let bytes = match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(&report)?,
         (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
@@ -552,9 +396,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         (_, None) => unreachable!("every table format has a style"),
     };
     let mut inputs_read = report.files_read.clone();
-    inputs_read.extend(args.families.iter().cloned());
-    inputs_read.extend(args.weathers.iter().cloned());
-    inputs_read.extend(args.labels.iter().cloned());
+    inputs_read.extend(label_files(args).files().cloned());
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;
@@ -597,4 +439,36 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
+/// first 10 and a count): a period read wrong would scale every speed and time of a route.
+fn period_notes(report: &crate::Report) -> Vec<String> {
+    let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
+    for r in &report.routes {
+        let (Some(dt), Some(crate::pipeline::step_period::DtSource::Inferred), Some(id)) =
+            (r.dt, r.dt_source, r.route_id.as_deref())
+        else {
+            continue;
+        };
+        if dt == 0.05 {
+            continue;
+        }
+        match by_dt.iter_mut().find(|(d, _)| *d == dt) {
+            Some((_, ids)) => ids.push(id),
+            None => by_dt.push((dt, vec![id])),
+        }
+    }
+    by_dt.sort_by(|a, b| a.0.total_cmp(&b.0));
+    by_dt
+        .into_iter()
+        .map(|(dt, ids)| {
+            format!(
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
+                 (--set dt=SECONDS fixes the period of every route)",
+                ids.len(),
+                crate::warning::id_list(&ids)
+            )
+        })
+        .collect()
 }

@@ -47,6 +47,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+use std::sync::Arc;
+
 use crate::geometry::lateral::LateralTracker;
 use crate::geometry::map::{Map, Projector};
 use crate::input::route_xml::RouteRef;
@@ -153,31 +155,93 @@ pub struct Corridor<'a> {
     core_slack: f32,
 }
 
+impl Corridor<'static> {
+    /// A corridor that owns its reference: the route's waypoints `[x, y, z]` (the route XML's
+    /// positions, or a live front end's), if any, and the town's map, if any. The same corridor
+    /// as [`Corridor::new`] gives for a route XML entry with these waypoints, for a front end
+    /// that keeps it across calls (the live monitor).
+    ///
+    /// ```
+    /// use monitor_host::geometry::corridor::{Corridor, ReferenceKind};
+    /// use monitor_host::Settings;
+    /// let route = [[0.0, 0.0, 0.0], [5.0, 0.0, 0.0]];
+    /// let mut c = Corridor::owned(Some(&route), None, &Settings::default());
+    /// assert_eq!((c.kind(), c.next([1.0, 0.5], 0.0)), (ReferenceKind::Xml, Some(0.5)));
+    /// ```
+    pub fn owned(
+        waypoints: Option<&[[f64; 3]]>,
+        map: Option<Arc<Map>>,
+        settings: &Settings,
+    ) -> Self {
+        let kind = ReferenceKind::of(
+            waypoints.is_some(),
+            map.is_some(),
+            settings.lateral_reference,
+        );
+        let tracker = match (kind, waypoints) {
+            (ReferenceKind::MapRoute, Some(w)) => Some(map_route(w, map.as_deref(), settings)),
+            (ReferenceKind::Xml, Some(w)) => Some(LateralTracker::owned(
+                w.iter().map(|p| [p[0], p[1]]).collect(),
+                settings.gap_max,
+                settings.lookahead,
+            )),
+            _ => None,
+        };
+        Corridor::with(kind, tracker, map.map(Projector::shared), settings)
+    }
+}
+
+/// The tracker of the map route: the waypoints, junction gaps filled by the map's lane chain.
+fn map_route(
+    waypoints: &[[f64; 3]],
+    map: Option<&Map>,
+    settings: &Settings,
+) -> LateralTracker<'static> {
+    let polyline = reference_polyline(waypoints, settings.gap_max, map);
+    LateralTracker::owned(polyline, settings.gap_max, settings.lookahead)
+}
+
 impl<'a> Corridor<'a> {
     /// The corridor of `route` (its XML entry, if any) in a town whose map is `map` (if any).
     pub fn new(route: Option<&'a RouteRef>, map: Option<&'a Map>, settings: &Settings) -> Self {
         let kind = ReferenceKind::of(route.is_some(), map.is_some(), settings.lateral_reference);
         let tracker = match (kind, route) {
-            (ReferenceKind::MapRoute, Some(r)) => {
-                let polyline = reference_polyline(&r.waypoints_3d(), settings.gap_max, map);
-                Some(LateralTracker::owned(
-                    polyline,
-                    settings.gap_max,
-                    settings.lookahead,
-                ))
-            }
+            (ReferenceKind::MapRoute, Some(r)) => Some(map_route(&r.waypoints_3d(), map, settings)),
             (ReferenceKind::Xml, Some(r)) => {
                 Some(LateralTracker::new(r, settings.gap_max, settings.lookahead))
             }
             _ => None,
         };
+        Corridor::with(kind, tracker, map.map(Projector::new), settings)
+    }
+
+    fn with(
+        kind: ReferenceKind,
+        tracker: Option<LateralTracker<'a>>,
+        projector: Option<Projector<'a>>,
+        settings: &Settings,
+    ) -> Self {
         Corridor {
             kind,
             tracker,
-            projector: map.map(Projector::new),
+            projector,
             lane_width: settings.lane_width,
             ego_half_width: settings.ego_half_width,
             core_slack: settings.core.slack,
+        }
+    }
+
+    /// The position of the route search (its matched segment), to go back to with
+    /// [`Corridor::rewind`] when a frame is refused after it was measured. The map's projection
+    /// keeps no state that changes an answer.
+    pub fn position(&self) -> Option<usize> {
+        self.tracker.as_ref().map(LateralTracker::segment)
+    }
+
+    /// Goes back to a [`Corridor::position`].
+    pub fn rewind(&mut self, position: Option<usize>) {
+        if let (Some(t), Some(m)) = (self.tracker.as_mut(), position) {
+            t.set_segment(m);
         }
     }
 

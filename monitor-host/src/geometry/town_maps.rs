@@ -107,6 +107,25 @@ impl TownMaps {
     }
 }
 
+/// The map file of `town` in the maps folder `dir` (the lookup of [`TownMaps::load`]), or why
+/// there is none (where it was looked for).
+///
+/// ```
+/// use monitor_host::geometry::town_maps::find_map;
+/// let dir = tempfile::tempdir()?;
+/// std::fs::write(dir.path().join("Town04.xodr"), "<OpenDRIVE/>")?;
+/// assert_eq!(find_map(dir.path(), "Town04"), Ok(dir.path().join("Town04.xodr")));
+/// assert!(find_map(dir.path(), "Town05").unwrap_err().starts_with("no map for Town05 in "));
+/// # Ok::<(), std::io::Error>(())
+/// ```
+///
+/// # Errors
+/// The reason, naming the folder and the files looked for.
+pub fn find_map(dir: &Path, town: &str) -> Result<PathBuf, String> {
+    let dir = MapDir::new(dir);
+    dir.find(town).ok_or_else(|| absent(&dir, town))
+}
+
 fn absent(dir: &MapDir, town: &str) -> String {
     let looked: Vec<String> = dir
         .candidates(town)

@@ -9,9 +9,12 @@
 //! ```
 
 use std::collections::HashMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::input::record::LoadedRecord;
+
+/// How many ids a list in a warning or a note names before it says how many more there are.
+pub const IDS_SHOWN: usize = 10;
 
 /// What to do when two records share a `route_id` **\[decision\]**.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -23,25 +26,31 @@ pub enum DuplicatePolicy {
     First,
     /// Keep the last copy in input order; list the others as dropped.
     Last,
+    /// Keep the copy whose `save_name` time stamp (`mm_dd_HH_MM_SS`) is the latest: the
+    /// newest re-run. Ties and unparsable stamps are decided by input order (the last), with a
+    /// warning.
+    Newest,
     /// Score every copy as a route of its own (spec v1.1's behaviour), with a warning.
     All,
 }
 
 impl DuplicatePolicy {
     /// Every policy, in the order of the documentation.
-    pub const ALL: [DuplicatePolicy; 4] = [
+    pub const ALL: [DuplicatePolicy; 5] = [
         DuplicatePolicy::Error,
         DuplicatePolicy::First,
         DuplicatePolicy::Last,
+        DuplicatePolicy::Newest,
         DuplicatePolicy::All,
     ];
 
-    /// The setting's value: `error`, `first`, `last` or `all`.
+    /// The setting's value: `error`, `first`, `last`, `newest` or `all`.
     pub fn name(self) -> &'static str {
         match self {
             DuplicatePolicy::Error => "error",
             DuplicatePolicy::First => "first",
             DuplicatePolicy::Last => "last",
+            DuplicatePolicy::Newest => "newest",
             DuplicatePolicy::All => "all",
         }
     }
@@ -78,7 +87,61 @@ impl std::fmt::Display for Source {
     }
 }
 
-/// A copy of a route left out by the `first` / `last` policy.
+/// Which copy of a duplicated route was scored and why (`first`, `last`, `newest`): the
+/// report's per-route `kept`.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Kept {
+    /// The policy that chose.
+    pub policy: &'static str,
+    /// Copies of the route id found.
+    pub copies: usize,
+    /// The kept copy's `save_name` time stamp (`mm_dd_HH_MM_SS`), when it has one.
+    pub stamp: Option<String>,
+    /// Why this copy: `first in input order`, `newest save_name time stamp (...)`, ...
+    pub why: String,
+    /// The copy scored.
+    #[serde(skip)]
+    pub source: Source,
+    /// Input order decided under `newest` (a tie or an unparsable stamp).
+    #[serde(skip)]
+    pub by_order: bool,
+}
+
+/// The `mm_dd_HH_MM_SS` time stamp that ends a `save_name`
+/// (`RouteScenario_11715_rep0_Town12_EnterActorFlow_1_18_01_27_19_06_00`), as numbers in that
+/// order (no year: the evaluator writes none), or `None` when the last five fields are not a
+/// date and time.
+///
+/// ```
+/// use monitor_host::input::duplicates::save_name_stamp;
+/// let s = "RouteScenario_11715_rep0_Town12_EnterActorFlow_1_18_02_11_09_15_42";
+/// assert_eq!(save_name_stamp(s), Some([2, 11, 9, 15, 42]));
+/// assert_eq!(save_name_stamp("RouteScenario_1_rep0_Town01_Demo_1_7"), None);
+/// assert_eq!(save_name_stamp("RouteScenario_1_rep0_Town01_Demo_1_7_13_40_10_00_00"), None); // month 13
+/// ```
+pub fn save_name_stamp(save_name: &str) -> Option<[u32; 5]> {
+    let fields: Vec<&str> = save_name.rsplitn(6, '_').take(5).collect();
+    if fields.len() < 5 {
+        return None;
+    }
+    let mut stamp = [0u32; 5];
+    for (i, f) in fields.iter().rev().enumerate() {
+        if f.is_empty() || f.len() > 2 || !f.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        stamp[i] = f.parse().ok()?;
+    }
+    let [mo, d, h, mi, se] = stamp;
+    ((1..=12).contains(&mo) && (1..=31).contains(&d) && h < 24 && mi < 60 && se <= 60)
+        .then_some(stamp)
+}
+
+/// A stamp as written in the `save_name`.
+fn stamp_text(s: [u32; 5]) -> String {
+    s.map(|x| format!("{x:02}")).join("_")
+}
+
+/// A copy of a route left out by the `first` / `last` / `newest` policy.
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Dropped {
     /// The route id.
@@ -109,24 +172,137 @@ impl std::fmt::Display for Duplicate {
     }
 }
 
-/// Why the run cannot be scored under `duplicates: error`.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "{} route id(s) appear more than once in the results (the same file given twice, a merged \
-     file beside its raw shards, re-runs, or two models in one folder); nothing was scored. \
-     Choose which copy counts with --duplicates first|last (or all to score every copy):\n  {}",
-    .0.len(),
-    .0.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n  ")
-)]
-pub struct DuplicatesError(pub Vec<Duplicate>);
+/// A results file that holds (nearly) every route id of the run: with another such file, the
+/// inputs are most likely several runs (two models, two settings), not re-runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct WholeRun {
+    /// The file.
+    pub file: PathBuf,
+    /// Distinct route ids in it.
+    pub routes: usize,
+}
+
+/// A file is a whole run when it holds at least this share of the run's route ids...
+const WHOLE_SHARE: f64 = 0.9;
+/// ... and at least this many (a re-run file of one route is not a run).
+const WHOLE_MIN: usize = 10;
+
+/// Why the run cannot be scored under `duplicates: error`: every duplicated id, and the files
+/// that each hold (nearly) the whole route set when there are several.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DuplicatesError {
+    /// Every duplicated id with its copies.
+    pub duplicates: Vec<Duplicate>,
+    /// Files that each hold (nearly) every route id, when two or more do (else empty).
+    pub whole_runs: Vec<WholeRun>,
+    /// Distinct route ids in all inputs.
+    pub ids: usize,
+}
+
+impl std::fmt::Display for DuplicatesError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.whole_runs.is_empty() {
+            return write!(
+                f,
+                "{} route id(s) appear more than once in the results (the same file given \
+                 twice, a merged file beside its raw shards, re-runs, or two models in one \
+                 folder); nothing was scored. Choose which copy counts with --duplicates \
+                 newest|first|last (or all to score every copy):\n  {}",
+                self.duplicates.len(),
+                self.duplicates
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join("\n  ")
+            );
+        }
+        let n = self.whole_runs.len();
+        let all = self.whole_runs.iter().all(|w| w.routes == self.ids);
+        write!(
+            f,
+            "{n} files each hold {} {} routes: several runs? Nothing was scored: score each \
+             run on its own (sds score --results FILE) or side by side (sds compare A=FILE \
+             B=FILE); --duplicates would pick one copy per route and mix the runs.",
+            if all { "all" } else { "nearly all" },
+            self.ids
+        )?;
+        for w in &self.whole_runs {
+            write!(
+                f,
+                "\n  {}: {} of {} route ids",
+                w.file.display(),
+                w.routes,
+                self.ids
+            )?;
+        }
+        // Ids duplicated outside those files (re-runs, shards): named, the first 10.
+        let other: Vec<&Duplicate> = self
+            .duplicates
+            .iter()
+            .filter(|d| {
+                d.copies
+                    .iter()
+                    .filter(|c| !self.whole_runs.iter().any(|w| w.file == c.file))
+                    .count()
+                    > 0
+            })
+            .collect();
+        if !other.is_empty() {
+            write!(
+                f,
+                "\n  {} route id(s) also have copies in other files:",
+                other.len()
+            )?;
+            for d in other.iter().take(IDS_SHOWN) {
+                write!(f, "\n    {d}")?;
+            }
+            if other.len() > IDS_SHOWN {
+                write!(f, "\n    ... and {} more", other.len() - IDS_SHOWN)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for DuplicatesError {}
+
+/// The files that each hold (nearly) every one of the `ids` distinct route ids, when two or
+/// more do.
+fn whole_runs(records: &[LoadedRecord], ids: usize) -> Vec<WholeRun> {
+    let mut per_file: Vec<(&Path, std::collections::HashSet<&str>)> = Vec::new();
+    for r in records {
+        let Some(id) = id_of(r) else { continue };
+        match per_file.iter_mut().find(|(f, _)| *f == r.source.as_path()) {
+            Some((_, set)) => {
+                set.insert(id);
+            }
+            None => per_file.push((&r.source, [id].into_iter().collect())),
+        }
+    }
+    let whole: Vec<WholeRun> = per_file
+        .into_iter()
+        .filter(|(_, set)| set.len() >= WHOLE_MIN && set.len() as f64 >= WHOLE_SHARE * ids as f64)
+        .map(|(f, set)| WholeRun {
+            file: f.to_path_buf(),
+            routes: set.len(),
+        })
+        .collect();
+    if whole.len() >= 2 {
+        whole
+    } else {
+        Vec::new()
+    }
+}
 
 /// The records to score and the copies left out.
 #[derive(Clone, Debug, Default)]
 pub struct Deduplicated {
     /// Records kept, in input order.
     pub records: Vec<LoadedRecord>,
-    /// Copies left out (`first` / `last`), in input order of the copy left out.
+    /// Copies left out (`first` / `last` / `newest`), in input order of the copy left out.
     pub dropped: Vec<Dropped>,
+    /// Per duplicated route id, the copy kept and why (`first` / `last` / `newest`).
+    pub kept: Vec<Kept>,
     /// Duplicated ids (filled under every policy; under `all` they are all scored).
     pub duplicates: Vec<Duplicate>,
 }
@@ -173,28 +349,44 @@ pub fn deduplicate(
         return Ok(Deduplicated {
             records,
             dropped: Vec::new(),
+            kept: Vec::new(),
             duplicates,
         });
     }
     if policy == DuplicatePolicy::Error {
-        return Err(DuplicatesError(duplicates));
+        return Err(DuplicatesError {
+            whole_runs: whole_runs(&records, order.len()),
+            ids: order.len(),
+            duplicates,
+        });
     }
     let mut keep = vec![true; records.len()];
     let mut dropped = Vec::new();
+    let mut kept_of: HashMap<&str, usize> = HashMap::new();
+    let mut kept = Vec::new();
+    for d in &duplicates {
+        let all = &copies[d.route_id.as_str()];
+        let (index, stamp, why, by_order) = choose(&records, all, policy);
+        kept_of.insert(d.route_id.as_str(), index);
+        kept.push(Kept {
+            policy: policy.name(),
+            copies: all.len(),
+            stamp: stamp.map(stamp_text),
+            why,
+            source: Source::of(&records[index]),
+            by_order,
+        });
+    }
     for (i, r) in records.iter().enumerate() {
-        let Some(id) = id_of(r) else { continue };
-        let all = &copies[id];
-        let kept = if policy == DuplicatePolicy::First {
-            all[0]
-        } else {
-            all[all.len() - 1]
+        let Some(&k) = id_of(r).and_then(|id| kept_of.get(id)) else {
+            continue;
         };
-        if kept != i {
+        if k != i {
             keep[i] = false;
             dropped.push(Dropped {
-                route_id: id.to_string(),
+                route_id: id_of(r).unwrap_or_default().to_string(),
                 source: Source::of(r),
-                kept: Source::of(&records[kept]),
+                kept: Source::of(&records[k]),
             });
         }
     }
@@ -206,8 +398,89 @@ pub fn deduplicate(
     Ok(Deduplicated {
         records,
         dropped,
+        kept,
         duplicates,
     })
+}
+
+/// The copy of one route id (indices `all`, in input order) a policy keeps: its index, its
+/// stamp, why, and whether input order decided under `newest`.
+fn choose(
+    records: &[LoadedRecord],
+    all: &[usize],
+    policy: DuplicatePolicy,
+) -> (usize, Option<[u32; 5]>, String, bool) {
+    let stamp_of = |i: usize| {
+        records[i]
+            .entry
+            .as_ref()
+            .ok()
+            .and_then(|r| r.save_name.as_deref())
+            .and_then(save_name_stamp)
+    };
+    let n = all.len();
+    let last = all[n - 1];
+    match policy {
+        DuplicatePolicy::First => (
+            all[0],
+            stamp_of(all[0]),
+            format!("first of {n} copies in input order"),
+            false,
+        ),
+        DuplicatePolicy::Newest => {
+            let stamps: Vec<Option<[u32; 5]>> = all.iter().map(|&i| stamp_of(i)).collect();
+            if stamps.iter().any(Option::is_none) {
+                let bad = stamps.iter().filter(|s| s.is_none()).count();
+                return (
+                    last,
+                    stamp_of(last),
+                    format!(
+                        "last of {n} copies in input order: {bad} of them have no save_name \
+                         time stamp (mm_dd_HH_MM_SS) to compare"
+                    ),
+                    true,
+                );
+            }
+            let newest = stamps.iter().flatten().max().copied();
+            let tied = stamps.iter().filter(|s| **s == newest).count();
+            // The last copy in input order among those with the newest stamp.
+            let pos = stamps.iter().rposition(|s| *s == newest).unwrap_or(n - 1);
+            let others: Vec<String> = stamps
+                .iter()
+                .enumerate()
+                .filter(|(j, _)| *j != pos)
+                .filter_map(|(_, s)| s.map(stamp_text))
+                .collect();
+            let text = newest.map(stamp_text).unwrap_or_default();
+            if tied > 1 {
+                (
+                    all[pos],
+                    newest,
+                    format!(
+                        "{tied} of {n} copies share the newest save_name time stamp {text}: the \
+                         last of them in input order"
+                    ),
+                    true,
+                )
+            } else {
+                (
+                    all[pos],
+                    newest,
+                    format!(
+                        "newest save_name time stamp {text} of {n} copies (others {})",
+                        others.join(", ")
+                    ),
+                    false,
+                )
+            }
+        }
+        _ => (
+            last,
+            stamp_of(last),
+            format!("last of {n} copies in input order"),
+            false,
+        ),
+    }
 }
 
 #[cfg(test)]
@@ -228,16 +501,65 @@ mod tests {
     }
 
     #[test]
+    fn whole_runs_are_said_per_file() {
+        // Two files of the same 12 routes, and a re-run of one of them.
+        let mut rs: Vec<LoadedRecord> = Vec::new();
+        for f in ["m1.json", "m2.json"] {
+            rs.extend((0..12).map(|i| rec(f, i, &format!("R{i}"))));
+        }
+        rs.push(rec("rerun.json", 0, "R3"));
+        let e = deduplicate(rs.clone(), DuplicatePolicy::Error).unwrap_err();
+        assert_eq!(e.whole_runs.len(), 2);
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("2 files each hold all 12 routes: several runs?"),
+            "{msg}"
+        );
+        assert!(
+            msg.contains("sds compare") && !msg.contains("--duplicates newest"),
+            "{msg}"
+        );
+        assert!(msg.contains("\n  m1.json: 12 of 12 route ids"), "{msg}");
+        assert!(
+            msg.contains("1 route id(s) also have copies in other files:\n    R3: "),
+            "{msg}"
+        );
+        assert!(msg.lines().count() <= 6, "{msg}");
+        // One whole file and its shards: the per-id list.
+        let shards: Vec<LoadedRecord> = (0..12)
+            .map(|i| rec("merged.json", i, &format!("R{i}")))
+            .chain((0..12).map(|i| rec(if i < 6 { "s0" } else { "s1" }, i % 6, &format!("R{i}"))))
+            .collect();
+        let e = deduplicate(shards, DuplicatePolicy::Error).unwrap_err();
+        assert!(e.whole_runs.is_empty());
+        assert_eq!(e.to_string().lines().count(), 13);
+    }
+
+    #[test]
+    fn stamps() {
+        let n = |s: &str| save_name_stamp(&format!("RouteScenario_11715_rep0_Town12_E_1_18_{s}"));
+        assert_eq!(n("01_27_19_06_00"), Some([1, 27, 19, 6, 0]));
+        assert!(n("02_07_00_00_00") > n("01_27_19_06_00"));
+        assert_eq!(n("00_27_19_06_00"), None);
+        assert_eq!(n("01_27_24_06_00"), None);
+        assert_eq!(n("01_27_19_6x_00"), None);
+        assert_eq!(save_name_stamp("19_06_00"), None);
+    }
+
+    #[test]
     fn policies() {
         let rs = vec![rec("a", 0, "R1"), rec("a", 1, "R2"), rec("b", 0, "R1")];
         let e = deduplicate(rs.clone(), DuplicatePolicy::Error).unwrap_err();
-        assert_eq!(e.0.len(), 1);
+        assert_eq!(e.duplicates.len(), 1);
+        assert!(e.whole_runs.is_empty());
         let msg = e.to_string();
         assert!(msg.contains("R1: a record 0, b record 0"), "{msg}");
-        assert!(msg.contains("--duplicates first|last"), "{msg}");
+        assert!(msg.contains("--duplicates newest|first|last"), "{msg}");
 
         let d = deduplicate(rs.clone(), DuplicatePolicy::First).unwrap();
         assert_eq!(d.records.len(), 2);
+        assert_eq!((d.kept.len(), d.kept[0].copies), (1, 2));
+        assert_eq!(d.kept[0].source, Source::of(&rs[0]));
         assert_eq!(d.records[0].source, PathBuf::from("a"));
         assert_eq!(d.dropped[0].source.file, PathBuf::from("b"));
         assert_eq!(d.dropped[0].kept.file, PathBuf::from("a"));
@@ -251,10 +573,15 @@ mod tests {
         );
         assert_eq!(d.dropped[0].source, Source::of(&rs[0]));
 
-        let d = deduplicate(rs, DuplicatePolicy::All).unwrap();
+        let d = deduplicate(rs.clone(), DuplicatePolicy::All).unwrap();
+        assert!(d.kept.is_empty());
         assert_eq!(
             (d.records.len(), d.dropped.len(), d.duplicates.len()),
             (3, 0, 1)
         );
+        // newest without readable stamps (these test records are invalid): input order
+        let d = deduplicate(rs, DuplicatePolicy::Newest).unwrap();
+        assert_eq!(d.dropped[0].source.file, PathBuf::from("a"));
+        assert!(d.kept[0].by_order && d.kept[0].why.contains("no save_name time stamp"));
     }
 }

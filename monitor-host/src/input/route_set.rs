@@ -23,6 +23,35 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 
 use crate::input::route_xml::RouteSet;
 
+/// Which routes of the route XML make the route set **\[decision\]**.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RouteSubset {
+    /// Every route of the XML: a route without a record is missing and counts as 0 (default;
+    /// Bench2Drive's fixed 220).
+    #[default]
+    All,
+    /// The XML's routes that have a record (a debug run of 20 routes is scored over 20; its
+    /// abilities and groups too).
+    Found,
+}
+
+impl RouteSubset {
+    /// The setting's value: `all` or `found`.
+    pub fn name(self) -> &'static str {
+        match self {
+            RouteSubset::All => "all",
+            RouteSubset::Found => "found",
+        }
+    }
+
+    /// The subset of this name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        [RouteSubset::All, RouteSubset::Found]
+            .into_iter()
+            .find(|s| s.name() == name)
+    }
+}
+
 /// A member of the route set without any record: it counts as 0 / failed.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MissingRoute {
@@ -43,6 +72,9 @@ pub struct RunRouteSet {
     pub members: Vec<String>,
     /// Members without a record, in XML order.
     pub missing: Vec<MissingRoute>,
+    /// Under [`RouteSubset::Found`]: the XML's routes (with their repetitions) before the routes
+    /// without a record were left out; `None` for the whole XML.
+    pub subset_of: Option<usize>,
     lookup: HashSet<String>,
 }
 
@@ -139,6 +171,32 @@ pub fn route_set<'a>(xml: &RouteSet, records: impl IntoIterator<Item = &'a str>)
             set.members.push(route_id);
         }
     }
+    set
+}
+
+/// The route set restricted by `subset`: under [`RouteSubset::Found`], only the members that
+/// have a record (no missing route), remembering the size of the whole set.
+///
+/// ```
+/// use monitor_host::input::route_set::{route_set, route_subset, RouteSubset};
+/// use monitor_host::input::route_xml::parse_route_xml;
+/// let xml = parse_route_xml(r#"<routes>
+///   <route id="1" town="T"><waypoints><position x="0" y="0" z="0"/></waypoints></route>
+///   <route id="2" town="T"><waypoints><position x="0" y="0" z="0"/></waypoints></route>
+/// </routes>"#)?;
+/// let set = route_subset(route_set(&xml, ["RouteScenario_1_rep0"]), RouteSubset::Found);
+/// assert_eq!((set.members.len(), set.missing.len(), set.subset_of), (1, 0, Some(2)));
+/// # Ok::<(), monitor_host::RouteError>(())
+/// ```
+pub fn route_subset(mut set: RunRouteSet, subset: RouteSubset) -> RunRouteSet {
+    if subset == RouteSubset::All {
+        return set;
+    }
+    let all = set.members.len();
+    let missing: HashSet<String> = set.missing.drain(..).map(|m| m.route_id).collect();
+    set.members.retain(|m| !missing.contains(m));
+    set.lookup.retain(|m| !missing.contains(m));
+    set.subset_of = Some(all);
     set
 }
 

@@ -25,25 +25,7 @@
 
 use monitor_core::ComfortVerdict;
 
-/// The thresholds of §8.5 (settings `motion.stationary_speed`, `motion.moving_speed`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MotionSettings {
-    /// A frame whose speed is below this is stationary, m/s (0.1) **\[decision\]**. (The
-    /// setting `stationary_speed` is §5's collision exemption, 0.5 m/s: another threshold.)
-    pub stationary_speed: f64,
-    /// A chunk whose mean speed (path length over its duration) is at least this is moving,
-    /// m/s (1.0) **\[decision\]**.
-    pub moving_speed: f64,
-}
-
-impl Default for MotionSettings {
-    fn default() -> Self {
-        MotionSettings {
-            stationary_speed: 0.1,
-            moving_speed: 1.0,
-        }
-    }
-}
+pub use crate::settings::MotionSettings;
 
 /// A route's motion figures.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -56,9 +38,25 @@ pub struct Motion {
     /// Per comfort chunk (§3: full chunks of `chunk_len`, or one chunk for a short route of at
     /// least `min_chunk` frames), whether it is moving.
     pub moving: Vec<bool>,
-    /// Per frame, whether it is stationary (for the timeline of the HTML page); empty unless
-    /// asked for.
-    pub stationary: Vec<bool>,
+    /// The stationary stretches, as frame ranges `[start, end)` (the HTML page's timeline).
+    pub stationary: Vec<(u32, u32)>,
+}
+
+/// The runs of `true` in `flags` as ranges `[start, end)`.
+fn stretches(flags: &[bool]) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    let mut start = None;
+    for (i, f) in flags.iter().chain([&false]).enumerate() {
+        match (start, *f) {
+            (None, true) => start = Some(i as u32),
+            (Some(s), false) => {
+                out.push((s, i as u32));
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 /// The 2-D distance between two locations.
@@ -118,7 +116,7 @@ pub fn measure(
         distance_m,
         stationary_share,
         moving,
-        stationary,
+        stationary: stretches(&stationary),
     }
 }
 
@@ -197,7 +195,7 @@ mod tests {
         );
         assert_eq!(m.distance_m, 0.4);
         // Frame 0 takes frame 1's speed (0): 2 of 3 stationary.
-        assert_eq!(m.stationary, vec![true, true, false]);
+        assert_eq!(m.stationary, vec![(0, 2)]);
         assert_eq!(m.stationary_share, Some(2.0 / 3.0));
         assert!(m.moving.is_empty(), "3 frames: no comfort chunk");
     }

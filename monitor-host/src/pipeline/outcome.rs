@@ -7,6 +7,7 @@ use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
 use crate::pipeline::align::AlignedBy;
+use crate::pipeline::motion::{Motion, MovingComfort};
 use crate::pipeline::step_period::StepPeriod;
 use crate::pipeline::timeline::RouteTimeline;
 use crate::warning::Warning;
@@ -174,6 +175,10 @@ pub struct RouteOutcome {
     pub workzone: u32,
     /// The batch reference gave the same summary (spec section 9); `None` when not replayed.
     pub batch_agrees: Option<bool>,
+    /// Distance, stationary share and moving chunks (§8.5); `None` when not replayed.
+    pub motion: Option<Motion>,
+    /// Comfort over the moving chunks; `None` when not replayed.
+    pub moving: Option<MovingComfort>,
     /// What the lateral error is measured against (§2); `None` for an invalid record.
     pub reference: Option<ReferenceKind>,
     /// Problems that did not stop the route from being scored (unreadable `infractions.json`,

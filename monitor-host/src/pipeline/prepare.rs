@@ -14,7 +14,8 @@ use crate::input::record::Record;
 use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::Telemetry;
 use crate::pipeline::align::{self, EventRef};
-use crate::pipeline::frame::FrameBuilder;
+use crate::pipeline::live::LiveFrames;
+use crate::pipeline::motion::{self, Motion};
 use crate::pipeline::outcome::CollisionEvent;
 use crate::settings::{decimal, Settings};
 
@@ -61,6 +62,8 @@ pub struct PreparedRoute {
     pub events: Vec<CollisionEvent>,
     /// What the lateral error was measured against.
     pub reference: ReferenceKind,
+    /// Distance, stationary share and moving chunks (§8.5).
+    pub motion: Motion,
     /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
     /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
     pub lateral: Vec<Option<LateralSample>>,
@@ -95,7 +98,7 @@ pub fn prepare_with(
     let locations = tel.locations();
 
     let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
-    let mut corridor = Corridor::new(reference, map, settings);
+    let corridor = Corridor::new(reference, map, settings);
 
     let parsed = collision_events(record);
     let refs: Vec<EventRef> = parsed
@@ -126,18 +129,26 @@ pub fn prepare_with(
         events.push(ev);
     }
 
-    let mut builder = FrameBuilder::new(settings.core.dt);
+    let motion = motion::measure(
+        &locations,
+        &steps,
+        decimal(settings.core.dt),
+        &settings.motion,
+        usize::from(settings.core.chunk_len),
+        usize::from(settings.core.min_chunk),
+    );
+    let mut live = LiveFrames::with_corridor(corridor, settings.core.dt);
     let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
     let frames: Vec<Frame> = tel
         .frames
         .iter()
         .zip(collisions)
         .map(|(f, c)| {
-            let sample = corridor.sample(f.location, f.z);
+            let (frame, sample) = live.build(f, c);
             if keep_lateral {
                 lateral.push(sample);
             }
-            builder.push(f, sample.map(|s| s.value), c)
+            frame
         })
         .collect();
     // The impact speed is the frame's speed (f64, rounded to f32 once).
@@ -148,7 +159,8 @@ pub fn prepare_with(
         frames,
         steps,
         events,
-        reference: corridor.kind(),
+        reference: live.reference(),
         lateral,
+        motion,
     }
 }

@@ -15,6 +15,7 @@ use crate::input::lead_infractions;
 use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
+use crate::pipeline::motion::MovingComfort;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::{collision_events, prepare_with, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
@@ -355,6 +356,8 @@ pub fn replay(
         events: Vec::new(),
         workzone: 0,
         batch_agrees: None,
+        motion: None,
+        moving: None,
         reference: None,
         warnings: Vec::new(),
         files_read: Vec::new(),
@@ -407,6 +410,11 @@ pub fn replay(
                     }
                     out.batch_agrees = Some(agrees);
                     out.telemetry = TelemetryState::Ok;
+                    out.moving = Some(MovingComfort::count(
+                        &prepared.motion.moving,
+                        &chunks.comfort,
+                    ));
+                    out.motion = Some(prepared.motion);
                     out.events = prepared.events;
                     let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
                     out.timeline = Some(RouteTimeline::around(

@@ -65,20 +65,26 @@ pub fn infer(
 ) -> (StepPeriod, Vec<Warning>) {
     let span = last.saturating_sub(first).saturating_add(1);
     let mut warnings = Vec::new();
-    if gaps.saturating_mul(10) > span {
-        warnings.push(Warning::LargeGaps { gaps, span });
-    }
+    let large_gaps = gaps.saturating_mul(10) > span;
     let config = StepPeriod {
         dt: decimal(settings.core.dt),
         source: DtSource::Config,
     };
-    if !settings.dt_inference {
-        return (config, warnings);
-    }
-    let Some(d) = duration_game.filter(|d| d.is_finite() && *d > 0.0) else {
+    let duration = duration_game.filter(|d| d.is_finite() && *d > 0.0);
+    let Some(d) = duration.filter(|_| settings.dt_inference && span >= MIN_SPAN) else {
+        if large_gaps {
+            warnings.push(Warning::LargeGaps { gaps, span });
+        }
         return (config, warnings);
     };
-    if span < MIN_SPAN {
+    // v1.3: a file holding only part of the run cannot tell its period (steps 480..810 of a
+    // 10 Hz run of 0..1336 would read as 0.4 s).
+    if large_gaps {
+        warnings.push(Warning::StepPeriodPartial {
+            gaps,
+            span,
+            dt: config.dt,
+        });
         return (config, warnings);
     }
     let r = d / span as f64;
@@ -132,10 +138,32 @@ mod tests {
         assert_eq!(infer(1, 100, 0, Some(0.0), &s), (config, vec![]));
         // r tiny: k = 0
         assert_eq!(infer(1, 1000, 0, Some(1.0), &s).0, config);
-        // gaps above 10 % of the span
-        let (_, w) = infer(1, 100, 11, Some(5.0), &s);
-        assert!(w[0].to_string().contains("11 of 100"), "{}", w[0]);
-        assert!(infer(1, 100, 10, Some(5.0), &s).1.is_empty());
+        // gaps above 10 % of the span: no inference, one warning naming --set dt=
+        let (p, w) = infer(1, 100, 11, Some(5.0), &s);
+        assert_eq!((p, w.len()), (config, 1));
+        let text = w[0].to_string();
+        assert!(
+            text.contains("11 of 100") && text.contains("--set dt="),
+            "{text}"
+        );
+        assert!(text.contains("not inferred"), "{text}");
+        assert_eq!(infer(1, 100, 10, Some(5.0), &s), (inferred(0.05), vec![]));
+        // issue 23: a 10 Hz route whose file holds steps 480..=810 (287 of 331 missing) of a
+        // 133.6 s run read as 0.4 s; now the setting, with the warning
+        let (p, w) = infer(480, 810, 287, Some(133.6), &s);
+        assert_eq!(p, config);
+        assert!(matches!(
+            w[..],
+            [Warning::StepPeriodPartial {
+                gaps: 287,
+                span: 331,
+                ..
+            }]
+        ));
+        // without a duration the gaps still warn (chunks span missing time)
+        let (p, w) = infer(1, 100, 11, None, &s);
+        assert_eq!(p, config);
+        assert!(matches!(w[..], [Warning::LargeGaps { .. }]));
         // a fixed dt turns inference off
         let mut fixed = Settings::default();
         fixed.set("dt", "0.1").unwrap();

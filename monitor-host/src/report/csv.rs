@@ -5,10 +5,11 @@
 
 use crate::aggregate::report::Report;
 use crate::report::escape::csv_cell;
+use crate::report::protocol_csv;
 use crate::route::row::RouteReport;
 
 /// The header line's columns.
-pub const COLUMNS: [&str; 30] = [
+pub const COLUMNS: [&str; 35] = [
     "route_id",
     "scenario_type",
     "town",
@@ -36,18 +37,43 @@ pub const COLUMNS: [&str; 30] = [
     "comfort_chunks",
     "comfortable",
     "comfort",
+    "moving_chunks",
+    "moving_comfortable",
+    "moving_comfort",
+    "distance_m",
+    "stationary_share",
     "p_safe",
     "ds_safe",
     "reason",
 ];
 
-/// A float as JSON prints it (`100.0`, `0.05`); empty when absent.
-fn num(x: Option<f64>) -> String {
-    x.and_then(|v| serde_json::to_string(&v).ok())
-        .unwrap_or_default()
+/// A float as JSON prints it (`100.0`, `0.05`), as the shortest decimal of its 15 significant
+/// digits (a product such as 50.15 × 0.6 prints 30.09, not 30.089999999999996); empty when
+/// absent.
+///
+/// ```
+/// use monitor_host::report::csv::float;
+/// assert_eq!(float(Some(50.15 * 0.6)), "30.09");
+/// assert_eq!((float(Some(100.0)), float(Some(0.05)), float(None)), ("100.0".into(), "0.05".into(), "".into()));
+/// assert_eq!(float(Some(1.0 / 3.0)), "0.333333333333333");
+/// ```
+pub fn float(x: Option<f64>) -> String {
+    x.map(|v| {
+        let v = if v.is_finite() {
+            format!("{v:.14e}").parse().unwrap_or(v)
+        } else {
+            v
+        };
+        serde_json::to_string(&v).unwrap_or_default()
+    })
+    .unwrap_or_default()
 }
 
-fn row(r: &RouteReport) -> [String; 30] {
+fn num(x: Option<f64>) -> String {
+    float(x)
+}
+
+fn row(r: &RouteReport) -> [String; 35] {
     let s = |x: &Option<String>| csv_cell(x.as_deref().unwrap_or_default()).into_owned();
     let o = num;
     let c = &r.collisions;
@@ -81,25 +107,36 @@ fn row(r: &RouteReport) -> [String; 30] {
         r.comfort.chunks.to_string(),
         r.comfort.comfortable.to_string(),
         o(r.comfort.score),
+        r.comfort.moving_chunks.to_string(),
+        r.comfort.moving_comfortable.to_string(),
+        o(r.comfort.moving_score),
+        o(r.distance_m),
+        o(r.stationary_share),
         o(r.p_safe),
         o(r.ds_safe),
         s(&r.reason),
     ]
 }
 
-/// One CSV line per route, after a header line ([`COLUMNS`]); empty cells for absent values.
+/// One CSV line per route, after a header line ([`COLUMNS`], then the asked protocols'
+/// columns, [`protocol_csv::route_columns`]); empty cells for absent values.
 pub fn csv(report: &Report) -> Vec<u8> {
     let mut w = ::csv::Writer::from_writer(Vec::new());
     // Writing to memory cannot fail; an error here would be a bug in the csv crate.
-    let _ = w.write_record(COLUMNS);
+    let asked = &report.config.protocols;
+    let mut header: Vec<String> = COLUMNS.iter().map(|c| c.to_string()).collect();
+    header.extend(protocol_csv::route_columns(asked));
+    let _ = w.write_record(&header);
     for r in &report.routes {
-        let _ = w.write_record(row(r));
+        let mut cells = row(r).to_vec();
+        cells.extend(protocol_csv::route_cells(r.protocols.as_ref(), asked));
+        let _ = w.write_record(cells);
     }
     w.into_inner().unwrap_or_default()
 }
 
 /// The columns of [`groups_csv`].
-pub const GROUP_COLUMNS: [&str; 13] = [
+pub const GROUP_COLUMNS: [&str; 16] = [
     "by",
     "label",
     "routes",
@@ -113,6 +150,9 @@ pub const GROUP_COLUMNS: [&str; 13] = [
     "smoothness",
     "ability_mean",
     "comfort_routes",
+    "mean_comfort_moving",
+    "mean_stationary_share",
+    "distance_km",
 ];
 
 /// The report's `groups` as CSV: one line per group, then `combined`; after [`GROUP_COLUMNS`],
@@ -122,7 +162,7 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
     use crate::aggregate::aggregates::Aggregates;
     use crate::route::ability::ABILITIES;
     let g = report.groups.as_ref()?;
-    let o = |x: Option<f64>| x.map_or_else(String::new, |v| v.to_string());
+    let o = float;
     let lists: Vec<String> = g
         .combined
         .infraction_routes
@@ -133,6 +173,8 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
     let mut header: Vec<String> = GROUP_COLUMNS.iter().map(|c| c.to_string()).collect();
     header.extend(ABILITIES.iter().map(|(n, _)| n.to_string()));
     header.extend(lists.iter().map(|l| format!("routes_with_{l}")));
+    let asked = &report.config.protocols;
+    header.extend(protocol_csv::group_columns(asked));
     let line = |label: &str, a: &Aggregates| {
         let ab = a.ability.clone().unwrap_or_default();
         let mut row = vec![
@@ -149,9 +191,13 @@ pub fn groups_csv(report: &Report) -> Option<Vec<u8>> {
             o(a.smoothness),
             o(ab.mean),
             a.scores.comfort_routes.to_string(),
+            o(a.scores.motion.mean_comfort_moving),
+            o(a.scores.motion.mean_stationary_share),
+            o(a.scores.motion.distance_km),
         ];
         row.extend(ab.rates().into_iter().map(o));
         row.extend(lists.iter().map(|l| a.infraction_routes.get(l).to_string()));
+        row.extend(protocol_csv::group_cells(a.protocols.as_ref(), asked));
         row
     };
     let mut w = ::csv::Writer::from_writer(Vec::new());

@@ -168,7 +168,11 @@ impl Grid {
         let line = |r: &Vec<String>| {
             format!(
                 "{} \\\\\n",
-                r.iter().map(esc).collect::<Vec<_>>().join(" & ")
+                r.iter()
+                    // An undefined cell: an en dash in LaTeX (a bare `-` prints a hyphen).
+                    .map(|c| if c == "-" { "--".to_string() } else { esc(c) })
+                    .collect::<Vec<_>>()
+                    .join(" & ")
             )
         };
         let spec: String = (0..self.header.len())

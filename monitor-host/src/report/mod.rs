@@ -8,6 +8,7 @@
 //! | CSV (one line per route) | [`mod@csv`] |
 //! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3) | [`table`] |
 //! | the comparison's tables (per model, paired, flips; spec v1.3 §11) | [`compare_table`] |
+//! | the scoring-protocol table (§8.4) | [`protocol_table`] |
 //! | a table's text, Markdown and LaTeX renderings | [`grid`] |
 //! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
 //! | the comparison's forest plot (SVG, v1.3 §11) | [`forest`] |
@@ -24,6 +25,8 @@ pub mod forest;
 pub mod grid;
 pub mod html;
 pub mod json;
+pub mod protocol_csv;
+pub mod protocol_table;
 pub mod table;
 pub mod trace_csv;
 

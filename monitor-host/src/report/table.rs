@@ -34,8 +34,9 @@ fn pct(x: Option<f64>) -> String {
 /// Bench2Drive's main table: DS, SR (%), efficiency, comfortness (smoothness × 100), the five
 /// ability rates (%) in the paper's column order, and their mean.
 pub fn bench2drive_table(report: &Report) -> Grid {
+    let rule = report.config.ability_rule.name();
     let mut g = Grid::new(
-        "Bench2Drive: closed-loop metrics and multi-ability (%)",
+        &format!("Bench2Drive: closed-loop metrics and multi-ability (%), ability rule {rule}"),
         [
             "DS",
             "SR(%)",
@@ -65,6 +66,9 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         pct(a.traffic_signs),
         pct(a.mean),
     ]);
+    if b.smoothness.is_none() && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfortness"));
+    }
     if b.ability.is_none() {
         g.note("abilities need the route XML (--routes)");
     } else {
@@ -80,7 +84,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         g.note(format!(
             "{} route(s) of the route set have no record (not in the ability rates): {}",
             b.ability_missing.len(),
-            b.ability_missing.join(", ")
+            crate::warning::id_list(&b.ability_missing)
         ));
     }
     if !b.ability_undecided.is_empty() {
@@ -92,10 +96,24 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         towns.sort_unstable();
         towns.dedup();
         g.note(format!(
-            "Traffic_Signs: {} failed route(s) whose junction credit is undecided (no map; towns {}) \
+            "Traffic_Signs: {} {}route(s) whose junction credit is undecided (no map; towns {}) \
              count as failed: see summary.bench2drive.ability_undecided",
             b.ability_undecided.len(),
+            if b.ability_rule == "b2d-0.0.4" {
+                "failed "
+            } else {
+                ""
+            },
             towns.join(", ")
+        ));
+    }
+    let stuck = &report.summary.scores.motion.stuck_routes;
+    if !stuck.is_empty() {
+        g.note(format!(
+            "{} route(s) stood still for at least half of their frames: Comfortness counts a \
+             standing chunk as comfortable (Table 1's Comfort (moving) leaves them out); see \
+             summary.stuck_routes",
+            stuck.len()
         ));
     }
     if !b.ability_marginal.is_empty() {
@@ -108,24 +126,56 @@ pub fn bench2drive_table(report: &Report) -> Grid {
     g
 }
 
-/// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS.
+/// The note under a column left undefined (`-`) for want of telemetry.
+const NEEDS_TELEMETRY: &str = "{what} - : no route has telemetry; they need each route's \
+     metric_info.json (--telemetry DIR, the folder holding <save_name>/metric_info.json)";
+
+/// True when some route of the report has its telemetry.
+fn any_telemetry(report: &Report) -> bool {
+    report
+        .routes
+        .iter()
+        .any(|r| r.telemetry == crate::TelemetryState::Ok)
+}
+
+/// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS; beside Comfort, comfort over
+/// the chunks the car drove and the share of frames it stood still (§8.5).
 pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
     let mut g = Grid::new(
         "Safe2Drive Table 1: SafeDriving Score",
-        ["DS", "SR(%)", "DS_safe", "Comfort", "SDS"],
+        [
+            "DS",
+            "SR(%)",
+            "DS_safe",
+            "Comfort",
+            "Comfort (moving)",
+            "Stationary(%)",
+            "SDS",
+        ],
     );
     g.row([
         num(s.scores.driving_score, 2),
         num(s.scores.success_rate, 2),
         num(s.scores.mean_ds_safe, 2),
         num(s.scores.mean_comfort, 3),
+        num(s.scores.motion.mean_comfort_moving, 3),
+        pct(s.scores.motion.mean_stationary_share),
         num(s.scores.sds, 2),
     ]);
+    // Under --allow-missing-telemetry a route without telemetry is no problem: not counted.
+    let problems = if report.config.allow_missing_telemetry {
+        String::new()
+    } else {
+        format!(", telemetry problems {}", s.telemetry_problems)
+    };
     g.note(format!(
-        "routes {} (found {}), comfort defined on {}, telemetry problems {}, invalid records {}",
-        s.routes, s.routes_found, s.scores.comfort_routes, s.telemetry_problems, s.invalid_records
+        "routes {} (found {}), comfort defined on {}{problems}, invalid records {}",
+        s.routes, s.routes_found, s.scores.comfort_routes, s.invalid_records
     ));
+    if s.scores.comfort_routes == 0 && !any_telemetry(report) {
+        g.note(NEEDS_TELEMETRY.replace("{what}", "Comfort and SDS"));
+    }
     g
 }
 
@@ -138,6 +188,8 @@ fn table2_cells(label: &str, a: &Aggregates) -> Vec<String> {
         num(a.scores.collision_rate, 2),
         num(a.scores.mean_ds_safe, 2),
         num(a.scores.mean_comfort, 3),
+        num(a.scores.motion.mean_comfort_moving, 3),
+        pct(a.scores.motion.mean_stationary_share),
         num(a.scores.sds, 2),
     ]
 }
@@ -149,7 +201,16 @@ pub fn table2(report: &Report) -> Option<Grid> {
     let mut g = Grid::new(
         &format!("Safe2Drive Table 2-style breakdown by {}", groups.by),
         [
-            groups.by, "routes", "DS", "SR(%)", "Coll.(%)", "DS_safe", "Comfort", "SDS",
+            groups.by,
+            "routes",
+            "DS",
+            "SR(%)",
+            "Coll.(%)",
+            "DS_safe",
+            "Comfort",
+            "Comfort (moving)",
+            "Stationary(%)",
+            "SDS",
         ],
     );
     group_rows(&mut g, groups, table2_cells);
@@ -160,9 +221,15 @@ pub fn table2(report: &Report) -> Option<Grid> {
 /// aggregates.
 fn group_rows(g: &mut Grid, groups: &Groups, cells: impl Fn(&str, &Aggregates) -> Vec<String>) {
     for r in &groups.rows {
-        // Group labels come from the inputs (scenario names, label files).
+        // Group labels come from the inputs (scenario names, label files); a weather label
+        // lists the ids it stands for.
+        let label = if r.keys.is_empty() {
+            r.label.clone()
+        } else {
+            format!("{} ({})", r.label, r.keys.join(", "))
+        };
         g.rows.push(cells(
-            &crate::report::escape::printable(&r.label),
+            &crate::report::escape::printable(&label),
             &r.aggregates,
         ));
     }
@@ -212,8 +279,15 @@ pub fn table3(report: &Report, extra: &[String]) -> Option<Grid> {
 /// Every table of a report, in order.
 pub fn report_tables(report: &Report, options: &TableOptions) -> Vec<Grid> {
     let mut out = vec![bench2drive_table(report), table1(report)];
+    out.extend(crate::report::protocol_table::protocol_table(report));
     out.extend(table2(report));
     out.extend(table3(report, &options.extra_infractions));
+    // A subset's figures are not the benchmark's: every table says so.
+    if let Some(s) = &report.route_subset {
+        for g in &mut out {
+            g.note(s.note());
+        }
+    }
     out
 }
 

@@ -121,6 +121,10 @@ pub struct AbilityEntry {
     pub ability: &'static str,
     /// A success for this ability (the §8.1 rule, or the junction credit for Traffic_Signs).
     pub success: bool,
+    /// Under `ability_rule = b2d-0.0.3`, the second count of a Traffic_Signs route (its
+    /// junction credit alone); see [`crate::route::protocol::ability_rule`].
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub second_count: bool,
 }
 
 /// The junction credit of a failed Traffic_Signs route with no red-light or stop infraction.
@@ -210,26 +214,8 @@ pub fn route_ability(
     let success = record.is_success();
     let names = abilities_of(scenario_type);
     let mut junction = None;
-    let eligible = |r: &Record| {
-        r.infractions.list("stop_infraction").is_empty()
-            && r.infractions.list("red_light").is_empty()
-    };
-    if !success && names.contains(&TRAFFIC_SIGNS) && eligible(record) {
-        let score = record.score_route / 100.0;
-        junction = Some(match samples() {
-            Err(why) => JunctionCredit::Undecided { undecided: why },
-            Ok(flags) => match junction_completion(&flags) {
-                None => JunctionCredit::Undecided {
-                    undecided: format!("no junction sample among {} samples", flags.len()),
-                },
-                Some(c) => JunctionCredit::Decided {
-                    score,
-                    junction_completion: c,
-                    credited: score > c,
-                    marginal: (score - c).abs() <= MARGINAL_BAND,
-                },
-            },
-        });
+    if !success && names.contains(&TRAFFIC_SIGNS) && credit_eligible(record) {
+        junction = Some(junction_credit(record.score_route / 100.0, samples));
     }
     let credited = matches!(
         junction,
@@ -242,9 +228,34 @@ pub fn route_ability(
             .map(|ability| AbilityEntry {
                 ability,
                 success: success || (ability == TRAFFIC_SIGNS && credited),
+                second_count: false,
             })
             .collect(),
         junction,
+    }
+}
+
+/// No red-light and no stop infraction: the junction credit may apply.
+pub fn credit_eligible(r: &Record) -> bool {
+    r.infractions.list("stop_infraction").is_empty() && r.infractions.list("red_light").is_empty()
+}
+
+/// The junction credit of a route whose `score_route / 100` is `score`, decided on its dense
+/// route's junction flags (`samples`), or undecided when they are not known.
+pub fn junction_credit(score: f64, samples: impl FnOnce() -> JunctionSamples) -> JunctionCredit {
+    match samples() {
+        Err(why) => JunctionCredit::Undecided { undecided: why },
+        Ok(flags) => match junction_completion(&flags) {
+            None => JunctionCredit::Undecided {
+                undecided: format!("no junction sample among {} samples", flags.len()),
+            },
+            Some(c) => JunctionCredit::Decided {
+                score,
+                junction_completion: c,
+                credited: score > c,
+                marginal: (score - c).abs() <= MARGINAL_BAND,
+            },
+        },
     }
 }
 

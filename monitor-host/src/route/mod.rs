@@ -6,5 +6,6 @@
 pub mod ability;
 pub mod efficiency;
 pub mod penalty;
+pub mod protocol;
 pub mod row;
 pub mod trace;

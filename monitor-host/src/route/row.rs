@@ -11,7 +11,7 @@ use serde::Serialize;
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::junctions::junction_samples;
 use crate::geometry::town_maps::TownMaps;
-use crate::input::duplicates::Source;
+use crate::input::duplicates::{Kept, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
 use crate::input::route_set::MissingRoute;
 use crate::input::route_xml::RouteSet;
@@ -21,6 +21,8 @@ use crate::pipeline::timeline::ChunkLog;
 use crate::route::ability::{route_ability, RouteAbility};
 use crate::route::efficiency::route_efficiency;
 use crate::route::penalty::check_penalty;
+use crate::route::protocol::ability_rule::apply_rule;
+use crate::route::protocol::route::{score_record, RouteProtocols};
 use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -71,6 +73,12 @@ pub struct ComfortReport {
     pub score: Option<f64>,
     /// Chunks failing each bound.
     pub failed: monitor_core::FailureCounts,
+    /// Comfort chunks in which the car moved (§8.5: mean speed at least `motion.moving_speed`).
+    pub moving_chunks: u32,
+    /// Of those, the comfortable ones.
+    pub moving_comfortable: u32,
+    /// Comfort over the moving chunks; null when none moved.
+    pub moving_score: Option<f64>,
 }
 
 /// The penalty re-check of a route.
@@ -146,6 +154,10 @@ pub struct RouteReport {
     pub gaps: u64,
     /// Entries per infraction list (all 12 lists and any unknown ones).
     pub infractions: InfractionCounts,
+    /// Distance driven, m (§8.5: the 2-D path through the frames); null without frames.
+    pub distance_m: Option<f64>,
+    /// Share of frames slower than `motion.stationary_speed` (§8.5); null without frames.
+    pub stationary_share: Option<f64>,
     /// Collision counts.
     pub collisions: CollisionCounts,
     /// Lateral counts.
@@ -163,6 +175,9 @@ pub struct RouteReport {
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
     pub ds_safe: Option<f64>,
+    /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub protocols: Option<RouteProtocols>,
     /// `ok`, `missing` or `invalid: <reason>`.
     pub telemetry: TelemetryState,
     /// `scored`, `missing`, `foreign` or `invalid` (spec section 10.1).
@@ -171,6 +186,10 @@ pub struct RouteReport {
     pub reason: Option<String>,
     /// The results file (as found) and record index; null for a missing route.
     pub source: Option<Source>,
+    /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
+    /// `copies`, `stamp`, `why`). Absent otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept: Option<Kept>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
     /// Penalty re-check; null for an invalid record.
@@ -188,6 +207,14 @@ pub struct RouteReport {
     /// replayed. Not in the JSON report.
     #[serde(skip)]
     pub chunks: Option<ChunkLog>,
+    /// Stationary stretches as frame ranges (the HTML report's comfort timeline). Not in the
+    /// JSON report.
+    #[serde(skip)]
+    pub stationary: Vec<(u32, u32)>,
+    /// The Leaderboard's driven distance `RC/100 * meta.route_length / 1000`, km, for a route
+    /// with a record (`infractions_per_km`, §8.5). Not in the JSON report.
+    #[serde(skip)]
+    pub driven_km: Option<f64>,
 }
 
 /// Turns one outcome into its report entry, with the penalty re-check of its record (§8) under
@@ -236,12 +263,20 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
                 reference: None,
             })
         },
-        comfort: s.map_or_else(ComfortReport::default, |s| ComfortReport {
-            chunks: s.comfort.chunks,
-            comfortable: s.comfort.comfortable,
-            score: s.comfort_score(),
-            failed: s.comfort.failed,
+        comfort: s.map_or_else(ComfortReport::default, |s| {
+            let moving = o.moving.unwrap_or_default();
+            ComfortReport {
+                chunks: s.comfort.chunks,
+                comfortable: s.comfort.comfortable,
+                score: s.comfort_score(),
+                failed: s.comfort.failed,
+                moving_chunks: moving.chunks,
+                moving_comfortable: moving.comfortable,
+                moving_score: moving.score(),
+            }
         }),
+        distance_m: o.motion.as_ref().map(|m| m.distance_m),
+        stationary_share: o.motion.as_ref().and_then(|m| m.stationary_share),
         smoothness: o
             .legacy_comfort
             .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
@@ -249,6 +284,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
+        protocols: None,
         telemetry: o.telemetry.clone(),
         reason: o
             .state()
@@ -257,6 +293,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
             .map(String::from),
         state: o.state(),
         source: Some(Source::of(&o.loaded)),
+        kept: None,
         collision_events: o.events.clone(),
         penalty_check: rec.map(|r| {
             let p = check_penalty(r, settings.penalty_flavour);
@@ -269,6 +306,12 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         warnings: o.warnings.clone(),
         traces: Vec::new(),
         chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
+        stationary: o
+            .motion
+            .as_ref()
+            .map(|m| m.stationary.clone())
+            .unwrap_or_default(),
+        driven_km: rec.map(|r| r.score_route / 100.0 * r.meta.route_length.unwrap_or(0.0) / 1000.0),
     }
 }
 
@@ -289,11 +332,14 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         frames: 0,
         gaps: 0,
         infractions: InfractionCounts::of(None),
+        distance_m: None,
+        stationary_share: None,
         collisions: CollisionCounts::default(),
         lateral: LateralReport::default(),
         comfort: ComfortReport::default(),
         p_safe: None,
         ds_safe: Some(0.0),
+        protocols: None,
         smoothness: None,
         efficiency: None,
         ability: None,
@@ -301,12 +347,15 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         state: RouteState::Missing,
         reason: None,
         source: None,
+        kept: None,
         collision_events: Vec::new(),
         penalty_check: None,
         batch_agrees: None,
         warnings: Vec::new(),
         traces: Vec::new(),
         chunks: None,
+        stationary: Vec::new(),
+        driven_km: None,
     }
 }
 
@@ -348,12 +397,26 @@ pub fn route_rows(
             };
             let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
             let town = rec.town_name.as_deref().unwrap_or(&xml.town);
-            r.ability = Some(route_ability(rec, scenario, || {
-                junction_samples(maps, xml, town, settings.gap_max)
-            }));
+            let samples = || junction_samples(maps, xml, town, settings.gap_max);
+            let a = route_ability(rec, scenario, samples);
+            r.ability = Some(apply_rule(settings.ability_rule, a, rec, samples));
         }
     }
     routes.extend(missing.iter().map(missing_report));
+    if !settings.protocols.is_empty() {
+        // Protocols read records only (§8.4); missing routes and invalid records score 0.
+        let asked = &settings.protocols;
+        for (i, r) in routes.iter_mut().enumerate() {
+            r.protocols = Some(match outcomes.get(i).and_then(|o| o.record()) {
+                Some(rec) => {
+                    let (p, w) = score_record(rec, asked);
+                    r.warnings.extend(w);
+                    p
+                }
+                None => RouteProtocols::without_record(asked),
+            });
+        }
+    }
     routes
 }
 

@@ -18,7 +18,6 @@ does not have yet).
 
 from __future__ import annotations
 
-import json
 import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
@@ -54,24 +53,10 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 """A path: a string or an ``os.PathLike`` (``pathlib.Path``)."""
 
-_GROUPS = ("scenario", "family", "town", "weather", "route")
-# The option that gives each grouping's label map.
-_LABELS = {"family": "--families", "weather": "--weathers", "route": "--labels"}
-
-
 def _paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
     if isinstance(results, (str, os.PathLike)):
         return [os.fspath(results)]
     return [os.fspath(r) for r in results]
-
-
-def _feature(option: str, parameter: str, issue: int) -> None:
-    """Raises :class:`FeatureUnavailableError` unless ``sds score`` has ``--option``."""
-    if option not in _sds.score_options():
-        raise FeatureUnavailableError(
-            f"sds.score({parameter}=...): this build of sds has no `sds score --{option}` yet "
-            f"(issue #{issue}); leave {parameter} at its default"
-        )
 
 
 def score(
@@ -89,10 +74,12 @@ def score(
     labels: Optional[PathLike] = None,
     jobs: Optional[int] = None,
     progress: bool = False,
+    protocols: Optional[Sequence[str]] = None,
 ) -> Dict[str, Any]:
     """Scores a run; returns the report of ``sds score --format json`` as a dict.
 
-    Every route is replayed through the streaming monitor (on ``jobs`` threads, default all
+    The library is called directly (no command line in between) and the report converted to
+    Python objects as ``json.loads`` would read the JSON report, keys in its order. Every route is replayed through the streaming monitor (on ``jobs`` threads, default all
     cores, with the GIL released) and checked against the batch reference.
 
     Args:
@@ -103,7 +90,8 @@ def score(
         maps: A folder of CARLA OpenDRIVE maps (``--maps``).
         profile: ``"physical"`` or ``"b2d-legacy"`` (``--profile``).
         duplicates: Routes recorded more than once: ``"error"`` (score nothing, name them),
-            keep the ``"first"`` or ``"last"`` copy, or score ``"all"`` (``--duplicates``).
+            keep the ``"first"`` or ``"last"`` copy or the ``"newest"`` run, or score ``"all"``
+            (``--duplicates``).
         expected_routes: The benchmark's size N, e.g. 220 (``--expected-routes``).
         allow_missing_telemetry: Score routes without telemetry without telemetry terms.
         settings: Overrides, e.g. ``{"slack": 0.9, "bounds.yaw_rate": 1.0}`` (``--set``; names
@@ -117,6 +105,10 @@ def score(
             train/test split). ``family`` and ``route`` need one.
         jobs: Worker threads (``--jobs``).
         progress: Draw a progress bar on standard error (when it is a terminal).
+        protocols: Also score every route under these scoring protocols: ids among ``"b2d"``,
+            ``"lb2.0"``, ``"lb2.1"``, ``"lead-nds"``, ``"f2d"``, or ``["all"]`` (``--protocol``;
+            the report's per-route and summary ``protocols``). The recorded events under other
+            arithmetic, not a re-run.
 
     Returns:
         The report (``schema``, ``profile``, ``config``, ``routes``, ``summary``, ``warnings``).
@@ -126,48 +118,32 @@ def score(
         InputError: A results file, the route XML or a labels file is invalid; route ids are
             duplicated under ``duplicates="error"``; the inputs hold no record.
         IoError: A file or folder cannot be read (a ``telemetry`` folder that does not exist).
-        ConfigError: An option or setting is invalid (``expected_routes`` below the routes found,
-            ``group_by="family"`` or ``"route"`` without ``labels``).
-        FeatureUnavailableError: ``maps`` or ``duplicates`` given where this build lacks them.
+        ConfigError: An option or setting is invalid (an unknown ``profile``, ``duplicates`` or
+            ``group_by``, ``expected_routes`` below the routes found); its subclass
+            :class:`NeedsLabelsError`: ``group_by="family"`` or ``"route"`` without ``labels``.
 
     Example:
         >>> report = sds.score("results/", telemetry="eval/", routes="bench2drive220.xml")
         >>> report["summary"]["sds"]  # doctest: +SKIP
     """
-    args: List[str] = []
-    for r in _paths(results):
-        args += ["--results", r]
-    if telemetry is not None:
-        args += ["--telemetry", os.fspath(telemetry)]
-    if routes is not None:
-        args += ["--routes", os.fspath(routes)]
-    if maps is not None:
-        _feature("maps", "maps", 13)
-        args += ["--maps", os.fspath(maps)]
-    if duplicates != "error":
-        _feature("duplicates", "duplicates", 11)
-        args += ["--duplicates", duplicates]
-    args += ["--profile", profile]
-    if expected_routes is not None:
-        args += ["--expected-routes", str(int(expected_routes))]
-    if allow_missing_telemetry:
-        args.append("--allow-missing-telemetry")
-    for pair in _sds.settings_args(settings):
-        args += ["--set", pair]
-    if group_by is not None:
-        if group_by not in _GROUPS:
-            raise ConfigError(
-                f"group_by={group_by!r}: expected one of {', '.join(_GROUPS)}"
-            )
-        args += ["--group-by", group_by]
-    if labels is not None:
-        if group_by not in _LABELS:
-            raise ConfigError(
-                "labels: give group_by='family' (scenario families), 'weather' (weather names) "
-                "or 'route' (labels of route ids)"
-            )
-        args += [_LABELS[group_by], os.fspath(labels)]
-    if jobs is not None:
-        args += ["--jobs", str(int(jobs))]
-    report: Dict[str, Any] = json.loads(_sds.score_json(args, progress=progress))
+    if isinstance(protocols, str):
+        raise ConfigError(
+            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
+        )
+    options: Dict[str, Any] = {
+        "telemetry": telemetry,
+        "routes": routes,
+        "maps": maps,
+        "profile": profile,
+        "duplicates": duplicates,
+        "expected_routes": None if expected_routes is None else int(expected_routes),
+        "allow_missing_telemetry": allow_missing_telemetry,
+        "settings": settings,
+        "group_by": group_by,
+        "labels": labels,
+        "jobs": None if jobs is None else int(jobs),
+        "progress": progress,
+        "protocols": None if protocols is None else list(protocols),
+    }
+    report: Dict[str, Any] = _sds.score(_paths(results), options)
     return report

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import json
 import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
+from ._sds import ConfigError
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -30,10 +30,13 @@ def compare(
     bootstrap_seed: int = 0,
     settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
     jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
 ) -> Dict[str, Any]:
     """Compares runs route by route; returns the ``sds-compare/1`` report as a dict.
 
-    Each run is scored as :func:`sds.score` would; models (a run, or the seeds of one model)
+    The library is called directly (no command line in between) and the report converted to
+    Python objects as ``json.loads`` would read ``sds compare --format json``. Each run is
+    scored as :func:`sds.score` would; models (a run, or the seeds of one model)
     are compared with the baseline on the routes' paired differences, with a bootstrap interval
     and a verdict per metric (``ds``, ``success``, ``ds_safe``, ``comfort``).
 
@@ -54,6 +57,9 @@ def compare(
         bootstrap_samples: Resamples B. bootstrap_seed: The SplitMix64 seed.
         settings: Setting overrides, as for :func:`sds.score`.
         jobs: Worker threads.
+        protocols: Also score every run's routes under these scoring protocols, as for
+            :func:`sds.score` (``--protocol``; ids, or ``["all"]``): each model's runs carry
+            them; the paired table stays on ``ds``, ``success``, ``ds_safe``, ``comfort``.
 
     Returns:
         ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,
@@ -63,43 +69,48 @@ def compare(
 
     Raises:
         ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
-            unknown metric, route sets that differ without ``common_routes``.
+            unknown metric, route sets that differ without ``common_routes``; an invalid
+            ``profile``, ``settings`` or ``protocols``.
         InputError, IoError: A run's inputs, as for :func:`sds.score` (the message names the run).
 
     Example:
         >>> c = sds.compare({"base": "base/", "new": "new/"}, routes="bench2drive220.xml")
         >>> [p["verdict"] for p in c["paired"] if p["metric"] == "ds"]  # doctest: +SKIP
     """
-    args: List[str] = []
+    if isinstance(protocols, str):
+        raise ConfigError(
+            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
+        )
+    if isinstance(fail_if_worse, str):
+        raise ConfigError(
+            f"fail_if_worse={fail_if_worse!r}: expected a list of metrics, e.g. ['ds']"
+        )
+    pairs: List[Tuple[str, str, Optional[str]]] = []
     for name, run in runs.items():
         if isinstance(run, tuple):
             results, telemetry = run
-            args.append(f"{name}={os.fspath(results)}")
-            args += ["--telemetry-of", f"{name}={os.fspath(telemetry)}"]
+            pairs.append((name, os.fspath(results), os.fspath(telemetry)))
         else:
-            args.append(f"{name}={os.fspath(run)}")
-    for model, names in (seeds or {}).items():
-        args += ["--seeds", f"{model}={','.join(names)}"]
-    if baseline is not None:
-        args += ["--baseline", baseline]
-    if routes is not None:
-        args += ["--routes", os.fspath(routes)]
-    if maps is not None:
-        args += ["--maps", os.fspath(maps)]
-    args += ["--profile", profile]
-    if expected_routes is not None:
-        args += ["--expected-routes", str(int(expected_routes))]
-    if allow_missing_telemetry:
-        args.append("--allow-missing-telemetry")
-    if common_routes:
-        args.append("--common-routes")
-    if fail_if_worse:
-        args += ["--fail-if-worse", ",".join(fail_if_worse)]
-    args += ["--bootstrap-samples", str(int(bootstrap_samples))]
-    args += ["--bootstrap-seed", str(int(bootstrap_seed))]
-    for pair in _sds.settings_args(settings):
-        args += ["--set", pair]
-    if jobs is not None:
-        args += ["--jobs", str(int(jobs))]
-    report: Dict[str, Any] = json.loads(_sds.compare_json(args))
+            pairs.append((name, os.fspath(run), None))
+    options: Dict[str, Any] = {
+        # The options every scored run shares (as for sds.score; no `duplicates` option, as
+        # `sds compare` has none: the setting's default, or `settings={"duplicates": ...}`).
+        "profile": profile,
+        "duplicates": None,
+        "expected_routes": None if expected_routes is None else int(expected_routes),
+        "allow_missing_telemetry": allow_missing_telemetry,
+        "settings": settings,
+        "jobs": None if jobs is None else int(jobs),
+        "protocols": None if protocols is None else list(protocols),
+        # The comparison's own.
+        "seeds": [(model, list(names)) for model, names in (seeds or {}).items()],
+        "baseline": baseline,
+        "routes": None if routes is None else os.fspath(routes),
+        "maps": None if maps is None else os.fspath(maps),
+        "common_routes": common_routes,
+        "fail_if_worse": list(fail_if_worse or []),
+        "bootstrap_samples": int(bootstrap_samples),
+        "bootstrap_seed": int(bootstrap_seed),
+    }
+    report: Dict[str, Any] = _sds.compare(pairs, options)
     return report

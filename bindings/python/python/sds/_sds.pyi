@@ -1,6 +1,7 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+import os
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 __version__: str
 FIELDS: List[str]
@@ -28,19 +29,16 @@ class FeatureUnavailableError(SdsError):
 def cli_main(argv: Sequence[str]) -> int:
     """Runs the ``sds`` command line with ``argv`` (program name first); returns its status."""
 
-def score_json(args: Sequence[str], progress: bool = False) -> str:
-    """Scores a run given the arguments of ``sds score``; returns the JSON report's text."""
+def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
+    """Scores a run through the library; ``options`` holds every keyword argument of
+    ``sds.score`` but ``results``, by name. Returns the report (see ``sds.score``)."""
 
-def compare_json(args: Sequence[str]) -> str:
-    """Compares runs given the arguments of ``sds compare``; returns the JSON report's text."""
-
-def score_options() -> List[str]:
-    """The long names of the options ``sds score`` has in this build."""
-
-def settings_args(
-    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
-) -> List[str]:
-    """``name=value`` pairs of a settings mapping, as ``--set`` takes them."""
+def compare(
+    runs: Sequence[Tuple[str, str, Optional[str]]], options: Mapping[str, Any]
+) -> Dict[str, Any]:
+    """Compares runs through the library: each run ``(name, results, telemetry or None)``;
+    ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
+    as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``)."""
 
 class Monitor:
     """The streaming monitor of one route (see ``sds.Monitor``)."""
@@ -52,6 +50,9 @@ class Monitor:
         settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
         *,
         route: Optional[Iterable[Any]] = None,
+        maps: Optional[Union[str, "os.PathLike[str]"]] = None,
+        town: Optional[str] = None,
+        lateral_reference: Optional[str] = None,
     ) -> "Monitor": ...
     def push(
         self,
@@ -96,6 +97,10 @@ class Monitor:
     @property
     def finished(self) -> bool:
         """True once ``finish`` has run."""
+    @property
+    def reference(self) -> str:
+        """What the lateral error is measured against: ``map-route``, ``xml``, ``map-lane`` or
+        ``none``."""
     @property
     def config(self) -> Dict[str, Any]:
         """The monitor's configuration."""

@@ -71,14 +71,25 @@ class Monitor(_sds.Monitor):
         profile: ``"physical"`` or ``"b2d-legacy"``.
         dt: The simulator step in seconds (Bench2Drive: 0.05).
         settings: Overrides by the report's ``config`` names, e.g. ``{"slack": 0.9}``.
-        route: The route's reference waypoints, ``(x, y)`` pairs or ``carla.Location``-like
-            objects (e.g. the route XML's ``<position>`` elements): each frame's lateral error
-            is then measured against it as ``sds score --routes`` does. Without it, pass
-            ``lat_err`` to :meth:`push` (or the lateral terms see no frame).
+        route: The route's reference waypoints, ``(x, y)`` or ``(x, y, z)`` tuples or
+            ``carla.Location``-like objects (e.g. the route XML's ``<position>`` elements):
+            each frame's lateral error is then measured against it as ``sds score --routes``
+            does. Without it (and without ``lateral_reference="lane"``), pass ``lat_err`` to
+            :meth:`push` (or the lateral terms see no frame).
+        maps: The town's OpenDRIVE map: a ``.xodr`` file, or a folder of maps (as
+            ``sds score --maps``) with ``town`` naming the map to use. With a map, junction
+            gaps of ``route`` are filled with the map's lanes and the slack comes from the lane
+            width, as ``sds score --maps`` does.
+        town: The town (e.g. ``"Town04"``) whose map to pick from the ``maps`` folder.
+        lateral_reference: ``"route"`` (the default: the route's waypoints) or ``"lane"`` (the
+            nearest driving lane of the map; needs ``maps``), as the setting
+            ``lateral_reference`` of ``sds score``. :attr:`reference` tells which is used.
 
     Raises:
-        ConfigError: An unknown profile or setting, or an invalid value.
-        InputError: A route waypoint is not two finite numbers.
+        ConfigError: An unknown profile or setting, or an invalid value; ``maps`` a folder
+            without ``town``; ``lateral_reference="lane"`` without ``maps``.
+        InputError: A route waypoint is not two finite numbers; a map that does not parse.
+        IoError: The map cannot be read, or the folder has no map of ``town``.
 
     Example:
         >>> m = sds.Monitor()

@@ -1,6 +1,8 @@
 //! Projection of a drive's consecutive points (a route's frames): the previous frame's lane
 //! piece bounds the search, and inside its clearance (see `clearance.rs`) answers without one.
 
+use std::sync::Arc;
+
 use super::clearance::NEIGHBOURS;
 use super::projection::{nearest_on, seg_dist2, Candidate};
 use super::{Map, Projection, TIE_TOLERANCE};
@@ -20,10 +22,48 @@ use super::{Map, Projection, TIE_TOLERANCE};
 /// ```
 #[derive(Debug)]
 pub struct Projector<'m> {
-    map: &'m Map,
+    map: MapRef<'m>,
     hint: Option<u32>,
     scratch: Vec<Candidate>,
     shortcuts: u64,
+}
+
+/// The map a projector reads: borrowed (a run's maps, shared by its worker threads) or held
+/// (a live monitor that outlives the code that loaded its map).
+#[derive(Debug, Clone)]
+enum MapRef<'m> {
+    Borrowed(&'m Map),
+    Shared(Arc<Map>),
+}
+
+impl std::ops::Deref for MapRef<'_> {
+    type Target = Map;
+    fn deref(&self) -> &Map {
+        match self {
+            MapRef::Borrowed(m) => m,
+            MapRef::Shared(m) => m,
+        }
+    }
+}
+
+impl Projector<'static> {
+    /// A projector holding its map (for a front end that keeps it across calls, such as a live
+    /// monitor); the same answers as [`Projector::new`].
+    ///
+    /// ```
+    /// # use monitor_host::geometry::map::{Map, Projector};
+    /// let map = std::sync::Arc::new(Map::parse("<OpenDRIVE/>", "empty.xodr")?);
+    /// assert!(Projector::shared(map).project(0.0, 0.0, 0.0).is_none());
+    /// # Ok::<(), monitor_host::geometry::map::MapError>(())
+    /// ```
+    pub fn shared(map: Arc<Map>) -> Self {
+        Projector {
+            map: MapRef::Shared(map),
+            hint: None,
+            scratch: Vec::with_capacity(8),
+            shortcuts: 0,
+        }
+    }
 }
 
 impl<'m> Projector<'m> {
@@ -36,7 +76,7 @@ impl<'m> Projector<'m> {
     /// ```
     pub fn new(map: &'m Map) -> Self {
         Projector {
-            map,
+            map: MapRef::Borrowed(map),
             hint: None,
             scratch: Vec::with_capacity(8),
             shortcuts: 0,
@@ -131,7 +171,7 @@ impl<'m> Projector<'m> {
     /// The nearest point of piece `k`'s lane to `p` (inside `k`'s clearance): the grid search's
     /// candidate for that lane, the same pieces solved and the same tie rule (the first visited).
     fn on_lane(&self, k: u32, k_d2: f64, p: &[f64; 3]) -> Option<Candidate> {
-        let (map, index) = (self.map, &self.map.index);
+        let (map, index) = (&*self.map, &self.map.index);
         let node = index.pieces[k as usize].node;
         let road = &map.roads[map.net.nodes[node as usize].road as usize];
         let mut best = f64::INFINITY;

@@ -3,7 +3,8 @@
 //! A JSON object whose values are a label or a list of labels (`{"7": "ClearNoon",
 //! "Accident": ["obstacles", "static"]}`), CSV / TSV lines `key,label` (`#` starts a comment
 //! line; cells are trimmed; quoted cells may hold commas; a key on several lines has several
-//! labels), or Bench2Drive's `weather.xml` (labels named after the presets' parameters).
+//! labels), or Bench2Drive's `weather.xml` (each weather named after the CARLA preset it is,
+//! else by its id).
 //!
 //! ```
 //! use monitor_host::input::labels::parse_labels;
@@ -20,6 +21,7 @@ use std::path::{Path, PathBuf};
 
 use std::collections::BTreeMap;
 
+pub mod carla_weather;
 mod weather_xml;
 
 /// Labels of scenario types (families), weather ids or route ids, read by

@@ -1,14 +1,13 @@
 //! Bench2Drive's `weather.xml` as a weather label map. The file names no presets: each
-//! `<case weather_id>` holds the parameters of its first `<weather>` keyframe, and the label is
-//! built from them in the style of CARLA's preset names (`ClearNoon`, `HardRainSunset`,
-//! `CloudyNight`, ...): the sky (`Clear` cloudiness < 30, `Cloudy` otherwise), rain (`Soft`/
-//! `Mid`/`HardRain` for precipitation up to 30 / 60 / above), `Wet` ground (wetness > 0),
-//! `Foggy` (fog density >= 50) and the time of day from the sun's altitude (`Night` below 0°,
-//! `Sunset` below 15°, `Noon` from 15°).
+//! `<case weather_id>` holds `<weather>` keyframes of CARLA weather parameters. A case is named
+//! after the CARLA preset ([`super::carla_weather`]) every parameter it gives equals, in every
+//! keyframe (`ClearNoon`, `HardRainSunset`, ...); a case that is no preset keeps its id as its
+//! label (Bench2Drive's 23 cases: 10 presets, 13 ids).
 
 use quick_xml::events::Event;
 use quick_xml::Reader;
 
+use super::carla_weather::preset_of;
 use super::Labels;
 use super::LabelsError;
 
@@ -31,18 +30,29 @@ pub(super) fn parse(text: &str, file: &str) -> Result<Labels, LabelsError> {
                     }
                 }
                 b"weather" => {
-                    if let Some(id) = case.take() {
-                        let p = |n: &[u8]| attr(&e, n).and_then(|v| v.trim().parse::<f64>().ok());
-                        labels.insert(
-                            id,
-                            vec![label(
-                                p(b"cloudiness").unwrap_or(0.0),
-                                p(b"precipitation").unwrap_or(0.0),
-                                p(b"wetness").unwrap_or(0.0),
-                                p(b"fog_density").unwrap_or(0.0),
-                                p(b"sun_altitude_angle").unwrap_or(90.0),
-                            )],
-                        );
+                    if let Some(id) = &case {
+                        let given: Vec<(String, f64)> = e
+                            .attributes()
+                            .filter_map(Result::ok)
+                            .filter(|a| a.key.as_ref() != b"route_percentage")
+                            .map(|a| {
+                                // A value that is no number matches no preset.
+                                let v = String::from_utf8_lossy(&a.value).trim().parse();
+                                let key = String::from_utf8_lossy(a.key.as_ref()).into_owned();
+                                (key, v.unwrap_or(f64::NAN))
+                            })
+                            .collect();
+                        let given: Vec<(&str, f64)> =
+                            given.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+                        let name = preset_of(&given).map_or_else(|| id.clone(), String::from);
+                        // Every keyframe must be the same preset; else the id.
+                        match labels.get_mut(id) {
+                            None => {
+                                labels.insert(id.clone(), vec![name]);
+                            }
+                            Some(l) if l[0] != name => l[0] = id.clone(),
+                            Some(_) => {}
+                        }
                     }
                 }
                 _ => {}
@@ -64,55 +74,29 @@ fn attr(e: &quick_xml::events::BytesStart<'_>, name: &[u8]) -> Option<String> {
         .map(|a| String::from_utf8_lossy(&a.value).into_owned())
 }
 
-/// A CARLA-preset-style name of the parameters.
-fn label(cloudiness: f64, precipitation: f64, wetness: f64, fog: f64, sun: f64) -> String {
-    let mut s = String::new();
-    if precipitation > 0.0 {
-        s.push_str(if precipitation <= 30.0 {
-            "SoftRain"
-        } else if precipitation <= 60.0 {
-            "MidRain"
-        } else {
-            "HardRain"
-        });
-    } else {
-        if wetness > 0.0 {
-            s.push_str("Wet");
-        }
-        s.push_str(if cloudiness < 30.0 { "Clear" } else { "Cloudy" });
-    }
-    if fog >= 50.0 {
-        s.push_str("Foggy");
-    }
-    s.push_str(if sun < 0.0 {
-        "Night"
-    } else if sun < 15.0 {
-        "Sunset"
-    } else {
-        "Noon"
-    });
-    s
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn labels_from_parameters() {
+    fn labels_are_carla_presets_or_the_id() {
         let xml = r#"<weathers>
           <case weather_id="1"><weather route_percentage="0" cloudiness="5.0" precipitation="0.0"
             wetness="0.0" sun_altitude_angle="15.0" fog_density="2.0"/>
-            <weather route_percentage="100" cloudiness="90.0"/></case>
+            <weather route_percentage="100" cloudiness="5.0" precipitation="0.0"
+            wetness="0.0" sun_altitude_angle="15.0" fog_density="2.0"/></case>
           <case weather_id="2"><weather cloudiness="20" precipitation="30" wetness="0"
             sun_altitude_angle="45" fog_density="3"/></case>
-          <case weather_id="25"><weather cloudiness="100" precipitation="100" wetness="100"
-            sun_altitude_angle="-90" fog_density="100"/></case>
+          <case weather_id="10"><weather cloudiness="40" precipitation="100"
+            sun_altitude_angle="0" fog_density="7"/></case>
+          <case weather_id="7"><weather cloudiness="5" sun_altitude_angle="45" fog_density="2"/>
+            <weather cloudiness="100" sun_altitude_angle="45" fog_density="2"/></case>
         </weathers>"#;
         let m = parse(xml, "w.xml").unwrap();
-        assert_eq!(m["1"], ["ClearNoon"]);
+        assert_eq!(m["1"], ["ClearSunset"]);
         assert_eq!(m["2"], ["SoftRainNoon"]);
-        assert_eq!(m["25"], ["HardRainFoggyNight"]);
+        assert_eq!(m["10"], ["10"], "altitude 0 is no preset");
+        assert_eq!(m["7"], ["7"], "keyframes of two weathers");
         assert!(parse("<weathers/>", "w.xml").is_err());
     }
 }

@@ -85,6 +85,9 @@ pub fn compare_page(c: &Comparison, models: &[Model]) -> String {
             ));
             grid(&mut body, &table::bench2drive_table(&r.report));
             grid(&mut body, &table::table1(&r.report));
+            if let Some(g) = crate::report::protocol_table::protocol_table(&r.report) {
+                grid(&mut body, &g);
+            }
             body.push_str("</div>\n<details><summary>routes</summary>\n<table class=\"grid\"><thead><tr><th>route</th><th>state</th><th>DS</th><th>success</th><th>DS_safe</th><th>comfort</th></tr></thead>\n<tbody>\n");
             for x in counted_routes(&r.report.routes) {
                 let Some(id) = x.route_id.as_deref() else {

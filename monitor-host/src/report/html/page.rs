@@ -42,7 +42,7 @@ pub(super) fn heading(out: &mut String, report: &Report, name: &str) {
     out.push_str(&format!(
         "<h1>SafeDriving Score: {}</h1>\n<p>{} routes · profile {} · SDS <b id=\"sds\">{}</b> · \
          DS {} · mean DS<sub>safe</sub> {} · mean comfort {}</p>\n\
-         <p id=\"status\">script not run</p>\n",
+         <p id=\"status\" hidden>script not run</p>\n",
         escape(name),
         report.routes.len(),
         report.profile,
@@ -53,28 +53,18 @@ pub(super) fn heading(out: &mut String, report: &Report, name: &str) {
     ));
 }
 
-/// The run's warnings (read-time ones, then each route's).
+/// The run's warnings, as the JSON report's `warnings` lists them (each route's warnings are
+/// already there, named by their route: listed once).
 pub(super) fn warnings(out: &mut String, report: &Report) {
-    let per_route: usize = report.routes.iter().map(|r| r.warnings.len()).sum();
     out.push_str(&format!(
         "<h2 id=\"run-warnings\">Warnings ({})</h2>\n<ul id=\"warnings\">\n",
-        report.warnings.len() + per_route
+        report.warnings.len()
     ));
     for w in &report.warnings {
         out.push_str(&format!(
             "<li class=\"warn\">{}</li>\n",
             escape(&w.to_string())
         ));
-    }
-    for r in &report.routes {
-        let id = r.route_id.as_deref().unwrap_or("<no route_id>");
-        for w in &r.warnings {
-            out.push_str(&format!(
-                "<li class=\"warn\">{}: {}</li>\n",
-                escape(id),
-                escape(&w.to_string())
-            ));
-        }
     }
     out.push_str("</ul>\n");
 }

@@ -39,7 +39,7 @@
   }
   var table = document.getElementById("routes");
   var status = document.getElementById("status");
-  function fail(msg) { status.textContent = "error: " + msg; document.title = "SDS report [error]"; throw new Error(msg); }
+  function fail(msg) { status.hidden = false; status.textContent = "error: " + msg; document.title = "SDS report [error]"; throw new Error(msg); }
   if (!table) { sortables(); if (status) { status.textContent = "ok"; document.title += " [ready]"; } return; }
   var body = table.tBodies[0];
   var heads = table.tHead.rows[0].cells;
@@ -111,6 +111,9 @@
       .map(function (r) { return r.getAttribute("data-route"); }).join("\n");
     document.body.appendChild(out);
   }
+  // The table's width beside the room it has (the browser test checks it does not overflow).
+  table.setAttribute("data-width", table.scrollWidth);
+  table.setAttribute("data-room", table.parentNode.clientWidth);
   status.textContent = "ok: " + rows.length + " routes, " + figs + " figures; checked " +
     Math.round(performance.now()) + " ms after navigation start";
   document.title += " [ready]";

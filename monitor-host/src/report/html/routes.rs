@@ -8,6 +8,19 @@ use crate::route::trace::Verdict;
 use super::page::{escape, num};
 use super::timeline;
 
+/// A results file as a shared page names it: its folder and file name, never the path above
+/// (`10857/checkpoint_endpoint.json`; the JSON report keeps the path as found).
+fn shared_name(path: &std::path::Path) -> String {
+    let parts: Vec<String> = path
+        .components()
+        .filter_map(|c| match c {
+            std::path::Component::Normal(n) => Some(n.to_string_lossy().into_owned()),
+            _ => None,
+        })
+        .collect();
+    parts[parts.len().saturating_sub(2)..].join("/")
+}
+
 /// The id of route `i`'s drill-down (route ids may repeat under `duplicates = all`).
 fn target(i: usize) -> String {
     format!("route-{i}")
@@ -42,7 +55,7 @@ fn count(n: usize) -> String {
 }
 
 /// The columns: (key the test hook sorts by, header).
-const COLUMNS: [(&str, &str); 15] = [
+const COLUMNS: [(&str, &str); 17] = [
     ("route", "route"),
     ("state", "state"),
     ("town", "town"),
@@ -50,6 +63,8 @@ const COLUMNS: [(&str, &str); 15] = [
     ("ds", "DS"),
     ("ds_safe", "DS_safe"),
     ("comfort", "comfort"),
+    ("comfort_moving", "comfort (moving)"),
+    ("stationary", "stationary %"),
     ("collisions", "collisions"),
     ("decelerated", "decelerated"),
     ("nodecel", "no decel."),
@@ -105,6 +120,8 @@ pub(super) fn route_table(out: &mut String, report: &Report) {
         out.push_str(&cell(r.score_composed, 2));
         out.push_str(&cell(r.ds_safe, 2));
         out.push_str(&cell(r.comfort.score, 3));
+        out.push_str(&cell(r.comfort.moving_score, 3));
+        out.push_str(&cell(r.stationary_share.map(|s| 100.0 * s), 1));
         out.push_str(&count((c.pedestrian + c.vehicle + c.layout) as usize));
         out.push_str(&count(dec));
         out.push_str(&if nodecel > 0 {
@@ -148,7 +165,7 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
         if let Some(src) = &r.source {
             out.push_str(&format!(
                 "<p>source {}#{}</p>\n",
-                escape(&src.file.display().to_string()),
+                escape(&shared_name(&src.file)),
                 src.index
             ));
         }
@@ -172,7 +189,7 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
         }
         match &r.chunks {
             Some(chunks) => {
-                timeline::comfort(out, chunks, chunk_len);
+                timeline::comfort(out, chunks, chunk_len, &r.stationary);
                 timeline::lateral(out, chunks, r.lateral.chunks, chunk_len);
             }
             None => out.push_str("<p>No telemetry replayed: no timeline.</p>\n"),

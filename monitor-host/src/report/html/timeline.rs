@@ -78,9 +78,28 @@ fn open_svg(out: &mut String, n: u32, rows: u32) {
     );
 }
 
-/// The comfort timeline: a row of every failed chunk, then one row per bound.
-pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16) {
+/// The comfort chunks in which the car stood still for at least half of the frames, from the
+/// route's stationary stretches (frame ranges `[start, end)`).
+fn standing_chunks(stationary: &[(u32, u32)], chunks: u32, chunk_len: u16) -> Vec<u32> {
+    let len = u32::from(chunk_len.max(1));
+    (0..chunks)
+        .filter(|k| {
+            let (a, b) = (k * len, (k + 1) * len);
+            let still: u32 = stationary
+                .iter()
+                .map(|&(s, e)| e.min(b).saturating_sub(s.max(a)))
+                .sum();
+            2 * still >= len
+        })
+        .collect()
+}
+
+/// The comfort timeline: a row of every failed chunk, one per bound, then the chunks the car
+/// mostly stood through (comfortable by construction: §8.5's moving comfort leaves out the
+/// chunks it did not drive).
+pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16, stationary: &[(u32, u32)]) {
     let n = log.comfort.len() as u32;
+    let standing = standing_chunks(stationary, n, chunk_len);
     let failed: Vec<u32> = log
         .comfort
         .iter()
@@ -89,13 +108,15 @@ pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16) {
         .collect();
     let _ = write!(
         out,
-        "<div class=\"timeline comfort\" data-chunks=\"{n}\" data-failed=\"{}\"><b>Comfort</b>: {n} chunk(s) of {chunk_len} frames, {} failed (red: the chunk failed that bound)",
+        "<div class=\"timeline comfort\" data-chunks=\"{n}\" data-failed=\"{}\" data-standing=\"{}\"><b>Comfort</b>: {n} chunk(s) of {chunk_len} frames, {} failed (red: the chunk failed that bound), {} mostly standing (grey)",
         failed.len(),
-        failed.len()
+        standing.len(),
+        failed.len(),
+        standing.len()
     );
     out.push('\n');
     if n > 0 {
-        open_svg(out, n, 7);
+        open_svg(out, n, 8);
         row(out, 0, "failed", n, "failed", "#e88", &failed);
         for (r, (name, test)) in BOUNDS.iter().enumerate() {
             let marked: Vec<u32> = log
@@ -115,6 +136,7 @@ pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16) {
                 &marked,
             );
         }
+        row(out, ROW_H * 7, "standing", n, "standing", "#999", &standing);
         out.push_str("</svg>");
     }
     out.push_str("</div>\n");

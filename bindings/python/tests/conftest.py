@@ -49,6 +49,13 @@ def monitor_lateral(lateral: dict[str, Any]) -> dict[str, Any]:
     return {k: v for k, v in lateral.items() if k != "reference"}
 
 
+def monitor_comfort(comfort: dict[str, Any]) -> dict[str, Any]:
+    """A report route's `comfort` block without the host's moving comfort (`moving_chunks`,
+    `moving_comfortable`, `moving_score`, §8.5: measured by the host from positions, never by
+    the monitor)."""
+    return {k: v for k, v in comfort.items() if not k.startswith("moving_")}
+
+
 class Demo:
     """The built-in demo run written by `sds demo`."""
 

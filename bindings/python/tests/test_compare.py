@@ -56,3 +56,34 @@ def test_seeds_and_errors(sds_bin: Path, tmp_path: Path) -> None:
         sds.compare({"a": (res, tel), "b": (res, tel)}, fail_if_worse=["nope"])
     with pytest.raises(sds.IoError, match="run b: .*absent.json"):
         sds.compare({"a": (res, tel), "b": (tmp_path / "absent.json", tel)})
+
+
+def test_shared_options_are_the_cli_flags(sds_bin: Path, tmp_path: Path) -> None:
+    """The keyword arguments sds.score shares (RunKwargs) map to the same settings as the flags
+    `sds compare` shares with `sds score` (RunArgs)."""
+    demo = _demo(sds_bin, tmp_path)
+    res, tel = demo / "results.json", demo / "telemetry"
+    c = sds.compare(
+        {"a": (res, tel), "b": (res, tel)},
+        routes=demo / "routes.xml",
+        profile="b2d-legacy",
+        allow_missing_telemetry=True,
+        settings={"slack": 0.9},
+        protocols=["lb2.1"],
+        jobs=1,
+        bootstrap_samples=200,
+    )
+    out = tmp_path / "cli.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["compare", f"a={res}:{tel}", f"b={res}:{tel}", "--routes", str(demo / "routes.xml"),
+         "--profile", "b2d-legacy", "--allow-missing-telemetry", "--set", "slack=0.9",
+         "--protocol", "lb2.1", "--jobs", "1", "--bootstrap-samples", "200",
+         "--format", "json", "-o", str(out)],
+    )
+    assert code == 0, err
+    assert c == json.loads(out.read_text())
+    with pytest.raises(sds.ConfigError, match="protocols"):
+        sds.compare({"a": (res, tel), "b": (res, tel)}, protocols="lb2.1")
+    with pytest.raises(sds.ConfigError, match="profile=\"fast\""):
+        sds.compare({"a": (res, tel), "b": (res, tel)}, profile="fast")

@@ -86,7 +86,7 @@ def test_bad_setting_is_config_error(sds_bin: Path, demo: Demo) -> None:
         assert str(e.value) == cli_error(sds_bin, ["--results", str(demo.results), "--set", flag])
     with pytest.raises(sds.ConfigError, match="profile=\"fast\": expected one of physical, b2d-legacy"):
         sds.score(demo.results, profile="fast")
-    with pytest.raises(sds.ConfigError, match="duplicates=\"most\": expected one of error, first, last, all"):
+    with pytest.raises(sds.ConfigError, match="duplicates=\"most\": expected one of error, first, last, newest, all"):
         sds.score(demo.results, duplicates="most")
 
 

@@ -11,7 +11,7 @@ from typing import Any, Callable, Dict, List, Optional, Tuple
 import pytest
 
 import sds
-from conftest import Demo, monitor_lateral, same
+from conftest import Demo, monitor_comfort, monitor_lateral, same
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples"))
 import live_carla  # noqa: E402
@@ -150,7 +150,7 @@ def test_stand_in_world_replays_the_demo(demo: Demo, demo_report: Dict[str, Any]
         assert sensor.destroyed and agent.steps == len(ticks)
         # The live summary is the CLI's per-route result.
         assert done["frames"] == route["frames"]
-        assert same(done["comfort"], route["comfort"]) and same(done["lateral"], monitor_lateral(route["lateral"]))
+        assert same(done["comfort"], monitor_comfort(route["comfort"])) and same(done["lateral"], monitor_lateral(route["lateral"]))
         assert done["collisions"]["nodecel"] == route["collisions"]["nodecel"]
         assert same(done["ds_safe"], route["ds_safe"])
         # Each collision verdict as it happened is the report's.

@@ -58,8 +58,8 @@ def compare(
         settings: Setting overrides, as for :func:`sds.score`.
         jobs: Worker threads.
         protocols: Also score every run's routes under these scoring protocols, as for
-            :func:`sds.score` (``--protocol``; ids, or ``["all"]``): each model's runs carry
-            them; the paired table stays on ``ds``, ``success``, ``ds_safe``, ``comfort``.
+            :func:`sds.score` (``--protocol``; ids, or ``["all"]``); the paired comparison
+            stays on ``ds``, ``success``, ``ds_safe``, ``comfort``.
 
     Returns:
         ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,

@@ -596,3 +596,76 @@ fn fixtures_tfpp_against_lead_and_the_gate() {
         }
     }
 }
+
+/// The options `sds compare` shares with `sds score` (RunArgs) score each run as `sds score`
+/// would: each model row carries the run's §8.1 and §8.5 figures of `sds score` with the same
+/// flags, and `--protocol` puts each run's protocol table on the HTML page.
+#[test]
+fn shared_options_score_each_run_as_sds_score() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo(dir.path());
+    let (res, tel, xml) = (
+        run.join("results.json"),
+        run.join("telemetry"),
+        run.join("routes.xml"),
+    );
+    let shared = [
+        "--routes",
+        xml.to_str().unwrap(),
+        "--set",
+        "slack=0.9",
+        "--protocol",
+        "lb2.1",
+        "--jobs",
+        "1",
+    ];
+    let out = sds(&[
+        &[
+            "score",
+            "--format",
+            "json",
+            "--results",
+            res.to_str().unwrap(),
+        ],
+        &["--telemetry", tel.to_str().unwrap()][..],
+        &shared[..],
+    ]
+    .concat());
+    assert_eq!(out.status.code(), Some(0));
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(r["summary"]["protocols"]["lb2.1"].is_object());
+    let a = format!("a={}:{}", res.display(), tel.display());
+    let b = format!("b={}:{}", res.display(), tel.display());
+    let out = sds(&[&["compare", "--format", "json", &a, &b][..], &shared[..]].concat());
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let c: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let m = &c["models"][1];
+    let s = &r["summary"];
+    for (model_key, summary_key) in [
+        ("driving_score", "driving_score"),
+        ("mean_ds_safe", "mean_ds_safe"),
+        ("mean_comfort", "mean_comfort"),
+        ("mean_comfort_moving", "mean_comfort_moving"),
+        ("mean_stationary_share", "mean_stationary_share"),
+        ("distance_km", "distance_km"),
+    ] {
+        assert!(s[summary_key].is_f64(), "{summary_key}");
+        assert_eq!(m[model_key]["mean"], s[summary_key], "{model_key}");
+    }
+    let out = sds(&[&["compare", "--format", "html", &a, &b][..], &shared[..]].concat());
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0));
+    // The run sections (after the comparison's tables) each hold the protocol table.
+    let runs = &page[page.find("<section id=\"run-a\">").unwrap()..];
+    assert!(runs.matches("lb2.1").count() >= 2, "{runs}");
+    let out = sds(&[&["compare", "--format", "table", &a, &b][..], &shared[..]].concat());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("Comfort (moving)"));
+    // A bad shared option is the same usage error as for sds score.
+    let out = sds(&["compare", &a, &b, "--protocol", "nope"]);
+    assert_eq!(out.status.code(), Some(2));
+}

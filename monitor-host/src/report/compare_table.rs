@@ -72,7 +72,16 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     let mut t1 = Grid::new(
         &format!("Safe2Drive Table 1: SafeDriving Score{over}"),
         [
-            "model", "runs", "DS", "SR(%)", "DS_safe", "Comfort", "SDS", "Coll.(%)",
+            "model",
+            "runs",
+            "DS",
+            "SR(%)",
+            "DS_safe",
+            "Comfort",
+            "Comfort (moving)",
+            "Stationary(%)",
+            "SDS",
+            "Coll.(%)",
         ],
     );
     for m in &c.models {
@@ -98,6 +107,8 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
             stat(&m.success_rate, 2, 1.0),
             stat(&m.mean_ds_safe, 2, 1.0),
             stat(&m.mean_comfort, 3, 1.0),
+            stat(&m.mean_comfort_moving, 3, 1.0),
+            stat(&m.mean_stationary_share, 2, 100.0),
             stat(&m.sds, 2, 1.0),
             stat(&m.collision_rate, 2, 1.0),
         ]);

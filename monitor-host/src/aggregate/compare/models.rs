@@ -1,4 +1,5 @@
-//! One row per model (`SDS-SPEC.md` v1.3 §11 `models`): every §8.1 / §8.2 aggregate as the mean
+//! One row per model (`SDS-SPEC.md` v1.3 §11 `models`): every §8.1 / §8.2 aggregate (and §8.5's
+//! moving comfort, stationary share and distance) as the mean
 //! and sample standard deviation over the model's seeds.
 //!
 //! ```
@@ -71,6 +72,12 @@ pub struct ModelRow {
     pub smoothness: Stat,
     /// Ability rates (§8.2), 0..1.
     pub ability: AbilityStats,
+    /// Mean moving comfort (v1.3 §8.5).
+    pub mean_comfort_moving: Stat,
+    /// Mean stationary share (v1.3 §8.5), 0..1.
+    pub mean_stationary_share: Stat,
+    /// Distance driven, km (v1.3 §8.5).
+    pub distance_km: Stat,
 }
 
 /// The five ability rates and their mean, over seeds.
@@ -123,5 +130,8 @@ pub fn model_row(name: &str, runs: &[(String, Aggregates)]) -> ModelRow {
             traffic_signs: ab(&|x| x.traffic_signs),
             mean: ab(&|x| x.mean),
         },
+        mean_comfort_moving: stat(&|a| a.scores.motion.mean_comfort_moving),
+        mean_stationary_share: stat(&|a| a.scores.motion.mean_stationary_share),
+        distance_km: stat(&|a| a.scores.motion.distance_km),
     }
 }

@@ -17,10 +17,20 @@ sds="$target/release/sds"
 args=(--results "$out/demo/results.json" --telemetry "$out/demo/telemetry" --routes "$out/demo/routes.xml")
 "$sds" score "${args[@]}" -o "$out/report.json"
 "$sds" score "${args[@]}" --format html -o "$out/report.html"
-# sds compare looks for a run's telemetry beside its results file.
-cp "$out/demo/results.json" "$out/demo/telemetry/run.json"
-"$sds" compare "a=$out/demo/telemetry/run.json" "b=$out/demo/telemetry/run.json" --routes "$out/demo/routes.xml" \
-  --format html -o "$out/compare.html"
+# sds compare: each run's telemetry after its results (NAME=RESULTS:TELEMETRY); b is a with one
+# route's score lowered, so the per-route deltas have an order to check.
+python3 - "$out/demo/results.json" "$out/demo/results-b.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+# The last route with a score: unsorted it is not first, sorted by its delta it must be.
+rec = [x for x in r["_checkpoint"]["records"] if x["scores"]["score_composed"] > 0][-1]
+rec["scores"]["score_composed"] = rec["scores"]["score_composed"] / 2
+json.dump(r, open(sys.argv[2], "w"))
+PY
+"$sds" compare "a=$out/demo/results.json:$out/demo/telemetry" "b=$out/demo/results-b.json:$out/demo/telemetry" \
+  --routes "$out/demo/routes.xml" --format html -o "$out/compare.html"
+"$sds" compare "a=$out/demo/results.json:$out/demo/telemetry" "b=$out/demo/results-b.json:$out/demo/telemetry" \
+  --routes "$out/demo/routes.xml" --format json -o "$out/compare.json"
 
 python3 scripts/html_report_check.py "$out/report.html" "$out/report.json"
 # The check can fail: one number changed in the page must be caught.
@@ -67,7 +77,9 @@ browse "$page" --dump-dom >"$out/dom.html"
 browse "$page#test:sort=ds_safe:desc" --dump-dom >"$out/dom-sorted.html"
 browse "$page#test:filter=crash;sort=route:desc" --dump-dom >"$out/dom-filtered.html"
 browse "file://$(realpath "$out/compare.html")" --dump-dom >"$out/dom-compare.html"
+browse "file://$(realpath "$out/compare.html")#test:sort=dds:b:asc" --dump-dom >"$out/dom-compare-sorted.html"
 browse "$page" --screenshot="$(realpath "$out")/report.png" --window-size=1280,2000 >/dev/null
+browse "file://$(realpath "$out/compare.html")" --screenshot="$(realpath "$out")/compare.png" --window-size=1280,2400 >/dev/null
 
 python3 - "$out" <<'PY'
 import json, re, sys
@@ -91,7 +103,7 @@ def result(d):
     m = re.search(r'<pre id="test-result">([^<]*)</pre>', d)
     return None if m is None else [l for l in m.group(1).split("\n") if l]
 
-for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-compare.html"):
+for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-compare.html", "dom-compare-sorted.html"):
     d = dom(name)
     if not (title(d) or "").endswith("[ready]") or not (status(d) or "").startswith("ok"):
         problems.append(f"{name}: title {title(d)!r}, status {status(d)!r}: the page's script did not finish")
@@ -101,9 +113,26 @@ if f"ok: {len(routes)} routes" not in (status(d) or ""):
 for r in routes:
     if f'data-route="{r["route_id"]}"' not in d:
         problems.append(f"{r['route_id']} missing from the rendered page")
+cmp = json.load(open(f"{out}/compare.json"))
+dc = dom("dom-compare.html")
 for run in ("a", "b"):
-    if f'<section id="run-{run}">' not in dom("dom-compare.html"):
+    if f'<section id="run-{run}">' not in dc:
         problems.append(f"compare: run {run} missing")
+if dc.count("<svg") < 1 or 'id="per-route"' not in dc:
+    problems.append("compare: no forest plot or no per-route table")
+# Every route key's links reach a row of each run.
+for r in cmp["routes"]:
+    for run, ids in zip(("a", "b"), r["route_ids"]):
+        for rid in ids:
+            if f'id="run-{run}-{rid}"' not in dc or f'href="#run-{run}-{rid}"' not in dc:
+                problems.append(f"compare: no link or row for {run} {rid}")
+# Sorted by b's DS delta ascending: the lowered route first, ties in the baseline's order.
+keys = [r["key"] for r in cmp["routes"]]
+dd = [r["values"][1][0] - r["values"][0][0] for r in cmp["routes"]]
+want = [keys[i] for i in sorted(range(len(keys)), key=lambda i: (dd[i], i))]
+got = result(dom("dom-compare-sorted.html"))
+if got != want or dd[keys.index(want[0])] >= 0 or want[0] == keys[0]:
+    problems.append(f"compare: sort by delta ds of b: {got} != {want}")
 
 ids = [r["route_id"] for r in routes]
 # Sorted by DS_safe, descending, ties in input order, empty last.

@@ -33,7 +33,7 @@ STAGES = [
     ("route",),
     ("aggregate",),
     ("report",),
-    ("run", "error", "scored"),  # scored: a run and its label files, for every front end
+    ("run", "error", "scored", "compare_runs"),  # scored: a run and its label files, for every front end
     ("cli", "demo"),
 ]
 

@@ -117,6 +117,17 @@ pub enum Error {
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
+    /// The runs cannot be compared (`sds compare`, spec v1.3 section 11).
+    #[error(transparent)]
+    Compare(#[from] crate::aggregate::compare::CompareError),
+    /// One run of a comparison could not be scored.
+    #[error("run {run}: {error}")]
+    InRun {
+        /// The run's name.
+        run: String,
+        /// Why.
+        error: Box<Error>,
+    },
     /// A label file cannot be read, or matches no route (for [`crate::score_labelled`]).
     #[error(transparent)]
     Labels(#[from] LabelsError),
@@ -128,6 +139,16 @@ pub enum Error {
         "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
     )]
     UnusedLabels,
+}
+
+impl Error {
+    /// The error itself, or the one a run of a comparison met ([`Error::InRun`]).
+    pub fn inner(&self) -> &Error {
+        match self {
+            Error::InRun { error, .. } => error.inner(),
+            e => e,
+        }
+    }
 }
 
 /// The text a front end shows for an error that stops it (`sds: error: <text>`, the Python

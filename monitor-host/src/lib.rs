@@ -32,6 +32,9 @@
 //!            compare; report (the Report that holds rows and aggregates)
 //!               v
 //! report/    renderings: json, csv, table, html, figure, trace_csv
+//!               v
+//! run, compare_runs   score_run (one run); compare_runs (several: score each, then
+//!                     aggregate::compare, spec v1.3 §11)
 //! ```
 //!
 //! A file imports only from its own stage or those above it in this picture (and `settings`,
@@ -66,6 +69,7 @@
 pub mod aggregate;
 #[cfg(feature = "cli")]
 pub mod cli;
+pub mod compare_runs;
 pub mod demo;
 pub mod error;
 pub mod geometry;
@@ -81,6 +85,7 @@ pub mod settings;
 pub mod warning;
 
 pub use aggregate::report::Report;
+pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;
 pub use input::labels::LabelsError;

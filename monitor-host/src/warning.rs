@@ -256,6 +256,8 @@ pub enum Warning {
         /// The median distance (m) from the frames to the nearest driving lane; `None` when the
         /// map has no driving lane.
         distance: Option<f64>,
+        /// The farthest a map's lanes may lie from a route it serves, m (`map_fit::MAP_REACH`).
+        reach: f64,
         /// `lateral_reference = lane` was asked for and falls back to `route`.
         lane_fallback: bool,
     },
@@ -533,6 +535,7 @@ impl std::fmt::Display for Warning {
                 file,
                 town,
                 distance,
+                reach,
                 lane_fallback,
             } => {
                 match distance {
@@ -540,9 +543,8 @@ impl std::fmt::Display for Warning {
                     Some(d) => write!(
                         f,
                         "{file}: the map of {town} does not serve this route: its frames lie \
-                         {d:.1} m (median) from the nearest driving lane, more than {} m (a wrong \
-                         or moved map?)",
-                        crate::geometry::map_fit::MAP_REACH
+                         {d:.1} m (median) from the nearest driving lane, more than {reach} m (a \
+                         wrong or moved map?)"
                     )?,
                 }
                 f.write_str(

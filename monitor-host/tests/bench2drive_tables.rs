@@ -1,6 +1,6 @@
 //! Everything a Bench2Drive paper reports, on real result files (`../shared/fixtures/b2d`):
 //! Bench2Drive's own ability and efficiency outputs reproduced exactly, the per-weather table
-//! against counts worked out here from the raw JSON, and `sds compare` of three runs against
+//! against counts worked out here from the raw JSON, and `sds compare` of three seeds against
 //! mean ± std worked out by hand. Skips, with a printed reason, when the fixtures are absent.
 
 use std::collections::BTreeMap;
@@ -470,15 +470,27 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
     let b = b2d.join("carla_garage_pdm_lite_b2d_traj_merged.json");
     let c = b2d.join("b2dzoo_UniAD-Base_merged.json"); // 218 routes: 23670 and 3800 absent
     let arg = |n: &str, p: &Path| format!("{n}={}", p.display());
-    let out = sds(&[
-        "compare",
-        "--allow-missing-telemetry",
-        "--format",
-        "json",
-        &arg("m_1", &a),
-        &arg("m_2", &b),
-        &arg("m_3", &c),
-    ]);
+    let runs = [arg("m_1", &a), arg("m_2", &b), arg("m_3", &c), arg("t", &a)];
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "compare",
+            "--allow-missing-telemetry",
+            "--seeds",
+            "m=m_1,m_2,m_3",
+        ];
+        args.extend_from_slice(extra);
+        args.extend(runs.iter().map(String::as_str));
+        sds(&args)
+    };
+    // UniAD lacks two routes: refused by default, naming them.
+    let out = run(&["--format", "json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("2 route key(s) are not in every run (first: 23670, 3800)"),
+        "{err}"
+    );
+    let out = run(&["--format", "json", "--common-routes"]);
     assert_eq!(
         out.status.code(),
         Some(0),
@@ -487,30 +499,17 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
     );
     let cmp = json_of(&out);
     // Only the routes present in every run, and the report says which were left out.
-    assert_eq!(cmp["scope"]["kind"], "common");
     assert_eq!(cmp["scope"]["routes"], 218);
-    let left: Vec<Vec<String>> = cmp["scope"]["excluded"]
+    let gone = ["RouteScenario_23670_rep0", "RouteScenario_3800_rep0"];
+    let left: Vec<String> = cmp["scope"]["left_out"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|e| {
-            let mut v: Vec<String> = e["routes"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_str().unwrap().to_string())
-                .collect();
-            v.sort();
-            v
-        })
+        .map(|e| e[0].as_str().unwrap().to_string())
         .collect();
-    let gone = vec![
-        "RouteScenario_23670_rep0".to_string(),
-        "RouteScenario_3800_rep0".to_string(),
-    ];
-    assert_eq!(left, vec![gone.clone(), gone.clone(), vec![]]);
+    assert_eq!(left, ["m_1", "m_2", "t"]);
     // By hand: each run's DS over the 218 common routes, then mean and sample std.
-    let keep = |id: &str| !gone.iter().any(|g| g == id);
+    let keep = |id: &str| !gone.contains(&id);
     let ds: Vec<f64> = [&a, &b, &c]
         .iter()
         .map(|f| ds_of(f, keep))
@@ -519,49 +518,22 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
             d
         })
         .collect();
-    for (row, d) in cmp["runs"].as_array().unwrap().iter().zip(&ds) {
-        assert!((row["driving_score"].as_f64().unwrap() - d).abs() < 1e-9);
-        assert_eq!(row["model"], "m");
-    }
     let mean = (ds[0] + ds[1] + ds[2]) / 3.0;
     let std =
         (((ds[0] - mean).powi(2) + (ds[1] - mean).powi(2) + (ds[2] - mean).powi(2)) / 2.0).sqrt();
     let m = &cmp["models"][0];
-    assert_eq!(m["model"], "m");
+    assert_eq!(m["name"], "m");
     assert_eq!(m["runs"], serde_json::json!(["m_1", "m_2", "m_3"]));
     assert!((m["driving_score"]["mean"].as_f64().unwrap() - mean).abs() < 1e-9);
     assert!((m["driving_score"]["std"].as_f64().unwrap() - std).abs() < 1e-9);
     assert!(std > 1.0, "three different models: a real spread ({std})");
+    // The single run t = the first seed: its DS over the same routes.
+    assert!((cmp["models"][1]["driving_score"]["mean"].as_f64().unwrap() - ds[0]).abs() < 1e-9);
 
-    // The table: one row per run, and the model row as mean ± std.
-    let out = sds(&[
-        "compare",
-        "--allow-missing-telemetry",
-        &arg("m_1", &a),
-        &arg("m_2", &b),
-        &arg("m_3", &c),
-    ]);
+    // The table: the model row as mean ± std, and which runs it groups.
+    let out = run(&["--common-routes"]);
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains(&format!("{mean:.2} ± {std:.2}")), "{text}");
-    assert!(text.contains("compared on the 218 route(s) present in every run"));
-    // With the route set given, every run is scored over its own N: nothing left out.
-    let out = sds(&[
-        "compare",
-        "--allow-missing-telemetry",
-        "--expected-routes",
-        "220",
-        "--format",
-        "json",
-        "--seeds",
-        "uniad=u",
-        &arg("t", &a),
-        &arg("u", &c),
-    ]);
-    let cmp = json_of(&out);
-    assert_eq!(cmp["scope"]["kind"], "route_set");
-    assert_eq!(cmp["runs"][1]["model"], "uniad");
-    let (d, n) = ds_of(&c, |_| true);
-    assert!(
-        (cmp["runs"][1]["driving_score"].as_f64().unwrap() - d * n as f64 / 220.0).abs() < 1e-9
-    );
+    assert!(text.contains("m: seeds m_1, m_2, m_3"), "{text}");
+    assert!(text.contains("compared on the 218 route key(s) every run holds (--common-routes)"));
 }

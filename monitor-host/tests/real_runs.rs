@@ -324,7 +324,7 @@ fn stored_figures_beside_the_computed_ones() {
     );
     assert!((f(&s["driving_score"]) - 59.89672075000001).abs() < 1e-9);
     assert!((f(&s["success_rate"]) - 30.0).abs() < 1e-9);
-    let input = &r["inputs"][0];
+    let input = &r["inputs"]["files"][0];
     assert_eq!(input["records"], 210);
     assert_eq!(input["stored"]["from"], "merged");
     assert_eq!(input["stored"]["driving_score"], 59.89672075000001);
@@ -361,7 +361,7 @@ fn stored_figures_beside_the_computed_ones() {
     );
     assert_eq!(r["summary"]["missing"], 7);
     assert!((f(&r["summary"]["driving_score"]) - 42.35073638636364).abs() < 1e-9);
-    assert_eq!(r["inputs"][0]["stored"]["eval_num"], 214);
+    assert_eq!(r["inputs"]["files"][0]["stored"]["eval_num"], 214);
 }
 
 #[test]

@@ -929,7 +929,7 @@ fn compare_problems_are_named() {
     assert_eq!(code(&o), 1, "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
-        e.contains("run no-such-run") && e.contains("no such results file or folder"),
+        e.contains("run no-such-run") && e.contains("No such file or directory"),
         "{e}"
     );
     assert!(!e.contains("--telemetry"), "{e}");

@@ -183,7 +183,7 @@ fn warnings_are_not_noise() {
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(warnings(&r).is_empty(), "{:?}", warnings(&r));
-    let inputs = r["inputs"].as_array().unwrap();
+    let inputs = r["inputs"]["files"].as_array().unwrap();
     assert_eq!(inputs.len(), 8);
     assert!(inputs.iter().all(|i| i["stored"]["denominator"]
         .as_str()
@@ -222,7 +222,7 @@ fn warnings_are_not_noise() {
     );
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(warnings(&r).is_empty(), "{:?}", warnings(&r));
-    let computed = r["inputs"][0]["computed"]["driving_score"]
+    let computed = r["inputs"]["files"][0]["computed"]["driving_score"]
         .as_f64()
         .unwrap();
     assert!((computed - 88.452).abs() > 1e-6 && (computed - 88.452).abs() < 5e-4);

@@ -5,6 +5,9 @@
 //!   `Settings` and label files built from the keyword arguments (`options.rs`, shared by every
 //!   scored-run function), the report converted to Python objects directly (`pyser.rs`), GIL
 //!   released while scoring;
+//! - `compare` (`compare.rs`): the library's `compare_runs` with the runs, `Settings` (the same
+//!   `options.rs`) and the comparison's options built from the keyword arguments, the
+//!   `sds-compare/1` report converted by `pyser.rs`, GIL released while scoring;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
@@ -13,6 +16,7 @@
 //! - `errors.rs`: the exception classes.
 #![deny(missing_docs)]
 
+mod compare;
 mod convert;
 mod errors;
 mod monitor;
@@ -36,6 +40,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(score::score, m)?)?;
+    m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_class::<monitor::Monitor>()?;
     m.add(
         "FIELDS",

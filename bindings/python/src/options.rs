@@ -1,5 +1,5 @@
 //! Python keyword arguments → the library's [`RunOptions`] and [`Settings`]: the options every
-//! scored-run function of the package takes (`sds.score`, and `sds.compare` to come), mapped
+//! scored-run function of the package takes (`sds.score`, `sds.compare`), mapped
 //! once, as the command line maps its shared options ([`RunOptions::settings`]).
 
 use monitor_core::Profile;
@@ -44,16 +44,17 @@ fn choice<T: Copy>(option: &str, value: &str, choices: &[(&str, T)]) -> PyResult
         })
 }
 
-/// The keyword arguments every scored-run function of the package shares (`sds.score`, and
-/// `sds.compare` to come), read by name from the dict the Python layer passes: `profile`,
+/// The keyword arguments every scored-run function of the package shares (`sds.score`,
+/// `sds.compare`), read by name from the dict the Python layer passes: `profile`,
 /// `duplicates`, `expected_routes`, `allow_missing_telemetry`, `settings`, `jobs`, `protocols`.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub struct RunKwargs<'py> {
     /// `"physical"` or `"b2d-legacy"`.
     pub profile: String,
-    /// `"error"`, `"first"`, `"last"` or `"all"`.
-    pub duplicates: String,
+    /// `"error"`, `"first"`, `"last"`, `"newest"` or `"all"`; None (`sds.compare`, as
+    /// `sds compare`): the setting's default or a `settings` override.
+    pub duplicates: Option<String>,
     /// Benchmark size N.
     pub expected_routes: Option<usize>,
     /// Score routes without telemetry without telemetry terms.
@@ -94,7 +95,11 @@ impl RunKwargs<'_> {
         Ok(RunOptions {
             profile,
             expected_routes: self.expected_routes,
-            duplicates: Some(choice("duplicates", &self.duplicates, &named)?),
+            duplicates: self
+                .duplicates
+                .as_deref()
+                .map(|d| choice("duplicates", d, &named))
+                .transpose()?,
             allow_missing_telemetry: self.allow_missing_telemetry,
             threads: self.jobs,
             // `protocols` first, as the setting of that name: `settings` can override it.

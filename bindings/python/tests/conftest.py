@@ -50,8 +50,9 @@ def monitor_lateral(lateral: dict[str, Any]) -> dict[str, Any]:
 
 
 def monitor_comfort(comfort: dict[str, Any]) -> dict[str, Any]:
-    """A report route's `comfort` block without the host's moving-comfort figures (spec §8.5:
-    from positions, which the monitor does not see)."""
+    """A report route's `comfort` block without the host's moving comfort (`moving_chunks`,
+    `moving_comfortable`, `moving_score`, §8.5: measured by the host from positions, never by
+    the monitor)."""
     return {k: v for k, v in comfort.items() if not k.startswith("moving_")}
 
 

@@ -11,7 +11,7 @@ use crate::aggregate::groups::{groups, GroupBy, Groups, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
 use crate::input::duplicates::{Dropped, Kept};
 use crate::input::labels::Labels;
-use crate::input::route_set::{MissingRoute, RunRouteSet};
+use crate::input::route_set::{route_set_id, MissingRoute, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
 use crate::route::row::{counted_routes, row_name, RouteReport};
@@ -30,8 +30,9 @@ pub struct Report {
     pub profile: &'static str,
     /// Every threshold and default.
     pub config: Settings,
-    /// Every results file read, with the figures it stores beside the computed ones (§1.5).
-    pub inputs: Vec<InputReport>,
+    /// Every results file read, with the figures it stores beside the computed ones (§1.5),
+    /// and the route set's fingerprint (v1.3 §10.3).
+    pub inputs: ReportInputs,
     /// Under `route_subset: found`, the route set actually scored: the route XML's routes that
     /// have a record. Absent for the whole XML (or without one).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -54,6 +55,15 @@ pub struct Report {
     /// The route set of `--routes` (members, missing routes), for the tables and comparisons.
     #[serde(skip)]
     pub route_set: Option<RunRouteSet>,
+}
+
+/// The report's `inputs`: the files read and the route set's fingerprint.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ReportInputs {
+    /// Every results file read, with its stored and computed figures (§1.5).
+    pub files: Vec<InputReport>,
+    /// The counted routes' fingerprint (`{"routes", "sha256"}`, v1.3 §10.3).
+    pub route_set: RouteSetId,
 }
 
 /// The route set of `route_subset: found`, as the report states it.
@@ -135,7 +145,10 @@ pub fn assemble(
         schema: SCHEMA,
         profile: settings.core.profile.name(),
         config: settings.clone(),
-        inputs: facts.inputs,
+        inputs: ReportInputs {
+            files: facts.inputs,
+            route_set: route_set_id(counted.iter().filter_map(|r| r.route_id.as_deref())),
+        },
         route_subset: facts.route_set.as_ref().and_then(|s| {
             s.subset_of.map(|of| SubsetReport {
                 subset: "found",

@@ -257,18 +257,38 @@ pub struct ScoreArgs {
     pub traces: Option<PathBuf>,
 }
 
-/// Arguments of `sds compare`.
+/// Arguments of `sds compare` (spec v1.3 section 11).
 #[derive(Debug, clap::Args)]
 pub struct CompareArgs {
-    /// Runs: `NAME=PATH` or `PATH` (named by its folder or file name; an argument that is an
-    /// existing path is a PATH even when it holds `=`). Each PATH is a results file or folder;
-    /// its telemetry is looked for in that folder.
+    /// Runs: `NAME=RESULTS[:TELEMETRY]`, or `RESULTS` (named by its folder or file name).
+    /// RESULTS is a results file or folder; TELEMETRY the run's telemetry root (default: the
+    /// results file's folder, or `--telemetry-of NAME=DIR`). The first model is the baseline.
     #[arg(required = true, value_name = "RUN")]
     pub runs: Vec<String>,
-    /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs not
-    /// named here are grouped by name without a seed suffix (`tfpp_1`, `tfpp_2` -> `tfpp`).
+    /// The telemetry root of run NAME (instead of `:TELEMETRY`); repeatable.
+    #[arg(long, value_name = "NAME=DIR")]
+    pub telemetry_of: Vec<String>,
+    /// Runs that are seeds of one model: `MODEL=RUN,RUN,...` (run names); repeatable. Runs are
+    /// grouped only here (never by their names); every other run is a model of its own.
     #[arg(long, value_name = "MODEL=RUNS")]
     pub seeds: Vec<String>,
+    /// The baseline model (default: the first).
+    #[arg(long, value_name = "MODEL")]
+    pub baseline: Option<String>,
+    /// Compare over the route keys every run holds (with a warning) instead of refusing runs
+    /// whose route sets differ.
+    #[arg(long)]
+    pub common_routes: bool,
+    /// Exit 5 after writing the report when a model is `worse` than the baseline on one of
+    /// these metrics (`ds`, `success`, `ds_safe`, `comfort`; comma-separated).
+    #[arg(long, value_name = "METRICS", value_delimiter = ',')]
+    pub fail_if_worse: Vec<String>,
+    /// Bootstrap resamples B.
+    #[arg(long, default_value_t = 10_000)]
+    pub bootstrap_samples: usize,
+    /// Seed of the bootstrap's SplitMix64 generator.
+    #[arg(long, default_value_t = 0)]
+    pub bootstrap_seed: u64,
     /// The options `sds score` shares (each run scored with them).
     #[command(flatten)]
     pub run: RunArgs,
@@ -285,7 +305,8 @@ pub struct CompareArgs {
 pub enum Command {
     /// Score a run: every route through the streaming monitor, then the report.
     Score(ScoreArgs),
-    /// Compare several runs: one row per run, seeds of one model as mean ± std.
+    /// Compare runs against a baseline: paired deltas per route with bootstrap intervals,
+    /// verdicts, flips, and a regression gate (`--fail-if-worse`, exit 5).
     Compare(CompareArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {

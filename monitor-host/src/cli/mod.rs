@@ -7,7 +7,9 @@
 //! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
 //! route); 3 the report was written but some route has a problem (missing or invalid telemetry
 //! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
-//! every such route is in the report with its state; 4 the inputs hold no record at all.
+//! every such route is in the report with its state; 4 the inputs hold no record at all;
+//! 5 (`sds compare --fail-if-worse`) the report was written and a model is worse than the
+//! baseline on a gated metric.
 
 pub mod args;
 pub mod output;
@@ -22,25 +24,23 @@ macro_rules! say {
     };
 }
 
+pub mod compare;
+
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Parser;
 
-use crate::aggregate::compare::{compare, NamedRun};
 use crate::aggregate::groups::GroupBy;
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
 use crate::report::{csv, html, json};
 use crate::{
-    demo, route_frames, score_labelled, score_run_with, Inputs, LabelFiles, Progress, Settings,
-    SettingsError, TelemetryState,
+    demo, route_frames, score_labelled, Inputs, LabelFiles, Progress, Settings, SettingsError,
+    TelemetryState,
 };
 
-use args::{
-    Cli, Command, CompareArgs, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs,
-};
+use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
 
 pub use crate::scored::Scored;
 use output::write_output;
@@ -51,6 +51,8 @@ const EXIT_ROUTE_PROBLEMS: i32 = 3;
 const EXIT_USAGE: i32 = 2;
 /// Exit code: the inputs hold no record at all.
 const EXIT_EMPTY_RUN: i32 = 4;
+/// Exit code: `sds compare --fail-if-worse` found a model worse than the baseline.
+const EXIT_WORSE: i32 = 5;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
 /// `std::env::args_os()`) and returns the exit code. Never exits the process: usage errors,
@@ -85,8 +87,9 @@ where
 fn exit_code(e: &anyhow::Error) -> i32 {
     use crate::Error;
     if let Some(e) = e.downcast_ref::<Error>() {
-        return match e {
+        return match e.inner() {
             Error::Duplicates(_)
+            | Error::Compare(_)
             | Error::TooFewRoutes { .. }
             | Error::TelemetryRoot { .. }
             | Error::Settings(_)
@@ -123,7 +126,7 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Score(args) => score(&args),
-        Command::Compare(args) => compare_runs(&args),
+        Command::Compare(args) => compare::compare(&args),
         Command::Demo {
             dir,
             score: then_score,
@@ -498,137 +501,4 @@ fn period_notes(report: &crate::Report) -> Vec<String> {
             )
         })
         .collect()
-}
-
-/// A run of `sds compare`: `NAME=PATH` or `PATH` (named by its folder or file stem).
-fn parse_run(arg: &str) -> (String, PathBuf) {
-    // A folder named `lr=0.1` is a path, not a name and a path.
-    let exists = std::fs::symlink_metadata(arg).is_ok();
-    if let Some((name, path)) = arg.split_once('=').filter(|_| !exists) {
-        if !name.is_empty() && !name.contains(['/', '\\']) {
-            return (name.to_string(), PathBuf::from(path));
-        }
-    }
-    let path = PathBuf::from(arg);
-    let name = if path.is_dir() {
-        path.file_name()
-    } else {
-        path.file_stem()
-    }
-    .map_or_else(|| arg.to_string(), |n| n.to_string_lossy().into_owned());
-    (name, path)
-}
-
-/// The telemetry root of a run: its folder (a results file's own folder).
-fn telemetry_of(path: &Path) -> PathBuf {
-    if path.is_dir() {
-        path.to_path_buf()
-    } else {
-        path.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new("."))
-            .to_path_buf()
-    }
-}
-
-fn compare_runs(args: &CompareArgs) -> Result<i32> {
-    let Some(style) = style(args.format)
-        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
-    else {
-        say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
-        return Ok(EXIT_USAGE);
-    };
-    let settings = args.run.settings(None)?;
-    let mut seeds: Vec<(String, String)> = Vec::new();
-    for s in &args.seeds {
-        let Some((model, runs)) = s.split_once('=') else {
-            say!("sds: error: --seeds {s}: expected MODEL=RUN,RUN,...");
-            return Ok(EXIT_USAGE);
-        };
-        for run in runs.split(',').map(str::trim) {
-            // A run counts in one model: in two it would count only in the first.
-            if let Some((_, other)) = seeds.iter().find(|(r, _)| r == run) {
-                say!("sds: error: --seeds: run {run} is a seed of {other} and of {model}; a run belongs to one model");
-                return Ok(EXIT_USAGE);
-            }
-            seeds.push((run.to_string(), model.to_string()));
-        }
-    }
-    let mut runs = Vec::new();
-    let mut problems = false;
-    // Each run's results path as the file system knows it, to find one file given twice.
-    let mut same_file: Vec<(String, PathBuf)> = Vec::new();
-    for arg in &args.runs {
-        let (name, path) = parse_run(arg);
-        if runs.iter().any(|r: &NamedRun| r.name == name) {
-            say!("sds: error: two runs are named {name}: name them with NAME=PATH");
-            return Ok(EXIT_USAGE);
-        }
-        if std::fs::symlink_metadata(&path).is_err() {
-            anyhow::bail!(
-                "run {name}: {}: no such results file or folder (a run is NAME=PATH or PATH)",
-                path.display()
-            );
-        }
-        if let Ok(real) = std::fs::canonicalize(&path) {
-            if let Some((other, _)) = same_file.iter().find(|(_, p)| *p == real) {
-                say!(
-                    "sds: warning: runs {other} and {name} are the same results ({}): as seeds of \
-                     one model their ± is 0 and says nothing about the spread",
-                    path.display()
-                );
-            }
-            same_file.push((name.clone(), real));
-        }
-        let inputs = Inputs {
-            results: vec![path.clone()],
-            telemetry: Some(telemetry_of(&path)),
-            route_xml: args.run.routes.clone(),
-            maps: args.run.maps.clone(),
-        };
-        let report = score_run_with(&inputs, &settings, &crate::NoProgress)?;
-        for w in &report.warnings {
-            say!("sds: warning: {name}: {w}");
-        }
-        if report.has_problems() {
-            problems = true;
-            say!(
-                "sds: {name}: {} route(s) with problems (score it alone with sds score for details)",
-                report.problem_routes().count()
-            );
-        }
-        let model = seeds
-            .iter()
-            .find(|(r, _)| *r == name)
-            .map(|(_, m)| m.clone());
-        runs.push(NamedRun {
-            name,
-            model,
-            report,
-        });
-    }
-    for (run, _) in &seeds {
-        if !runs.iter().any(|r| &r.name == run) {
-            say!("sds: error: --seeds names {run}, which is not a run");
-            return Ok(EXIT_USAGE);
-        }
-    }
-    let route_set = args.run.routes.is_some() || args.run.expected_routes.is_some();
-    let comparison = compare(&runs, route_set);
-    let bytes = if args.format == Format::Json {
-        let mut v = serde_json::to_vec_pretty(&comparison)?;
-        v.push(b'\n');
-        v
-    } else if args.format == Format::Html {
-        html::compare_page(&comparison, &runs).into_bytes()
-    } else {
-        table::render(&table::compare_tables(&comparison), style).into_bytes()
-    };
-    // Never write over any run's input.
-    let inputs_read: Vec<PathBuf> = runs
-        .iter()
-        .flat_map(|r| r.report.files_read.iter().cloned())
-        .collect();
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
-    Ok(if problems { EXIT_ROUTE_PROBLEMS } else { 0 })
 }

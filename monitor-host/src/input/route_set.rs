@@ -95,6 +95,40 @@ impl RunRouteSet {
     }
 }
 
+/// The fingerprint of a run's route set (`SDS-SPEC.md` v1.3 §10.3, the report's
+/// `inputs.route_set`): how many routes are counted, and the SHA-256 of their ids sorted
+/// byte-wise and joined with `\n`, so two reports show at a glance whether they ran the same
+/// routes.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct RouteSetId {
+    /// Counted route ids.
+    pub routes: usize,
+    /// SHA-256 (lowercase hex) of the sorted ids joined with `\n`.
+    pub sha256: String,
+}
+
+/// The [`RouteSetId`] of these route ids (in any order).
+///
+/// ```
+/// use monitor_host::input::route_set::route_set_id;
+/// let id = route_set_id(["RouteScenario_2_rep0", "RouteScenario_10_rep0"]);
+/// assert_eq!(id.routes, 2);
+/// assert_eq!(id, route_set_id(["RouteScenario_10_rep0", "RouteScenario_2_rep0"]));
+/// // SHA-256 of "" (no route).
+/// assert_eq!(route_set_id(Vec::<&str>::new()).sha256,
+///            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+/// ```
+pub fn route_set_id<'a>(ids: impl IntoIterator<Item = &'a str>) -> RouteSetId {
+    use sha2::{Digest, Sha256};
+    let mut ids: Vec<&str> = ids.into_iter().collect();
+    ids.sort_unstable_by(|a, b| a.as_bytes().cmp(b.as_bytes()));
+    let digest = Sha256::digest(ids.join("\n").as_bytes());
+    RouteSetId {
+        routes: ids.len(),
+        sha256: digest.iter().map(|b| format!("{b:02x}")).collect(),
+    }
+}
+
 /// Splits `RouteScenario_<id>_rep<k>` into (`<id>`, k).
 pub fn parse_route_id(route_id: &str) -> Option<(&str, u64)> {
     let rest = route_id.strip_prefix("RouteScenario_")?;

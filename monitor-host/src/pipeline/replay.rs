@@ -332,6 +332,7 @@ pub fn read_telemetry(
             file: m.file().to_string(),
             town: town_of(record, routes).unwrap_or_default().to_string(),
             distance,
+            reach: map_fit::MAP_REACH,
             lane_fallback: settings.lateral_reference == crate::settings::LateralReference::Lane,
         });
         false

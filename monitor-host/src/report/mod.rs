@@ -6,18 +6,22 @@
 //! |---|---|
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
-//! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3, comparisons) | [`table`] |
+//! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3) | [`table`] |
+//! | the comparison's tables (per model, paired, flips; spec v1.3 §11) | [`compare_table`] |
 //! | the scoring-protocol table (§8.4) | [`protocol_table`] |
 //! | a table's text, Markdown and LaTeX renderings | [`grid`] |
 //! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
+//! | the comparison's forest plot (SVG, v1.3 §11) | [`forest`] |
 //! | a collision trace as CSV | [`trace_csv`] |
 //! | the whole run (or runs side by side) as one HTML page | [`html`] |
 //!
 //! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
 
+pub mod compare_table;
 pub mod csv;
 pub mod escape;
 pub mod figure;
+pub mod forest;
 pub mod grid;
 pub mod html;
 pub mod json;

@@ -4,7 +4,6 @@
 //! a weather breakdown a Table 3-style infraction table. `docs/TABLES.md` explains every column.
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::aggregate::compare::{Comparison, Scope, Stat};
 use crate::aggregate::groups::{GroupBy, Groups};
 use crate::aggregate::report::Report;
 use crate::report::grid::{Grid, Style};
@@ -313,84 +312,4 @@ pub fn render(grids: &[Grid], style: Style) -> String {
 /// ```
 pub fn table(report: &Report, options: &TableOptions) -> String {
     render(&report_tables(report, options), Style::Text)
-}
-
-fn stat(s: &Stat, digits: usize, scale: f64) -> String {
-    match (s.mean, s.std) {
-        (Some(m), Some(d)) => format!("{:.digits$} ± {:.digits$}", m * scale, d * scale),
-        (Some(m), None) => format!("{:.digits$}", m * scale),
-        _ => "-".into(),
-    }
-}
-
-/// The comparison's tables: one row per run, then, when some model has several runs, one row
-/// per model with mean ± sample std over its runs.
-pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
-    let header = [
-        "run",
-        "routes",
-        "DS",
-        "SR(%)",
-        "DS_safe",
-        "Comfort",
-        "SDS",
-        "Coll.(%)",
-        "Efficiency",
-        "Comfortness",
-        "Ability(%)",
-    ];
-    let mut runs = Grid::new("Runs", header);
-    for r in &c.runs {
-        let a = &r.aggregates;
-        runs.row([
-            r.name.clone(),
-            a.routes.to_string(),
-            num(a.scores.driving_score, 2),
-            num(a.scores.success_rate, 2),
-            num(a.scores.mean_ds_safe, 2),
-            num(a.scores.mean_comfort, 3),
-            num(a.scores.sds, 2),
-            num(a.scores.collision_rate, 2),
-            num(a.efficiency, 2),
-            pct(a.smoothness),
-            pct(a.ability.as_ref().and_then(|x| x.mean)),
-        ]);
-    }
-    match &c.scope {
-        Scope::RouteSet => {
-            runs.note("every run over the route set (absent routes count as 0 / failed)")
-        }
-        Scope::Common { routes, excluded } => {
-            runs.note(format!(
-                "compared on the {routes} route(s) present in every run"
-            ));
-            for e in excluded.iter().filter(|e| !e.routes.is_empty()) {
-                runs.note(format!("{}: {} route(s) left out", e.run, e.routes.len()));
-            }
-        }
-    }
-    let mut out = vec![runs];
-    if c.models.iter().any(|m| m.runs.len() > 1) {
-        let mut h = header.to_vec();
-        h[0] = "model";
-        h[1] = "runs";
-        let mut models = Grid::new("Models: mean ± sample std over runs (seeds)", h);
-        for m in &c.models {
-            models.row([
-                m.model.clone(),
-                m.runs.len().to_string(),
-                stat(&m.driving_score, 2, 1.0),
-                stat(&m.success_rate, 2, 1.0),
-                stat(&m.mean_ds_safe, 2, 1.0),
-                stat(&m.mean_comfort, 3, 1.0),
-                stat(&m.sds, 2, 1.0),
-                stat(&m.collision_rate, 2, 1.0),
-                stat(&m.efficiency, 2, 1.0),
-                stat(&m.smoothness, 2, 100.0),
-                stat(&m.ability_mean, 2, 100.0),
-            ]);
-        }
-        out.push(models);
-    }
-    out
 }

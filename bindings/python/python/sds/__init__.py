@@ -4,6 +4,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
 
 - :func:`score` scores a run and returns the report of ``sds score --format json`` as a dict,
   the same numbers to the bit;
+- :func:`compare` compares runs against a baseline (paired deltas, bootstrap intervals,
+  verdicts, flips) and returns the report of ``sds compare --format json``;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
 
@@ -29,6 +31,7 @@ from ._sds import (
     SdsError,
     __version__,
 )
+from ._compare import compare
 from .monitor import Event, Monitor, Summary
 
 __all__ = [
@@ -43,6 +46,7 @@ __all__ = [
     "SdsError",
     "Summary",
     "__version__",
+    "compare",
     "score",
 ]
 

@@ -1,7 +1,7 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
 import os
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 __version__: str
 FIELDS: List[str]
@@ -32,6 +32,13 @@ def cli_main(argv: Sequence[str]) -> int:
 def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
     """Scores a run through the library; ``options`` holds every keyword argument of
     ``sds.score`` but ``results``, by name. Returns the report (see ``sds.score``)."""
+
+def compare(
+    runs: Sequence[Tuple[str, str, Optional[str]]], options: Mapping[str, Any]
+) -> Dict[str, Any]:
+    """Compares runs through the library: each run ``(name, results, telemetry or None)``;
+    ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
+    as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``)."""
 
 class Monitor:
     """The streaming monitor of one route (see ``sds.Monitor``)."""

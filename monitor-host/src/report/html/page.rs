@@ -1,5 +1,6 @@
-//! The page's frame: document, heading, the run's warnings, escaping.
+//! The page's frame: document, heading, the run's warnings, escaping, and a table ([`Grid`]) as HTML.
 
+use crate::report::grid::Grid;
 use crate::report::Report;
 
 const STYLE: &str = include_str!("report.css");
@@ -73,4 +74,32 @@ pub(super) fn warnings(out: &mut String, report: &Report) {
 /// A number with `digits` decimals, `-` when absent.
 pub(super) fn num(v: Option<f64>, digits: usize) -> String {
     v.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"))
+}
+
+/// A table of the text renderings as an HTML table (the same cells as text, Markdown, LaTeX).
+pub(super) fn grid(out: &mut String, g: &Grid) {
+    out.push_str(&format!(
+        "<table class=\"grid\"><caption>{}</caption>\n<thead><tr>",
+        escape(&g.title)
+    ));
+    for h in &g.header {
+        out.push_str(&format!("<th>{}</th>", escape(h)));
+    }
+    out.push_str("</tr></thead>\n<tbody>\n");
+    let rows = g
+        .rows
+        .iter()
+        .map(|r| (r, ""))
+        .chain(g.total.iter().map(|r| (r, " class=\"total\"")));
+    for (r, class) in rows {
+        out.push_str(&format!("<tr{class}>"));
+        for c in r {
+            out.push_str(&format!("<td>{}</td>", escape(c)));
+        }
+        out.push_str("</tr>\n");
+    }
+    out.push_str("</tbody></table>\n");
+    for n in &g.notes {
+        out.push_str(&format!("<p class=\"note\">{}</p>\n", escape(n)));
+    }
 }

@@ -3,10 +3,44 @@
 // drives the same functions and records the resulting order in #test-result (the browser test).
 (function () {
   "use strict";
+  // Other pages (sds compare): every table.sortable sorts on a click on its heading (numbers by
+  // data-v, empty cells last); `#test:sort=COL:asc|desc` sorts #per-route and lists its keys.
+  function sortables() {
+    Array.prototype.forEach.call(document.querySelectorAll("table.sortable"), function (t) {
+      var hs = t.tHead.rows[0].cells, tb = t.tBodies[0], rs = Array.prototype.slice.call(tb.rows);
+      function by(col, dir) {
+        var sign = dir === "descending" ? -1 : 1;
+        function k(r) { var v = r.cells[col].getAttribute("data-v"); return v === null ? r.cells[col].textContent : (v === "" ? NaN : parseFloat(v)); }
+        rs.slice().sort(function (a, b) {
+          var x = k(a), y = k(b), xn = typeof x === "number", yn = typeof y === "number";
+          if (xn && isNaN(x)) { return isNaN(y) ? 0 : 1; }
+          if (yn && isNaN(y)) { return -1; }
+          var r = xn && yn ? x - y : String(x).localeCompare(String(y));
+          return r === 0 ? (+a.getAttribute("data-i")) - (+b.getAttribute("data-i")) : sign * r;
+        }).forEach(function (r) { tb.appendChild(r); });
+        for (var i = 0; i < hs.length; i++) { hs[i].removeAttribute("aria-sort"); }
+        hs[col].setAttribute("aria-sort", dir);
+      }
+      Array.prototype.forEach.call(hs, function (h, i) {
+        h.addEventListener("click", function () { by(i, h.getAttribute("aria-sort") === "ascending" ? "descending" : "ascending"); });
+      });
+      var hash = decodeURIComponent(location.hash || "");
+      if (t.id === "per-route" && hash.indexOf("#test:sort=") === 0) {
+        var s = hash.slice(11).split(":"), col = -1;
+        for (var i = 0; i < hs.length; i++) { if (hs[i].getAttribute("data-col") === s.slice(0, -1).join(":")) { col = i; } }
+        if (col < 0) { throw new Error("no column " + s.slice(0, -1).join(":")); }
+        by(col, s[s.length - 1] === "desc" ? "descending" : "ascending");
+        var out = document.createElement("pre");
+        out.id = "test-result";
+        out.textContent = Array.prototype.map.call(tb.rows, function (r) { return r.getAttribute("data-key"); }).join("\n");
+        document.body.appendChild(out);
+      }
+    });
+  }
   var table = document.getElementById("routes");
   var status = document.getElementById("status");
   function fail(msg) { status.hidden = false; status.textContent = "error: " + msg; document.title = "SDS report [error]"; throw new Error(msg); }
-  if (!table) { if (status) { status.textContent = "ok"; document.title += " [ready]"; } return; }
+  if (!table) { sortables(); if (status) { status.textContent = "ok"; document.title += " [ready]"; } return; }
   var body = table.tBodies[0];
   var heads = table.tHead.rows[0].cells;
   var rows = Array.prototype.slice.call(body.rows);

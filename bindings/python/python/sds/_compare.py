@@ -1,0 +1,116 @@
+"""``sds.compare``: runs compared against a baseline (spec v1.3 section 11), from Python."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+from . import _sds
+from ._sds import ConfigError
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+Run = Union[PathLike, Tuple[PathLike, PathLike]]
+"""A run: its results (file or folder), or ``(results, telemetry)``."""
+
+
+def compare(
+    runs: Mapping[str, Run],
+    *,
+    seeds: Optional[Mapping[str, Sequence[str]]] = None,
+    baseline: Optional[str] = None,
+    routes: Optional[PathLike] = None,
+    maps: Optional[PathLike] = None,
+    profile: str = "physical",
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    common_routes: bool = False,
+    fail_if_worse: Optional[Sequence[str]] = None,
+    bootstrap_samples: int = 10000,
+    bootstrap_seed: int = 0,
+    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+    jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
+) -> Dict[str, Any]:
+    """Compares runs route by route; returns the ``sds-compare/1`` report as a dict.
+
+    The library is called directly (no command line in between) and the report converted to
+    Python objects as ``json.loads`` would read ``sds compare --format json``. Each run is
+    scored as :func:`sds.score` would; models (a run, or the seeds of one model)
+    are compared with the baseline on the routes' paired differences, with a bootstrap interval
+    and a verdict per metric (``ds``, ``success``, ``ds_safe``, ``comfort``).
+
+    Args:
+        runs: Run name -> results (file or folder; telemetry looked for beside it) or
+            ``(results, telemetry)``. In order: the first model is the baseline.
+        seeds: Model name -> the names of its runs (``--seeds``). Runs are grouped only here.
+        baseline: The baseline model (``--baseline``; default the first).
+        routes: The route XML every run is scored against (``--routes``).
+        maps: A folder of OpenDRIVE maps (``--maps``).
+        profile: ``"physical"`` or ``"b2d-legacy"``.
+        expected_routes: The benchmark's size N (``--expected-routes``).
+        allow_missing_telemetry: Score routes without telemetry without telemetry terms.
+        common_routes: Compare over the routes every run holds instead of refusing runs whose
+            route sets differ (``--common-routes``).
+        fail_if_worse: Metrics of the gate (``--fail-if-worse``): check
+            ``report["paired"]`` for a ``"worse"`` verdict on them (the CLI exits 5).
+        bootstrap_samples: Resamples B. bootstrap_seed: The SplitMix64 seed.
+        settings: Setting overrides, as for :func:`sds.score`.
+        jobs: Worker threads.
+        protocols: Also score every run's routes under these scoring protocols, as for
+            :func:`sds.score` (``--protocol``; ids, or ``["all"]``); the paired comparison
+            stays on ``ds``, ``success``, ``ds_safe``, ``comfort``.
+
+    Returns:
+        ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,
+        ``metric``, ``n``, ``delta``, ``ci95``, ``p_better``, ``verdict``), ``flips``,
+        ``scope``, ``routes`` (per route key, each model's values), ``config``, ``notes``,
+        ``warnings``.
+
+    Raises:
+        ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
+            unknown metric, route sets that differ without ``common_routes``; an invalid
+            ``profile``, ``settings`` or ``protocols``.
+        InputError, IoError: A run's inputs, as for :func:`sds.score` (the message names the run).
+
+    Example:
+        >>> c = sds.compare({"base": "base/", "new": "new/"}, routes="bench2drive220.xml")
+        >>> [p["verdict"] for p in c["paired"] if p["metric"] == "ds"]  # doctest: +SKIP
+    """
+    if isinstance(protocols, str):
+        raise ConfigError(
+            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
+        )
+    if isinstance(fail_if_worse, str):
+        raise ConfigError(
+            f"fail_if_worse={fail_if_worse!r}: expected a list of metrics, e.g. ['ds']"
+        )
+    pairs: List[Tuple[str, str, Optional[str]]] = []
+    for name, run in runs.items():
+        if isinstance(run, tuple):
+            results, telemetry = run
+            pairs.append((name, os.fspath(results), os.fspath(telemetry)))
+        else:
+            pairs.append((name, os.fspath(run), None))
+    options: Dict[str, Any] = {
+        # The options every scored run shares (as for sds.score; no `duplicates` option, as
+        # `sds compare` has none: the setting's default, or `settings={"duplicates": ...}`).
+        "profile": profile,
+        "duplicates": None,
+        "expected_routes": None if expected_routes is None else int(expected_routes),
+        "allow_missing_telemetry": allow_missing_telemetry,
+        "settings": settings,
+        "jobs": None if jobs is None else int(jobs),
+        "protocols": None if protocols is None else list(protocols),
+        # The comparison's own.
+        "seeds": [(model, list(names)) for model, names in (seeds or {}).items()],
+        "baseline": baseline,
+        "routes": None if routes is None else os.fspath(routes),
+        "maps": None if maps is None else os.fspath(maps),
+        "common_routes": common_routes,
+        "fail_if_worse": list(fail_if_worse or []),
+        "bootstrap_samples": int(bootstrap_samples),
+        "bootstrap_seed": int(bootstrap_seed),
+    }
+    report: Dict[str, Any] = _sds.compare(pairs, options)
+    return report

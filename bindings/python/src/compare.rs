@@ -1,0 +1,86 @@
+//! `sds.compare` (spec v1.3 section 11): the library's [`compare_runs`] called with the runs,
+//! [`Settings`] and [`CompareOptions`] built from the keyword arguments (the shared ones through
+//! [`RunKwargs`], as `sds.score`), the `sds-compare/1` report converted to Python objects
+//! directly ([`crate::pyser`]). No command line in between.
+
+use std::path::PathBuf;
+
+use monitor_host::aggregate::compare::CompareOptions;
+use monitor_host::compare_runs::{compare_runs, telemetry_beside, RunInputs, Seeds};
+use monitor_host::error::message;
+use monitor_host::{Error, Inputs, NoProgress, Settings};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{run_error, ConfigError};
+use crate::options::RunKwargs;
+use crate::pyser::to_python;
+
+/// The keyword arguments of `sds.compare` beyond the shared ones ([`RunKwargs`]).
+#[derive(FromPyObject)]
+#[pyo3(from_item_all)]
+struct CompareKwargs {
+    seeds: Vec<(String, Vec<String>)>,
+    baseline: Option<String>,
+    routes: Option<PathBuf>,
+    maps: Option<PathBuf>,
+    common_routes: bool,
+    fail_if_worse: Vec<String>,
+    bootstrap_samples: usize,
+    bootstrap_seed: u64,
+}
+
+/// The exception for an error of [`compare_runs`]: how the runs are compared is the caller's
+/// ([`ConfigError`]); a run's own error keeps its class, its message naming the run.
+fn compare_error(py: Python<'_>, e: &Error) -> PyErr {
+    match e {
+        Error::Compare(_) => ConfigError::new_err(message(e)),
+        Error::InRun { .. } => PyErr::from_type(run_error(e.inner()).get_type(py), message(e)),
+        _ => run_error(e),
+    }
+}
+
+/// Compares runs (see the Python `sds.compare`, which passes each run as `(name, results,
+/// telemetry or None)` and its keyword arguments as the dict `options`); returns the report
+/// `sds compare --format json` writes, as Python objects. The GIL is released while scoring.
+#[pyfunction]
+pub fn compare<'py>(
+    py: Python<'py>,
+    runs: Vec<(String, PathBuf, Option<PathBuf>)>,
+    options: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
+    let kw: CompareKwargs = options.extract()?;
+    let runs: Vec<RunInputs> = runs
+        .into_iter()
+        .map(|(name, results, telemetry)| RunInputs {
+            name,
+            inputs: Inputs {
+                telemetry: Some(telemetry.unwrap_or_else(|| telemetry_beside(&results))),
+                results: vec![results],
+                route_xml: kw.routes.clone(),
+                maps: kw.maps.clone(),
+            },
+        })
+        .collect();
+    let seeds: Vec<Seeds> = kw
+        .seeds
+        .into_iter()
+        .map(|(model, runs)| Seeds { model, runs })
+        .collect();
+    let options = CompareOptions {
+        baseline: kw.baseline,
+        common_routes: kw.common_routes,
+        bootstrap_samples: kw.bootstrap_samples,
+        bootstrap_seed: kw.bootstrap_seed,
+        fail_if_worse: kw
+            .fail_if_worse
+            .iter()
+            .map(|m| m.trim().to_string())
+            .collect(),
+    };
+    let compared = py
+        .detach(|| compare_runs(&runs, &seeds, &settings, &options, &NoProgress))
+        .map_err(|e| compare_error(py, &e))?;
+    to_python(py, &compared.comparison)
+}

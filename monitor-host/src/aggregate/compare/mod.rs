@@ -1,0 +1,553 @@
+//! Comparing runs (`sds compare`, `SDS-SPEC.md` v1.3 §11): models (one run, or the seeds of one
+//! model) compared route by route against a baseline, with paired differences, a bootstrap
+//! interval, a verdict per metric, the routes that flipped, and a regression gate.
+//!
+//! [`compare`] works on reports already made; [`crate::compare_runs::compare_runs`] scores the
+//! runs and calls it. The pieces: [`route_values`] (keys, repetitions, seeds), [`splitmix`] (the
+//! generator), [`bootstrap`] (one model and metric), [`flips`], [`models`] (mean ± std rows).
+//!
+//! ```
+//! use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+//! use monitor_host::{demo, score_run, Inputs, Settings};
+//! let dir = tempfile::tempdir()?;
+//! let run = demo::write(dir.path())?;
+//! let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+//! let report = score_run(&inputs, &Settings::default())?;
+//! let model = |name: &str| Model {
+//!     name: name.into(),
+//!     runs: vec![NamedRun { name: name.into(), report: report.clone() }],
+//! };
+//! let c = compare(&[model("old"), model("new")], &CompareOptions::default())?;
+//! assert_eq!(c.baseline, "old");
+//! let ds = &c.paired[0]; // new vs old on ds: the same run, so no difference
+//! assert_eq!((ds.model.as_str(), ds.metric.as_str(), ds.result.delta), ("new", "ds", Some(0.0)));
+//! assert_eq!(ds.result.verdict.map(|v| v.name()), Some("within noise"));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod bootstrap;
+pub mod flips;
+pub mod models;
+pub mod route_values;
+pub mod splitmix;
+
+use std::collections::HashSet;
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::report::Report;
+use crate::route::row::{counted_routes, RouteReport};
+use bootstrap::{paired, Paired, Verdict};
+use flips::{flipped, largest, Flips};
+use models::{model_row, ModelRow};
+use route_values::{mean_values, route_key, run_values, RunValues, Values, METRICS};
+use splitmix::SplitMix64;
+
+/// The report's schema name.
+pub const SCHEMA: &str = "sds-compare/1";
+
+/// One run: its name and its report (from [`crate::score_run`]).
+#[derive(Clone, Debug)]
+pub struct NamedRun {
+    /// The run's name.
+    pub name: String,
+    /// Its report.
+    pub report: Report,
+}
+
+/// A model: one run, or the runs of its seeds (grouped only when asked: `--seeds`).
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// The model's name.
+    pub name: String,
+    /// Its runs, at least one.
+    pub runs: Vec<NamedRun>,
+}
+
+/// The settings of a comparison (§11; [decision]s keep the spec's defaults).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CompareOptions {
+    /// The baseline model (`None`: the first model).
+    pub baseline: Option<String>,
+    /// Compare over the keys all runs share instead of refusing different route sets.
+    pub common_routes: bool,
+    /// Bootstrap resamples B (default 10000, at least 1).
+    pub bootstrap_samples: usize,
+    /// SplitMix64 seed (default 0).
+    pub bootstrap_seed: u64,
+    /// Metrics whose `worse` verdict fails the gate (exit 5 of `sds compare`).
+    pub fail_if_worse: Vec<String>,
+}
+
+impl Default for CompareOptions {
+    fn default() -> Self {
+        CompareOptions {
+            baseline: None,
+            common_routes: false,
+            bootstrap_samples: 10_000,
+            bootstrap_seed: 0,
+            fail_if_worse: Vec::new(),
+        }
+    }
+}
+
+/// Why two or more runs cannot be compared.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum CompareError {
+    /// Nothing to compare.
+    #[error("sds compare needs at least two models (runs, or --seeds groups); got {0}")]
+    TooFewModels(usize),
+    /// A model without runs.
+    #[error("model {0} has no run")]
+    EmptyModel(String),
+    /// Two models or two runs of one name.
+    #[error("two {what} are named {name}: name them apart (NAME=RESULTS, --seeds MODEL=RUN,RUN)")]
+    DuplicateName {
+        /// `models` or `runs`.
+        what: &'static str,
+        /// The name.
+        name: String,
+    },
+    /// A run named in two seed groups: it would count in the first only.
+    #[error("--seeds: run {run} is a seed of {first} and of {second}; a run belongs to one model")]
+    SeedOfTwo {
+        /// The run.
+        run: String,
+        /// The first model naming it.
+        first: String,
+        /// The second.
+        second: String,
+    },
+    /// `--seeds` names a run that is not given.
+    #[error("--seeds names {0}, which is not a run")]
+    UnknownRun(String),
+    /// `--baseline` names no model.
+    #[error("--baseline {0} is not a model (models: {1})")]
+    UnknownBaseline(String, String),
+    /// An unknown metric name.
+    #[error("unknown metric {0} (known: {known})", known = METRICS.join(", "))]
+    UnknownMetric(String),
+    /// `bootstrap_samples` = 0.
+    #[error("bootstrap_samples must be at least 1")]
+    NoSamples,
+    /// The runs' route sets differ.
+    #[error(
+        "the runs do not hold the same routes: {differ} route key(s) are not in every run \
+         (first: {first}); {per_run}. Compare over the routes all runs share with \
+         --common-routes, or give every run the same route set (--routes)",
+        first = first.join(", "),
+        per_run = per_run.iter().map(|(r, n)| format!("{r} lacks {n}")).collect::<Vec<_>>().join(", ")
+    )]
+    RouteSetsDiffer {
+        /// Keys not in every run.
+        differ: usize,
+        /// The first few of them (byte-wise order).
+        first: Vec<String>,
+        /// Per run, how many of those keys it lacks.
+        per_run: Vec<(String, usize)>,
+    },
+}
+
+/// One line of the paired table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PairedRow {
+    /// The model compared with the baseline.
+    pub model: String,
+    /// The metric (`ds`, `success`, `ds_safe`, `comfort`).
+    pub metric: String,
+    /// Delta, interval, `p_better`, verdict.
+    #[serde(flatten)]
+    pub result: Paired,
+}
+
+/// One compared route: its key and each model's values (in [`METRICS`] order).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RouteRow {
+    /// The route key (XML id).
+    pub key: String,
+    /// Per model (in model order), its values over seeds and repetitions.
+    pub values: Vec<Values>,
+    /// Per run (in run order, models in order), the route ids of its records of this key.
+    pub route_ids: Vec<Vec<String>>,
+}
+
+/// Which routes were compared.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Scope {
+    /// Keys compared.
+    pub routes: usize,
+    /// True when only the keys all runs share were compared (`--common-routes`).
+    pub common_routes: bool,
+    /// Per run, the keys it holds that were left out (only under `--common-routes`).
+    pub left_out: Vec<(String, Vec<String>)>,
+}
+
+/// The comparison: the `sds-compare/1` report.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// `sds-compare/1`.
+    pub schema: &'static str,
+    /// The baseline model.
+    pub baseline: String,
+    /// One row per model: its runs and every aggregate as mean and sample std over seeds.
+    pub models: Vec<ModelRow>,
+    /// Per model (other than the baseline) and metric: n, delta, 95 % interval, p_better, verdict.
+    pub paired: Vec<PairedRow>,
+    /// Per model (other than the baseline): regressed, fixed, largest moves.
+    pub flips: Vec<Flips>,
+    /// The routes compared.
+    pub scope: Scope,
+    /// Per compared key (the baseline's route order), each model's values.
+    pub routes: Vec<RouteRow>,
+    /// The metrics, in the order of [`RouteRow::values`].
+    pub metrics: Vec<&'static str>,
+    /// The settings of the comparison.
+    pub config: CompareOptions,
+    /// What a reader should know (grouping, one-seed intervals, left-out routes).
+    pub notes: Vec<String>,
+    /// Warnings (`--common-routes`, routes without an id).
+    pub warnings: Vec<String>,
+}
+
+/// A failed gate: a model worse than the baseline on a gated metric.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GateFailure {
+    /// The model.
+    pub model: String,
+    /// The metric.
+    pub metric: String,
+    /// Its delta.
+    pub delta: f64,
+    /// Its interval.
+    pub ci95: [f64; 2],
+}
+
+impl std::fmt::Display for GateFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} is worse than the baseline on {}: delta {:.4}, 95 % interval [{:.4}, {:.4}]",
+            self.model, self.metric, self.delta, self.ci95[0], self.ci95[1]
+        )
+    }
+}
+
+impl Comparison {
+    /// The gate (`--fail-if-worse`): every model and listed metric whose verdict is `worse`.
+    pub fn gate_failures(&self) -> Vec<GateFailure> {
+        self.paired
+            .iter()
+            .filter(|p| self.config.fail_if_worse.contains(&p.metric))
+            .filter(|p| p.result.verdict == Some(Verdict::Worse))
+            .filter_map(|p| {
+                Some(GateFailure {
+                    model: p.model.clone(),
+                    metric: p.metric.clone(),
+                    delta: p.result.delta?,
+                    ci95: p.result.ci95?,
+                })
+            })
+            .collect()
+    }
+}
+
+/// Checks a metric name.
+///
+/// # Errors
+/// [`CompareError::UnknownMetric`].
+pub fn check_metric(name: &str) -> Result<(), CompareError> {
+    if METRICS.contains(&name) {
+        Ok(())
+    } else {
+        Err(CompareError::UnknownMetric(name.to_string()))
+    }
+}
+
+/// Compares the models (see the module docs).
+///
+/// # Errors
+/// [`CompareError`]: fewer than two models, duplicate names, an unknown baseline or metric,
+/// B = 0, or different route sets without `common_routes`.
+pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison, CompareError> {
+    check(models, options)?;
+    let base = match &options.baseline {
+        None => 0,
+        Some(b) => models.iter().position(|m| &m.name == b).ok_or_else(|| {
+            let names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
+            CompareError::UnknownBaseline(b.clone(), names.join(", "))
+        })?,
+    };
+    let runs: Vec<(&Model, &NamedRun, RunValues)> = models
+        .iter()
+        .flat_map(|m| m.runs.iter().map(move |r| (m, r)))
+        .map(|(m, r)| (m, r, run_values(&r.report)))
+        .collect();
+    let mut warnings = Vec::new();
+    for (_, r, v) in &runs {
+        if v.without_id > 0 {
+            warnings.push(format!(
+                "{}: {} counted route(s) without a route id (unreadable files) have no key and \
+                 are left out of the paired comparison",
+                r.name, v.without_id
+            ));
+        }
+    }
+    // The same-route-set rule.
+    let sets: Vec<HashSet<&str>> = runs
+        .iter()
+        .map(|(_, _, v)| v.order.iter().map(String::as_str).collect())
+        .collect();
+    let all: HashSet<&str> = sets.iter().flatten().copied().collect();
+    let shared: HashSet<&str> = all
+        .iter()
+        .copied()
+        .filter(|k| sets.iter().all(|s| s.contains(k)))
+        .collect();
+    let mut left_out = Vec::new();
+    let differs = shared.len() != all.len();
+    if differs {
+        let mut differ: Vec<&str> = all.difference(&shared).copied().collect();
+        differ.sort_unstable();
+        if !options.common_routes {
+            return Err(CompareError::RouteSetsDiffer {
+                differ: differ.len(),
+                first: differ.iter().take(5).map(|s| s.to_string()).collect(),
+                per_run: runs
+                    .iter()
+                    .zip(&sets)
+                    .map(|((_, r, _), s)| {
+                        (
+                            r.name.clone(),
+                            differ.iter().filter(|k| !s.contains(*k)).count(),
+                        )
+                    })
+                    .filter(|(_, n)| *n > 0)
+                    .collect(),
+            });
+        }
+        warnings.push(format!(
+            "--common-routes: compared over the {} route key(s) every run holds; {} key(s) left \
+             out (first: {})",
+            shared.len(),
+            differ.len(),
+            differ
+                .iter()
+                .take(5)
+                .copied()
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        for (_, r, v) in &runs {
+            let gone: Vec<String> = v
+                .order
+                .iter()
+                .filter(|k| !shared.contains(k.as_str()))
+                .cloned()
+                .collect();
+            if !gone.is_empty() {
+                left_out.push((r.name.clone(), gone));
+            }
+        }
+    }
+    // Keys in the baseline's route order: its first seed's report.
+    let first_base = runs
+        .iter()
+        .position(|(m, _, _)| std::ptr::eq(*m, &models[base]))
+        .unwrap_or(0);
+    let keys: Vec<String> = runs[first_base]
+        .2
+        .order
+        .iter()
+        .filter(|k| shared.contains(k.as_str()))
+        .cloned()
+        .collect();
+    // Per model and key: the mean over seeds.
+    let per_model: Vec<Vec<Values>> = models
+        .iter()
+        .map(|m| {
+            let mine: Vec<&RunValues> = runs
+                .iter()
+                .filter(|(x, _, _)| std::ptr::eq(*x, m))
+                .map(|(_, _, v)| v)
+                .collect();
+            keys.iter()
+                .map(|k| {
+                    let seeds: Vec<Values> = mine.iter().map(|v| v.values[k]).collect();
+                    mean_values(&seeds)
+                })
+                .collect()
+        })
+        .collect();
+    // The model rows: each run aggregated over the compared routes.
+    let rows: Vec<ModelRow> = models
+        .iter()
+        .map(|m| {
+            let aggs: Vec<(String, Aggregates)> = m
+                .runs
+                .iter()
+                .map(|r| (r.name.clone(), aggregate(&r.report, &shared, differs)))
+                .collect();
+            model_row(&m.name, &aggs)
+        })
+        .collect();
+    let (paired_rows, flips) = pair(models, base, &keys, &per_model, options);
+    let mut notes = Vec::new();
+    for m in models.iter().filter(|m| m.runs.len() > 1) {
+        let names: Vec<&str> = m.runs.iter().map(|r| r.name.as_str()).collect();
+        notes.push(format!(
+            "{} = the mean over the seeds {} (grouped by --seeds)",
+            m.name,
+            names.join(", ")
+        ));
+    }
+    if models.iter().any(|m| m.runs.len() == 1) {
+        notes.push(
+            "a model with one run: its interval measures the spread across routes only; seeds \
+             (--seeds MODEL=RUN,RUN) would tighten it"
+                .to_string(),
+        );
+    }
+    let route_rows = keys
+        .iter()
+        .enumerate()
+        .map(|(i, k)| RouteRow {
+            key: k.clone(),
+            values: per_model.iter().map(|v| v[i]).collect(),
+            route_ids: runs
+                .iter()
+                .map(|(_, _, v)| v.route_ids.get(k).cloned().unwrap_or_default())
+                .collect(),
+        })
+        .collect();
+    Ok(Comparison {
+        schema: SCHEMA,
+        baseline: models[base].name.clone(),
+        models: rows,
+        paired: paired_rows,
+        flips,
+        scope: Scope {
+            routes: keys.len(),
+            common_routes: differs,
+            left_out,
+        },
+        routes: route_rows,
+        metrics: METRICS.to_vec(),
+        config: options.clone(),
+        notes,
+        warnings,
+    })
+}
+
+fn check(models: &[Model], options: &CompareOptions) -> Result<(), CompareError> {
+    if models.len() < 2 {
+        return Err(CompareError::TooFewModels(models.len()));
+    }
+    if options.bootstrap_samples == 0 {
+        return Err(CompareError::NoSamples);
+    }
+    for m in &options.fail_if_worse {
+        check_metric(m)?;
+    }
+    let mut names = HashSet::new();
+    let mut runs = HashSet::new();
+    for m in models {
+        if m.runs.is_empty() {
+            return Err(CompareError::EmptyModel(m.name.clone()));
+        }
+        if !names.insert(m.name.as_str()) {
+            return Err(CompareError::DuplicateName {
+                what: "models",
+                name: m.name.clone(),
+            });
+        }
+        for r in &m.runs {
+            if !runs.insert(r.name.as_str()) {
+                return Err(CompareError::DuplicateName {
+                    what: "runs",
+                    name: r.name.clone(),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A run's aggregates over the compared routes: its whole route set (over its own N) when every
+/// run holds the same keys, else the routes of the shared keys (over their number).
+fn aggregate(report: &Report, shared: &HashSet<&str>, common: bool) -> Aggregates {
+    let counted: Vec<&RouteReport> = counted_routes(&report.routes).collect();
+    if !common {
+        return Aggregates::over(&counted, report.summary.routes.max(counted.len()));
+    }
+    let kept: Vec<&RouteReport> = counted
+        .into_iter()
+        .filter(|r| {
+            r.route_id
+                .as_deref()
+                .is_some_and(|id| shared.contains(route_key(id)))
+        })
+        .collect();
+    Aggregates::over(&kept, kept.len())
+}
+
+/// The paired table and the flips. One generator for the whole comparison, models in order,
+/// metrics in [`METRICS`] order; each block of draws starts where the previous one ends
+/// ([`SplitMix64::skip`]), so the blocks run in parallel and draw what one generator would.
+fn pair(
+    models: &[Model],
+    base: usize,
+    keys: &[String],
+    per_model: &[Vec<Values>],
+    options: &CompareOptions,
+) -> (Vec<PairedRow>, Vec<Flips>) {
+    let b = options.bootstrap_samples;
+    let mut blocks = Vec::new();
+    let mut offset: u64 = 0;
+    for (mi, _) in models.iter().enumerate().filter(|(i, _)| *i != base) {
+        for (k, metric) in METRICS.iter().enumerate() {
+            let d: Vec<f64> = per_model[mi]
+                .iter()
+                .zip(&per_model[base])
+                .filter_map(|(x, y)| Some(x[k]? - y[k]?))
+                .collect();
+            let draws = (d.len() as u64).wrapping_mul(b as u64);
+            blocks.push((mi, *metric, d, offset));
+            offset = offset.wrapping_add(draws);
+        }
+    }
+    let results: Vec<Paired> = blocks
+        .par_iter()
+        .map(|(_, _, d, offset)| {
+            let mut rng = SplitMix64::new(options.bootstrap_seed);
+            rng.skip(*offset);
+            paired(d, b, &mut rng)
+        })
+        .collect();
+    let paired_rows = blocks
+        .iter()
+        .zip(results)
+        .map(|((mi, metric, _, _), result)| PairedRow {
+            model: models[*mi].name.clone(),
+            metric: metric.to_string(),
+            result,
+        })
+        .collect();
+    let column =
+        |mi: usize, k: usize| -> Vec<Option<f64>> { per_model[mi].iter().map(|v| v[k]).collect() };
+    let flips = (0..models.len())
+        .filter(|i| *i != base)
+        .map(|mi| {
+            let (ms, bs) = (column(mi, 1), column(base, 1));
+            Flips {
+                model: models[mi].name.clone(),
+                regressed: flipped(keys, &ms, &bs, 1.0, 0.0),
+                fixed: flipped(keys, &ms, &bs, 0.0, 1.0),
+                largest: largest(keys, &column(mi, 0), &column(base, 0), 10),
+            }
+        })
+        .collect();
+    (paired_rows, flips)
+}

@@ -1,0 +1,137 @@
+//! One row per model (`SDS-SPEC.md` v1.3 §11 `models`): every §8.1 / §8.2 aggregate (and §8.5's
+//! moving comfort, stationary share and distance) as the mean
+//! and sample standard deviation over the model's seeds.
+//!
+//! ```
+//! use monitor_host::aggregate::compare::models::Stat;
+//! let s = Stat::of(&[Some(1.0), Some(2.0), Some(6.0)]);
+//! assert_eq!((s.mean, s.std), (Some(3.0), Some(7.0f64.sqrt())));
+//! assert_eq!(Stat::of(&[Some(4.0)]).std, None); // one seed: no spread
+//! ```
+
+use serde::Serialize;
+
+use crate::aggregate::aggregates::Aggregates;
+
+/// A mean and sample standard deviation over seeds (std null for one seed; both null when some
+/// seed has no value).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Stat {
+    /// Mean.
+    pub mean: Option<f64>,
+    /// Sample standard deviation (n - 1).
+    pub std: Option<f64>,
+}
+
+impl Stat {
+    /// The statistic of `values`, summed in order.
+    pub fn of(values: &[Option<f64>]) -> Stat {
+        let Some(xs) = values.iter().copied().collect::<Option<Vec<f64>>>() else {
+            return Stat::default();
+        };
+        let n = xs.len();
+        if n == 0 {
+            return Stat::default();
+        }
+        let mean = xs.iter().fold(0.0, |a, x| a + x) / n as f64;
+        let std = (n > 1).then(|| {
+            let ss = xs.iter().fold(0.0, |a, x| a + (x - mean) * (x - mean));
+            (ss / (n - 1) as f64).sqrt()
+        });
+        Stat {
+            mean: Some(mean),
+            std,
+        }
+    }
+}
+
+/// One model's row.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelRow {
+    /// The model.
+    pub name: String,
+    /// Its runs (seeds), in the order given.
+    pub runs: Vec<String>,
+    /// Routes each run was aggregated over (N).
+    pub routes: Vec<usize>,
+    /// Driving score (§8.1).
+    pub driving_score: Stat,
+    /// Success rate, % (§8.1).
+    pub success_rate: Stat,
+    /// Mean DS_safe (§8.1).
+    pub mean_ds_safe: Stat,
+    /// Mean comfort (§8.1).
+    pub mean_comfort: Stat,
+    /// SDS (§8.1).
+    pub sds: Stat,
+    /// Collision rate, % (§8.1).
+    pub collision_rate: Stat,
+    /// Efficiency (§8.2).
+    pub efficiency: Stat,
+    /// Smoothness (§8.2), 0..1.
+    pub smoothness: Stat,
+    /// Ability rates (§8.2), 0..1.
+    pub ability: AbilityStats,
+    /// Mean moving comfort (v1.3 §8.5).
+    pub mean_comfort_moving: Stat,
+    /// Mean stationary share (v1.3 §8.5), 0..1.
+    pub mean_stationary_share: Stat,
+    /// Distance driven, km (v1.3 §8.5).
+    pub distance_km: Stat,
+}
+
+/// The five ability rates and their mean, over seeds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AbilityStats {
+    /// Merging.
+    #[serde(rename = "Merging")]
+    pub merging: Stat,
+    /// Overtaking.
+    #[serde(rename = "Overtaking")]
+    pub overtaking: Stat,
+    /// Emergency brake.
+    #[serde(rename = "Emergency_Brake")]
+    pub emergency_brake: Stat,
+    /// Give way.
+    #[serde(rename = "Give_Way")]
+    pub give_way: Stat,
+    /// Traffic signs.
+    #[serde(rename = "Traffic_Signs")]
+    pub traffic_signs: Stat,
+    /// Mean of the five.
+    pub mean: Stat,
+}
+
+/// The row of a model from its runs' aggregates (in seed order).
+pub fn model_row(name: &str, runs: &[(String, Aggregates)]) -> ModelRow {
+    let stat = |f: &dyn Fn(&Aggregates) -> Option<f64>| {
+        Stat::of(&runs.iter().map(|(_, a)| f(a)).collect::<Vec<_>>())
+    };
+    let ab = |f: &dyn Fn(&crate::aggregate::aggregates::AbilityRates) -> Option<f64>| {
+        stat(&|a| a.ability.as_ref().and_then(f))
+    };
+    ModelRow {
+        name: name.to_string(),
+        runs: runs.iter().map(|(n, _)| n.clone()).collect(),
+        routes: runs.iter().map(|(_, a)| a.routes).collect(),
+        driving_score: stat(&|a| a.scores.driving_score),
+        success_rate: stat(&|a| a.scores.success_rate),
+        mean_ds_safe: stat(&|a| a.scores.mean_ds_safe),
+        mean_comfort: stat(&|a| a.scores.mean_comfort),
+        sds: stat(&|a| a.scores.sds),
+        collision_rate: stat(&|a| a.scores.collision_rate),
+        efficiency: stat(&|a| a.efficiency),
+        smoothness: stat(&|a| a.smoothness),
+        ability: AbilityStats {
+            merging: ab(&|x| x.merging),
+            overtaking: ab(&|x| x.overtaking),
+            emergency_brake: ab(&|x| x.emergency_brake),
+            give_way: ab(&|x| x.give_way),
+            traffic_signs: ab(&|x| x.traffic_signs),
+            mean: ab(&|x| x.mean),
+        },
+        mean_comfort_moving: stat(&|a| a.scores.motion.mean_comfort_moving),
+        mean_stationary_share: stat(&|a| a.scores.motion.mean_stationary_share),
+        distance_km: stat(&|a| a.scores.motion.distance_km),
+    }
+}

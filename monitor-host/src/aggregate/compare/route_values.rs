@@ -1,0 +1,103 @@
+//! Route keys and per-route values (`SDS-SPEC.md` v1.3 §11): a route's key is its `route_id`
+//! without the `_rep<k>` suffix (the XML id); a run holding several records of one key
+//! (Leaderboard repetitions) gives the key the mean over them; a model's value is the mean over
+//! its seeds.
+//!
+//! ```
+//! use monitor_host::aggregate::compare::route_values::route_key;
+//! assert_eq!(route_key("RouteScenario_24785_rep1"), "24785");
+//! assert_eq!(route_key("my_route"), "my_route");
+//! ```
+
+use std::collections::HashMap;
+
+use crate::aggregate::report::Report;
+use crate::input::route_set::parse_route_id;
+use crate::route::row::{counted_routes, RouteReport};
+
+/// The metrics compared, in the bootstrap's order (§11: `ds`, `success`, `ds_safe`, `comfort`).
+pub const METRICS: [&str; 4] = ["ds", "success", "ds_safe", "comfort"];
+
+/// One key's values, in [`METRICS`] order (`None`: undefined, left out of that metric).
+pub type Values = [Option<f64>; 4];
+
+/// The key of a route id: the id without `RouteScenario_` and `_rep<k>` (the XML id), or the
+/// whole id when it is not of that form.
+pub fn route_key(route_id: &str) -> &str {
+    parse_route_id(route_id).map_or(route_id, |(id, _)| id)
+}
+
+/// A route's values: `ds` = `score_composed` (a missing route 0), `success` 1 or 0, `ds_safe`,
+/// `comfort` = `C_route`.
+pub fn values_of(r: &RouteReport) -> Values {
+    [
+        Some(r.score_composed.unwrap_or(0.0)),
+        Some(if r.success { 1.0 } else { 0.0 }),
+        r.ds_safe,
+        r.comfort.score,
+    ]
+}
+
+/// Mean of several value sets, metric by metric, summed in order; undefined where any is.
+pub fn mean_values(all: &[Values]) -> Values {
+    let mut out = [None; 4];
+    for (m, slot) in out.iter_mut().enumerate() {
+        let xs: Option<Vec<f64>> = all.iter().map(|v| v[m]).collect();
+        *slot = xs
+            .filter(|x| !x.is_empty())
+            .map(|x| x.iter().fold(0.0, |a, b| a + b) / x.len() as f64);
+    }
+    out
+}
+
+/// One run's routes by key: the keys in the order of their first record in the report (records
+/// in input order, then missing routes), and each key's values averaged over its records.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunValues {
+    /// Keys in report order (a key at the place of its first record).
+    pub order: Vec<String>,
+    /// Per key, the mean over its records.
+    pub values: HashMap<String, Values>,
+    /// Per key, its records' route ids (for links to the run's rows).
+    pub route_ids: HashMap<String, Vec<String>>,
+    /// Counted routes without a route id (unreadable files): they have no key.
+    pub without_id: usize,
+}
+
+/// The counted routes of `report` by key.
+pub fn run_values(report: &Report) -> RunValues {
+    let mut out = RunValues::default();
+    let mut records: HashMap<String, Vec<Values>> = HashMap::new();
+    for r in counted_routes(&report.routes) {
+        let Some(id) = r.route_id.as_deref() else {
+            out.without_id += 1;
+            continue;
+        };
+        let key = route_key(id).to_string();
+        let list = records.entry(key.clone()).or_default();
+        if list.is_empty() {
+            out.order.push(key.clone());
+        }
+        list.push(values_of(r));
+        out.route_ids.entry(key).or_default().push(id.to_string());
+    }
+    out.values = records
+        .into_iter()
+        .map(|(k, v)| (k, mean_values(&v)))
+        .collect();
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn repetitions_are_averaged_and_null_wins() {
+        let a = [Some(100.0), Some(1.0), Some(80.0), Some(0.5)];
+        let b = [Some(50.0), Some(0.0), Some(40.0), None];
+        let m = mean_values(&[a, b]);
+        assert_eq!(m, [Some(75.0), Some(0.5), Some(60.0), None]);
+        assert_eq!(mean_values(&[]), [None; 4]);
+    }
+}

@@ -1,0 +1,187 @@
+//! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.3 §11): score each run with
+//! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
+//! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
+
+use std::path::{Path, PathBuf};
+
+use crate::aggregate::compare::{
+    compare, CompareError, CompareOptions, Comparison, Model, NamedRun,
+};
+use crate::error::Error;
+use crate::run::{score_run_with, Inputs, Progress};
+use crate::settings::Settings;
+
+/// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunInputs {
+    /// The run's name (unique).
+    pub name: String,
+    /// Its files.
+    pub inputs: Inputs,
+}
+
+/// The telemetry root of a run given none: the folder of its results file (or the results
+/// folder itself), where Bench2Drive writes a run's `<save_name>/metric_info.json`. Every front
+/// end of `sds compare` uses this default.
+///
+/// ```
+/// use monitor_host::compare_runs::telemetry_beside;
+/// use std::path::Path;
+/// assert_eq!(telemetry_beside(Path::new("out/results.json")), Path::new("out"));
+/// assert_eq!(telemetry_beside(Path::new("results.json")), Path::new("."));
+/// ```
+pub fn telemetry_beside(results: &Path) -> PathBuf {
+    if results.is_dir() {
+        results.to_path_buf()
+    } else {
+        results
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf()
+    }
+}
+
+/// Seeds of one model: `model` = the runs named in `runs` (`--seeds MODEL=RUN,RUN`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Seeds {
+    /// The model's name.
+    pub model: String,
+    /// Its runs' names, in the order given.
+    pub runs: Vec<String>,
+}
+
+/// The comparison and the scored runs behind it (for renderings that show each run).
+#[derive(Clone, Debug)]
+pub struct Compared {
+    /// The `sds-compare/1` report.
+    pub comparison: Comparison,
+    /// The models, each with its runs' reports.
+    pub models: Vec<Model>,
+}
+
+/// Groups the runs into models: each `seeds` entry is one model, at the place of its first run;
+/// every other run is a model of its own name.
+///
+/// # Errors
+/// [`CompareError::DuplicateName`] when a run is in two seed groups or a model's name is taken.
+pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Error> {
+    let unknown = |name: &str| Error::Compare(CompareError::UnknownRun(name.to_string()));
+    for s in seeds {
+        for r in &s.runs {
+            if !runs.iter().any(|x| &x.name == r) {
+                return Err(unknown(r));
+            }
+            let mut groups = seeds.iter().filter(|t| t.runs.contains(r));
+            if let (Some(first), Some(second)) = (groups.next(), groups.next()) {
+                return Err(Error::Compare(CompareError::SeedOfTwo {
+                    run: r.clone(),
+                    first: first.model.clone(),
+                    second: second.model.clone(),
+                }));
+            }
+        }
+    }
+    // (model, from a seed group): a run of a group joins only its group's model, so a group
+    // named like another run stays a model of its own (and `compare` refuses the two names).
+    let mut grouped: Vec<(Model, bool)> = Vec::new();
+    for run in runs {
+        let group = seeds.iter().find(|s| s.runs.contains(&run.name));
+        let name = group.map_or_else(|| run.name.clone(), |g| g.model.clone());
+        match grouped
+            .iter_mut()
+            .find(|(m, from_group)| *from_group && group.is_some() && m.name == name)
+        {
+            Some((m, _)) => m.runs.push(run),
+            None => grouped.push((
+                Model {
+                    name,
+                    runs: vec![run],
+                },
+                group.is_some(),
+            )),
+        }
+    }
+    let mut models: Vec<Model> = grouped.into_iter().map(|(m, _)| m).collect();
+    // Seeds in the order `--seeds` names them.
+    for s in seeds {
+        if let Some(m) = models.iter_mut().find(|m| m.name == s.model) {
+            m.runs
+                .sort_by_key(|r| s.runs.iter().position(|x| *x == r.name));
+        }
+    }
+    Ok(models)
+}
+
+/// Scores every run (in order, each on the thread pool [`crate::score_run`] makes) and compares
+/// them. `progress` hears each run's routes.
+///
+/// ```
+/// use monitor_host::compare_runs::{compare_runs, RunInputs};
+/// use monitor_host::aggregate::compare::CompareOptions;
+/// use monitor_host::{demo, Inputs, NoProgress, Settings};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+/// let runs = ["base", "new"].map(|n| RunInputs { name: n.into(), inputs: inputs.clone() });
+/// let c = compare_runs(&runs, &[], &Settings::default(), &CompareOptions::default(), &NoProgress)?;
+/// assert_eq!(c.comparison.paired.len(), 4); // new vs base: ds, success, ds_safe, comfort
+/// assert!(c.comparison.gate_failures().is_empty());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// A run's [`Error`] (naming it is the caller's: the order is the order given), or
+/// [`Error::Compare`].
+pub fn compare_runs(
+    runs: &[RunInputs],
+    seeds: &[Seeds],
+    settings: &Settings,
+    options: &CompareOptions,
+    progress: &dyn Progress,
+) -> Result<Compared, Error> {
+    let mut scored = Vec::new();
+    for r in runs {
+        if scored.iter().any(|x: &NamedRun| x.name == r.name) {
+            return Err(Error::Compare(CompareError::DuplicateName {
+                what: "runs",
+                name: r.name.clone(),
+            }));
+        }
+        let report = score_run_with(&r.inputs, settings, progress).map_err(|e| Error::InRun {
+            run: r.name.clone(),
+            error: Box::new(e),
+        })?;
+        scored.push(NamedRun {
+            name: r.name.clone(),
+            report,
+        });
+    }
+    let models = group_runs(scored, seeds)?;
+    let mut comparison = compare(&models, options)?;
+    // One results file given as two runs: as seeds their spread is 0 and says nothing.
+    let real = |r: &RunInputs| -> Vec<PathBuf> {
+        r.inputs
+            .results
+            .iter()
+            .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.clone()))
+            .collect()
+    };
+    for (i, b) in runs.iter().enumerate() {
+        if let Some(a) = runs[..i].iter().find(|a| real(a) == real(b)) {
+            comparison.warnings.push(format!(
+                "runs {} and {} are the same results ({}): as seeds of one model their ± is 0 \
+                 and says nothing about the spread",
+                a.name,
+                b.name,
+                b.inputs
+                    .results
+                    .iter()
+                    .map(|p| p.display().to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+    }
+    Ok(Compared { comparison, models })
+}

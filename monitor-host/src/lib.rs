@@ -79,6 +79,7 @@ pub mod run;
 pub mod scored;
 pub mod settings;
 pub mod warning;
+pub mod watch;
 
 pub use aggregate::report::Report;
 pub use demo::DemoError;
@@ -94,3 +95,4 @@ pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progr
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;
+pub use watch::{RoundOutcome, RouteCache, Watcher};

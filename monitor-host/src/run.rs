@@ -109,6 +109,21 @@ pub fn score_run_with(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Report, Error> {
+    score_run_cached(inputs, settings, progress, None)
+}
+
+/// [`score_run_with`], taking each route's replay from `cache` when neither its record nor its
+/// telemetry files changed since the cache saw them (`sds watch`; [`crate::watch`]). The report
+/// is the same as without the cache.
+///
+/// # Errors
+/// As [`score_run`].
+pub fn score_run_cached(
+    inputs: &Inputs,
+    settings: &Settings,
+    progress: &dyn Progress,
+    cache: Option<&crate::watch::RouteCache>,
+) -> Result<Report, Error> {
     settings.validate()?;
     if let Some(root) = &inputs.telemetry {
         check_telemetry_root(root)?;
@@ -227,7 +242,10 @@ pub fn score_run_with(
                     return None;
                 }
                 let map = town.and_then(|t| maps.get(t).ok());
-                let o = replay(r, routes.as_ref(), map, telemetry, settings);
+                let o = match cache {
+                    Some(c) => c.replay(r, || replay(r, routes.as_ref(), map, telemetry, settings)),
+                    None => replay(r, routes.as_ref(), map, telemetry, settings),
+                };
                 progress.route_done();
                 Some(o)
             })

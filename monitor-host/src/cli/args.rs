@@ -287,6 +287,9 @@ pub enum Command {
     Score(ScoreArgs),
     /// Compare several runs: one row per run, seeds of one model as mean ± std.
     Compare(CompareArgs),
+    /// Score an evaluation while it runs: the inputs of `score`, read again every `--interval`
+    /// seconds, the report (`-o`) rewritten after every round, one status line per round.
+    Watch(super::watch::WatchArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.

@@ -22,6 +22,8 @@ macro_rules! say {
     };
 }
 
+pub mod watch;
+
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -124,6 +126,7 @@ fn run(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Score(args) => score(&args),
         Command::Compare(args) => compare_runs(&args),
+        Command::Watch(args) => watch::watch(&args),
         Command::Demo {
             dir,
             score: then_score,
@@ -396,6 +399,19 @@ fn run_name(args: &ScoreArgs) -> String {
         .join(", ")
 }
 
+/// The report in `args.format`, as `sds score` writes it (`sds watch` too).
+fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
+    Ok(match (args.format, style(args.format)) {
+        (Format::Json, _) => json::json(report)?,
+        (Format::Csv, _) => csv::groups_csv(report).unwrap_or_else(|| csv::csv(report)),
+        (Format::Html, _) => html::page(report, &table_options(args), &run_name(args)).into_bytes(),
+        (_, Some(style)) => {
+            table::render(&table::report_tables(report, &table_options(args)), style).into_bytes()
+        }
+        (_, None) => unreachable!("every table format has a style"),
+    })
+}
+
 fn score(args: &ScoreArgs) -> Result<i32> {
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
@@ -409,17 +425,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for note in period_notes(&report) {
         say!("sds: note: {note}");
     }
-    let bytes = match (args.format, style(args.format)) {
-        (Format::Json, _) => json::json(&report)?,
-        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
-        (Format::Html, _) => {
-            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
-        }
-        (_, Some(style)) => {
-            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
-        }
-        (_, None) => unreachable!("every table format has a style"),
-    };
+    let bytes = render(args, &report)?;
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
     // The traces first, then the report: a trace that cannot be written stops the run (exit

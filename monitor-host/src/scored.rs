@@ -10,10 +10,9 @@ use crate::aggregate::report::Report;
 use crate::error::Error;
 use crate::input::labels::{check_coverage, read_labels, Labels};
 use crate::route::row::counted_routes;
-use crate::run::{score_run_cached, Inputs, Progress};
+use crate::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::settings::Settings;
 use crate::warning::Warning;
-use crate::watch::RouteCache;
 
 /// The label files of a run, one per kind of key (each optional).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -94,7 +93,7 @@ pub fn score_labelled(
     score_labelled_cached(inputs, settings, files, by, progress, None)
 }
 
-/// [`score_labelled`] with a [`RouteCache`] of the routes' replays (`sds watch`): the same
+/// [`score_labelled`] with a [`ReplayCache`] of the routes' replays (`sds watch`): the same
 /// report, the unchanged routes not replayed again.
 ///
 /// # Errors
@@ -105,7 +104,7 @@ pub fn score_labelled_cached(
     files: &LabelFiles,
     by: Option<GroupBy>,
     progress: &dyn Progress,
-    cache: Option<&RouteCache>,
+    cache: Option<&dyn ReplayCache>,
 ) -> Result<Scored, Error> {
     // Usage errors of the grouping before the run is scored.
     if files.routes.is_some() && by != Some(GroupBy::Route) {

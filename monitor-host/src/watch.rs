@@ -19,7 +19,7 @@ use crate::aggregate::groups::GroupBy;
 use crate::error::Error;
 use crate::input::record::LoadedRecord;
 use crate::pipeline::outcome::{RouteOutcome, RouteState, TelemetryState};
-use crate::run::{Inputs, NoProgress};
+use crate::run::{Inputs, NoProgress, ReplayCache};
 use crate::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::settings::Settings;
 
@@ -106,13 +106,37 @@ impl RouteCache {
         }
     }
 
+    /// Ends a round: forgets the routes the round did not see (memory stays flat) and returns
+    /// what the round did, counters reset.
+    pub fn end_round(&self) -> CacheRound {
+        let seen = std::mem::take(&mut *lock(&self.seen));
+        lock(&self.entries).retain(|k, _| seen.contains(k));
+        lock(&self.durations).retain(|k, _| seen.contains(k));
+        CacheRound {
+            rescored: self.rescored.swap(0, Ordering::Relaxed),
+            reused: self.reused.swap(0, Ordering::Relaxed),
+            changed: std::mem::take(&mut *lock(&self.changed)),
+        }
+    }
+
+    /// Forgets what a round that came to nothing saw, keeping every replay (a retried round).
+    pub fn abandon_round(&self) {
+        lock(&self.seen).clear();
+        lock(&self.changed).clear();
+        self.rescored.store(0, Ordering::Relaxed);
+        self.reused.store(0, Ordering::Relaxed);
+    }
+
+    /// Each route's `meta.duration_system` seen in the last round (wall-clock s), when recorded.
+    pub fn durations(&self) -> Vec<f64> {
+        lock(&self.durations).values().copied().collect()
+    }
+}
+
+impl ReplayCache for RouteCache {
     /// The route's cached replay, or `replay()` (then kept when it read telemetry that is not
     /// too recent).
-    pub(crate) fn replay(
-        &self,
-        loaded: &LoadedRecord,
-        replay: impl FnOnce() -> RouteOutcome,
-    ) -> RouteOutcome {
+    fn replay(&self, loaded: &LoadedRecord, replay: &dyn Fn() -> RouteOutcome) -> RouteOutcome {
         let key = (loaded.source.clone(), loaded.index);
         lock(&self.seen).insert(key.clone());
         if let Ok(r) = &loaded.entry {
@@ -164,32 +188,6 @@ impl RouteCache {
             entries.remove(&key);
         }
         outcome
-    }
-
-    /// Ends a round: forgets the routes the round did not see (memory stays flat) and returns
-    /// what the round did, counters reset.
-    pub fn end_round(&self) -> CacheRound {
-        let seen = std::mem::take(&mut *lock(&self.seen));
-        lock(&self.entries).retain(|k, _| seen.contains(k));
-        lock(&self.durations).retain(|k, _| seen.contains(k));
-        CacheRound {
-            rescored: self.rescored.swap(0, Ordering::Relaxed),
-            reused: self.reused.swap(0, Ordering::Relaxed),
-            changed: std::mem::take(&mut *lock(&self.changed)),
-        }
-    }
-
-    /// Forgets what a round that came to nothing saw, keeping every replay (a retried round).
-    pub fn abandon_round(&self) {
-        lock(&self.seen).clear();
-        lock(&self.changed).clear();
-        self.rescored.store(0, Ordering::Relaxed);
-        self.reused.store(0, Ordering::Relaxed);
-    }
-
-    /// Each route's `meta.duration_system` seen in the last round (wall-clock s), when recorded.
-    pub fn durations(&self) -> Vec<f64> {
-        lock(&self.durations).values().copied().collect()
     }
 }
 

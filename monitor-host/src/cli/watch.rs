@@ -82,7 +82,10 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     let mut last = None;
     let stop = loop {
         round += 1;
-        let complete = match watcher.round()? {
+        let began = Instant::now();
+        let outcome = watcher.round()?;
+        let took = began.elapsed();
+        let complete = match outcome {
             RoundOutcome::Retry { reason, failures } => {
                 status_retry(args, round, &reason, failures);
                 false
@@ -93,7 +96,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                 changed,
             } => {
                 let p = watcher.progress(&scored.report);
-                status(args, round, &p, &scored.report, &cache, changed);
+                status(args, round, &p, &scored.report, &cache, changed, took);
                 write_round(a, &out, &scored.report, Some(args.interval))?;
                 last = Some(scored.report);
                 // Complete, and one more round that found nothing new: the files are final.
@@ -223,6 +226,7 @@ fn status(
     report: &crate::Report,
     cache: &crate::watch::CacheRound,
     changed: bool,
+    took: Duration,
 ) {
     // The last route: the last changed one in report order, else the last with a record.
     let last = report
@@ -258,6 +262,7 @@ fn status(
             "reused": cache.reused,
             "changed": changed,
             "complete": p.complete,
+            "round_ms": took.as_secs_f64() * 1e3,
         });
         say!("{v}");
         return;

@@ -14,16 +14,32 @@ use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOu
 use monitor_host::{Report, Watcher};
 use serde_json::Value;
 
+/// How the evaluator writes its records (spec §1.1's three input shapes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Layout {
+    /// One raw checkpoint, rewritten in place.
+    Raw,
+    /// Two GPUs: one checkpoint per shard, routes dealt in turn.
+    Shards,
+    /// One folder per route with its own checkpoint.
+    PerRoute,
+}
+
 /// The evaluator: the finished demo run in `src`, played back into `run`.
 struct Evaluator {
     src: demo::DemoRun,
     run: PathBuf,
+    layout: Layout,
     checkpoint: Value,
     records: Vec<Value>,
 }
 
 impl Evaluator {
     fn new(dir: &Path) -> Evaluator {
+        Evaluator::with(dir, Layout::Raw)
+    }
+
+    fn with(dir: &Path, layout: Layout) -> Evaluator {
         let src = demo::write(&dir.join("src")).unwrap();
         let run = dir.join("run");
         fs::create_dir_all(run.join("telemetry")).unwrap();
@@ -35,13 +51,54 @@ impl Evaluator {
         Evaluator {
             src,
             run,
+            layout,
             checkpoint,
             records,
         }
     }
 
     fn results(&self) -> PathBuf {
-        self.run.join("results.json")
+        match self.layout {
+            Layout::Raw => self.run.join("results.json"),
+            Layout::Shards => self.run.join("shards"),
+            Layout::PerRoute => self.run.join("per_route"),
+        }
+    }
+
+    /// Each file of the layout holding `records` and its records (position in `records`).
+    fn files(&self, records: &[Value]) -> Vec<(PathBuf, Vec<Value>)> {
+        match self.layout {
+            Layout::Raw => vec![(self.results(), records.to_vec())],
+            Layout::Shards => (0..2)
+                .map(|s| {
+                    let mine = records.iter().skip(s).step_by(2).cloned().collect();
+                    (
+                        self.results().join(format!("eval_bench2drive220_{s}.json")),
+                        mine,
+                    )
+                })
+                .collect(),
+            Layout::PerRoute => records
+                .iter()
+                .map(|r| {
+                    let id = r["route_id"].as_str().unwrap();
+                    let f = self.results().join(id).join("checkpoint_endpoint.json");
+                    (f, vec![r.clone()])
+                })
+                .collect(),
+        }
+    }
+
+    /// Per route id: its file, index and whether it is its file's only record.
+    fn places(&self, records: &[Value]) -> Vec<(String, PathBuf, usize, bool)> {
+        let mut out = Vec::new();
+        for (f, rs) in self.files(records) {
+            for (i, r) in rs.iter().enumerate() {
+                let id = r["route_id"].as_str().unwrap().to_string();
+                out.push((id, f.clone(), i, rs.len() == 1));
+            }
+        }
+        out
     }
 
     fn inputs(&self) -> Inputs {
@@ -75,26 +132,50 @@ impl Evaluator {
         serde_json::to_vec_pretty(&c).unwrap()
     }
 
-    /// Rewrites the checkpoint in place (truncate, then write): with `half`, only its first
-    /// half, the way a reader catches it mid-write. Returns the rest.
-    fn write(&self, records: &[Value], half: bool) -> Vec<u8> {
-        let bytes = self.bytes(records);
-        let cut = if half { bytes.len() / 2 } else { bytes.len() };
-        let mut f = OpenOptions::new()
-            .write(true)
-            .create(true)
-            .truncate(true)
-            .open(self.results())
-            .unwrap();
-        f.write_all(&bytes[..cut]).unwrap();
-        bytes[cut..].to_vec()
+    /// Rewrites the checkpoint files that changed in place (truncate, then write), removes
+    /// those no longer holding a record: with `half`, the last file written gets only its first
+    /// half, the way a reader catches it mid-write. Returns that file and the rest.
+    fn write(&self, records: &[Value], half: bool) -> (PathBuf, Vec<u8>) {
+        let files = self.files(records);
+        if self.layout == Layout::PerRoute && self.results().exists() {
+            for d in fs::read_dir(self.results()).unwrap() {
+                let d = d.unwrap().path();
+                if !files.iter().any(|(f, _)| f.starts_with(&d)) {
+                    fs::remove_dir_all(d).unwrap();
+                }
+            }
+        }
+        let mut last = (self.results(), Vec::new());
+        let changed: Vec<(PathBuf, Vec<u8>)> = files
+            .into_iter()
+            .map(|(f, rs)| {
+                let bytes = self.bytes(&rs);
+                (f, bytes)
+            })
+            .filter(|(f, bytes)| fs::read(f).ok().as_ref() != Some(bytes))
+            .collect();
+        let n = changed.len();
+        for (i, (f, bytes)) in changed.into_iter().enumerate() {
+            let cut = if half && i + 1 == n {
+                bytes.len() / 2
+            } else {
+                bytes.len()
+            };
+            fs::create_dir_all(f.parent().unwrap()).unwrap();
+            let mut file = OpenOptions::new()
+                .write(true)
+                .create(true)
+                .truncate(true)
+                .open(&f)
+                .unwrap();
+            file.write_all(&bytes[..cut]).unwrap();
+            last = (f, bytes[cut..].to_vec());
+        }
+        last
     }
 
-    fn finish(&self, rest: &[u8]) {
-        let mut f = OpenOptions::new()
-            .append(true)
-            .open(self.results())
-            .unwrap();
+    fn finish(&self, (file, rest): &(PathBuf, Vec<u8>)) {
+        let mut f = OpenOptions::new().append(true).open(file).unwrap();
         f.write_all(rest).unwrap();
     }
 
@@ -135,10 +216,37 @@ fn retried(w: &mut Watcher) -> String {
     }
 }
 
-#[test]
-fn playback_rescored_only_when_changed() {
+/// The route ids a round must replay: new, or moved, or no longer (or newly) their file's
+/// only record, between the places `before` and `after`.
+fn expected_changes(
+    before: &[(String, PathBuf, usize, bool)],
+    after: &[(String, PathBuf, usize, bool)],
+) -> Vec<String> {
+    let mut ids: Vec<String> = after
+        .iter()
+        .filter(|p| !before.contains(p))
+        .map(|p| p.0.clone())
+        .collect();
+    ids.sort();
+    ids
+}
+
+/// A scored round, after at most one retry whose reason holds `why`.
+fn scored_after_retry(w: &mut Watcher, why: &str) -> (Report, usize, usize, Vec<String>) {
+    match w.round().unwrap() {
+        RoundOutcome::Scored { scored, cache, .. } => {
+            (scored.report, cache.rescored, cache.reused, cache.changed)
+        }
+        RoundOutcome::Retry { reason, .. } => {
+            assert!(reason.contains(why), "{reason}");
+            scored(w)
+        }
+    }
+}
+
+fn playback(layout: Layout) {
     let dir = tempfile::tempdir().unwrap();
-    let ev = Evaluator::new(dir.path());
+    let ev = Evaluator::with(dir.path(), layout);
     let n = ev.records.len();
     let mut w = Watcher::new(
         ev.inputs(),
@@ -151,50 +259,55 @@ fn playback_rescored_only_when_changed() {
     retried(&mut w);
     let crash = 4;
     let mut done: Vec<Value> = Vec::new();
+    let mut places = Vec::new();
     let mut total_rescored = 0;
+    let mut replays_expected = 0;
     for k in 0..n {
         if k == crash {
             // The route crashes: its record is written without telemetry...
             let mut with_crash = done.clone();
             with_crash.push(ev.crashed(k));
             ev.write(&with_crash, false);
-            let (report, rescored, reused, changed) = scored(&mut w);
-            assert_eq!((rescored, reused), (1, k), "crash round");
-            assert_eq!(changed, [ev.records[k]["route_id"].as_str().unwrap()]);
+            let (report, rescored, reused, mut changed) = scored(&mut w);
+            changed.sort();
+            let now = ev.places(&with_crash);
+            let expected = expected_changes(&places, &now);
+            assert_eq!(changed, expected, "{layout:?} crash round");
+            assert_eq!((rescored, reused), (expected.len(), k + 1 - expected.len()));
             assert_eq!(w.progress(&report).done, k + 1);
             total_rescored += rescored;
+            replays_expected += expected.len();
             // ... and on resume the evaluator drops it and runs the route again: the
             // checkpoint shrinks (retried once), then holds the earlier routes only.
             ev.write(&done, false);
-            assert!(retried(&mut w).contains("shorter"));
-            let (_, rescored, reused, _) = scored(&mut w);
-            assert_eq!((rescored, reused), (0, k), "resume round");
+            let (_, rescored, _, mut changed) = scored_after_retry(&mut w, "shorter");
+            changed.sort();
+            let expected = expected_changes(&now, &ev.places(&done));
+            assert_eq!(changed, expected, "{layout:?} resume round");
+            total_rescored += rescored;
+            replays_expected += expected.len();
+            places = ev.places(&done);
         }
         ev.telemetry(k);
         done.push(ev.records[k].clone());
-        // Every second route the reader catches the checkpoint half-written.
+        // Every second route the reader catches a checkpoint half-written.
         let rest = ev.write(&done, k % 2 == 1);
         if k % 2 == 1 {
             let why = retried(&mut w);
-            assert!(why.contains("results.json"), "{why}");
+            let file = rest.0.file_name().unwrap().to_string_lossy().into_owned();
+            assert!(why.contains(&file), "{layout:?}: {why}");
             ev.finish(&rest);
         }
         let (report, rescored, reused, mut changed) = scored(&mut w);
-        // The first route is replayed again once: as a checkpoint's only record it may have
-        // its telemetry beside the file, as one of several it may not.
-        let again = usize::from(k == 1);
-        assert_eq!(
-            (rescored, reused),
-            (1 + again, k - again),
-            "round of route {k}"
-        );
         changed.sort();
-        let mut expected: Vec<&str> = vec![ev.records[k]["route_id"].as_str().unwrap()];
-        if k == 1 {
-            expected.insert(0, ev.records[0]["route_id"].as_str().unwrap());
-        }
-        assert_eq!(changed, expected);
+        let now = ev.places(&done);
+        let expected = expected_changes(&places, &now);
+        assert!(expected.contains(&ev.records[k]["route_id"].as_str().unwrap().to_string()));
+        assert_eq!(changed, expected, "{layout:?} round of route {k}");
+        assert_eq!((rescored, reused), (expected.len(), k + 1 - expected.len()));
         total_rescored += rescored;
+        replays_expected += expected.len();
+        places = now;
         let p = w.progress(&report);
         assert_eq!((p.done, p.n, p.complete), (k + 1, n, k + 1 == n));
         // The partial figures: over the routes done, and over N with the rest as 0.
@@ -214,9 +327,10 @@ fn playback_rescored_only_when_changed() {
         // The report with the cache is the report without it.
         assert_eq!(json(&report).unwrap(), json(&fresh(&ev.inputs())).unwrap());
     }
-    // Each route replayed once, the crashed one twice (its crashed record, then the rerun),
-    // the first once more (no longer the only record).
-    assert_eq!(total_rescored, n + 2);
+    // Each route replayed once, the crashed one twice (its crashed record, then the rerun), and
+    // those whose file changed from one record to several once more.
+    assert_eq!(total_rescored, replays_expected);
+    assert!(total_rescored > n);
     // Telemetry rewritten (same size, new time): that route only is replayed again.
     let name = ev.records[2]["save_name"].as_str().unwrap();
     let file = ev.run.join("telemetry").join(name).join("metric_info.json");
@@ -224,7 +338,28 @@ fn playback_rescored_only_when_changed() {
     std::thread::sleep(Duration::from_millis(20));
     fs::write(&file, &bytes).unwrap();
     let (_, rescored, _, changed) = scored(&mut w);
-    assert_eq!((rescored, changed.len()), (1, 1));
+    assert_eq!(
+        (rescored, changed),
+        (
+            1,
+            vec![ev.records[2]["route_id"].as_str().unwrap().to_string()]
+        )
+    );
+}
+
+#[test]
+fn playback_raw_checkpoint_rescored_only_when_changed() {
+    playback(Layout::Raw);
+}
+
+#[test]
+fn playback_shard_checkpoints_rescored_only_when_changed() {
+    playback(Layout::Shards);
+}
+
+#[test]
+fn playback_per_route_folders_rescored_only_when_changed() {
+    playback(Layout::PerRoute);
 }
 
 /// Spawns `sds watch` over the evaluator's run.

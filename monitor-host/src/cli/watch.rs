@@ -114,9 +114,10 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
             None => continue,
         }
     };
-    // The final round: read once more (a signal or a timeout may come mid-write), retried a
-    // few times on a half-written file; else the last good report stands.
-    if stop != Stop::Complete {
+    // After a signal or a timeout the inputs are read once more (they may have changed since
+    // the last round), retried a few times on a half-written file; else the last good report
+    // stands.
+    if matches!(stop, Stop::Timeout | Stop::Signal) {
         for _ in 0..5 {
             match watcher.round()? {
                 RoundOutcome::Scored { scored, .. } => {

@@ -18,6 +18,7 @@ use crate::aggregate::aggregates::Scores;
 use crate::aggregate::groups::GroupBy;
 use crate::error::Error;
 use crate::input::record::LoadedRecord;
+use crate::input::results_file::read_results;
 use crate::pipeline::outcome::{RouteOutcome, RouteState, TelemetryState};
 use crate::run::{Inputs, NoProgress, ReplayCache};
 use crate::scored::{score_labelled_cached, LabelFiles, Scored};
@@ -229,7 +230,7 @@ pub enum RoundOutcome {
 
 /// The figures of a partial report (spec §12's status line).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Progress {
+pub struct WatchStatus {
     /// Routes with a record.
     pub done: usize,
     /// The benchmark's size N.
@@ -239,7 +240,8 @@ pub struct Progress {
     /// The scores over N, the routes not done counting as 0.
     pub over_n: Scores,
     /// The set is complete: a route set is known (route XML or `expected_routes`) and every
-    /// route has a record.
+    /// route has a record; without one, every results file is a checkpoint whose `progress`
+    /// says done.
     pub complete: bool,
     /// Estimated seconds left: the mean `meta.duration_system` of the routes done times the
     /// routes left (None without durations).
@@ -377,7 +379,7 @@ impl Watcher {
     }
 
     /// The status figures of a report of this watch.
-    pub fn progress(&self, report: &crate::Report) -> Progress {
+    pub fn progress(&self, report: &crate::Report) -> WatchStatus {
         let done: Vec<&crate::route::row::RouteReport> = report
             .routes
             .iter()
@@ -390,14 +392,35 @@ impl Watcher {
             let mean = durations.iter().sum::<f64>() / durations.len() as f64;
             mean * n.saturating_sub(done.len()) as f64
         });
-        Progress {
+        WatchStatus {
             done: done.len(),
             n,
             over_done: Scores::over(&done, done.len()),
             over_n: Scores::over(&done, n),
-            complete: known_set && done.len() >= n,
+            complete: if known_set {
+                done.len() >= n
+            } else {
+                self.progress_done()
+            },
             seconds_left,
         }
+    }
+
+    /// Without a route set: every results file is an evaluator's checkpoint of several routes
+    /// whose `progress` says done (`[total, total]`). A per-route file (`[1, 1]`) says nothing
+    /// about the routes still to come.
+    fn progress_done(&self) -> bool {
+        let mut files = Vec::new();
+        for p in &self.inputs.results {
+            match read_results(p) {
+                Ok(set) => files.extend(set.files),
+                Err(_) => return false,
+            }
+        }
+        !files.is_empty()
+            && files
+                .iter()
+                .all(|f| f.progress.is_some_and(|(i, total)| total > 1 && i >= total))
     }
 }
 

@@ -494,3 +494,32 @@ fn ctrl_c_writes_the_final_report() {
     assert!(!String::from_utf8_lossy(&final_page).contains("http-equiv=\"refresh\""));
     assert_eq!(final_page, fs::read(&reference).unwrap());
 }
+
+#[test]
+fn without_a_route_set_the_checkpoint_progress_ends_the_watch() {
+    let dir = tempfile::tempdir().unwrap();
+    let ev = Evaluator::new(dir.path());
+    let n = ev.records.len();
+    let inputs = Inputs {
+        route_xml: None,
+        ..ev.inputs()
+    };
+    let mut w = Watcher::new(
+        inputs,
+        Settings::default(),
+        LabelFiles::default(),
+        None,
+        Duration::ZERO,
+    );
+    for k in 0..n {
+        ev.telemetry(k);
+    }
+    ev.write(&ev.records[..4], false);
+    let (report, ..) = scored(&mut w);
+    // progress [4, 9]: not done, though every route read has its record.
+    assert_eq!(w.progress(&report).done, 4);
+    assert!(!w.progress(&report).complete);
+    ev.write(&ev.records, false);
+    let (report, ..) = scored(&mut w);
+    assert!(w.progress(&report).complete);
+}

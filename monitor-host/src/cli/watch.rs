@@ -223,7 +223,7 @@ fn duration(secs: f64) -> String {
 fn status(
     args: &WatchArgs,
     round: usize,
-    p: &crate::watch::Progress,
+    p: &crate::watch::WatchStatus,
     report: &crate::Report,
     cache: &crate::watch::CacheRound,
     changed: bool,

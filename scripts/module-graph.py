@@ -33,7 +33,8 @@ STAGES = [
     ("route",),
     ("aggregate",),
     ("report",),
-    ("run", "error", "scored", "compare_runs"),  # scored: a run and its label files, for every front end
+    ("run", "error", "scored", "compare_runs", "watch"),  # scored: a run and its label files, for every front end;
+    # watch: the same run kept current while an evaluation writes it
     ("cli", "demo"),
 ]
 

@@ -83,6 +83,7 @@ pub mod run;
 pub mod scored;
 pub mod settings;
 pub mod warning;
+pub mod watch;
 
 pub use aggregate::report::Report;
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
@@ -95,7 +96,11 @@ pub use input::route_xml::RouteError;
 pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
-pub use run::{route_frames, score_run, score_run_with, Inputs, NoProgress, Progress, RouteFrames};
+pub use run::{
+    route_frames, score_run, score_run_cached, score_run_with, Inputs, NoProgress, Progress,
+    ReplayCache, RouteFrames,
+};
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;
+pub use watch::{RoundOutcome, RouteCache, Watcher};

@@ -14,7 +14,7 @@ use crate::input::results_file::{read_results, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
-use crate::pipeline::outcome::TelemetryState;
+use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
 use crate::route::row::route_rows;
 use crate::settings::Settings;
@@ -64,6 +64,14 @@ pub trait Progress: Sync {
     }
 }
 
+/// Keeps routes' replays between runs (`sds watch`'s [`crate::watch::RouteCache`]): given a
+/// record, returns its earlier replay when nothing it was made from changed, else calls
+/// `replay`.
+pub trait ReplayCache: Sync {
+    /// The replay of `loaded`: kept, or made by `replay`.
+    fn replay(&self, loaded: &LoadedRecord, replay: &dyn Fn() -> RouteOutcome) -> RouteOutcome;
+}
+
 /// A [`Progress`] that ignores everything.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoProgress;
@@ -108,6 +116,21 @@ pub fn score_run_with(
     inputs: &Inputs,
     settings: &Settings,
     progress: &dyn Progress,
+) -> Result<Report, Error> {
+    score_run_cached(inputs, settings, progress, None)
+}
+
+/// [`score_run_with`], taking each route's replay from `cache` when neither its record nor its
+/// telemetry files changed since the cache saw them (`sds watch`). The report
+/// is the same as without the cache.
+///
+/// # Errors
+/// As [`score_run`].
+pub fn score_run_cached(
+    inputs: &Inputs,
+    settings: &Settings,
+    progress: &dyn Progress,
+    cache: Option<&dyn ReplayCache>,
 ) -> Result<Report, Error> {
     settings.validate()?;
     if let Some(root) = &inputs.telemetry {
@@ -227,7 +250,12 @@ pub fn score_run_with(
                     return None;
                 }
                 let map = town.and_then(|t| maps.get(t).ok());
-                let o = replay(r, routes.as_ref(), map, telemetry, settings);
+                let o = match cache {
+                    Some(c) => {
+                        c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))
+                    }
+                    None => replay(r, routes.as_ref(), map, telemetry, settings),
+                };
                 progress.route_done();
                 Some(o)
             })

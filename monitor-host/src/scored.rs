@@ -10,7 +10,7 @@ use crate::aggregate::report::Report;
 use crate::error::Error;
 use crate::input::labels::{check_coverage, read_labels, Labels};
 use crate::route::row::counted_routes;
-use crate::run::{score_run_with, Inputs, Progress};
+use crate::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::settings::Settings;
 use crate::warning::Warning;
 
@@ -90,6 +90,22 @@ pub fn score_labelled(
     by: Option<GroupBy>,
     progress: &dyn Progress,
 ) -> Result<Scored, Error> {
+    score_labelled_cached(inputs, settings, files, by, progress, None)
+}
+
+/// [`score_labelled`] with a [`ReplayCache`] of the routes' replays (`sds watch`): the same
+/// report, the unchanged routes not replayed again.
+///
+/// # Errors
+/// As [`score_labelled`].
+pub fn score_labelled_cached(
+    inputs: &Inputs,
+    settings: &Settings,
+    files: &LabelFiles,
+    by: Option<GroupBy>,
+    progress: &dyn Progress,
+    cache: Option<&dyn ReplayCache>,
+) -> Result<Scored, Error> {
     // Usage errors of the grouping before the run is scored.
     if files.routes.is_some() && by != Some(GroupBy::Route) {
         return Err(Error::UnusedLabels);
@@ -105,7 +121,7 @@ pub fn score_labelled(
             .is_some(),
         )?;
     }
-    let mut report = score_run_with(inputs, settings, progress)?;
+    let mut report = score_run_cached(inputs, settings, progress, cache)?;
     let mut read = |file: &Option<PathBuf>, what| {
         file.as_deref()
             .map(|f| label_file(&mut report, f, what))

@@ -308,6 +308,9 @@ pub enum Command {
     /// Compare runs against a baseline: paired deltas per route with bootstrap intervals,
     /// verdicts, flips, and a regression gate (`--fail-if-worse`, exit 5).
     Compare(CompareArgs),
+    /// Score an evaluation while it runs: the inputs of `score`, read again every `--interval`
+    /// seconds, the report (`-o`) rewritten after every round, one status line per round.
+    Watch(super::watch::WatchArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.

@@ -25,6 +25,7 @@ macro_rules! say {
 }
 
 pub mod compare;
+pub mod watch;
 
 use std::ffi::OsString;
 
@@ -127,6 +128,7 @@ fn run(cli: Cli) -> Result<i32> {
     match cli.command {
         Command::Score(args) => score(&args),
         Command::Compare(args) => compare::compare(&args),
+        Command::Watch(args) => watch::watch(&args),
         Command::Demo {
             dir,
             score: then_score,
@@ -399,6 +401,19 @@ fn run_name(args: &ScoreArgs) -> String {
         .join(", ")
 }
 
+/// The report in `args.format`, as `sds score` writes it (`sds watch` too).
+fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
+    Ok(match (args.format, style(args.format)) {
+        (Format::Json, _) => json::json(report)?,
+        (Format::Csv, _) => csv::groups_csv(report).unwrap_or_else(|| csv::csv(report)),
+        (Format::Html, _) => html::page(report, &table_options(args), &run_name(args)).into_bytes(),
+        (_, Some(style)) => {
+            table::render(&table::report_tables(report, &table_options(args)), style).into_bytes()
+        }
+        (_, None) => unreachable!("every table format has a style"),
+    })
+}
+
 fn score(args: &ScoreArgs) -> Result<i32> {
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
@@ -412,17 +427,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for note in period_notes(&report) {
         say!("sds: note: {note}");
     }
-    let bytes = match (args.format, style(args.format)) {
-        (Format::Json, _) => json::json(&report)?,
-        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
-        (Format::Html, _) => {
-            html::page(&report, &table_options(args), &run_name(args)).into_bytes()
-        }
-        (_, Some(style)) => {
-            table::render(&table::report_tables(&report, &table_options(args)), style).into_bytes()
-        }
-        (_, None) => unreachable!("every table format has a style"),
-    };
+    let bytes = render(args, &report)?;
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
     // The traces first, then the report: a trace that cannot be written stops the run (exit

@@ -17,6 +17,7 @@ use std::fs::{self, OpenOptions};
 use std::io::Write;
 use std::os::unix::fs::{MetadataExt, OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
@@ -49,6 +50,22 @@ extern "C" fn check_stdout_at_start() {
 /// the signal tests can interrupt the final write. Not documented for users.
 const DELAY_ENV: &str = "SDS_TEST_WRITE_DELAY_MS";
 
+/// Set by [`defer_signals`]: the first SIGINT / SIGTERM only sets [`stop_requested`].
+static DEFER: AtomicBool = AtomicBool::new(false);
+/// A deferred signal arrived.
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// From now on the first SIGINT / SIGTERM asks the program to stop ([`stop_requested`]) instead
+/// of ending it (`sds watch` writes its final report first); a second one ends it as before.
+pub fn defer_signals() {
+    DEFER.store(true, Ordering::SeqCst);
+}
+
+/// A SIGINT or SIGTERM arrived since [`defer_signals`].
+pub fn stop_requested() -> bool {
+    STOP.load(Ordering::SeqCst)
+}
+
 /// Starts a thread that, on SIGINT or SIGTERM, removes the temporary output file (if one is
 /// being written) and then dies of the signal as it would have without the handler.
 pub fn install_signal_cleanup() -> Result<()> {
@@ -56,7 +73,11 @@ pub fn install_signal_cleanup() -> Result<()> {
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])
         .context("cannot install the SIGINT / SIGTERM handler")?;
     std::thread::spawn(move || {
-        if let Some(sig) = signals.forever().next() {
+        for sig in signals.forever() {
+            // `sds watch` stops on the first signal after its final report; a second one kills.
+            if DEFER.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
+                continue;
+            }
             let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
             if let Some(p) = pending.as_ref() {
                 let _ = fs::remove_file(p);

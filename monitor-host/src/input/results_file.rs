@@ -74,6 +74,8 @@ pub struct InputFile {
     pub path: PathBuf,
     /// Its records (valid or not).
     pub records: usize,
+    /// Its `_checkpoint.progress` `[done, total]`, when it holds two whole numbers.
+    pub progress: Option<(u64, u64)>,
 }
 
 /// Everything [`read_results`] read.
@@ -296,8 +298,13 @@ fn strip_position(msg: &str) -> String {
 
 fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile) {
     let n = file.records.len();
+    let progress_pair = file.progress.as_ref().and_then(|p| match p.as_slice() {
+        [a, b] => Some((a.as_u64()?, b.as_u64()?)),
+        _ => None,
+    });
     set.files.push(InputFile {
         path: path.to_path_buf(),
+        progress: progress_pair,
         records: n,
     });
     if let (true, Some(ds)) = (n > 1, &file.global_score) {
@@ -309,10 +316,6 @@ fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile) {
     let progress_text = file.progress.as_ref().map(|p| {
         let parts: Vec<String> = p.iter().map(Value::to_string).collect();
         format!("[{}]", parts.join(", "))
-    });
-    let progress_pair = file.progress.as_ref().and_then(|p| match p.as_slice() {
-        [a, b] => Some((a.as_u64()?, b.as_u64()?)),
-        _ => None,
     });
     if n == 0 {
         let unfinished = file
@@ -568,7 +571,8 @@ mod tests {
             set.files,
             [InputFile {
                 path: p.clone(),
-                records: 3
+                records: 3,
+                progress: None,
             }]
         );
     }

@@ -166,3 +166,99 @@ fn fixtures_decomposition_sums_back() {
     eprintln!("decomposition checked on {scored} real results files");
     assert!(scored >= 8, "only {scored} fixtures scored");
 }
+
+/// The texts of an SVG document, in order.
+fn texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let body = &t[t.find('>')? + 1..t.find("</text>")?];
+            Some(body.trim().to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn figures_writes_the_waterfall_and_the_route_chart() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let figs = dir.path().join("figs");
+    let report = dir.path().join("report.json");
+    let out = score_demo(
+        dir.path(),
+        None,
+        &[
+            "--figures",
+            figs.to_str().unwrap(),
+            "-o",
+            report.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let d = &r["summary"]["decomposition"];
+
+    // The waterfall: one bar per step (rounding is 0 on the demo: left out), each labelled, the
+    // totals and the losses written as the JSON report has them.
+    let svg = std::fs::read_to_string(figs.join("decomposition.svg")).unwrap();
+    let t = texts(&svg);
+    for label in [
+        "DS",
+        "work zone",
+        "no decel.",
+        "lat. anomalous",
+        "lat. critical",
+        "DS_safe",
+        "comfort",
+        "SDS",
+    ] {
+        assert!(t.iter().any(|x| x == label), "{label} missing: {t:?}");
+    }
+    for (key, sign) in [
+        ("ds", ""),
+        ("ds_safe", ""),
+        ("sds", ""),
+        ("critical", "−"),
+        ("comfort", "−"),
+    ] {
+        let want = format!("{sign}{:.2}", f(&d[key]));
+        assert!(t.contains(&want), "{key}: {want} missing from {t:?}");
+    }
+    // Background + 8 bars.
+    assert_eq!(svg.matches("<rect").count(), 9);
+
+    // The route chart: a DS bar per route, a DS_safe bar per route that has one, and the
+    // legend's five swatches, on the background.
+    let svg = std::fs::read_to_string(figs.join("routes.svg")).unwrap();
+    let routes = r["routes"].as_array().unwrap();
+    let safe = routes.iter().filter(|x| !x["ds_safe"].is_null()).count();
+    assert_eq!(svg.matches("<rect").count(), 1 + routes.len() + safe + 5);
+    assert!(texts(&svg).iter().any(|x| x.contains("9 routes, sorted")));
+}
+
+#[test]
+fn figures_into_an_unwritable_place_stops_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "not a folder").unwrap();
+    let report = dir.path().join("report.json");
+    let out = score_demo(
+        dir.path(),
+        None,
+        &[
+            "--figures",
+            file.to_str().unwrap(),
+            "-o",
+            report.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("a-file"));
+    assert!(!report.exists(), "no report after a failed --figures");
+}

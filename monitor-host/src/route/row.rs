@@ -21,6 +21,7 @@ use crate::pipeline::timeline::ChunkLog;
 use crate::route::ability::{route_ability, RouteAbility};
 use crate::route::decomposition::{split, Applied, Losses};
 use crate::route::efficiency::route_efficiency;
+use crate::route::events::{route_events, RouteEvent};
 use crate::route::penalty::check_penalty;
 use crate::route::protocol::ability_rule::apply_rule;
 use crate::route::protocol::route::{score_record, RouteProtocols};
@@ -196,6 +197,9 @@ pub struct RouteReport {
     pub kept: Option<Kept>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
+    /// Every event placed on the frame axis (collisions, lateral and uncomfortable chunks),
+    /// by frame, unplaced ones last ([`crate::route::events`]).
+    pub events: Vec<RouteEvent>,
     /// Penalty re-check; null for an invalid record.
     pub penalty_check: Option<PenaltyReport>,
     /// The batch reference agreed with the streaming monitor; null when not replayed.
@@ -315,6 +319,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         source: Some(Source::of(&o.loaded)),
         kept: None,
         collision_events: o.events.clone(),
+        events: route_events(&o.events, o.timeline.as_ref(), settings.core.chunk_len),
         penalty_check: rec.map(|r| {
             let p = check_penalty(r, settings.penalty_flavour);
             PenaltyReport {
@@ -370,6 +375,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         source: None,
         kept: None,
         collision_events: Vec::new(),
+        events: Vec::new(),
         penalty_check: None,
         batch_agrees: None,
         warnings: Vec::new(),

@@ -2,7 +2,8 @@
 # The HTML report, end to end: the demo scored as JSON and as HTML; the page parsed and every
 # number compared with the JSON report (scripts/html_report_check.py), and a tampered copy must
 # fail that check; then the page opened in headless Chromium: its script must run without a
-# JavaScript error and write its status and title after its self-checks, sorting and filtering
+# JavaScript error, lay out the waterfall and the per-route chart above the tables, and write
+# its status and title after its self-checks, sorting and filtering
 # are driven through the page's test hook (#test:...) and the resulting order compared with the
 # JSON report's, and a PNG screenshot is taken. `sds compare --format html` opens the same way.
 # Skips the browser part loudly (exit 0) only when Chromium is not installed and cannot be.
@@ -44,7 +45,13 @@ PY
 if python3 scripts/html_report_check.py "$out/tampered.html" "$out/report.json" 2>/dev/null; then
   echo "html check: FAILED: a tampered page passed the check" >&2; exit 1
 fi
-echo "html check: a tampered page is caught"
+# ... and so must a waterfall that draws another DS.
+sed 's/<figure id="waterfall" data-ds="[0-9.]*"/<figure id="waterfall" data-ds="12.5"/' "$out/report.html" >"$out/tampered-waterfall.html"
+if cmp -s "$out/report.html" "$out/tampered-waterfall.html" ||
+   python3 scripts/html_report_check.py "$out/tampered-waterfall.html" "$out/report.json" 2>/dev/null; then
+  echo "html check: FAILED: a page with a tampered waterfall passed the check" >&2; exit 1
+fi
+echo "html check: a tampered page is caught (a table cell, the waterfall's DS)"
 
 chrome=$(command -v chromium || command -v chromium-browser || true)
 if [ -z "$chrome" ]; then
@@ -108,8 +115,16 @@ for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-compare.ht
     if not (title(d) or "").endswith("[ready]") or not (status(d) or "").startswith("ok"):
         problems.append(f"{name}: title {title(d)!r}, status {status(d)!r}: the page's script did not finish")
 d = dom("dom.html")
-if f"ok: {len(routes)} routes" not in (status(d) or ""):
+if f"ok: {len(routes)} routes" not in (status(d) or "") or "2 pictures" not in (status(d) or ""):
     problems.append(f"status {status(d)!r}")
+# The waterfall and the route chart, laid out by the browser with a size (the page's script
+# measured them), above the tables.
+for pic in ("waterfall", "route-chart"):
+    m = re.search(r'<figure id="%s"[^>]*data-rendered="(\d+)x(\d+)"' % pic, d)
+    if not m or int(m.group(1)) < 200 or int(m.group(2)) < 100:
+        problems.append(f"{pic}: not laid out ({m.group(0) if m else 'no data-rendered'})")
+    elif d.index(f'<figure id="{pic}"') > d.index('id="tables"'):
+        problems.append(f"{pic} is not above the tables")
 for r in routes:
     if f'data-route="{r["route_id"]}"' not in d:
         problems.append(f"{r['route_id']} missing from the rendered page")

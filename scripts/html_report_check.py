@@ -6,7 +6,8 @@ the JSON report has its row in the route table and its drill-down; every number 
 table equals the JSON report's (the exact value in `data-v`, the rounded text too); each route
 has one figure per aligned collision, its comfort timeline lists as many failed chunks as the
 report counts, its lateral timeline as many anomalous and critical chunks; the headline numbers
-match the summary; nothing is loaded from outside the file.
+match the summary; the waterfall carries the summary's decomposition and the route chart every
+route in its order; nothing is loaded from outside the file.
 
 usage: html_report_check.py REPORT.html REPORT.json
 """
@@ -30,6 +31,8 @@ class Page(HTMLParser):
         self._fig = 0
         self.sds = None
         self._in_sds = False
+        self.figures = {}       # picture id -> its attributes and the number of <svg> inside
+        self._picture = None
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
@@ -62,6 +65,13 @@ class Page(HTMLParser):
                 self.details[self._detail]["lateral"] = a
         if tag == "b" and a.get("id") == "sds":
             self._in_sds = True
+        if tag == "figure" and a.get("id") in ("waterfall", "route-chart"):
+            self._picture = a["id"]
+            self.figures[a["id"]] = dict(a, svgs=0, rects=0)
+        if self._picture and tag == "svg":
+            self.figures[self._picture]["svgs"] += 1
+        if self._picture and tag == "rect":
+            self.figures[self._picture]["rects"] += 1
 
     def handle_endtag(self, tag):
         if tag == "td" and self._cell is not None:
@@ -76,6 +86,8 @@ class Page(HTMLParser):
             self._detail = None
         if tag == "b":
             self._in_sds = False
+        if tag == "figure":
+            self._picture = None
 
     def handle_data(self, data):
         if self._cell is not None:
@@ -159,6 +171,35 @@ def main(html_path, json_path):
             check(int(d["lateral"]["data-critical"]) == lat["critical"], f"{rid}: critical")
         else:
             check(r["frames"] == 0, f"{rid}: replayed but no timeline")
+    # The pictures above the tables: the waterfall draws the JSON's decomposition, the route
+    # chart every route, sorted by DS then DS_safe (descending), then input order.
+    dec = report["summary"]["decomposition"]
+    w = page.figures.get("waterfall")
+    if dec is None:
+        check(w is None and "waterfall-none" in page.ids, "a waterfall without a decomposition")
+    else:
+        check(w is not None and w["svgs"] == 1, "no waterfall picture")
+        if w is not None:
+            for attr, key in (("data-ds", "ds"), ("data-ds-safe", "ds_safe"), ("data-sds", "sds")):
+                want = dec[key]
+                got = w.get(attr)
+                check((got == "" and want is None) or (want is not None and got and float(got) == want),
+                      f"waterfall {attr} {got!r}, JSON {want!r}")
+            steps = w["data-steps"].split(";")
+            check(steps[0].startswith("DS=") and float(steps[-1].split("=")[1]) ==
+                  (dec["sds"] if dec["sds"] is not None else dec["ds_safe"]), f"waterfall steps {steps}")
+            check(w["rects"] == 1 + len(steps), f"waterfall: {w['rects']} rects for {len(steps)} bars")
+    c = page.figures.get("route-chart")
+    check(c is not None and c["svgs"] == 1, "no route chart")
+    if c is not None:
+        key = lambda i: (-(routes[i]["score_composed"] or 0.0),
+                         -(routes[i]["ds_safe"] if routes[i]["ds_safe"] is not None else float("-inf")), i)
+        want = [routes[i]["route_id"] or "<no route_id>" for i in sorted(range(len(routes)), key=key)]
+        check(c["data-order"].split(" ") == want, f"route chart order {c['data-order']!r}, expected {want}")
+        check(int(c["data-routes"]) == len(routes), "route chart: route count")
+        safe = sum(1 for r in routes if r["ds_safe"] is not None)
+        check(c["rects"] == 1 + len(routes) + safe + 5,
+              f"route chart: {c['rects']} rects for {len(routes)} routes, {safe} with DS_safe")
     for needed in ("routes", "filter", "state", "status", "warnings", "tables"):
         check(needed in page.ids, f"no element #{needed}")
     if problems:
@@ -167,7 +208,7 @@ def main(html_path, json_path):
         print(f"html check: FAILED ({len(problems)} problem(s)) on {html_path}", file=sys.stderr)
         return 1
     figures = sum(d["figures"] for d in page.details.values())
-    print(f"html check: ok: {len(routes)} routes, {figures} figures, every number equal to the JSON report")
+    print(f"html check: ok: {len(routes)} routes, {figures} figures, {len(page.figures)} pictures, every number equal to the JSON report")
     return 0
 
 

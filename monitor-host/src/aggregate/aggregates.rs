@@ -11,9 +11,11 @@
 use serde::Serialize;
 
 pub use crate::aggregate::counts::Counts;
+use crate::aggregate::decomposition::Decomposition;
 use crate::aggregate::motion::MotionAggregates;
 use crate::input::record::KNOWN_LISTS;
 use crate::route::ability::ABILITIES;
+use crate::route::decomposition::Losses;
 use crate::route::row::RouteReport;
 
 /// Rates of the five abilities (0..1, null when no route counts in one) and their mean.
@@ -78,6 +80,9 @@ pub struct Scores {
     pub sds: Option<f64>,
     /// 100 × routes with a collision / N.
     pub collision_rate: Option<f64>,
+    /// From DS to SDS in additive steps (`docs/SCORE.md` "Decomposition"); null when
+    /// `mean_ds_safe` is.
+    pub decomposition: Option<Decomposition>,
     /// Distance, stationary time and moving comfort (§8.5).
     #[serde(flatten)]
     pub motion: MotionAggregates,
@@ -127,6 +132,8 @@ impl Scores {
         let (mut composed, mut ds_safe, mut comfort) = (0.0, 0.0, 0.0);
         let (mut successes, mut collided, mut comfort_n) = (0, 0, 0);
         let mut all_safe = true;
+        let mut losses = Losses::default();
+        let mut all_split = true;
         for r in routes {
             composed += r.score_composed.unwrap_or(0.0);
             successes += usize::from(r.success);
@@ -135,6 +142,10 @@ impl Scores {
                 Some(d) => ds_safe += d,
                 None => all_safe = false,
             }
+            match &r.decomposition {
+                Some(l) => losses.add(l),
+                None => all_split = false,
+            }
             if let Some(c) = r.comfort.score {
                 comfort += c;
                 comfort_n += 1;
@@ -142,6 +153,15 @@ impl Scores {
         }
         let mean_ds_safe = if all_safe { per(ds_safe) } else { None };
         let mean_comfort = mean(comfort, comfort_n);
+        let decomposition = match (per(composed), mean_ds_safe) {
+            (Some(ds), Some(safe)) if all_split => Some(Decomposition::of(
+                ds,
+                losses.per(n as f64),
+                safe,
+                mean_comfort,
+            )),
+            _ => None,
+        };
         Scores {
             comfort_routes: comfort_n,
             driving_score: per(composed),
@@ -150,6 +170,7 @@ impl Scores {
             mean_ds_safe,
             mean_comfort,
             collision_rate: per(100.0 * collided as f64),
+            decomposition,
             motion: MotionAggregates::over(routes),
         }
     }

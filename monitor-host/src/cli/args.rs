@@ -255,6 +255,10 @@ pub struct ScoreArgs {
     /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
     #[arg(long, value_name = "DIR")]
     pub traces: Option<PathBuf>,
+    /// Also write the run's pictures into DIR as SVG: `decomposition.svg` (from DS to SDS, step
+    /// by step) and `routes.svg` (DS and DS_safe per route, sorted), as the HTML page shows them.
+    #[arg(long, value_name = "DIR")]
+    pub figures: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare` (spec v1.3 section 11).

@@ -377,6 +377,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         labels: None,
         infractions: vec![],
         traces: None,
+        figures: None,
     }
 }
 
@@ -435,6 +436,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     if let Some(dir) = &args.traces {
         let n = output::write_traces(dir, &report, &inputs_read)?;
         say!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    }
+    if let Some(dir) = &args.figures {
+        let names = output::write_figures(dir, &report, &inputs_read)?;
+        say!("sds: wrote {} to {}", names.join(", "), dir.display());
     }
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 

@@ -134,6 +134,42 @@ pub fn write_traces(
     Ok(traces.len())
 }
 
+/// Writes the run's pictures into `dir` (created if needed): `decomposition.svg` (the
+/// waterfall from DS to SDS; left out when the run has no decomposition) and `routes.svg` (DS
+/// and DS_safe per route). Returns the names written. All or nothing, as [`write_traces`].
+pub fn write_figures(
+    dir: &Path,
+    report: &crate::report::Report,
+    inputs: &[PathBuf],
+) -> Result<Vec<&'static str>> {
+    use crate::report::{route_chart, waterfall};
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let mut files: Vec<(&'static str, String)> = Vec::new();
+    if let Some(d) = &report.summary.scores.decomposition {
+        files.push(("decomposition.svg", waterfall::svg(d)));
+    }
+    files.push(("routes.svg", route_chart::svg(&report.routes)));
+    let mut written: Vec<PathBuf> = Vec::new();
+    let mut write_all = || -> Result<()> {
+        for (name, svg) in &files {
+            let path = dir.join(name);
+            write_output(Some(&path), svg.as_bytes(), inputs)?;
+            written.push(path);
+        }
+        Ok(())
+    };
+    if let Err(e) = write_all() {
+        for p in &written {
+            let _ = fs::remove_file(p);
+        }
+        return Err(e.context(format!(
+            "--figures {}: no figure written and no report (fix the folder, or leave out --figures)",
+            dir.display()
+        )));
+    }
+    Ok(files.iter().map(|(n, _)| *n).collect())
+}
+
 fn describe(ft: fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     if ft.is_dir() {

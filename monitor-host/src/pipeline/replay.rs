@@ -449,7 +449,7 @@ pub fn replay(
                     out.motion = Some(prepared.motion);
                     out.events = prepared.events;
                     let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
-                    out.timeline = Some(RouteTimeline::around(
+                    let mut timeline = RouteTimeline::around(
                         &prepared.frames,
                         &prepared.steps,
                         // The route's period as a decimal (0.05), as `time_s` uses it.
@@ -458,7 +458,11 @@ pub fn replay(
                         &at,
                         route_settings.core.decel_window,
                         chunks,
-                    ));
+                    );
+                    let chunk_len = usize::from(route_settings.core.chunk_len.max(1));
+                    timeline.chunk_steps =
+                        prepared.steps.iter().step_by(chunk_len).copied().collect();
+                    out.timeline = Some(timeline);
                     Some(summary)
                 }
                 Err(refused) => {

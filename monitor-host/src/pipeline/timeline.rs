@@ -63,6 +63,9 @@ pub struct RouteTimeline {
     pub dt: f64,
     /// The per-chunk verdicts.
     pub chunks: ChunkLog,
+    /// The step of each chunk's first frame (chunk `c` starts at frame `c × chunk_len`), for the
+    /// route's `events` (filled by the replay).
+    pub chunk_steps: Vec<u64>,
 }
 
 impl RouteTimeline {
@@ -113,6 +116,7 @@ impl RouteTimeline {
             first_step,
             dt,
             chunks,
+            chunk_steps: Vec::new(),
         }
     }
 

@@ -13,6 +13,8 @@
 //! | a collision trace as a figure (SVG, §10.2) | [`figure`] |
 //! | the comparison's forest plot (SVG, v1.3 §11) | [`forest`] |
 //! | a collision trace as CSV | [`trace_csv`] |
+//! | the decomposition from DS to SDS as a waterfall (SVG) | [`waterfall`] |
+//! | DS and DS_safe per route (SVG) | [`route_chart`] |
 //! | the whole run (or runs side by side) as one HTML page | [`html`] |
 //!
 //! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
@@ -27,8 +29,10 @@ pub mod html;
 pub mod json;
 pub mod protocol_csv;
 pub mod protocol_table;
+pub mod route_chart;
 pub mod table;
 pub mod trace_csv;
+pub mod waterfall;
 
 pub use crate::aggregate::report::Report;
 pub use crate::route::row::RouteReport;

@@ -19,7 +19,9 @@ use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, Telemet
 use crate::pipeline::step_period::DtSource;
 use crate::pipeline::timeline::ChunkLog;
 use crate::route::ability::{route_ability, RouteAbility};
+use crate::route::decomposition::{split, Applied, Losses};
 use crate::route::efficiency::route_efficiency;
+use crate::route::events::{route_events, RouteEvent};
 use crate::route::penalty::check_penalty;
 use crate::route::protocol::ability_rule::apply_rule;
 use crate::route::protocol::route::{score_record, RouteProtocols};
@@ -175,6 +177,9 @@ pub struct RouteReport {
     pub p_safe: Option<f64>,
     /// `DS_safe`; null when not scored.
     pub ds_safe: Option<f64>,
+    /// `score_composed − DS_safe` step by step: the evaluator's rounding and the loss to each
+    /// SDS factor (`docs/SCORE.md` "Decomposition"); null when not scored.
+    pub decomposition: Option<Losses>,
     /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocols: Option<RouteProtocols>,
@@ -192,6 +197,9 @@ pub struct RouteReport {
     pub kept: Option<Kept>,
     /// Collision events.
     pub collision_events: Vec<CollisionEvent>,
+    /// Every event placed on the frame axis (collisions, lateral and uncomfortable chunks),
+    /// by frame, unplaced ones last ([`crate::route::events`]).
+    pub events: Vec<RouteEvent>,
     /// Penalty re-check; null for an invalid record.
     pub penalty_check: Option<PenaltyReport>,
     /// The batch reference agreed with the streaming monitor; null when not replayed.
@@ -284,6 +292,22 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         ability: None,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
+        decomposition: o.safe.zip(rec).zip(s).map(|((safe, r), s)| {
+            let n = Applied {
+                workzone: o.workzone,
+                nodecel: s.collisions.nodecel,
+                anomalous: s.lateral.anomalous,
+                critical: s.lateral.critical,
+            };
+            split(
+                r.score_composed,
+                r.score_route,
+                r.score_penalty,
+                safe.ds_safe,
+                n,
+                &settings.core.factors,
+            )
+        }),
         protocols: None,
         telemetry: o.telemetry.clone(),
         reason: o
@@ -295,6 +319,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         source: Some(Source::of(&o.loaded)),
         kept: None,
         collision_events: o.events.clone(),
+        events: route_events(&o.events, o.timeline.as_ref(), settings.core.chunk_len),
         penalty_check: rec.map(|r| {
             let p = check_penalty(r, settings.penalty_flavour);
             PenaltyReport {
@@ -339,6 +364,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         comfort: ComfortReport::default(),
         p_safe: None,
         ds_safe: Some(0.0),
+        decomposition: Some(Losses::default()),
         protocols: None,
         smoothness: None,
         efficiency: None,
@@ -349,6 +375,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         source: None,
         kept: None,
         collision_events: Vec::new(),
+        events: Vec::new(),
         penalty_check: None,
         batch_agrees: None,
         warnings: Vec::new(),

@@ -1,4 +1,5 @@
-//! The report as one self-contained HTML page: the headline tables, a sortable and filterable
+//! The report as one self-contained HTML page: the decomposition from DS to SDS and DS per
+//! route as pictures, the headline tables, a sortable and filterable
 //! route table, per route a drill-down (collision figures, comfort and lateral timelines,
 //! warnings) and the run's warnings; and [`compare_page`], the comparison of runs (spec v1.3
 //! §11: tables, forest plot, per-route deltas, each run).
@@ -10,6 +11,7 @@
 
 mod compare;
 mod page;
+mod pictures;
 mod routes;
 mod timeline;
 
@@ -34,6 +36,7 @@ pub use page::escape;
 pub fn page(report: &Report, options: &TableOptions, name: &str) -> String {
     let mut body = String::new();
     page::heading(&mut body, report, name);
+    pictures::pictures(&mut body, report);
     body.push_str("<h2 id=\"tables\">Headline tables</h2>\n");
     for g in table::report_tables(report, options) {
         page::grid(&mut body, &g);

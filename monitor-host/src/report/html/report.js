@@ -97,6 +97,16 @@
   });
   var figs = document.querySelectorAll(".fig svg").length;
   if (figs !== +table.getAttribute("data-figures")) { fail(figs + " figures, expected " + table.getAttribute("data-figures")); }
+  // The pictures above the tables: each laid out with a size (the browser test reads it).
+  var pictures = 0;
+  ["waterfall", "route-chart"].forEach(function (id) {
+    var f = document.getElementById(id), svg = f && f.querySelector("svg");
+    if (!svg) { return; }
+    var b = svg.getBoundingClientRect();
+    if (!(b.width > 0 && b.height > 0)) { fail(id + " is not laid out"); }
+    f.setAttribute("data-rendered", Math.round(b.width) + "x" + Math.round(b.height));
+    pictures++;
+  });
   var h = decodeURIComponent(location.hash || "");
   if (h.indexOf("#test:") === 0) {
     h.slice(6).split(";").forEach(function (kv) {
@@ -114,7 +124,7 @@
   // The table's width beside the room it has (the browser test checks it does not overflow).
   table.setAttribute("data-width", table.scrollWidth);
   table.setAttribute("data-room", table.parentNode.clientWidth);
-  status.textContent = "ok: " + rows.length + " routes, " + figs + " figures; checked " +
+  status.textContent = "ok: " + rows.length + " routes, " + figs + " figures, " + pictures + " pictures; checked " +
     Math.round(performance.now()) + " ms after navigation start";
   document.title += " [ready]";
 })();

@@ -58,7 +58,7 @@ enum LabelKey {
     Route,
 }
 
-/// Scores a run ([`score_run_with`]), reads each label file and checks it against the report's
+/// Scores a run ([`crate::score_run_with`]), reads each label file and checks it against the report's
 /// routes (no key matching any route is an error, routes without a label a warning in the
 /// report), then breaks the routes down `by` (the report's `groups`) with its label map.
 ///

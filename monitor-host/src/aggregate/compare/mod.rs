@@ -66,7 +66,7 @@ pub struct Model {
     pub runs: Vec<NamedRun>,
 }
 
-/// The settings of a comparison (§11; [decision]s keep the spec's defaults).
+/// The settings of a comparison (§11; **\[decision\]**s keep the spec's defaults).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareOptions {
     /// The baseline model (`None`: the first model).

@@ -33,10 +33,10 @@ pub struct RouteEvent {
 }
 
 /// Whether a chunk failed a bound.
-type Test = fn(&Failures) -> bool;
+pub(crate) type Test = fn(&Failures) -> bool;
 
-/// The bounds, in the report's order.
-const BOUNDS: [(&str, Test); 6] = [
+/// The bounds, in the report's order (also the rows of the HTML page's comfort timeline).
+pub(crate) const BOUNDS: [(&str, Test); 6] = [
     ("lon_acc", |f| f.lon_acc),
     ("lat_acc", |f| f.lat_acc),
     ("mag_jerk", |f| f.mag_jerk),

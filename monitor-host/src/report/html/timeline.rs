@@ -5,8 +5,8 @@
 
 use std::fmt::Write;
 
+use crate::route::events::BOUNDS;
 use monitor_core::lateral::Band;
-use monitor_core::Failures;
 
 use crate::pipeline::timeline::ChunkLog;
 
@@ -18,19 +18,6 @@ const MAX_W: u32 = 900;
 fn chunk_w(chunks: u32) -> f64 {
     (f64::from(MAX_W) / f64::from(chunks.max(1))).clamp(1.0, 12.0)
 }
-
-/// The bounds, in the report's order.
-/// Whether a chunk failed a bound.
-type Test = fn(&Failures) -> bool;
-
-const BOUNDS: [(&str, Test); 6] = [
-    ("lon_acc", |f| f.lon_acc),
-    ("lat_acc", |f| f.lat_acc),
-    ("mag_jerk", |f| f.mag_jerk),
-    ("lon_jerk", |f| f.lon_jerk),
-    ("yaw_acc", |f| f.yaw_acc),
-    ("yaw_rate", |f| f.yaw_rate),
-];
 
 /// One row: its label, a grey track of `n` chunks, and the marked chunks as one path.
 fn row(out: &mut String, y: u32, label: &str, n: u32, class: &str, color: &str, marked: &[u32]) {

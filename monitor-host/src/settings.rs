@@ -129,6 +129,9 @@ pub struct Settings {
     pub threads: Option<usize>,
     /// Thresholds of the distance and stationary figures (§8.5).
     pub motion: MotionSettings,
+    /// How the route's `events` place the evaluator's other infractions and stationary
+    /// stretches on the frame axis.
+    pub events: EventSettings,
     /// Scoring protocols to add (§8.4; default none).
     pub protocols: Vec<Protocol>,
     /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
@@ -154,6 +157,7 @@ impl Default for Settings {
             allow_missing_telemetry: false,
             threads: None,
             motion: MotionSettings::default(),
+            events: EventSettings::default(),
             protocols: Vec::new(),
             ability_rule: AbilityRule::B2d004,
         }
@@ -203,7 +207,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 40] = [
+    pub const NAMES: [&'static str; 42] = [
         "ability_rule",
         "align_max_dist",
         "align_tie",
@@ -224,6 +228,8 @@ impl Settings {
         "dt_inference",
         "duplicates",
         "ego_half_width",
+        "events.min_standing",
+        "events.signal_reach",
         "expected_routes",
         "factors.anomalous",
         "factors.critical",
@@ -424,6 +430,8 @@ impl Settings {
             "factors.nodecel" => f.nodecel = f64_of(key, v)?,
             "factors.workzone" => f.workzone = f64_of(key, v)?,
             "motion.moving_speed" => self.motion.moving_speed = f64_of(key, v)?,
+            "events.min_standing" => self.events.min_standing = f64_of(key, v)?,
+            "events.signal_reach" => self.events.signal_reach = f64_of(key, v)?,
             "motion.stationary_speed" => self.motion.stationary_speed = f64_of(key, v)?,
             _ => return Err(SettingsError::Unknown { name: name.into() }),
         }
@@ -477,6 +485,8 @@ impl Settings {
             "factors.nodecel" => f.nodecel.to_string(),
             "factors.workzone" => f.workzone.to_string(),
             "motion.moving_speed" => self.motion.moving_speed.to_string(),
+            "events.min_standing" => self.events.min_standing.to_string(),
+            "events.signal_reach" => self.events.signal_reach.to_string(),
             "motion.stationary_speed" => self.motion.stationary_speed.to_string(),
             _ => return None,
         })
@@ -527,6 +537,18 @@ impl Settings {
                 self.align_tie,
                 "finite and not negative",
                 self.align_tie >= 0.0,
+            ),
+            (
+                "events.min_standing",
+                self.events.min_standing,
+                "finite and not negative",
+                self.events.min_standing >= 0.0,
+            ),
+            (
+                "events.signal_reach",
+                self.events.signal_reach,
+                "finite and not negative",
+                self.events.signal_reach >= 0.0,
             ),
             (
                 "motion.moving_speed",
@@ -611,7 +633,7 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(28))?;
+        let mut m = s.serialize_map(Some(29))?;
         m.serialize_entry("ability_rule", self.ability_rule.name())?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
@@ -626,6 +648,11 @@ impl serde::Serialize for Settings {
         m.serialize_entry("dt_inference", &self.dt_inference)?;
         m.serialize_entry("duplicates", self.duplicates.name())?;
         m.serialize_entry("ego_half_width", &self.ego_half_width)?;
+        let events = [
+            ("min_standing", self.events.min_standing),
+            ("signal_reach", self.events.signal_reach),
+        ];
+        m.serialize_entry("events", &Group(&events))?;
         m.serialize_entry("expected_routes", &self.expected_routes)?;
         m.serialize_entry("factors", &Group(&factors))?;
         m.serialize_entry("gap_max", &self.gap_max)?;
@@ -675,6 +702,28 @@ impl Default for MotionSettings {
         MotionSettings {
             stationary_speed: 0.1,
             moving_speed: 1.0,
+        }
+    }
+}
+
+/// How a route's `events` place what the evaluator reports on the frame axis (settings
+/// `events.signal_reach`, `events.min_standing`; none of them changes a score).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EventSettings {
+    /// A red-light or stop-sign event is placed at the frame of the ego's closest approach to
+    /// the position in its message (the light's or the sign's own location, not the ego's) if
+    /// that frame is at most this far from it, m (20.0) **\[decision\]**.
+    pub signal_reach: f64,
+    /// A stationary stretch (frames slower than `motion.stationary_speed`) is an event when it
+    /// lasts at least this long, s (2.0) **\[decision\]**.
+    pub min_standing: f64,
+}
+
+impl Default for EventSettings {
+    fn default() -> Self {
+        EventSettings {
+            signal_reach: 20.0,
+            min_standing: 2.0,
         }
     }
 }

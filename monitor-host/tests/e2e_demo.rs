@@ -153,24 +153,27 @@ fn demo_scores_as_worked_out_by_hand() {
         .all(|x| x["dt"] == 0.05 && x["dt_source"] == "inferred"));
 
     // The junction route (900009) without a map: its XML leaves out the junction, where it
-    // drifts, so it looks clean: DS 100, comfort 1, DS_safe 100 (see the maps test below).
+    // drifts, so its lateral terms look clean; it ran the junction's red light (Bench2Drive's
+    // 0.7): DS 70, comfort 1, DS_safe 70 (see the maps test below).
     let junction = route(&r, "RouteScenario_900009_rep0");
     assert_eq!(junction["lateral"]["reference"], "xml");
     assert_eq!(junction["lateral"]["scored_chunks"], 8);
     assert_eq!(junction["lateral"]["anomalous"], 0);
-    assert!(close(&junction["ds_safe"], 100.0));
+    assert_eq!(junction["infractions"]["red_light"], 1);
+    assert_eq!(junction["success"], false);
+    assert!(close(&junction["score_composed"], 70.0));
+    assert!(close(&junction["ds_safe"], 70.0));
 
-    // Aggregates over N = 9: DS = (100+100+100+65+37.5+50+60+60+100)/9, SR = 4/9 (routes 1-3
-    // and 9), mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4 + 0.8 + 1) / 9 = 0.9,
-    // collision rate 5/9.
+    // Aggregates over N = 9: DS = (100+100+100+65+37.5+50+60+60+70)/9, SR = 3/9 (routes 1-3),
+    // mean comfort = (1 + 0.8 + 1 + 1 + 7/8 + 7/8 + 3/4 + 0.8 + 1) / 9 = 0.9, collision rate 5/9.
     let s = &r["summary"];
     assert_eq!(s["routes"], 9);
-    assert!(close(&s["driving_score"], 672.5 / 9.0));
-    assert!(close(&s["success_rate"], 400.0 / 9.0));
+    assert!(close(&s["driving_score"], 642.5 / 9.0));
+    assert!(close(&s["success_rate"], 300.0 / 9.0));
     assert!(close(&s["mean_comfort"], 0.9));
     assert!(close(&s["collision_rate"], 500.0 / 9.0));
     let mean_safe =
-        (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0 + 60.0 + 100.0) / 9.0;
+        (100.0 + 100.0 + 100.0 * 0.9f64.powi(7) + 40.0 + 30.0 + 50.0 + 60.0 + 60.0 + 70.0) / 9.0;
     assert!(close(&s["mean_ds_safe"], mean_safe));
     assert!(close(&s["sds"], mean_safe * 0.9));
     assert_eq!(s["penalty_mismatches"].as_array().unwrap().len(), 0);
@@ -374,7 +377,7 @@ fn demo_with_its_town_map() {
         assert_eq!(r["batch_agrees"], true);
     }
     // The junction route: 8 of 10 chunks scored from the XML, all 10 with the map; the 1.4 m
-    // drift (excess 1.4 - 0.82 = 0.58 m) makes 2 of them anomalous: DS_safe 100 * 0.95^2.
+    // drift (excess 1.4 - 0.82 = 0.58 m) makes 2 of them anomalous: DS_safe 70 * 0.95^2.
     let (j_xml, j_map) = (
         route(&xml, "RouteScenario_900009_rep0"),
         route(&map, "RouteScenario_900009_rep0"),
@@ -382,7 +385,7 @@ fn demo_with_its_town_map() {
     assert_eq!(j_xml["lateral"]["scored_chunks"], 8);
     assert_eq!(j_map["lateral"]["scored_chunks"], 10);
     assert_eq!(j_map["lateral"]["anomalous"], 2);
-    assert!(close(&j_map["ds_safe"], 100.0 * 0.95 * 0.95));
+    assert!(close(&j_map["ds_safe"], 70.0 * 0.95 * 0.95));
     // On 3.5 m lanes the map's slack is the default one: every other route scores as before.
     for (a, b) in xml["routes"]
         .as_array()

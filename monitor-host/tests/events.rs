@@ -1,5 +1,7 @@
-//! The per-route `events` of the JSON report: every collision (placed or not), every anomalous
-//! and critical lateral chunk and every uncomfortable chunk, on the frame axis, in frame order.
+//! The per-route `events` of the JSON report: every collision (placed or not), the evaluator's
+//! other infractions (placed by their own rules or listed unplaced), every anomalous and critical
+//! lateral chunk, every uncomfortable chunk and every long stationary stretch, on the frame axis,
+//! in frame order.
 
 use serde_json::Value;
 
@@ -65,7 +67,8 @@ fn demo_events_match_the_counts_and_the_collisions() {
             .collect();
         assert!(frames.windows(2).all(|w| w[0] <= w[1]), "{id}: {frames:?}");
         let dt = r["dt"].as_f64().unwrap();
-        for e in events.iter().filter(|e| e["kind"] != "collision") {
+        let chunk = |e: &&Value| e["placed_by"] == "chunk";
+        for e in events.iter().filter(chunk) {
             assert_eq!(e["frame"].as_u64().unwrap() % 20, 0, "{id}");
             let t = e["time_s"].as_f64().unwrap();
             let want = e["frame"].as_f64().unwrap() * dt; // the demo has no gaps
@@ -113,9 +116,16 @@ fn unplaced_collisions_are_listed_last() {
     let mut unplaced = 0;
     for r in report["routes"].as_array().unwrap() {
         let events = r["events"].as_array().unwrap();
+        let collisions = events.iter().filter(|e| e["kind"] == "collision").count();
+        assert_eq!(collisions, r["collision_events"].as_array().unwrap().len());
+        // The other infractions too: a red light and a blocked agent in the demo.
+        let others = events.iter().filter(|e| e["kind"] != "collision").count();
+        let i = &r["infractions"];
         assert_eq!(
-            events.len(),
-            r["collision_events"].as_array().unwrap().len()
+            others as u64,
+            i["red_light"].as_u64().unwrap() + i["vehicle_blocked"].as_u64().unwrap(),
+            "{}",
+            r["route_id"]
         );
         for e in events {
             assert!(e["frame"].is_null() && e["step"].is_null() && e["time_s"].is_null());
@@ -123,5 +133,111 @@ fn unplaced_collisions_are_listed_last() {
             unplaced += 1;
         }
     }
-    assert!(unplaced >= 5, "{unplaced}");
+    assert!(unplaced >= 7, "{unplaced}");
+}
+
+/// The demo's frames of one route, read back from its telemetry: (x, y) per frame.
+fn locations(dir: &std::path::Path, save_name: &str) -> Vec<[f64; 2]> {
+    let path = dir
+        .join("telemetry")
+        .join(save_name)
+        .join("metric_info.json");
+    let doc: Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
+    let mut steps: Vec<(u64, [f64; 2])> = doc
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| {
+            let l = &v["location"];
+            (
+                k.parse().unwrap(),
+                [l[0].as_f64().unwrap(), l[1].as_f64().unwrap()],
+            )
+        })
+        .collect();
+    steps.sort_by_key(|s| s.0);
+    steps.into_iter().map(|s| s.1).collect()
+}
+
+#[test]
+fn red_lights_sit_at_the_closest_approach_and_blocked_where_the_car_stopped() {
+    let dir = tempfile::tempdir().unwrap();
+    demo(dir.path());
+    let out = score_demo(dir.path(), None, &["--format", "json"]);
+    assert_eq!(out.status.code(), Some(0));
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let route = |id: &str| {
+        report["routes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["route_id"] == id)
+            .unwrap()
+            .clone()
+    };
+    let save = |r: &Value| {
+        let record: Value =
+            serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap())
+                .unwrap();
+        record["_checkpoint"]["records"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|x| x["route_id"] == r["route_id"])
+            .unwrap()["save_name"]
+            .as_str()
+            .unwrap()
+            .to_string()
+    };
+    // The junction route runs the light standing 6.5 m beside the lane at 58 m: the frame
+    // nearest to the light, found here by brute force on the telemetry.
+    let r = route("RouteScenario_900009_rep0");
+    let light = [1520.0 + 58.0, -3310.0 + 6.5];
+    let locs = locations(dir.path(), &save(&r));
+    let dist = |l: &[f64; 2]| (l[0] - light[0]).hypot(l[1] - light[1]);
+    let nearest = (0..locs.len())
+        .min_by(|&a, &b| dist(&locs[a]).total_cmp(&dist(&locs[b])))
+        .unwrap();
+    let red: Vec<&Value> = r["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "red_light")
+        .collect();
+    assert_eq!(red.len(), 1);
+    assert_eq!(red[0]["frame"], nearest as u64);
+    assert_eq!(red[0]["list"], "red_light");
+    assert_eq!(red[0]["placed_by"], "closest_approach");
+    assert!((red[0]["distance_m"].as_f64().unwrap() - dist(&locs[nearest])).abs() < 1e-9);
+    assert_eq!(r["infractions"]["red_light"], 1);
+    // The crash route is blocked where it came to a stop: the first frame at its last position.
+    let r = route("RouteScenario_900005_rep0");
+    let locs = locations(dir.path(), &save(&r));
+    let last = *locs.last().unwrap();
+    let stop = locs
+        .iter()
+        .position(|l| (l[0] - last[0]).hypot(l[1] - last[1]) <= 1e-3)
+        .unwrap();
+    let blocked: Vec<&Value> = r["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "blocked")
+        .collect();
+    assert_eq!(blocked.len(), 1);
+    assert_eq!(blocked[0]["frame"], stop as u64);
+    assert_eq!(blocked[0]["placed_by"], "nearest");
+    // The standing route: one stationary event from where it stopped to its last frame.
+    let r = route("RouteScenario_900007_rep0");
+    let st: Vec<&Value> = r["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "stationary")
+        .collect();
+    assert_eq!(st.len(), 1);
+    assert_eq!(st[0]["end_frame"], r["frames"]);
+    let span = st[0]["end_frame"].as_u64().unwrap() - st[0]["frame"].as_u64().unwrap();
+    let share = r["stationary_share"].as_f64().unwrap();
+    assert_eq!(span as f64 / r["frames"].as_f64().unwrap(), share);
 }

@@ -5,9 +5,10 @@
 //! map of its town (`maps/DemoTown.xodr`, a road through a junction). The routes are straight
 //! roads driven with simple kinematics, chosen so that every SDS term shows up once: cruising,
 //! hard braking, a lane change, a cone contact, collisions with and without braking, a hit while
-//! standing still, a route whose agent writes telemetry at 10 Hz (one step per 0.1 s, as real
-//! published `metric_info.json` files do), and a drift inside a junction that the route XML
-//! leaves out and only the map lets the score see. `--large` writes a benchmark-sized run (220 routes x 4,000
+//! standing still (then blocked), a route whose agent writes telemetry at 10 Hz (one step per
+//! 0.1 s, as real published `metric_info.json` files do), and a drift inside a junction that the
+//! route XML leaves out and only the map lets the score see, on a route that also runs the
+//! junction's red light. `--large` writes a benchmark-sized run (220 routes x 4,000
 //! frames) of cruising routes for performance measurements.
 
 use std::fmt::Write as _;
@@ -68,11 +69,23 @@ struct Script {
     lateral: fn(f64) -> (f64, f64),
     /// Collisions: (frame, list, type_id).
     collisions: &'static [(usize, &'static str, &'static str)],
+    /// The evaluator's other infractions.
+    others: &'static [Other],
     status: &'static str,
     score_route: f64,
     /// The route XML leaves out its waypoints strictly between these (m from the origin), as
     /// real route files leave out junctions.
     xml_gap: Option<(f64, f64)>,
+}
+
+/// An infraction other than a collision, with the position CARLA's criteria write into it.
+#[derive(Clone, Copy, Debug)]
+enum Other {
+    /// A red light run; the light stands `side` m beside the road, `at` m along it (the
+    /// message carries the light's position, not the ego's).
+    RedLight { at: f64, side: f64 },
+    /// The agent got blocked: the message carries the ego's position at the last frame.
+    Blocked,
 }
 
 fn straight(_: f64) -> (f64, f64) {
@@ -126,6 +139,7 @@ fn scripts() -> Vec<Script> {
             accel: |_| 0.0,
             lateral: straight,
             collisions: &[],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -140,6 +154,7 @@ fn scripts() -> Vec<Script> {
             accel: |i| if (60..100).contains(&i) { -6.0 } else { 0.0 },
             lateral: straight,
             collisions: &[],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -153,6 +168,7 @@ fn scripts() -> Vec<Script> {
             accel: |_| 0.0,
             lateral: lane_change,
             collisions: &[],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -166,6 +182,7 @@ fn scripts() -> Vec<Script> {
             accel: |_| 0.0,
             lateral: straight,
             collisions: &[(90, "collisions_layout", "static.prop.constructioncone")],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -180,6 +197,7 @@ fn scripts() -> Vec<Script> {
             accel: |i| if (120..128).contains(&i) { -20.0 } else { 0.0 },
             lateral: straight,
             collisions: &[(120, "collisions_vehicle", "vehicle.lincoln.mkz_2020")],
+            others: &[Other::Blocked],
             status: "Failed - Agent got blocked",
             score_route: 62.5,
             xml_gap: None,
@@ -194,6 +212,7 @@ fn scripts() -> Vec<Script> {
             accel: |i| if (100..125).contains(&i) { -3.0 } else { 0.0 },
             lateral: straight,
             collisions: &[(110, "collisions_pedestrian", "walker.pedestrian.0012")],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -208,6 +227,7 @@ fn scripts() -> Vec<Script> {
             accel: |i| if (5..45).contains(&i) { -2.5 } else { 0.0 },
             lateral: straight,
             collisions: &[(130, "collisions_vehicle", "vehicle.audi.tt")],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -223,6 +243,7 @@ fn scripts() -> Vec<Script> {
             accel: |i| if (40..55).contains(&i) { -4.0 } else { 0.0 },
             lateral: straight,
             collisions: &[(55, "collisions_vehicle", "vehicle.tesla.model3")],
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -238,6 +259,11 @@ fn scripts() -> Vec<Script> {
             accel: |_| 0.0,
             lateral: junction_drift,
             collisions: &[],
+            // The light stands at the junction's entry, 6.5 m left of the lane.
+            others: &[Other::RedLight {
+                at: 58.0,
+                side: 6.5,
+            }],
             status: "Completed",
             score_route: 100.0,
             xml_gap: Some((56.0, 94.0)),
@@ -279,6 +305,7 @@ fn factor(list: &str) -> f64 {
         "collisions_pedestrian" => 0.5,
         "collisions_vehicle" => 0.6,
         "collisions_layout" => 0.65,
+        "red_light" => 0.7,
         _ => 1.0,
     }
 }
@@ -390,6 +417,7 @@ pub fn write_large_with(
             accel: |i| if i % 400 < 40 { 0.5 } else { 0.0 },
             lateral: straight,
             collisions: if hits(i) { HIT } else { &[] },
+            others: &[],
             status: "Completed",
             score_route: 100.0,
             xml_gap: None,
@@ -492,11 +520,39 @@ fn write_scripts(dir: &Path, scripts: &[Script], layout: Layout) -> Result<DemoR
             }
             penalty *= factor(list);
         }
+        for (n, other) in s.others.iter().enumerate() {
+            let (list, msg) = match *other {
+                Other::RedLight { at, side } => (
+                    "red_light",
+                    format!(
+                        "Agent ran a red light {} at (x={}, y={}, z=3.0)",
+                        3000 + n,
+                        py3(ORIGIN[0] + at),
+                        py3(ORIGIN[1] + side)
+                    ),
+                ),
+                Other::Blocked => {
+                    let f = sim.last().map_or(ORIGIN, |f| f.loc);
+                    (
+                        "vehicle_blocked",
+                        format!(
+                            "Agent got blocked at (x={}, y={}, z=0.0)",
+                            py3(f[0]),
+                            py3(f[1])
+                        ),
+                    )
+                }
+            };
+            if let Some(serde_json::Value::Array(v)) = infractions.get_mut(list) {
+                v.push(msg.into());
+            }
+            penalty *= factor(list);
+        }
         records.push(serde_json::json!({
             "index": index,
             "route_id": route_id,
             "status": s.status,
-            "num_infractions": s.collisions.len(),
+            "num_infractions": s.collisions.len() + s.others.len(),
             "infractions": infractions,
             "scores": {
                 "score_route": s.score_route,

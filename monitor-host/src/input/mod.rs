@@ -13,6 +13,7 @@
 //! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
 //! | collision strings (§5, §7) | [`collision`] |
+//! | what infraction messages carry: a position, a percentage | [`message`] |
 //! | label maps for the breakdown (§8.3) | [`labels`] |
 //! | duplicate JSON keys, refused | [`json_keys`] |
 //! | the figures an input file stores, checked (§1.5) | [`stored`] |
@@ -24,6 +25,7 @@ pub mod duplicates;
 pub mod json_keys;
 pub mod labels;
 pub mod lead_infractions;
+pub mod message;
 pub mod metric_info;
 pub mod read;
 pub mod record;

@@ -171,6 +171,9 @@ pub struct RouteOutcome {
     pub legacy_comfort: Option<ComfortSummary>,
     /// Collision events in list order (pedestrian, vehicle, layout).
     pub events: Vec<CollisionEvent>,
+    /// The other infractions (placed where the telemetry allows) and the long stationary
+    /// stretches ([`crate::pipeline::placement`]).
+    pub placed: Vec<crate::pipeline::placement::PlacedEvent>,
     /// `N_wz`.
     pub workzone: u32,
     /// The batch reference gave the same summary (spec section 9); `None` when not replayed.

@@ -17,6 +17,7 @@ use crate::pipeline::align::{self, EventRef};
 use crate::pipeline::live::LiveFrames;
 use crate::pipeline::motion::{self, Motion};
 use crate::pipeline::outcome::CollisionEvent;
+use crate::pipeline::placement::{self, PlacedEvent};
 use crate::settings::{decimal, Settings};
 
 /// Parses a record's collision lists into events (not yet aligned).
@@ -64,6 +65,9 @@ pub struct PreparedRoute {
     pub reference: ReferenceKind,
     /// Distance, stationary share and moving chunks (§8.5).
     pub motion: Motion,
+    /// The record's other infractions and the long stationary stretches, placed on the frames
+    /// where possible ([`placement`]).
+    pub placed: Vec<PlacedEvent>,
     /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
     /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
     pub lateral: Vec<Option<LateralSample>>,
@@ -137,6 +141,15 @@ pub fn prepare_with(
         usize::from(settings.core.chunk_len),
         usize::from(settings.core.min_chunk),
     );
+    let dt = decimal(settings.core.dt);
+    let mut placed = placement::infraction_events(&record.infractions);
+    placement::place(&mut placed, &steps, &locations, infractions, settings, dt);
+    placed.extend(placement::standing_events(
+        &motion.stationary,
+        &steps,
+        settings,
+        dt,
+    ));
     let mut live = LiveFrames::with_corridor(corridor, settings.core.dt);
     let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
     let frames: Vec<Frame> = tel
@@ -162,5 +175,6 @@ pub fn prepare_with(
         reference: live.reference(),
         lateral,
         motion,
+        placed,
     }
 }

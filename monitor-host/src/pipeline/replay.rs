@@ -19,6 +19,7 @@ use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
 use crate::pipeline::motion::MovingComfort;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::pipeline::placement;
 use crate::pipeline::prepare::{collision_events, prepare_with, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
@@ -380,6 +381,7 @@ pub fn replay(
         legacy_comfort: None,
         timeline: None,
         events: Vec::new(),
+        placed: Vec::new(),
         workzone: 0,
         batch_agrees: None,
         motion: None,
@@ -448,6 +450,7 @@ pub fn replay(
                     ));
                     out.motion = Some(prepared.motion);
                     out.events = prepared.events;
+                    out.placed = prepared.placed;
                     let at: Vec<usize> = out.events.iter().filter_map(|e| e.frame).collect();
                     let mut timeline = RouteTimeline::around(
                         &prepared.frames,
@@ -488,6 +491,7 @@ pub fn replay(
     // A route not replayed keeps its collisions, unaligned (spec section 10).
     if out.telemetry != TelemetryState::Ok {
         out.events = collision_events(record);
+        out.placed = placement::infraction_events(&record.infractions);
     }
     for e in &out.events {
         if let Some(reason) = &e.parse_error {

@@ -9,7 +9,6 @@
 //! assert_eq!(recompute_penalty(&inf, PenaltyFlavour::Bench2Drive), Ok(0.6));
 //! ```
 
-use crate::input::collision::parse_python_float;
 use crate::input::record::{Infractions, Record};
 use crate::settings::PenaltyFlavour;
 
@@ -53,21 +52,7 @@ pub fn recompute_penalty(inf: &Infractions, flavour: PenaltyFlavour) -> Result<f
     Ok(penalty)
 }
 
-/// The percentage of `Agent went outside its route lanes for about <m> meters (<pct>% of the
-/// completed route)`.
-pub fn outside_lanes_percent(s: &str) -> Option<f64> {
-    let open = s.rfind('(')?;
-    let inner = &s[open + 1..];
-    let end = inner.find("% of the completed route)")?;
-    parse_python_float(&inner[..end])
-}
-
-/// The percentage of `Average speed is <pct>% of the surrounding traffic's one`.
-pub fn min_speed_percent(s: &str) -> Option<f64> {
-    let rest = s.strip_prefix("Average speed is ")?;
-    let end = rest.find('%')?;
-    parse_python_float(&rest[..end])
-}
+pub use crate::input::message::{min_speed_percent, outside_lanes_percent};
 
 /// The result of re-checking a record's `score_penalty`.
 #[derive(Debug, Clone, Copy, PartialEq)]

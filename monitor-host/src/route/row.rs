@@ -319,7 +319,13 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
         source: Some(Source::of(&o.loaded)),
         kept: None,
         collision_events: o.events.clone(),
-        events: route_events(&o.events, o.timeline.as_ref(), settings.core.chunk_len),
+        events: route_events(
+            &o.events,
+            &o.placed,
+            o.timeline.as_ref(),
+            settings.core.chunk_len,
+            o.frames as usize,
+        ),
         penalty_check: rec.map(|r| {
             let p = check_penalty(r, settings.penalty_flavour);
             PenaltyReport {

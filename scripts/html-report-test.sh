@@ -83,6 +83,9 @@ page="file://$(realpath "$out/report.html")"
 browse "$page" --dump-dom >"$out/dom.html"
 browse "$page#test:sort=ds_safe:desc" --dump-dom >"$out/dom-sorted.html"
 browse "$page#test:filter=crash;sort=route:desc" --dump-dom >"$out/dom-filtered.html"
+# The first route with a red light: its drill-down opened, its event markers measured.
+red=$(python3 -c 'import json,sys; print(next(i for i,r in enumerate(json.load(open(sys.argv[1]))["routes"]) if any(e["kind"]=="red_light" and e["frame"] is not None for e in r["events"])))' "$out/report.json")
+browse "$page#test:open=route-$red" --dump-dom >"$out/dom-open.html"
 browse "file://$(realpath "$out/compare.html")" --dump-dom >"$out/dom-compare.html"
 browse "file://$(realpath "$out/compare.html")#test:sort=dds:b:asc" --dump-dom >"$out/dom-compare-sorted.html"
 browse "$page" --screenshot="$(realpath "$out")/report.png" --window-size=1280,2000 >/dev/null
@@ -110,7 +113,7 @@ def result(d):
     m = re.search(r'<pre id="test-result">([^<]*)</pre>', d)
     return None if m is None else [l for l in m.group(1).split("\n") if l]
 
-for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-compare.html", "dom-compare-sorted.html"):
+for name in ("dom.html", "dom-sorted.html", "dom-filtered.html", "dom-open.html", "dom-compare.html", "dom-compare-sorted.html"):
     d = dom(name)
     if not (title(d) or "").endswith("[ready]") or not (status(d) or "").startswith("ok"):
         problems.append(f"{name}: title {title(d)!r}, status {status(d)!r}: the page's script did not finish")
@@ -128,6 +131,29 @@ for pic in ("waterfall", "route-chart"):
 for r in routes:
     if f'data-route="{r["route_id"]}"' not in d:
         problems.append(f"{r['route_id']} missing from the rendered page")
+# The opened route's timeline: its red-light marker is drawn at the frame the JSON gives (the
+# page's script measured the marker back to a frame), and so is every other placed event;
+# a collision with a figure links to it.
+d = dom("dom-open.html")
+i, r = next((i, r) for i, r in enumerate(routes) if any(e["kind"] == "red_light" and e["frame"] is not None for e in r["events"]))
+block = d[d.index(f'<details class="route" id="route-{i}"'):]
+block = block[:block.index("</details>")]
+markers = re.findall(r'<(?:circle|rect) class="ev ev-([a-z_]+)"[^>]*data-frame="(\d+)"[^>]*data-at-frame="(-?\d+)"', block)
+placed = [e for e in r["events"] if e["frame"] is not None]
+if len(markers) != len(placed):
+    problems.append(f"route {i}: {len(markers)} measured markers for {len(placed)} placed events")
+red = [e["frame"] for e in placed if e["kind"] == "red_light"]
+red_drawn = [int(a) for k, f, a in markers if k == "red_light"]
+if not red or red_drawn != red:
+    problems.append(f"route {i}: red-light marker drawn at frame(s) {red_drawn}, the JSON gives {red}")
+for k, f, a in markers:
+    if k not in ("uncomfortable", "lateral_anomalous", "lateral_critical", "stationary") and abs(int(a) - int(f)) > 0:
+        problems.append(f"route {i}: {k} marker at frame {a}, its data says {f}")
+for href in re.findall(r'<a href="#(route-\d+-collision-\d+)">', d):
+    if f'id="{href}"' not in d:
+        problems.append(f"timeline link #{href} reaches no figure")
+if not re.search(r'<a href="#route-\d+-collision-\d+">', d):
+    problems.append("no timeline marker links to a collision figure")
 cmp = json.load(open(f"{out}/compare.json"))
 dc = dom("dom-compare.html")
 for run in ("a", "b"):
@@ -165,7 +191,7 @@ if problems:
     for p in problems:
         print(f"browser test: {p}", file=sys.stderr)
     sys.exit(1)
-print(f"browser test: ok: {len(routes)} routes rendered, status {status(d)!r}; sort and filter as expected")
+print(f"browser test: ok: {len(routes)} routes rendered, status {status(dom('dom.html'))!r}; sort and filter as expected; route {i}'s red light drawn at frame {red_drawn[0]} as the JSON gives")
 PY
 # The state filter, with the state of the first route.
 state=$(python3 -c 'import json,sys; print(str(json.load(open(sys.argv[1]))["routes"][0]["state"]).split(":")[0])' "$out/report.json")

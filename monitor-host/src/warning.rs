@@ -337,7 +337,7 @@ impl std::fmt::Display for Warning {
                 scores: [r, p, c],
             } => write!(
                 f,
-                "{}: record {index} ({route}): score_composed {c} is not score_route {r} x                  score_penalty {p} = {} (edited record? SDS uses score_route and score_penalty)",
+                "{}: record {index} ({route}): score_composed {c} is not score_route {r} x score_penalty {p} = {} (edited record? SDS uses score_route and score_penalty)",
                 file.display(),
                 r * p
             ),

@@ -1,6 +1,7 @@
 // The report's only script: sorting and filtering of the route table, then self-checks that
 // write #status and document.title. A URL fragment `#test:sort=COL:asc|desc;filter=TEXT;state=S`
-// drives the same functions and records the resulting order in #test-result (the browser test).
+// drives the same functions and records the resulting order in #test-result (the browser test);
+// `open=ID` opens a route's drill-down, whose event markers are then measured back to frames.
 (function () {
   "use strict";
   // Other pages (sds compare): every table.sortable sorts on a click on its heading (numbers by
@@ -37,6 +38,21 @@
       }
     });
   }
+  // Each event marker of an opened drill-down, measured back to the frame it is drawn at
+  // (`data-at-frame`): frame f of n sits at f / (n - 1) of the axis.
+  function measure(root) {
+    Array.prototype.forEach.call(root.querySelectorAll("svg.events-axis"), function (svg) {
+      var axis = svg.querySelector(".axis").getBoundingClientRect(), n = +svg.getAttribute("data-frames");
+      if (!(axis.width > 0)) { return; }
+      Array.prototype.forEach.call(svg.querySelectorAll(".ev"), function (m) {
+        var b = m.getBoundingClientRect(), x = m.tagName.toLowerCase() === "rect" ? b.left : b.left + b.width / 2;
+        m.setAttribute("data-at-frame", Math.round((x - axis.left) / axis.width * Math.max(n - 1, 1)));
+      });
+    });
+  }
+  Array.prototype.forEach.call(document.querySelectorAll("details.route"), function (d) {
+    d.addEventListener("toggle", function () { if (d.open) { measure(d); } });
+  });
   var table = document.getElementById("routes");
   var status = document.getElementById("status");
   function fail(msg) { status.hidden = false; status.textContent = "error: " + msg; document.title = "SDS report [error]"; throw new Error(msg); }
@@ -114,6 +130,7 @@
       if (k === "sort") { var s = v.split(":"); sortBy(column(s[0]), s[1] === "desc" ? "descending" : "ascending"); }
       if (k === "filter") { filterBox.value = v; applyFilter(); }
       if (k === "state") { stateBox.value = v; applyFilter(); }
+      if (k === "open") { var d = document.getElementById(v); if (!d) { fail("no drill-down " + v); } d.open = true; measure(d); }
     });
     var out = document.createElement("pre");
     out.id = "test-result";

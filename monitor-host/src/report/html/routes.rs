@@ -172,8 +172,13 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
         if let Some(reason) = &r.reason {
             out.push_str(&format!("<p class=\"warn\">{}</p>\n", escape(reason)));
         }
+        timeline::events(out, r, i);
         for t in &r.traces {
-            out.push_str("<div class=\"fig\">");
+            out.push_str(&format!(
+                "<div class=\"fig\" id=\"{}-collision-{}\">",
+                target(i),
+                t.event
+            ));
             out.push_str(&figure::svg(t));
             out.push_str("</div>\n");
         }

@@ -1,5 +1,6 @@
-//! A route's chunk timelines as small inline SVGs: which comfort chunks failed which bound, and
-//! which lateral chunks were anomalous or critical (the monitor's per-chunk events). One path
+//! A route's timelines as small inline SVGs: every event on the frame axis ([`events`]), which
+//! comfort chunks failed which bound, and which lateral chunks were anomalous or critical (the
+//! monitor's per-chunk events). One path
 //! per row (a 4,000-frame route has 200 chunks: one element per chunk would weigh on the page);
 //! each row names its chunks in `data-chunks` and in its tooltip.
 
@@ -9,6 +10,10 @@ use crate::route::events::BOUNDS;
 use monitor_core::lateral::Band;
 
 use crate::pipeline::timeline::ChunkLog;
+use crate::route::events::RouteEvent;
+use crate::route::row::RouteReport;
+
+use super::page::escape;
 
 const LABEL_W: u32 = 90;
 const ROW_H: u32 = 12;
@@ -155,6 +160,183 @@ pub(super) fn lateral(out: &mut String, log: &ChunkLog, chunks: u32, chunk_len: 
             out, ROW_H, "critical", chunks, "critical", "#c33", &critical,
         );
         out.push_str("</svg>");
+    }
+    out.push_str("</div>\n");
+}
+
+/// The rows of the events timeline: (label, the kinds drawn in it).
+const EVENT_ROWS: [(&str, &[&str]); 5] = [
+    ("collisions", &["collision"]),
+    (
+        "infractions",
+        &[
+            "red_light",
+            "stop_sign",
+            "blocked",
+            "route_deviation",
+            "outside_lanes",
+            "min_speed",
+            "yield_emergency_vehicle",
+            "scenario_timeout",
+            "route_timeout",
+            "other",
+        ],
+    ),
+    ("lateral", &["lateral_anomalous", "lateral_critical"]),
+    ("comfort", &["uncomfortable"]),
+    ("standing", &["stationary"]),
+];
+
+/// A marker's colour by kind.
+fn event_color(kind: &str) -> &'static str {
+    match kind {
+        "collision" | "lateral_critical" | "red_light" => "#c33",
+        "stop_sign" => "#a0c",
+        "lateral_anomalous" => "#f90",
+        "uncomfortable" => "#e88",
+        "stationary" => "#999",
+        "blocked" | "route_deviation" => "#36c",
+        _ => "#777",
+    }
+}
+
+/// A route's events on one frame axis (issue 28): a row per family (collisions, the evaluator's
+/// other infractions, lateral chunks, uncomfortable chunks, stationary stretches); an event at a
+/// frame is a dot, a chunk or stretch a bar; each names its kind, list, frame, time and message
+/// on hover, and a collision with a figure links to it (`#route-<i>-collision-<k>`). Frame `f`
+/// of `frames` sits at `x0 + f × w / (frames − 1)` on the axis (`class="axis"`); the page's
+/// script measures each marker back to a frame (`data-at-frame`, the browser test). Events
+/// that could not be placed are listed below it, never dropped.
+pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
+    let frames = r.frames as usize;
+    let (placed, unplaced): (Vec<&RouteEvent>, Vec<&RouteEvent>) = r
+        .events
+        .iter()
+        .partition(|e| e.frame.is_some_and(|f| f < frames.max(1)) && frames > 0);
+    let figures: Vec<usize> = r.traces.iter().map(|t| t.event).collect();
+    let _ = write!(
+        out,
+        "<div class=\"timeline events\" data-frames=\"{frames}\" data-placed=\"{}\" data-unplaced=\"{}\"><b>Events</b>: {} on the route's {frames} frames, {} not placed",
+        placed.len(),
+        unplaced.len(),
+        placed.len(),
+        unplaced.len()
+    );
+    out.push('\n');
+    if frames > 0 {
+        let w = f64::from(MAX_W);
+        let scale = w / (frames.saturating_sub(1).max(1)) as f64;
+        let x = |f: usize| f64::from(LABEL_W) + f as f64 * scale;
+        let rows = EVENT_ROWS.len() as u32;
+        let height = ROW_H * (rows + 1) + 4;
+        let _ = write!(
+            out,
+            "<svg class=\"events-axis\" data-frames=\"{frames}\" xmlns=\"http://www.w3.org/2000/svg\" width=\"{}\" height=\"{height}\" font-family=\"sans-serif\" font-size=\"10\">",
+            LABEL_W + MAX_W + 8
+        );
+        for (i, (label, _)) in EVENT_ROWS.iter().enumerate() {
+            let y = ROW_H * i as u32;
+            let _ = write!(
+                out,
+                "<text x=\"0\" y=\"{}\" fill=\"#555\">{label}</text><rect x=\"{LABEL_W}\" y=\"{}\" width=\"{MAX_W}\" height=\"{}\" fill=\"#f3f3f3\"/>",
+                y + ROW_H - 3,
+                y + 1,
+                ROW_H - 2
+            );
+        }
+        // The frame axis, with the first, last and three frames between labelled.
+        let axis_y = ROW_H * rows + 2;
+        let _ = write!(
+            out,
+            "<line class=\"axis\" x1=\"{LABEL_W}\" y1=\"{axis_y}\" x2=\"{}\" y2=\"{axis_y}\" stroke=\"#888\"/>",
+            LABEL_W + MAX_W
+        );
+        for k in 0..=4 {
+            let f = (frames - 1) * k / 4;
+            let anchor = match k {
+                0 => "start",
+                4 => "end",
+                _ => "middle",
+            };
+            let _ = write!(
+                out,
+                "<text x=\"{:.1}\" y=\"{}\" fill=\"#888\" text-anchor=\"{anchor}\">frame {f}</text>",
+                x(f),
+                axis_y + ROW_H - 2
+            );
+        }
+        for e in &placed {
+            let Some(row) = EVENT_ROWS
+                .iter()
+                .position(|(_, kinds)| kinds.contains(&e.kind))
+            else {
+                continue;
+            };
+            let f = e.frame.unwrap_or_default();
+            let y = ROW_H * row as u32;
+            let title = format!(
+                "{}{} at frame {f}{}: {}",
+                e.kind,
+                e.list
+                    .as_deref()
+                    .map_or(String::new(), |l| format!(" ({l})")),
+                e.time_s
+                    .map_or(String::new(), |t| format!(", t = {t:.2} s")),
+                e.message
+            );
+            let attrs = format!(
+                "class=\"ev ev-{}\" data-kind=\"{}\" data-frame=\"{f}\" fill=\"{}\"",
+                e.kind,
+                e.kind,
+                event_color(e.kind)
+            );
+            let link = e
+                .collision
+                .filter(|c| figures.contains(c))
+                .map(|c| format!("#route-{route}-collision-{c}"));
+            if let Some(href) = &link {
+                let _ = write!(out, "<a href=\"{href}\">");
+            }
+            match e.end_frame {
+                Some(end) if end > f => {
+                    let _ = write!(
+                        out,
+                        "<rect {attrs} data-end-frame=\"{end}\" x=\"{:.1}\" y=\"{}\" width=\"{:.1}\" height=\"{}\"><title>{}</title></rect>",
+                        x(f),
+                        y + 2,
+                        // Clamped to the axis: a stretch to the end ends at the last frame.
+                        (x(end.min(frames - 1)) - x(f)).max(1.0),
+                        ROW_H - 4,
+                        escape(&title)
+                    );
+                }
+                _ => {
+                    let _ = write!(
+                        out,
+                        "<circle {attrs} cx=\"{:.1}\" cy=\"{}\" r=\"4\" stroke=\"#fff\"><title>{}</title></circle>",
+                        x(f),
+                        y + ROW_H / 2,
+                        escape(&title)
+                    );
+                }
+            }
+            if link.is_some() {
+                out.push_str("</a>");
+            }
+        }
+        out.push_str("</svg>");
+    }
+    if !unplaced.is_empty() {
+        out.push_str("<ul class=\"unplaced\">");
+        for e in &unplaced {
+            let _ = write!(
+                out,
+                "<li data-kind=\"{}\">not placed: {}</li>",
+                e.kind,
+                escape(&e.message)
+            );
+        }
+        out.push_str("</ul>");
     }
     out.push_str("</div>\n");
 }

@@ -6,6 +6,7 @@
 # its status and title after its self-checks, sorting and filtering
 # are driven through the page's test hook (#test:...) and the resulting order compared with the
 # JSON report's, and a PNG screenshot is taken. `sds compare --format html` opens the same way.
+# Then the live page of a running `sds watch` (scripts/html-watch-test.sh).
 # Skips the browser part loudly (exit 0) only when Chromium is not installed and cannot be.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -53,32 +54,8 @@ if cmp -s "$out/report.html" "$out/tampered-waterfall.html" ||
 fi
 echo "html check: a tampered page is caught (a table cell, the waterfall's DS)"
 
-chrome=$(command -v chromium || command -v chromium-browser || true)
-if [ -z "$chrome" ]; then
-  bash scripts/setup.sh >/dev/null 2>&1 || true
-  chrome=$(command -v chromium || command -v chromium-browser || true)
-fi
-if [ -z "$chrome" ]; then
-  # shellcheck source=skip.sh
-  source scripts/skip.sh
-  loud_skip html-report "chromium is not installed and scripts/setup.sh could not install it: the browser test was not run (by hand: apt-get install chromium)"
-fi
-
-# One fresh profile per run; the page's console goes to stderr (--enable-logging).
-browse() { # browse URL WHAT... -> stdout of chromium; fails on a JavaScript error
-  local url=$1; shift
-  local profile; profile=$(mktemp -d)
-  local log="$out/chromium.log"
-  if ! timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --disable-background-networking \
-      --disable-component-update --no-first-run --user-data-dir="$profile" \
-      --enable-logging=stderr --v=0 "$@" "$url" 2>"$log"; then
-    rm -rf "$profile"; cat "$log" >&2; echo "browser test: chromium failed on $url" >&2; return 1
-  fi
-  rm -rf "$profile"
-  if grep -E "Uncaught|CONSOLE.*(Error|error)" "$log" >&2; then
-    echo "browser test: JavaScript error on $url" >&2; return 1
-  fi
-}
+# shellcheck source=browse.sh
+source scripts/browse.sh
 page="file://$(realpath "$out/report.html")"
 browse "$page" --dump-dom >"$out/dom.html"
 browse "$page#test:sort=ds_safe:desc" --dump-dom >"$out/dom-sorted.html"
@@ -223,3 +200,5 @@ PY
 else
   echo "## browser test: $fixtures absent: the 220-route width check SKIPPED" >&2
 fi
+
+bash scripts/html-watch-test.sh

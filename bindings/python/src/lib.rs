@@ -8,6 +8,9 @@
 //! - `compare` (`compare.rs`): the library's `compare_runs` with the runs, `Settings` (the same
 //!   `options.rs`) and the comparison's options built from the keyword arguments, the
 //!   `sds-compare/1` report converted by `pyser.rs`, GIL released while scoring;
+//! - `watch` (`watch.rs`): the library's [`monitor_host::Watcher`] as an iterator of partial
+//!   reports (`Watch`), one round per `next()`, the same options (`options.rs`) and conversion
+//!   (`pyser.rs`) as `score`, GIL released while sleeping and scoring;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
@@ -23,6 +26,7 @@ mod monitor;
 mod options;
 mod pyser;
 mod score;
+mod watch;
 
 use std::ffi::OsString;
 
@@ -41,6 +45,8 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(score::score, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(watch::watch, m)?)?;
+    m.add_class::<watch::Watch>()?;
     m.add_class::<monitor::Monitor>()?;
     m.add(
         "FIELDS",

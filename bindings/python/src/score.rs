@@ -61,7 +61,7 @@ impl Progress for Cancellable<'_> {
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// The grouping named `name`, and the label files with `labels` as its map.
-fn breakdown(
+pub(crate) fn breakdown(
     group_by: Option<&str>,
     labels: Option<PathBuf>,
 ) -> PyResult<(Option<GroupBy>, LabelFiles)> {

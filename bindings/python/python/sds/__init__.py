@@ -6,6 +6,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   the same numbers to the bit;
 - :func:`compare` compares runs against a baseline (paired deltas, bootstrap intervals,
   verdicts, flips) and returns the report of ``sds compare --format json``;
+- :func:`watch` scores an evaluation while it runs: an iterator of partial reports (the
+  reports of ``sds watch``), for notebooks and dashboards;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
 
@@ -32,6 +34,8 @@ from ._sds import (
     __version__,
 )
 from ._compare import compare
+from ._sds import Watch
+from ._watch import watch
 from .monitor import Event, Monitor, Summary
 
 __all__ = [
@@ -45,9 +49,11 @@ __all__ = [
     "PathLike",
     "SdsError",
     "Summary",
+    "Watch",
     "__version__",
     "compare",
     "score",
+    "watch",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]

@@ -1,7 +1,7 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
 import os
-from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 __version__: str
 FIELDS: List[str]
@@ -39,6 +39,29 @@ def compare(
     """Compares runs through the library: each run ``(name, results, telemetry or None)``;
     ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
     as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``)."""
+
+def watch(results: Sequence[str], options: Mapping[str, Any]) -> "Watch":
+    """A watch of a run through the library's ``Watcher``; ``options`` holds every keyword
+    argument of ``sds.watch`` but ``results``, by name. Nothing is read until ``next()``."""
+
+class Watch(Iterator[Dict[str, Any]]):
+    """The iterator of partial reports ``sds.watch`` returns: one round per ``next()``."""
+
+    def __iter__(self) -> "Watch": ...
+    def __next__(self) -> Dict[str, Any]:
+        """Sleeps the interval (not before the first round), runs a round, returns its report
+        (a half-written results file is retried after another interval); StopIteration once
+        the route set is complete and a further round found nothing new, or after the
+        timeout."""
+    @property
+    def status(self) -> Optional[Dict[str, Any]]:
+        """The figures of the round that made the last report (``round``, ``done``, ``n``,
+        ``ds_done``, ``ds_n``, ``sds_done``, ``sds_n``, ``complete``, ``seconds_left``,
+        ``changed``, ``rescored``, ``reused``, ``rescored_routes``, ``retries``, ``round_ms``,
+        ``stopped``); None before the first."""
+    @property
+    def finished(self) -> bool:
+        """True once the iterator has stopped."""
 
 class Monitor:
     """The streaming monitor of one route (see ``sds.Monitor``)."""

@@ -1,0 +1,116 @@
+"""``sds.watch``: the score of an evaluation while it runs (spec v1.3 section 12), from Python."""
+
+from __future__ import annotations
+
+import os
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+from . import _sds
+from ._sds import ConfigError, Watch
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+def _paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
+    if isinstance(results, (str, os.PathLike)):
+        return [os.fspath(results)]
+    return [os.fspath(r) for r in results]
+
+
+def watch(
+    results: Union[PathLike, Sequence[PathLike]],
+    *,
+    telemetry: Optional[PathLike] = None,
+    routes: Optional[PathLike] = None,
+    maps: Optional[PathLike] = None,
+    interval: float = 10.0,
+    timeout: Optional[float] = None,
+    profile: str = "physical",
+    duplicates: str = "error",
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+    group_by: Optional[str] = None,
+    labels: Optional[PathLike] = None,
+    jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
+) -> Watch:
+    """Watches an evaluation while it runs; returns an iterator of partial reports.
+
+    The library's watch of ``sds watch`` (no command line in between), one round per
+    ``next()``: the inputs read again, each route replayed again only when its record or its
+    telemetry changed, the report made. Each report is a dict of the same shape as
+    :func:`sds.score`'s (routes without a record yet are ``missing``); the figures of the round
+    that made it are in the iterator's ``status`` dict:
+
+    - ``round``: the round's number (rounds retried on a half-written file count too);
+    - ``done``, ``n``: routes with a record, and the benchmark's size N;
+    - ``ds_done``, ``sds_done``: DS and SDS over the routes done; ``ds_n``, ``sds_n``: over N,
+      the routes not done counting 0 (the two "so far" figures of the status line);
+    - ``complete``: every route of the set has a record (a route XML or ``expected_routes``
+      gives the set; without one, every checkpoint's ``progress`` says done);
+    - ``seconds_left``: the routes' mean ``meta.duration_system`` times the routes left, or None;
+    - ``changed``, ``rescored``, ``reused``, ``rescored_routes``: whether anything changed since
+      the previous report, the routes replayed (and their ids) and those taken from the cache;
+    - ``retries``: rounds since the previous report that caught a results file half-written
+      (retried, never raised); ``round_ms``: the round's time;
+    - ``stopped``: None, or why the iterator stopped (``"complete"``, ``"timeout"``).
+
+    The first ``next()`` scores at once; each later one first sleeps ``interval`` seconds (and
+    again after a retried round). The iterator stops once the route set is complete and one
+    more round found nothing new, or when ``timeout`` seconds have passed since the first
+    ``next()`` (after one last round, yielded if it found something new). The last report is
+    then :func:`sds.score`'s over the same files. The GIL is released while sleeping and
+    scoring; Ctrl-C (any Python signal) raises from ``next()`` within 50 ms of the sleep, or
+    when the round under way ends.
+
+    Args:
+        results: Evaluator results as for :func:`sds.score`: a checkpoint the evaluator
+            rewrites in place, a folder of shard checkpoints or of per-route folders, or a list.
+        telemetry, routes, maps: As for :func:`sds.score`.
+        interval: Seconds between rounds (fractions allowed; ``--interval``).
+        timeout: Stop after this many seconds (``--timeout``); None: until complete.
+        profile, duplicates, expected_routes, allow_missing_telemetry, settings, group_by,
+            labels, jobs, protocols: As for :func:`sds.score`.
+
+    Returns:
+        The iterator (its ``status`` property: the figures above; ``finished``: True once it
+        stopped).
+
+    Raises:
+        ConfigError: An invalid option, as :func:`sds.score`, or an ``interval`` not above 0
+            (at once); an invalid setting or label file, or a ``telemetry`` or ``maps`` folder
+            that does not exist (``IoError``), from the first ``next()``. A results file that
+            does not parse yet is retried, never raised.
+
+    Example:
+        >>> w = sds.watch("eval/results.json", telemetry="eval/", routes="bench2drive220.xml",
+        ...               interval=30)  # doctest: +SKIP
+        >>> for report in w:  # doctest: +SKIP
+        ...     s = w.status
+        ...     print(f"{s['done']}/{s['n']} routes, SDS {s['sds_done']} so far")
+        >>> report == sds.score("eval/results.json", telemetry="eval/",
+        ...                     routes="bench2drive220.xml")  # doctest: +SKIP
+        True
+    """
+    if isinstance(protocols, str):
+        raise ConfigError(
+            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
+        )
+    options: Dict[str, Any] = {
+        "telemetry": telemetry,
+        "routes": routes,
+        "maps": maps,
+        "interval": float(interval),
+        "timeout": None if timeout is None else float(timeout),
+        "profile": profile,
+        "duplicates": duplicates,
+        "expected_routes": None if expected_routes is None else int(expected_routes),
+        "allow_missing_telemetry": allow_missing_telemetry,
+        "settings": settings,
+        "group_by": group_by,
+        "labels": labels,
+        "jobs": None if jobs is None else int(jobs),
+        "protocols": None if protocols is None else list(protocols),
+    }
+    return _sds.watch(_paths(results), options)

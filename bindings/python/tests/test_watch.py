@@ -1,0 +1,164 @@
+"""`sds.watch` against an evaluation played back from the demo run: the checkpoint rewritten in
+place round by round (once caught half-written), telemetry written when a route ends."""
+
+from __future__ import annotations
+
+import _thread
+import json
+import shutil
+import threading
+import time
+from pathlib import Path
+from typing import Any, Dict, List, Optional
+
+import pytest
+
+import sds
+from conftest import Demo, same
+
+
+class Playback:
+    """The finished demo run, revealed into `root` a few records at a time."""
+
+    def __init__(self, demo: Demo, root: Path) -> None:
+        self.demo = demo
+        self.checkpoint: Dict[str, Any] = json.loads(demo.results.read_text())
+        self.records: List[Dict[str, Any]] = self.checkpoint["_checkpoint"]["records"]
+        self.results = root / "results.json"
+        self.telemetry = root / "telemetry"
+        self.telemetry.mkdir(parents=True)
+
+    def checkpoint_bytes(self, k: int) -> bytes:
+        c = json.loads(json.dumps(self.checkpoint))
+        c["_checkpoint"]["records"] = self.records[:k]
+        c["_checkpoint"]["progress"] = [k, len(self.records)]
+        return json.dumps(c, indent=2).encode()
+
+    def reveal(self, k: int, half: bool = False) -> Optional[bytes]:
+        """Routes up to `k` done: their telemetry written, then the checkpoint rewritten in place
+        (truncate, write). With `half`, only its first half is written; returns the rest."""
+        for r in self.records[:k]:
+            dst = self.telemetry / r["save_name"]
+            if not dst.exists():
+                shutil.copytree(self.demo.telemetry / r["save_name"], dst)
+        data = self.checkpoint_bytes(k)
+        cut = len(data) // 2 if half else len(data)
+        with open(self.results, "wb") as f:  # in place, not atomically
+            f.write(data[:cut])
+        return data[cut:] if half else None
+
+    def finish(self, rest: bytes) -> None:
+        with open(self.results, "ab") as f:
+            f.write(rest)
+
+    def score(self) -> Dict[str, Any]:
+        return sds.score(self.results, telemetry=self.telemetry, routes=self.demo.routes)
+
+
+def done(report: Dict[str, Any]) -> int:
+    return sum(1 for r in report["routes"] if r["state"] != "missing")
+
+
+def test_partial_reports_grow_and_end_with_the_score_report(demo: Demo, tmp_path: Path) -> None:
+    ev = Playback(demo, tmp_path)
+    n = len(ev.records)
+    assert n >= 7
+    steps = [2, 4, 5, 7, n]
+    ev.reveal(steps[0])
+    w = sds.watch(ev.results, telemetry=ev.telemetry, routes=demo.routes, interval=0.05, timeout=120)
+    assert w.status is None and not w.finished
+    seen: List[int] = []
+    report = next(w)
+    seen.append(done(report))
+    assert same(report, ev.score())  # a partial report is sds.score's over the files so far
+    for i, k in enumerate(steps[1:]):
+        if i == 1:
+            # Caught half-written: the round is retried (never raised) until the evaluator ends
+            # its write 0.4 s later.
+            rest = ev.reveal(k, half=True)
+            assert rest is not None
+            timer = threading.Timer(0.4, ev.finish, args=(rest,))
+            timer.start()
+            report = next(w)
+            timer.join()
+            status = w.status
+            assert status is not None
+            assert status["retries"] >= 1, status
+        else:
+            ev.reveal(k)
+            report = next(w)
+        status = w.status
+        assert status is not None
+        assert status["done"] == done(report) == k, (k, status)
+        assert status["n"] == n
+        assert status["changed"] and status["rescored"] >= 1
+        assert same(report, ev.score())
+        seen.append(done(report))
+        if k < n:
+            assert not status["complete"] and status["stopped"] is None
+            # Both "so far" figures: over the routes done, and over N (the rest counting 0).
+            assert status["ds_n"] < status["ds_done"]
+            assert status["ds_n"] == pytest.approx(status["ds_done"] * k / n)
+    assert seen == steps
+    # Complete: the iterator stops after a round that found nothing new.
+    assert w.status is not None and w.status["complete"]
+    rest_reports = list(w)
+    for r in rest_reports:  # only rounds re-reading files written under a second ago
+        assert same(r, report)
+    assert w.finished
+    assert w.status is not None and w.status["stopped"] == "complete"
+    final = rest_reports[-1] if rest_reports else report
+    expected = ev.score()
+    assert same(final, expected)
+    assert json.dumps(final) == json.dumps(expected)  # keys in the same order too
+    with pytest.raises(StopIteration):
+        next(w)
+
+
+def test_half_written_first_round(demo: Demo, tmp_path: Path) -> None:
+    """A results file that does not parse at the first round is retried, not raised."""
+    ev = Playback(demo, tmp_path)
+    rest = ev.reveal(3, half=True)
+    assert rest is not None
+    threading.Timer(0.3, ev.finish, args=(rest,)).start()
+    w = sds.watch([ev.results], telemetry=ev.telemetry, routes=demo.routes, interval=0.05)
+    report = next(w)
+    assert done(report) == 3
+    assert w.status is not None and w.status["retries"] >= 1
+
+
+def test_timeout_stops_with_the_last_round(demo: Demo, tmp_path: Path) -> None:
+    ev = Playback(demo, tmp_path)
+    ev.reveal(3)
+    w = sds.watch(ev.results, telemetry=ev.telemetry, routes=demo.routes, interval=0.1, timeout=0.5)
+    began = time.monotonic()
+    first = next(w)
+    ev.reveal(4)  # revealed before the timeout: the last round yields it
+    reports = [first, *w]
+    assert time.monotonic() - began < 10
+    assert w.finished and w.status is not None
+    assert w.status["stopped"] == "timeout"
+    assert not w.status["complete"]
+    assert done(reports[-1]) == 4
+    assert same(reports[-1], ev.score())
+
+
+def test_ctrl_c_interrupts_the_sleep(demo: Demo, tmp_path: Path) -> None:
+    ev = Playback(demo, tmp_path)
+    ev.reveal(3)
+    w = sds.watch(ev.results, telemetry=ev.telemetry, routes=demo.routes, interval=60)
+    next(w)
+    threading.Timer(0.3, _thread.interrupt_main).start()
+    began = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        next(w)
+    assert time.monotonic() - began < 5
+
+
+def test_options_are_checked_at_once(demo: Demo) -> None:
+    with pytest.raises(sds.ConfigError, match="interval"):
+        sds.watch(demo.results, interval=0)
+    with pytest.raises(sds.ConfigError, match="profile"):
+        sds.watch(demo.results, profile="nope")
+    with pytest.raises(sds.ConfigError, match="group_by"):
+        sds.watch(demo.results, group_by="nope")

@@ -712,7 +712,9 @@ impl Default for MotionSettings {
 pub struct EventSettings {
     /// A red-light or stop-sign event is placed at the frame of the ego's closest approach to
     /// the position in its message (the light's or the sign's own location, not the ego's) if
-    /// that frame is at most this far from it, m (20.0) **\[decision\]**.
+    /// that frame is at most this far from it, m (30.0) **\[decision\]**: on the project's real
+    /// results files, the 49 red lights stand a median 15.7 m (at most 28.3 m) from their
+    /// route's waypoints, the 50 stop signs 5.5 m (at most 9.2 m).
     pub signal_reach: f64,
     /// A stationary stretch (frames slower than `motion.stationary_speed`) is an event when it
     /// lasts at least this long, s (2.0) **\[decision\]**.
@@ -722,7 +724,7 @@ pub struct EventSettings {
 impl Default for EventSettings {
     fn default() -> Self {
         EventSettings {
-            signal_reach: 20.0,
+            signal_reach: 30.0,
             min_standing: 2.0,
         }
     }

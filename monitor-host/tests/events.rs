@@ -241,3 +241,127 @@ fn red_lights_sit_at_the_closest_approach_and_blocked_where_the_car_stopped() {
     let share = r["stationary_share"].as_f64().unwrap();
     assert_eq!(span as f64 / r["frames"].as_f64().unwrap(), share);
 }
+
+fn fixtures() -> Option<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "SKIPPED: {} is absent: the real red lights and stop signs are not checked",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// Every red light and stop sign of the real results files: listed in the report (unplaced:
+/// no telemetry there), its position read from its message, within `events.signal_reach` of
+/// its route's waypoints, and placed when the route's waypoints are driven (every 0.25 m).
+#[test]
+fn real_red_lights_and_stop_signs_are_listed_and_within_reach() {
+    use monitor_host::input::message::message_position;
+    use monitor_host::input::record::Infractions;
+    use monitor_host::input::route_xml::read_route_xml;
+    use monitor_host::pipeline::placement::{infraction_events, place, PlacedBy};
+    use monitor_host::settings::Settings;
+
+    let Some(b2d) = fixtures() else { return };
+    let set = read_route_xml(&b2d.join("routes/bench2drive220.xml")).unwrap();
+    let settings = Settings::default();
+    let (mut listed, mut placed, mut farthest) = (0usize, 0usize, 0.0f64);
+    for name in [
+        "carla_garage_tfpp_b2d_traj_merged.json",
+        "carla_garage_pdm_lite_b2d_traj_merged.json",
+        "b2dzoo_UniAD-Base_merged.json",
+        "b2dzoo_VAD_merged.json",
+        "b2dzoo_TCP-only-traj_merged.json",
+        "simlingo_bench2drive220_targetpoint_checkpoint.json",
+        "lead_tfv6_per_route",
+    ] {
+        let file = b2d.join(name);
+        let out = common::sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--format",
+            "json",
+            "--results",
+            file.to_str().unwrap(),
+        ]);
+        let report: Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|_| {
+            panic!("{name}: {}", String::from_utf8_lossy(&out.stderr));
+        });
+        for r in report["routes"].as_array().unwrap() {
+            let Some(events) = r["events"].as_array() else {
+                continue;
+            };
+            for (kind, list) in [("red_light", "red_light"), ("stop_sign", "stop_infraction")] {
+                let mine: Vec<&Value> = events.iter().filter(|e| e["kind"] == kind).collect();
+                assert_eq!(
+                    mine.len() as u64,
+                    r["infractions"][list].as_u64().unwrap_or(0),
+                    "{name} {}",
+                    r["route_id"]
+                );
+                for e in &mine {
+                    assert!(e["frame"].is_null(), "{name}: placed without telemetry");
+                    assert!(e["message"].as_str().unwrap().ends_with("(not placed)"));
+                }
+                listed += mine.len();
+            }
+            // Drive the route's waypoints and place its signals on that drive.
+            let id = r["route_id"].as_str().unwrap();
+            let xml_id = id.split('_').nth(1).unwrap();
+            let route = set.get(xml_id).unwrap();
+            let mut locations = Vec::new();
+            for w in route.waypoints.windows(2) {
+                let n = ((w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]) / 0.25)
+                    .ceil()
+                    .max(1.0);
+                for k in 0..n as usize {
+                    let t = k as f64 / n;
+                    locations.push([
+                        w[0][0] + t * (w[1][0] - w[0][0]),
+                        w[0][1] + t * (w[1][1] - w[0][1]),
+                    ]);
+                }
+            }
+            let steps: Vec<u64> = (0..locations.len() as u64).collect();
+            let messages = |list: &str| -> Vec<String> {
+                events
+                    .iter()
+                    .filter(|e| e["list"] == list)
+                    .map(|e| {
+                        let m = e["message"].as_str().unwrap();
+                        m[list.len() + 2..m.len() - " (not placed)".len()].to_string()
+                    })
+                    .collect()
+            };
+            let inf = Infractions::from_lists([
+                ("red_light", messages("red_light")),
+                ("stop_infraction", messages("stop_infraction")),
+            ]);
+            let mut signals = infraction_events(&inf);
+            for s in &signals {
+                assert!(message_position(&s.message).is_some(), "{}", s.message);
+            }
+            place(&mut signals, &steps, &locations, None, &settings, 0.05);
+            for s in &signals {
+                assert_eq!(
+                    s.placed_by,
+                    Some(PlacedBy::ClosestApproach),
+                    "{name} {id}: {}",
+                    s.message
+                );
+                farthest = farthest.max(s.distance_m.unwrap());
+                placed += 1;
+            }
+        }
+    }
+    eprintln!(
+        "{listed} red lights and stop signs listed; {placed} placed on drives along their \
+         routes' waypoints, the farthest {farthest:.1} m from its light or sign"
+    );
+    assert_eq!(placed, listed);
+    assert!(listed >= 99, "{listed}");
+}

@@ -11,7 +11,7 @@
 //!      is placed where it came to a stop);
 //!    - `red_light`, `stop_infraction`: the traffic light's or the stop sign's location (the
 //!      actor's transform): the frame of the ego's closest approach to it, within
-//!      `events.signal_reach` (20 m) **\[decision\]**. The evaluator fires when the ego's tail
+//!      `events.signal_reach` (30 m) **\[decision\]**. The evaluator fires when the ego's tail
 //!      crosses the stop line, so this frame is near the infraction, not on it; the report says
 //!      `closest_approach` and the distance;
 //!    - the others (`outside_route_lanes`, `min_speed_infractions`, timeouts, yield to an
@@ -286,7 +286,7 @@ mod tests {
         let (steps, locations) = drive();
         let mut e = infraction_events(&inf(&[
             ("collisions_vehicle", &["Agent collided against object with type=vehicle.a and id=1 at (x=1.0, y=0.0, z=0.0)"]),
-            ("red_light", &["Agent ran a red light 3 at (x=10.2, y=7.5, z=1.0)", "Agent ran a red light 4 at (x=10.0, y=25.0, z=1.0)"]),
+            ("red_light", &["Agent ran a red light 3 at (x=10.2, y=7.5, z=1.0)", "Agent ran a red light 4 at (x=10.0, y=35.0, z=1.0)"]),
             ("stop_infraction", &["Agent ran a stop with id=5 at (x=35.0, y=-4.0, z=0.0)"]),
             ("vehicle_blocked", &["Agent got blocked at (x=30.0, y=0.0, z=0.0)", "Agent got blocked at (x=30.0, y=3.0, z=0.0)"]),
             ("outside_route_lanes", &["Agent went outside its route lanes for about 2.0 meters (1.64% of the completed route)"]),
@@ -301,7 +301,7 @@ mod tests {
             [
                 // 7.5 m beside the road at x = 10.2: frame 20 (x = 10.0) is closest.
                 ("red_light", Some(20), Some(ClosestApproach)),
-                // 25 m away: beyond the 20 m reach.
+                // 35 m away: beyond the 30 m reach.
                 ("red_light", None, None),
                 ("stop_sign", Some(90), Some(ClosestApproach)),
                 ("outside_lanes", None, None),
@@ -327,7 +327,7 @@ mod tests {
             ("outside_route_lanes", &[msg]),
             (
                 "red_light",
-                &["Agent ran a red light 4 at (x=10.0, y=25.0, z=1.0)"],
+                &["Agent ran a red light 4 at (x=10.0, y=35.0, z=1.0)"],
             ),
         ]));
         let entries = [StepInfraction {
@@ -335,7 +335,7 @@ mod tests {
             message: msg.into(),
         }];
         let mut settings = Settings::default();
-        settings.set("events.signal_reach", "30").unwrap();
+        settings.set("events.signal_reach", "40").unwrap();
         // The record's list order: red_light before outside_route_lanes.
         place(&mut e, &steps, &locations, Some(&entries), &settings, 0.05);
         assert_eq!(

@@ -734,11 +734,11 @@ fn a_traces_failure_leaves_no_report_and_no_half_written_traces() {
 /// `--force`.
 #[test]
 fn demo_score_never_overwrites_a_report_without_force() {
-    for leftover in ["report.html", "traces"] {
+    for leftover in ["report.html", "traces", "figures"] {
         let tmp = tempfile::tempdir().unwrap();
         let dir = tmp.path();
-        if leftover == "traces" {
-            fs::create_dir_all(dir.join("traces")).unwrap();
+        if leftover != "report.html" {
+            fs::create_dir_all(dir.join(leftover)).unwrap();
         } else {
             fs::write(dir.join(leftover), "mine").unwrap();
         }
@@ -759,6 +759,11 @@ fn demo_score_never_overwrites_a_report_without_force() {
         let o = sds(&["demo", dir.to_str().unwrap(), "--score", "--force"]);
         assert_eq!(code(&o), 0, "{}", stderr(&o));
         assert!(dir.join("report.html").is_file());
+        // The pictures of the page, as SVG files for a paper (issue 28).
+        for svg in ["decomposition.svg", "routes.svg"] {
+            let text = fs::read_to_string(dir.join("figures").join(svg)).unwrap();
+            assert!(text.starts_with("<svg") && text.contains("DS"), "{svg}");
+        }
     }
 }
 

@@ -143,7 +143,7 @@ fn run(cli: Cli) -> Result<i32> {
             if then_score {
                 // `--score` writes these too: never over an earlier report without --force.
                 existing.extend(
-                    ["report.html", "traces"]
+                    ["report.html", "traces", "figures"]
                         .iter()
                         .map(|n| dir.join(n))
                         .filter(|p| std::fs::symlink_metadata(p).is_ok()),
@@ -183,6 +183,7 @@ fn run(cli: Cli) -> Result<i32> {
                 format: Format::Html,
                 output: Some(html.clone()),
                 traces: Some(dir.join("traces")),
+                figures: Some(dir.join("figures")),
                 ..demo_args(&run)
             })?;
             say!("sds: the demo's HTML report: {}", html.display());

@@ -669,3 +669,89 @@ fn shared_options_score_each_run_as_sds_score() {
     let out = sds(&["compare", &a, &b, "--protocol", "nope"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// §11: each asked protocol's score is a compared metric (`ds@<id>`), drawn after the four
+/// base metrics; its delta is the mean of the per-route differences of the runs' own protocol
+/// scores; it can gate; gating on a protocol not asked is refused.
+#[test]
+fn protocol_scores_are_paired_metrics() {
+    let tmp = tempfile::tempdir().unwrap();
+    let ids = ids(6);
+    let a: Vec<Rec> = ids.iter().map(|id| (id.as_str(), 100.0, true)).collect();
+    let b: Vec<Rec> = ids
+        .iter()
+        .enumerate()
+        .map(|(i, id)| (id.as_str(), 40.0 + 10.0 * i as f64, false))
+        .collect();
+    let (pa, pb) = (
+        write_run(tmp.path(), "a", &a),
+        write_run(tmp.path(), "b", &b),
+    );
+    let runs = [("a", pa.as_path()), ("b", pb.as_path())];
+    let (code, c, err) = compare_json(&["--protocol", "lb2.1,lb2.0"], &runs);
+    assert_eq!(code, Some(0), "{err}");
+    let metrics: Vec<&str> = c["metrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m.as_str().unwrap())
+        .collect();
+    assert_eq!(
+        metrics,
+        ["ds", "success", "ds_safe", "comfort", "ds@lb2.0", "ds@lb2.1"]
+    );
+    // The protocol scores from each run's own report (sds score --protocol).
+    let scores = |path: &Path| -> Vec<f64> {
+        let out = sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--protocol",
+            "lb2.1",
+            "--format",
+            "json",
+            "--results",
+            path.to_str().unwrap(),
+        ]);
+        let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+        r["routes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x["protocols"]["lb2.1"]["score"].as_f64().unwrap())
+            .collect()
+    };
+    let (sa, sb) = (scores(&pa), scores(&pb));
+    let delta = sb.iter().zip(&sa).map(|(x, y)| x - y).sum::<f64>() / 6.0;
+    let row = paired(&c, "b", "ds@lb2.1");
+    assert_eq!(row["n"], 6);
+    assert!(
+        (row["delta"].as_f64().unwrap() - delta).abs() < 1e-12,
+        "{row}"
+    );
+    assert!(delta < 0.0);
+    assert_eq!(row["verdict"], "worse");
+    // Per route, each model's values carry the protocol scores too.
+    assert_eq!(c["routes"][0]["values"][1].as_array().unwrap().len(), 6);
+    // The gate on a protocol metric.
+    let (code, _, err) = compare_json(
+        &["--protocol", "lb2.1", "--fail-if-worse", "ds@lb2.1"],
+        &runs,
+    );
+    assert_eq!(code, Some(5), "{err}");
+    assert!(
+        err.contains("b is worse than the baseline on ds@lb2.1"),
+        "{err}"
+    );
+    // A protocol metric without its protocol, and an unknown protocol id.
+    let (code, _, err) = compare_json(&["--fail-if-worse", "ds@lb2.1"], &runs);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("--protocol lb2.1"), "{err}");
+    let (code, _, err) = compare_json(&["--fail-if-worse", "ds@lb9"], &runs);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("unknown metric ds@lb9"), "{err}");
+    // The base metrics draw first: their figures do not change when protocols are added.
+    let (_, plain, _) = compare_json(&[], &runs);
+    for m in ["ds", "success", "ds_safe", "comfort"] {
+        assert_eq!(paired(&plain, "b", m), paired(&c, "b", m), "{m}");
+    }
+}

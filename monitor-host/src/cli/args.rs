@@ -284,7 +284,8 @@ pub struct CompareArgs {
     #[arg(long)]
     pub common_routes: bool,
     /// Exit 5 after writing the report when a model is `worse` than the baseline on one of
-    /// these metrics (`ds`, `success`, `ds_safe`, `comfort`; comma-separated).
+    /// these metrics (`ds`, `success`, `ds_safe`, `comfort`, or `ds@<protocol>` for a protocol
+    /// asked with `--protocol`, e.g. `ds@lb2.1`; comma-separated).
     #[arg(long, value_name = "METRICS", value_delimiter = ',')]
     pub fail_if_worse: Vec<String>,
     /// Bootstrap resamples B.

@@ -42,7 +42,7 @@ use crate::route::row::{counted_routes, RouteReport};
 use bootstrap::{paired, Paired, Verdict};
 use flips::{flipped, largest, Flips};
 use models::{model_row, ModelRow};
-use route_values::{mean_values, route_key, run_values, RunValues, Values, METRICS};
+use route_values::{mean_values, metric_names, route_key, run_values, RunValues, Values, METRICS};
 use splitmix::SplitMix64;
 
 /// The report's schema name.
@@ -128,8 +128,11 @@ pub enum CompareError {
     #[error("--baseline {0} is not a model (models: {1})")]
     UnknownBaseline(String, String),
     /// An unknown metric name.
-    #[error("unknown metric {0} (known: {known})", known = METRICS.join(", "))]
+    #[error("unknown metric {0} (known: {known}, and ds@<protocol> for a protocol asked with --protocol)", known = METRICS.join(", "))]
     UnknownMetric(String),
+    /// A protocol metric (`ds@<id>`) whose protocol was not asked.
+    #[error("metric {0} compares a protocol's scores: score the runs with it (--protocol {1})")]
+    ProtocolNotAsked(String, String),
     /// `bootstrap_samples` = 0.
     #[error("bootstrap_samples must be at least 1")]
     NoSamples,
@@ -156,14 +159,14 @@ pub enum CompareError {
 pub struct PairedRow {
     /// The model compared with the baseline.
     pub model: String,
-    /// The metric (`ds`, `success`, `ds_safe`, `comfort`).
+    /// The metric (`ds`, `success`, `ds_safe`, `comfort`, `ds@<protocol>`).
     pub metric: String,
     /// Delta, interval, `p_better`, verdict.
     #[serde(flatten)]
     pub result: Paired,
 }
 
-/// One compared route: its key and each model's values (in [`METRICS`] order).
+/// One compared route: its key and each model's values (in [`Comparison::metrics`] order).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RouteRow {
     /// The route key (XML id).
@@ -202,8 +205,9 @@ pub struct Comparison {
     pub scope: Scope,
     /// Per compared key (the baseline's route order), each model's values.
     pub routes: Vec<RouteRow>,
-    /// The metrics, in the order of [`RouteRow::values`].
-    pub metrics: Vec<&'static str>,
+    /// The metrics, in the order of [`RouteRow::values`]: [`METRICS`], then `ds@<id>` per
+    /// protocol the runs were scored with.
+    pub metrics: Vec<String>,
     /// The settings of the comparison.
     pub config: CompareOptions,
     /// What a reader should know (grouping, one-seed intervals, left-out routes).
@@ -254,16 +258,38 @@ impl Comparison {
     }
 }
 
-/// Checks a metric name.
+/// Checks a metric name: one of [`METRICS`] or `ds@<protocol id>`.
+///
+/// ```
+/// use monitor_host::aggregate::compare::check_metric;
+/// assert!(check_metric("ds_safe").is_ok() && check_metric("ds@lb2.1").is_ok());
+/// assert!(check_metric("ds@lb9").is_err() && check_metric("sds").is_err());
+/// ```
 ///
 /// # Errors
 /// [`CompareError::UnknownMetric`].
 pub fn check_metric(name: &str) -> Result<(), CompareError> {
-    if METRICS.contains(&name) {
+    let protocol = name
+        .strip_prefix("ds@")
+        .and_then(crate::settings::Protocol::from_id);
+    if METRICS.contains(&name) || protocol.is_some() {
         Ok(())
     } else {
         Err(CompareError::UnknownMetric(name.to_string()))
     }
+}
+
+/// The protocols every run was scored with, in the first run's order.
+fn asked_protocols(models: &[Model]) -> Vec<crate::settings::Protocol> {
+    let mut runs = models.iter().flat_map(|m| &m.runs);
+    let Some(first) = runs.next() else {
+        return Vec::new();
+    };
+    let mut out = first.report.config.protocols.clone();
+    for r in runs {
+        out.retain(|p| r.report.config.protocols.contains(p));
+    }
+    out
 }
 
 /// Compares the models (see the module docs).
@@ -273,6 +299,12 @@ pub fn check_metric(name: &str) -> Result<(), CompareError> {
 /// B = 0, or different route sets without `common_routes`.
 pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison, CompareError> {
     check(models, options)?;
+    let protocols = asked_protocols(models);
+    let metrics = metric_names(&protocols);
+    if let Some(m) = options.fail_if_worse.iter().find(|m| !metrics.contains(m)) {
+        let id = m.strip_prefix("ds@").unwrap_or(m);
+        return Err(CompareError::ProtocolNotAsked(m.clone(), id.to_string()));
+    }
     let base = match &options.baseline {
         None => 0,
         Some(b) => models.iter().position(|m| &m.name == b).ok_or_else(|| {
@@ -283,7 +315,7 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
     let runs: Vec<(&Model, &NamedRun, RunValues)> = models
         .iter()
         .flat_map(|m| m.runs.iter().map(move |r| (m, r)))
-        .map(|(m, r)| (m, r, run_values(&r.report)))
+        .map(|(m, r)| (m, r, run_values(&r.report, &protocols)))
         .collect();
     let mut warnings = Vec::new();
     for (_, r, v) in &runs {
@@ -375,8 +407,8 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
                 .collect();
             keys.iter()
                 .map(|k| {
-                    let seeds: Vec<Values> = mine.iter().map(|v| v.values[k]).collect();
-                    mean_values(&seeds)
+                    let seeds: Vec<Values> = mine.iter().map(|v| v.values[k].clone()).collect();
+                    mean_values(&seeds, metrics.len())
                 })
                 .collect()
         })
@@ -393,7 +425,7 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
             model_row(&m.name, &aggs)
         })
         .collect();
-    let (paired_rows, flips) = pair(models, base, &keys, &per_model, options);
+    let (paired_rows, flips) = pair(models, base, &keys, &per_model, &metrics, options);
     let mut notes = Vec::new();
     for m in models.iter().filter(|m| m.runs.len() > 1) {
         let names: Vec<&str> = m.runs.iter().map(|r| r.name.as_str()).collect();
@@ -415,7 +447,7 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
         .enumerate()
         .map(|(i, k)| RouteRow {
             key: k.clone(),
-            values: per_model.iter().map(|v| v[i]).collect(),
+            values: per_model.iter().map(|v| v[i].clone()).collect(),
             route_ids: runs
                 .iter()
                 .map(|(_, _, v)| v.route_ids.get(k).cloned().unwrap_or_default())
@@ -434,7 +466,7 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
             left_out,
         },
         routes: route_rows,
-        metrics: METRICS.to_vec(),
+        metrics,
         config: options.clone(),
         notes,
         warnings,
@@ -494,27 +526,28 @@ fn aggregate(report: &Report, shared: &HashSet<&str>, common: bool) -> Aggregate
 }
 
 /// The paired table and the flips. One generator for the whole comparison, models in order,
-/// metrics in [`METRICS`] order; each block of draws starts where the previous one ends
+/// metrics in `metrics` order ([`METRICS`], then the protocols); each block of draws starts where the previous one ends
 /// ([`SplitMix64::skip`]), so the blocks run in parallel and draw what one generator would.
 fn pair(
     models: &[Model],
     base: usize,
     keys: &[String],
     per_model: &[Vec<Values>],
+    metrics: &[String],
     options: &CompareOptions,
 ) -> (Vec<PairedRow>, Vec<Flips>) {
     let b = options.bootstrap_samples;
     let mut blocks = Vec::new();
     let mut offset: u64 = 0;
     for (mi, _) in models.iter().enumerate().filter(|(i, _)| *i != base) {
-        for (k, metric) in METRICS.iter().enumerate() {
+        for (k, metric) in metrics.iter().enumerate() {
             let d: Vec<f64> = per_model[mi]
                 .iter()
                 .zip(&per_model[base])
                 .filter_map(|(x, y)| Some(x[k]? - y[k]?))
                 .collect();
             let draws = (d.len() as u64).wrapping_mul(b as u64);
-            blocks.push((mi, *metric, d, offset));
+            blocks.push((mi, metric.as_str(), d, offset));
             offset = offset.wrapping_add(draws);
         }
     }

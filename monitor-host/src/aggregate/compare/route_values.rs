@@ -14,12 +14,30 @@ use std::collections::HashMap;
 use crate::aggregate::report::Report;
 use crate::input::route_set::parse_route_id;
 use crate::route::row::{counted_routes, RouteReport};
+use crate::settings::Protocol;
 
-/// The metrics compared, in the bootstrap's order (§11: `ds`, `success`, `ds_safe`, `comfort`).
+/// The metrics every comparison has, in the bootstrap's order (§11: `ds`, `success`, `ds_safe`,
+/// `comfort`); the asked protocols' scores follow ([`metric_names`]).
 pub const METRICS: [&str; 4] = ["ds", "success", "ds_safe", "comfort"];
 
-/// One key's values, in [`METRICS`] order (`None`: undefined, left out of that metric).
-pub type Values = [Option<f64>; 4];
+/// The metrics compared when `protocols` were asked: [`METRICS`], then `ds@<id>` per protocol
+/// in the report's order.
+///
+/// ```
+/// use monitor_host::aggregate::compare::route_values::metric_names;
+/// use monitor_host::settings::Protocol;
+/// assert_eq!(metric_names(&[Protocol::Lb21]), ["ds", "success", "ds_safe", "comfort", "ds@lb2.1"]);
+/// ```
+pub fn metric_names(protocols: &[Protocol]) -> Vec<String> {
+    METRICS
+        .iter()
+        .map(|m| m.to_string())
+        .chain(protocols.iter().map(|p| format!("ds@{}", p.id())))
+        .collect()
+}
+
+/// One key's values, in [`metric_names`] order (`None`: undefined, left out of that metric).
+pub type Values = Vec<Option<f64>>;
 
 /// The key of a route id: the id without `RouteScenario_` and `_rep<k>` (the XML id), or the
 /// whole id when it is not of that form.
@@ -28,21 +46,30 @@ pub fn route_key(route_id: &str) -> &str {
 }
 
 /// A route's values: `ds` = `score_composed` (a missing route 0), `success` 1 or 0, `ds_safe`,
-/// `comfort` = `C_route`.
-pub fn values_of(r: &RouteReport) -> Values {
-    [
+/// `comfort` = `C_route`, then each of `protocols`' score (`ds@<id>`; a route without a valid
+/// record scores 0 under every protocol).
+pub fn values_of(r: &RouteReport, protocols: &[Protocol]) -> Values {
+    let mut v = vec![
         Some(r.score_composed.unwrap_or(0.0)),
         Some(if r.success { 1.0 } else { 0.0 }),
         r.ds_safe,
         r.comfort.score,
-    ]
+    ];
+    v.extend(protocols.iter().map(|p| {
+        r.protocols
+            .as_ref()
+            .and_then(|ps| ps.get(*p))
+            .map(|s| s.score)
+    }));
+    v
 }
 
-/// Mean of several value sets, metric by metric, summed in order; undefined where any is.
-pub fn mean_values(all: &[Values]) -> Values {
-    let mut out = [None; 4];
+/// Mean of several value sets (each `metrics` long), metric by metric, summed in order;
+/// undefined where any is.
+pub fn mean_values(all: &[Values], metrics: usize) -> Values {
+    let mut out = vec![None; metrics];
     for (m, slot) in out.iter_mut().enumerate() {
-        let xs: Option<Vec<f64>> = all.iter().map(|v| v[m]).collect();
+        let xs: Option<Vec<f64>> = all.iter().map(|v| v.get(m).copied().flatten()).collect();
         *slot = xs
             .filter(|x| !x.is_empty())
             .map(|x| x.iter().fold(0.0, |a, b| a + b) / x.len() as f64);
@@ -64,8 +91,8 @@ pub struct RunValues {
     pub without_id: usize,
 }
 
-/// The counted routes of `report` by key.
-pub fn run_values(report: &Report) -> RunValues {
+/// The counted routes of `report` by key, with the scores of `protocols`.
+pub fn run_values(report: &Report, protocols: &[Protocol]) -> RunValues {
     let mut out = RunValues::default();
     let mut records: HashMap<String, Vec<Values>> = HashMap::new();
     for r in counted_routes(&report.routes) {
@@ -78,12 +105,13 @@ pub fn run_values(report: &Report) -> RunValues {
         if list.is_empty() {
             out.order.push(key.clone());
         }
-        list.push(values_of(r));
+        list.push(values_of(r, protocols));
         out.route_ids.entry(key).or_default().push(id.to_string());
     }
+    let metrics = METRICS.len() + protocols.len();
     out.values = records
         .into_iter()
-        .map(|(k, v)| (k, mean_values(&v)))
+        .map(|(k, v)| (k, mean_values(&v, metrics)))
         .collect();
     out
 }
@@ -94,10 +122,10 @@ mod tests {
 
     #[test]
     fn repetitions_are_averaged_and_null_wins() {
-        let a = [Some(100.0), Some(1.0), Some(80.0), Some(0.5)];
-        let b = [Some(50.0), Some(0.0), Some(40.0), None];
-        let m = mean_values(&[a, b]);
+        let a = vec![Some(100.0), Some(1.0), Some(80.0), Some(0.5)];
+        let b = vec![Some(50.0), Some(0.0), Some(40.0), None];
+        let m = mean_values(&[a, b], 4);
         assert_eq!(m, [Some(75.0), Some(0.5), Some(60.0), None]);
-        assert_eq!(mean_values(&[]), [None; 4]);
+        assert_eq!(mean_values(&[], 4), [None; 4]);
     }
 }

@@ -3,7 +3,6 @@
 //! links to its row in each run), then each run's own tables and route rows.
 
 use super::page::{self, escape, grid};
-use crate::aggregate::compare::route_values::METRICS;
 use crate::aggregate::compare::{Comparison, Model};
 use crate::report::{compare_table, forest, table};
 use crate::route::row::counted_routes;
@@ -128,7 +127,7 @@ fn per_route(out: &mut String, c: &Comparison, models: &[Model]) {
         ));
     }
     for (_, m) in models.iter().enumerate().filter(|(i, _)| *i != base) {
-        for metric in METRICS {
+        for metric in &c.metrics {
             out.push_str(&format!(
                 "<th data-col=\"d{metric}:{0}\">Δ{metric} {0}</th>",
                 escape(&m.name)
@@ -158,7 +157,7 @@ fn per_route(out: &mut String, c: &Comparison, models: &[Model]) {
             out.push_str(&cell(v[0], 2, false));
         }
         for (_, v) in r.values.iter().enumerate().filter(|(i, _)| *i != base) {
-            for (k, metric) in METRICS.iter().enumerate() {
+            for (k, metric) in c.metrics.iter().enumerate() {
                 let d = v[k].zip(r.values[base][k]).map(|(a, b)| a - b);
                 let digits = if *metric == "success" || *metric == "comfort" {
                     3

@@ -21,6 +21,23 @@ def test_demo_report_equals_cli(demo: Demo, demo_report: Dict[str, Any]) -> None
     assert json.dumps(report) == json.dumps(demo_report)
 
 
+def test_decomposition_and_events_explain_the_score(demo: Demo) -> None:
+    """Issue 28 from Python: the steps from DS to SDS sum back, and each route's events put
+    its infractions on its frames (the demo's junction route runs a red light)."""
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes)
+    d = report["summary"]["decomposition"]
+    losses = d["rounding"] + d["workzone"] + d["nodecel"] + d["anomalous"] + d["critical"]
+    assert abs(d["ds"] - losses - d["ds_safe"]) < 1e-9
+    assert abs(d["ds_safe"] - d["comfort"] - d["sds"]) < 1e-9
+    assert abs(d["sds"] - report["summary"]["sds"]) < 1e-9
+    junction = next(r for r in report["routes"] if r["route_id"] == "RouteScenario_900009_rep0")
+    red = [e for e in junction["events"] if e["kind"] == "red_light"]
+    assert len(red) == 1 and red[0]["placed_by"] == "closest_approach"
+    assert 0 <= red[0]["frame"] < junction["frames"]
+    frames = [e["frame"] for e in junction["events"] if e["frame"] is not None]
+    assert frames == sorted(frames)
+
+
 def test_no_command_line_in_between() -> None:
     """`sds.score` calls the library: the binding builds no argument list and calls no CLI code
     for it (the one `cli::` use is the package's `sds` command itself)."""

@@ -75,6 +75,16 @@ impl Infractions {
         }
     }
 
+    /// [`Infractions::from_lists`] of string slices (the tests' shorthand).
+    #[cfg(test)]
+    pub(crate) fn of(lists: &[(&str, &[&str])]) -> Self {
+        Self::from_lists(
+            lists
+                .iter()
+                .map(|(n, l)| (*n, l.iter().map(|s| s.to_string()).collect())),
+        )
+    }
+
     /// The entries of list `name` (known or unknown); an empty slice if the list is absent.
     pub fn list(&self, name: &str) -> &[String] {
         if let Some(i) = KNOWN_LISTS.iter().position(|k| *k == name) {

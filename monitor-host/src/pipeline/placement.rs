@@ -265,11 +265,7 @@ mod tests {
     use super::*;
 
     fn inf(lists: &[(&str, &[&str])]) -> Infractions {
-        Infractions::from_lists(
-            lists
-                .iter()
-                .map(|(n, l)| (*n, l.iter().map(|s| s.to_string()).collect())),
-        )
+        Infractions::of(lists)
     }
 
     /// 100 frames along x at 0.5 m per step, the car standing at x = 30 for frames 60..80.

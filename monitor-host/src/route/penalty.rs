@@ -91,11 +91,7 @@ mod tests {
     use super::*;
 
     fn inf(lists: &[(&str, &[&str])]) -> Infractions {
-        Infractions::from_lists(
-            lists
-                .iter()
-                .map(|(n, l)| (*n, l.iter().map(|s| s.to_string()).collect())),
-        )
+        Infractions::of(lists)
     }
 
     #[test]

@@ -20,8 +20,7 @@ does not have yet).
 
 from __future__ import annotations
 
-import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._sds import (
@@ -34,6 +33,8 @@ from ._sds import (
     __version__,
 )
 from ._compare import compare
+from ._paths import PathLike
+from ._paths import paths as _paths
 from ._sds import Watch
 from ._watch import watch
 from .monitor import Event, Monitor, Summary
@@ -56,13 +57,6 @@ __all__ = [
     "watch",
 ]
 
-PathLike = Union[str, "os.PathLike[str]"]
-"""A path: a string or an ``os.PathLike`` (``pathlib.Path``)."""
-
-def _paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
-    if isinstance(results, (str, os.PathLike)):
-        return [os.fspath(results)]
-    return [os.fspath(r) for r in results]
 
 
 def score(

@@ -6,9 +6,8 @@ import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
+from ._paths import PathLike
 from ._sds import ConfigError
-
-PathLike = Union[str, "os.PathLike[str]"]
 
 Run = Union[PathLike, Tuple[PathLike, PathLike]]
 """A run: its results (file or folder), or ``(results, telemetry)``."""

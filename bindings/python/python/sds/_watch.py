@@ -2,19 +2,12 @@
 
 from __future__ import annotations
 
-import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from . import _sds
+from ._paths import PathLike
+from ._paths import paths as _paths
 from ._sds import ConfigError, Watch
-
-PathLike = Union[str, "os.PathLike[str]"]
-
-
-def _paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
-    if isinstance(results, (str, os.PathLike)):
-        return [os.fspath(results)]
-    return [os.fspath(r) for r in results]
 
 
 def watch(

@@ -244,7 +244,8 @@ pub struct WatchStatus {
     /// says done.
     pub complete: bool,
     /// Estimated seconds left: the mean `meta.duration_system` of the routes done times the
-    /// routes left (None without durations).
+    /// routes left; with several shard checkpoints (one evaluator per GPU, side by side), times
+    /// the routes left of the shard with the most to do (None without durations).
     pub seconds_left: Option<f64>,
 }
 
@@ -259,6 +260,8 @@ pub struct Watcher {
     sizes: HashMap<PathBuf, u64>,
     last_stamps: Vec<(PathBuf, Option<Stamp>)>,
     failures: usize,
+    /// Each results file's `progress` by its stamp: read again only when the file changed.
+    progress: Mutex<HashMap<PathBuf, (Option<Stamp>, (u64, u64))>>,
 }
 
 impl Watcher {
@@ -280,6 +283,7 @@ impl Watcher {
             sizes: HashMap::new(),
             last_stamps: Vec::new(),
             failures: 0,
+            progress: Mutex::new(HashMap::new()),
         }
     }
 
@@ -388,9 +392,23 @@ impl Watcher {
         let n = report.summary.routes.max(done.len());
         let known_set = self.inputs.route_xml.is_some() || self.settings.expected_routes.is_some();
         let durations = self.cache.durations();
+        let shards = self.file_progress();
+        let left = n.saturating_sub(done.len()) as f64;
+        // Shards run side by side: the run ends when the one with the most routes left does.
+        // (A per-route file, `[1, 1]`, is not a shard.)
+        let checkpoints: Vec<&(u64, u64)> = shards.iter().filter(|(_, total)| *total > 1).collect();
+        let shard_left = (checkpoints.len() > 1)
+            .then(|| {
+                checkpoints
+                    .iter()
+                    .map(|(i, total)| total.saturating_sub(*i))
+                    .max()
+            })
+            .flatten()
+            .map(|m| (m as f64).min(left));
         let seconds_left = (!durations.is_empty()).then(|| {
             let mean = durations.iter().sum::<f64>() / durations.len() as f64;
-            mean * n.saturating_sub(done.len()) as f64
+            mean * shard_left.unwrap_or(left)
         });
         WatchStatus {
             done: done.len(),
@@ -400,27 +418,33 @@ impl Watcher {
             complete: if known_set {
                 done.len() >= n
             } else {
-                self.progress_done()
+                !shards.is_empty() && shards.iter().all(|(i, total)| *total > 1 && i >= total)
             },
             seconds_left,
         }
     }
 
-    /// Without a route set: every results file is an evaluator's checkpoint of several routes
-    /// whose `progress` says done (`[total, total]`). A per-route file (`[1, 1]`) says nothing
-    /// about the routes still to come.
-    fn progress_done(&self) -> bool {
-        let mut files = Vec::new();
-        for p in &self.inputs.results {
-            match read_results(p) {
-                Ok(set) => files.extend(set.files),
-                Err(_) => return false,
-            }
-        }
-        !files.is_empty()
-            && files
-                .iter()
-                .all(|f| f.progress.is_some_and(|(i, total)| total > 1 && i >= total))
+    /// Each results file's `progress` `[done, total]` as of the last round (`[0, 0]` when it has
+    /// none or does not read), read again only when the file changed. Without a route set the
+    /// run is complete when every file is an evaluator's checkpoint of several routes whose
+    /// progress says done (a per-route file, `[1, 1]`, says nothing about the routes still to
+    /// come); several checkpoints are shards.
+    fn file_progress(&self) -> Vec<(u64, u64)> {
+        let mut known = lock(&self.progress);
+        self.last_stamps
+            .iter()
+            .map(|(p, stamp)| match known.get(p) {
+                Some((s, progress)) if s == stamp => *progress,
+                _ => {
+                    let progress = read_results(p)
+                        .ok()
+                        .and_then(|set| set.files.first().and_then(|f| f.progress))
+                        .unwrap_or((0, 0));
+                    known.insert(p.clone(), (*stamp, progress));
+                    progress
+                }
+            })
+            .collect()
     }
 }
 

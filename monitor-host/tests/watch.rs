@@ -523,3 +523,41 @@ fn without_a_route_set_the_checkpoint_progress_ends_the_watch() {
     let (report, ..) = scored(&mut w);
     assert!(w.progress(&report).complete);
 }
+
+/// Two GPUs, two shard checkpoints side by side: the time left is that of the shard with the
+/// most routes left (its `progress`), not of all the routes left one after another.
+#[test]
+fn time_left_with_shards_is_the_slowest_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let ev = Evaluator::with(dir.path(), Layout::Shards);
+    let shards = ev.results();
+    fs::create_dir_all(&shards).unwrap();
+    // Shard 0 holds routes 0, 1 of its 5; shard 1 routes 2, 3 of its 4.
+    for (s, (from, to, total)) in [(0, 2, 5), (2, 4, 4)].into_iter().enumerate() {
+        let mut c = ev.checkpoint.clone();
+        c["_checkpoint"]["records"] = Value::Array(ev.records[from..to].to_vec());
+        c["_checkpoint"]["progress"] = serde_json::json!([to - from, total]);
+        let f = shards.join(format!("eval_bench2drive220_{s}.json"));
+        fs::write(f, serde_json::to_vec_pretty(&c).unwrap()).unwrap();
+    }
+    for k in 0..4 {
+        ev.telemetry(k);
+    }
+    let mut w = Watcher::new(
+        ev.inputs(),
+        Settings::default(),
+        LabelFiles::default(),
+        None,
+        Duration::ZERO,
+    );
+    let (report, ..) = scored(&mut w);
+    let p = w.progress(&report);
+    assert_eq!((p.done, p.n), (4, 9));
+    let mean = (0..4)
+        .map(|k| ev.records[k]["meta"]["duration_system"].as_f64().unwrap())
+        .sum::<f64>()
+        / 4.0;
+    // Shard 0 has 3 routes left, shard 1 has 2: 3 routes' time, not the 5 left in all.
+    let left = p.seconds_left.unwrap();
+    assert!((left - 3.0 * mean).abs() < 1e-9, "{left} vs {}", 3.0 * mean);
+}

@@ -24,6 +24,9 @@ use crate::run::{Inputs, NoProgress, ReplayCache};
 use crate::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::settings::Settings;
 
+/// A results file's `progress` `[done, total]`, and the stamp of the file it was read from.
+type Progress = (Option<Stamp>, (u64, u64));
+
 /// A file's size and modification time: what tells a changed file (spec §12).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Stamp {
@@ -261,7 +264,7 @@ pub struct Watcher {
     last_stamps: Vec<(PathBuf, Option<Stamp>)>,
     failures: usize,
     /// Each results file's `progress` by its stamp: read again only when the file changed.
-    progress: Mutex<HashMap<PathBuf, (Option<Stamp>, (u64, u64))>>,
+    progress: Mutex<HashMap<PathBuf, Progress>>,
 }
 
 impl Watcher {

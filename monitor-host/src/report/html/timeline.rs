@@ -251,11 +251,13 @@ pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
             "<line class=\"axis\" x1=\"{LABEL_W}\" y1=\"{axis_y}\" x2=\"{}\" y2=\"{axis_y}\" stroke=\"#888\"/>",
             LABEL_W + MAX_W
         );
-        for k in 0..=4 {
-            let f = (frames - 1) * k / 4;
+        let mut ticks: Vec<usize> = (0..=4).map(|k| (frames - 1) * k / 4).collect();
+        ticks.dedup();
+        let last = ticks.len() - 1;
+        for (k, f) in ticks.into_iter().enumerate() {
             let anchor = match k {
                 0 => "start",
-                4 => "end",
+                k if k == last => "end",
                 _ => "middle",
             };
             let _ = write!(
@@ -339,4 +341,81 @@ pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
         out.push_str("</ul>");
     }
     out.push_str("</div>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::input::route_set::MissingRoute;
+    use crate::route::row::missing_report;
+
+    fn event(kind: &'static str, frame: Option<usize>, message: &str) -> RouteEvent {
+        RouteEvent {
+            kind,
+            list: Some("red_light".into()),
+            frame,
+            end_frame: None,
+            step: frame.map(|f| f as u64),
+            time_s: frame.map(|f| f as f64 * 0.05),
+            placed_by: frame.map(|_| "closest_approach"),
+            distance_m: None,
+            collision: None,
+            message: message.into(),
+        }
+    }
+
+    fn route(frames: u32, events: Vec<RouteEvent>) -> RouteReport {
+        let mut r = missing_report(&MissingRoute {
+            route_id: "RouteScenario_1_rep0".into(),
+            xml_id: "1".into(),
+            town: None,
+            scenario_type: None,
+        });
+        r.frames = frames;
+        r.events = events;
+        r
+    }
+
+    #[test]
+    fn markers_sit_on_the_frame_axis_and_unplaced_are_listed() {
+        let mut out = String::new();
+        let r = route(
+            101,
+            vec![
+                event("red_light", Some(50), "ran <it>"),
+                event("red_light", None, "no position"),
+            ],
+        );
+        events(&mut out, &r, 3);
+        // Frame 50 of 101: half way along the axis.
+        let cx = f64::from(LABEL_W) + 50.0 * f64::from(MAX_W) / 100.0;
+        assert!(
+            out.contains(&format!("data-frame=\"50\" fill=\"#c33\" cx=\"{cx:.1}\"")),
+            "{out}"
+        );
+        assert!(out.contains("ran &lt;it&gt;") && !out.contains("ran <it>"));
+        assert!(out.contains("<li data-kind=\"red_light\">not placed: no position</li>"));
+        assert!(out.contains("data-placed=\"1\" data-unplaced=\"1\""));
+    }
+
+    #[test]
+    fn a_one_frame_route_has_one_tick_and_no_frames_no_axis() {
+        let mut out = String::new();
+        events(
+            &mut out,
+            &route(1, vec![event("red_light", Some(0), "x")]),
+            0,
+        );
+        assert_eq!(out.matches(">frame 0</text>").count(), 1, "{out}");
+        let mut out = String::new();
+        events(
+            &mut out,
+            &route(0, vec![event("red_light", Some(0), "x")]),
+            0,
+        );
+        assert!(
+            !out.contains("<svg") && out.contains("not placed: x"),
+            "{out}"
+        );
+    }
 }

@@ -44,21 +44,29 @@ use crate::input::record::Infractions;
 use crate::pipeline::align::{align_events, AlignedBy, EventRef};
 use crate::settings::Settings;
 
-/// How an event was placed on the frame axis (the report's `placed_by`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+/// How an event was placed on the frame axis (the report's `placed_by`: [`PlacedBy::name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PlacedBy {
     /// The step of a matching `infractions.json` entry.
-    #[serde(rename = "infractions.json")]
     InfractionsJson,
     /// The frame nearest to the ego position in the message (§5's rule).
-    #[serde(rename = "nearest")]
     Nearest,
     /// The frame of the closest approach to a traffic light or stop sign.
-    #[serde(rename = "closest_approach")]
     ClosestApproach,
     /// A stationary stretch: its first frame.
-    #[serde(rename = "motion")]
     Motion,
+}
+
+impl PlacedBy {
+    /// The report's string: `infractions.json`, `nearest`, `closest_approach`, `motion`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PlacedBy::InfractionsJson => "infractions.json",
+            PlacedBy::Nearest => "nearest",
+            PlacedBy::ClosestApproach => "closest_approach",
+            PlacedBy::Motion => "motion",
+        }
+    }
 }
 
 /// What a message's position is, by list.

@@ -16,7 +16,7 @@ use monitor_core::{Band, Failures};
 use serde::Serialize;
 
 use crate::pipeline::outcome::CollisionEvent;
-use crate::pipeline::placement::PlacedEvent;
+use crate::pipeline::placement::{PlacedBy, PlacedEvent};
 use crate::pipeline::timeline::RouteTimeline;
 
 /// One event of a route.
@@ -64,16 +64,6 @@ pub(crate) const BOUNDS: [(&str, Test); 6] = [
     ("yaw_rate", |f| f.yaw_rate),
 ];
 
-fn placed_by_name(p: crate::pipeline::placement::PlacedBy) -> &'static str {
-    use crate::pipeline::placement::PlacedBy::*;
-    match p {
-        InfractionsJson => "infractions.json",
-        Nearest => "nearest",
-        ClosestApproach => "closest_approach",
-        Motion => "motion",
-    }
-}
-
 /// The events of a route: its `collisions` (as the report lists them), its `placed`
 /// infractions and stretches, and the chunk verdicts of its `timeline` (none when it was not
 /// replayed), chunks of `chunk_len` frames, `frames` frames in all.
@@ -119,17 +109,12 @@ pub fn route_events(
         end_frame: p.end_frame,
         step: p.step,
         time_s: p.time_s,
-        placed_by: p.placed_by.map(placed_by_name),
+        placed_by: p.placed_by.map(PlacedBy::name),
         distance_m: p.distance_m,
         collision: None,
         message: match (&p.list, p.frame, p.placed_by, p.distance_m) {
             (Some(list), None, _, _) => format!("{list}: {} (not placed)", p.message),
-            (
-                Some(list),
-                Some(_),
-                Some(crate::pipeline::placement::PlacedBy::ClosestApproach),
-                Some(d),
-            ) => {
+            (Some(list), Some(_), Some(PlacedBy::ClosestApproach), Some(d)) => {
                 format!(
                     "{list}: {} (placed at the closest approach, {d:.1} m)",
                     p.message

@@ -20,6 +20,20 @@ step() {
 step "setup"
 bash scripts/setup.sh
 
+# One build cache may serve checkouts at different paths (.ci/run's clone shares it). Cargo keeps
+# a crate's build while the crate's files are older than it, even when it was built from another
+# checkout, and a test keeps the checkout path it was built from (CARGO_MANIFEST_DIR: its golden
+# files, ../shared): the project's own crates are rebuilt when the cache was last built elsewhere.
+target_dir="${CARGO_TARGET_DIR:-$(pwd)/target}"
+built_from="$target_dir/.built-from"
+if [ "$(cat "$built_from" 2>/dev/null)" != "$(pwd)" ]; then
+  echo "note: the build cache was last built from $(cat "$built_from" 2>/dev/null || echo "an unknown folder"): rebuilding this checkout's crates"
+  for profile in "" --release; do
+    cargo clean -q $profile -p monitor-core -p monitor-host -p sds-tests -p sds-capi -p sds-python
+  done
+fi
+mkdir -p "$target_dir" && pwd >"$built_from"
+
 step "setup works from nothing (sandbox PATH, stub package managers; installs nothing)"
 bash scripts/setup-test.sh
 

@@ -244,17 +244,22 @@ fn scored_after_retry(w: &mut Watcher, why: &str) -> (Report, usize, usize, Vec<
     }
 }
 
-fn playback(layout: Layout) {
-    let dir = tempfile::tempdir().unwrap();
-    let ev = Evaluator::with(dir.path(), layout);
-    let n = ev.records.len();
-    let mut w = Watcher::new(
+/// A watcher of the evaluator's run with the default settings (no racy-clean delay).
+fn watcher(ev: &Evaluator) -> Watcher {
+    Watcher::new(
         ev.inputs(),
         Settings::default(),
         LabelFiles::default(),
         None,
         Duration::ZERO,
-    );
+    )
+}
+
+fn playback(layout: Layout) {
+    let dir = tempfile::tempdir().unwrap();
+    let ev = Evaluator::with(dir.path(), layout);
+    let n = ev.records.len();
+    let mut w = watcher(&ev);
     // Before the evaluator wrote anything: retried, not fatal.
     retried(&mut w);
     let crash = 4;
@@ -543,13 +548,7 @@ fn time_left_with_shards_is_the_slowest_shards() {
     for k in 0..4 {
         ev.telemetry(k);
     }
-    let mut w = Watcher::new(
-        ev.inputs(),
-        Settings::default(),
-        LabelFiles::default(),
-        None,
-        Duration::ZERO,
-    );
+    let mut w = watcher(&ev);
     let (report, ..) = scored(&mut w);
     let p = w.progress(&report);
     assert_eq!((p.done, p.n), (4, 9));

@@ -108,30 +108,37 @@ pub fn write_traces(
         .flat_map(|(i, r)| r.traces.iter().map(move |t| (i, t)))
         .collect();
     let stems = trace_csv::unique_stems(&traces);
-    let mut written: Vec<PathBuf> = Vec::new();
-    let mut write_all = || -> Result<()> {
-        for ((_, t), stem) in traces.iter().zip(&stems) {
-            for (ext, bytes) in [
-                ("csv", trace_csv::csv(t).into_bytes()),
-                ("svg", figure::svg(t).into_bytes()),
-            ] {
-                let path = dir.join(format!("{stem}.{ext}"));
-                write_output(Some(&path), &bytes, inputs)?;
-                written.push(path);
-            }
-        }
-        Ok(())
-    };
-    if let Err(e) = write_all() {
-        for p in &written {
-            let _ = fs::remove_file(p);
-        }
-        return Err(e.context(format!(
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    for ((_, t), stem) in traces.iter().zip(&stems) {
+        files.push((
+            dir.join(format!("{stem}.csv")),
+            trace_csv::csv(t).into_bytes(),
+        ));
+        files.push((dir.join(format!("{stem}.svg")), figure::svg(t).into_bytes()));
+    }
+    write_all_or_nothing(&files, inputs).map_err(|e| {
+        e.context(format!(
             "--traces {}: no trace written and no report (fix the folder, or leave out --traces)",
             dir.display()
-        )));
-    }
+        ))
+    })?;
     Ok(traces.len())
+}
+
+/// Writes each `(path, bytes)` in order; when one cannot be written, removes those this call
+/// wrote and returns that error (the traces and the pictures: all or nothing).
+fn write_all_or_nothing(files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Result<()> {
+    let mut written: Vec<&Path> = Vec::new();
+    for (path, bytes) in files {
+        if let Err(e) = write_output(Some(path), bytes, inputs) {
+            for p in &written {
+                let _ = fs::remove_file(p);
+            }
+            return Err(e);
+        }
+        written.push(path);
+    }
+    Ok(())
 }
 
 /// Writes the run's pictures into `dir` (created if needed): `decomposition.svg` (the
@@ -144,30 +151,25 @@ pub fn write_figures(
 ) -> Result<Vec<&'static str>> {
     use crate::report::{route_chart, waterfall};
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let mut files: Vec<(&'static str, String)> = Vec::new();
-    if let Some(d) = &report.summary.scores.decomposition {
-        files.push(("decomposition.svg", waterfall::svg(d)));
+    let mut names = Vec::new();
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    let decomposition = report.summary.scores.decomposition.as_ref();
+    for (name, svg) in [
+        ("decomposition.svg", decomposition.map(waterfall::svg)),
+        ("routes.svg", Some(route_chart::svg(&report.routes))),
+    ] {
+        if let Some(svg) = svg {
+            names.push(name);
+            files.push((dir.join(name), svg.into_bytes()));
+        }
     }
-    files.push(("routes.svg", route_chart::svg(&report.routes)));
-    let mut written: Vec<PathBuf> = Vec::new();
-    let mut write_all = || -> Result<()> {
-        for (name, svg) in &files {
-            let path = dir.join(name);
-            write_output(Some(&path), svg.as_bytes(), inputs)?;
-            written.push(path);
-        }
-        Ok(())
-    };
-    if let Err(e) = write_all() {
-        for p in &written {
-            let _ = fs::remove_file(p);
-        }
-        return Err(e.context(format!(
+    write_all_or_nothing(&files, inputs).map_err(|e| {
+        e.context(format!(
             "--figures {}: no figure written and no report (fix the folder, or leave out --figures)",
             dir.display()
-        )));
-    }
-    Ok(files.iter().map(|(n, _)| *n).collect())
+        ))
+    })?;
+    Ok(names)
 }
 
 fn describe(ft: fs::FileType) -> &'static str {

@@ -6,6 +6,7 @@
 use crate::aggregate::compare::models::Stat;
 use crate::aggregate::compare::Comparison;
 use crate::report::grid::Grid;
+use crate::report::table::{BENCH2DRIVE_COLUMNS, TABLE1_COLUMNS};
 
 /// `mean ± std` (std only when there are seeds), scaled, or `-`.
 fn stat(s: &Stat, digits: usize, scale: f64) -> String {
@@ -54,35 +55,14 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     };
     let mut b2d = Grid::new(
         &format!("Bench2Drive: closed-loop metrics and multi-ability (%){over}"),
-        [
-            "model",
-            "runs",
-            "DS",
-            "SR(%)",
-            "Efficiency",
-            "Comfortness",
-            "Merging",
-            "Overtaking",
-            "Emergency Brake",
-            "Give Way",
-            "Traffic Sign",
-            "Mean",
-        ],
+        ["model", "runs"].into_iter().chain(BENCH2DRIVE_COLUMNS),
     );
     let mut t1 = Grid::new(
         &format!("Safe2Drive Table 1: SafeDriving Score{over}"),
-        [
-            "model",
-            "runs",
-            "DS",
-            "SR(%)",
-            "DS_safe",
-            "Comfort",
-            "Comfort (moving)",
-            "Stationary(%)",
-            "SDS",
-            "Coll.(%)",
-        ],
+        ["model", "runs"]
+            .into_iter()
+            .chain(TABLE1_COLUMNS)
+            .chain(["Coll.(%)"]),
     );
     for m in &c.models {
         let a = &m.ability;

@@ -78,11 +78,23 @@ fn range(values: impl Iterator<Item = f64>, must: &[f64]) -> (f64, f64) {
 /// assert!(svg.starts_with("<svg") && svg.contains("exempt"));
 /// ```
 pub fn svg(t: &CollisionTrace) -> String {
+    render_svg((WIDTH, HEIGHT), |root| draw(root, t))
+}
+
+/// A drawing area of the SVG backend, as every figure's `draw` takes it.
+pub(crate) type Area<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+
+/// What `draw` draws on a `size` canvas, as an SVG document (the one rendering of every figure:
+/// the traces, the waterfall, the route chart, the forest plot).
+pub(crate) fn render_svg(
+    size: (u32, u32),
+    draw: impl FnOnce(&Area<'_>) -> Result<(), DrawingAreaErrorKind<std::io::Error>>,
+) -> String {
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
         // Errors of the string backend cannot happen (it only appends to a String).
-        let _ = draw(&root, t);
+        let _ = draw(&root);
         let _ = root.present();
     }
     out

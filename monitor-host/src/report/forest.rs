@@ -43,14 +43,7 @@ pub fn svg(c: &Comparison) -> String {
         .collect();
     let width = PANEL * c.metrics.len() as u32;
     let height = 90 + ROW * models.len().max(1) as u32;
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (width, height)).into_drawing_area();
-        // The string backend only appends to a String: it cannot fail.
-        let _ = draw(&root, c, &models);
-        let _ = root.present();
-    }
-    out
+    crate::report::figure::render_svg((width, height), |root| draw(root, c, &models))
 }
 
 fn draw(

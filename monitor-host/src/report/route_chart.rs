@@ -58,14 +58,7 @@ pub fn order(routes: &[RouteReport]) -> Vec<usize> {
 /// assert!(svg.starts_with("<svg") && svg.contains("DS_safe"));
 /// ```
 pub fn svg(routes: &[RouteReport]) -> String {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
-        // Errors of the string backend cannot happen (it only appends to a String).
-        let _ = draw(&root, routes);
-        let _ = root.present();
-    }
-    out
+    crate::report::figure::render_svg((WIDTH, HEIGHT), |root| draw(root, routes))
 }
 
 fn draw(

@@ -31,24 +31,38 @@ fn pct(x: Option<f64>) -> String {
     num(x.map(|v| 100.0 * v), 2)
 }
 
+/// The columns of Bench2Drive's main table (also one row per model in `sds compare`).
+pub(crate) const BENCH2DRIVE_COLUMNS: [&str; 10] = [
+    "DS",
+    "SR(%)",
+    "Efficiency",
+    "Comfortness",
+    "Merging",
+    "Overtaking",
+    "Emergency Brake",
+    "Give Way",
+    "Traffic Sign",
+    "Mean",
+];
+
+/// The columns of Safe2Drive's Table 1 (also one row per model in `sds compare`).
+pub(crate) const TABLE1_COLUMNS: [&str; 7] = [
+    "DS",
+    "SR(%)",
+    "DS_safe",
+    "Comfort",
+    "Comfort (moving)",
+    "Stationary(%)",
+    "SDS",
+];
+
 /// Bench2Drive's main table: DS, SR (%), efficiency, comfortness (smoothness × 100), the five
 /// ability rates (%) in the paper's column order, and their mean.
 pub fn bench2drive_table(report: &Report) -> Grid {
     let rule = report.config.ability_rule.name();
     let mut g = Grid::new(
         &format!("Bench2Drive: closed-loop metrics and multi-ability (%), ability rule {rule}"),
-        [
-            "DS",
-            "SR(%)",
-            "Efficiency",
-            "Comfortness",
-            "Merging",
-            "Overtaking",
-            "Emergency Brake",
-            "Give Way",
-            "Traffic Sign",
-            "Mean",
-        ],
+        BENCH2DRIVE_COLUMNS,
     );
     let Some(b) = &report.summary.bench2drive else {
         return g;
@@ -142,18 +156,7 @@ fn any_telemetry(report: &Report) -> bool {
 /// the chunks the car drove and the share of frames it stood still (§8.5).
 pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
-    let mut g = Grid::new(
-        "Safe2Drive Table 1: SafeDriving Score",
-        [
-            "DS",
-            "SR(%)",
-            "DS_safe",
-            "Comfort",
-            "Comfort (moving)",
-            "Stationary(%)",
-            "SDS",
-        ],
-    );
+    let mut g = Grid::new("Safe2Drive Table 1: SafeDriving Score", TABLE1_COLUMNS);
     g.row([
         num(s.scores.driving_score, 2),
         num(s.scores.success_rate, 2),

@@ -100,14 +100,7 @@ pub fn bars(d: &Decomposition) -> Vec<Bar> {
 /// assert!(svg.starts_with("<svg") && svg.contains("SDS") && svg.contains("−10.00"));
 /// ```
 pub fn svg(d: &Decomposition) -> String {
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
-        // Errors of the string backend cannot happen (it only appends to a String).
-        let _ = draw(&root, d);
-        let _ = root.present();
-    }
-    out
+    crate::report::figure::render_svg((WIDTH, HEIGHT), |root| draw(root, d))
 }
 
 fn draw(

@@ -33,8 +33,8 @@ from ._sds import (
     __version__,
 )
 from ._compare import compare
-from ._paths import PathLike
-from ._paths import paths as _paths
+from ._options import PathLike, run_options
+from ._options import paths as _paths
 from ._sds import Watch
 from ._watch import watch
 from .monitor import Event, Monitor, Summary
@@ -126,24 +126,22 @@ def score(
         >>> report = sds.score("results/", telemetry="eval/", routes="bench2drive220.xml")
         >>> report["summary"]["sds"]  # doctest: +SKIP
     """
-    if isinstance(protocols, str):
-        raise ConfigError(
-            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
-        )
     options: Dict[str, Any] = {
+        **run_options(
+            profile=profile,
+            duplicates=duplicates,
+            expected_routes=expected_routes,
+            allow_missing_telemetry=allow_missing_telemetry,
+            settings=settings,
+            jobs=jobs,
+            protocols=protocols,
+        ),
         "telemetry": telemetry,
         "routes": routes,
         "maps": maps,
-        "profile": profile,
-        "duplicates": duplicates,
-        "expected_routes": None if expected_routes is None else int(expected_routes),
-        "allow_missing_telemetry": allow_missing_telemetry,
-        "settings": settings,
         "group_by": group_by,
         "labels": labels,
-        "jobs": None if jobs is None else int(jobs),
         "progress": progress,
-        "protocols": None if protocols is None else list(protocols),
     }
     report: Dict[str, Any] = _sds.score(_paths(results), options)
     return report

@@ -6,7 +6,7 @@ import os
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
-from ._paths import PathLike
+from ._options import PathLike, run_options
 from ._sds import ConfigError
 
 Run = Union[PathLike, Tuple[PathLike, PathLike]]
@@ -76,10 +76,6 @@ def compare(
         >>> c = sds.compare({"base": "base/", "new": "new/"}, routes="bench2drive220.xml")
         >>> [p["verdict"] for p in c["paired"] if p["metric"] == "ds"]  # doctest: +SKIP
     """
-    if isinstance(protocols, str):
-        raise ConfigError(
-            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
-        )
     if isinstance(fail_if_worse, str):
         raise ConfigError(
             f"fail_if_worse={fail_if_worse!r}: expected a list of metrics, e.g. ['ds']"
@@ -94,13 +90,15 @@ def compare(
     options: Dict[str, Any] = {
         # The options every scored run shares (as for sds.score; no `duplicates` option, as
         # `sds compare` has none: the setting's default, or `settings={"duplicates": ...}`).
-        "profile": profile,
-        "duplicates": None,
-        "expected_routes": None if expected_routes is None else int(expected_routes),
-        "allow_missing_telemetry": allow_missing_telemetry,
-        "settings": settings,
-        "jobs": None if jobs is None else int(jobs),
-        "protocols": None if protocols is None else list(protocols),
+        **run_options(
+            profile=profile,
+            duplicates=None,
+            expected_routes=expected_routes,
+            allow_missing_telemetry=allow_missing_telemetry,
+            settings=settings,
+            jobs=jobs,
+            protocols=protocols,
+        ),
         # The comparison's own.
         "seeds": [(model, list(names)) for model, names in (seeds or {}).items()],
         "baseline": baseline,

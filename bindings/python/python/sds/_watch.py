@@ -5,9 +5,9 @@ from __future__ import annotations
 from typing import Any, Dict, Mapping, Optional, Sequence, Union
 
 from . import _sds
-from ._paths import PathLike
-from ._paths import paths as _paths
-from ._sds import ConfigError, Watch
+from ._options import PathLike, run_options
+from ._options import paths as _paths
+from ._sds import Watch
 
 
 def watch(
@@ -86,24 +86,22 @@ def watch(
         ...                     routes="bench2drive220.xml")  # doctest: +SKIP
         True
     """
-    if isinstance(protocols, str):
-        raise ConfigError(
-            f"protocols={protocols!r}: expected a list of ids, e.g. ['lb2.1'] or ['all']"
-        )
     options: Dict[str, Any] = {
+        **run_options(
+            profile=profile,
+            duplicates=duplicates,
+            expected_routes=expected_routes,
+            allow_missing_telemetry=allow_missing_telemetry,
+            settings=settings,
+            jobs=jobs,
+            protocols=protocols,
+        ),
         "telemetry": telemetry,
         "routes": routes,
         "maps": maps,
         "interval": float(interval),
         "timeout": None if timeout is None else float(timeout),
-        "profile": profile,
-        "duplicates": duplicates,
-        "expected_routes": None if expected_routes is None else int(expected_routes),
-        "allow_missing_telemetry": allow_missing_telemetry,
-        "settings": settings,
         "group_by": group_by,
         "labels": labels,
-        "jobs": None if jobs is None else int(jobs),
-        "protocols": None if protocols is None else list(protocols),
     }
     return _sds.watch(_paths(results), options)

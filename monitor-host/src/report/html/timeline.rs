@@ -212,7 +212,7 @@ pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
     let (placed, unplaced): (Vec<&RouteEvent>, Vec<&RouteEvent>) = r
         .events
         .iter()
-        .partition(|e| e.frame.is_some_and(|f| f < frames.max(1)) && frames > 0);
+        .partition(|e| e.frame.is_some_and(|f| f < frames));
     let figures: Vec<usize> = r.traces.iter().map(|t| t.event).collect();
     let _ = write!(
         out,

@@ -1,0 +1,10 @@
+//! One test binary for the `sds` command line, grouped by feature (ripgrep's `tests/` shape):
+//! each module holds the tests of one surface, and a regression is named by its finding
+//! (`i33_1_...` for item 1 of issue 33, `r3_05_...` for finding 5 of reliability round 3).
+#[path = "../common/mod.rs"]
+mod common;
+
+mod compare;
+mod hostile;
+mod score;
+mod watch;

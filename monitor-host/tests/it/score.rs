@@ -514,4 +514,100 @@ mod protocols {
             "{stderr}"
         );
     }
+
+    /// `--ability-rule RULE` is `--set ability_rule=RULE` on `score` (and on `compare` and
+    /// `watch`, which take the same options); an unknown rule is a usage error.
+    #[test]
+    fn i33_5_ability_rule_flag_is_the_setting() {
+        let dir = tempfile::tempdir().unwrap();
+        crate::common::demo(dir.path());
+        let flag = crate::common::score_demo(dir.path(), None, &["--ability-rule", "b2d-0.0.3"]);
+        let set = crate::common::score_demo(dir.path(), None, &["--set", "ability_rule=b2d-0.0.3"]);
+        assert_eq!(flag.status.code(), set.status.code());
+        assert_eq!(flag.stdout, set.stdout);
+        let report: Value = serde_json::from_slice(&flag.stdout).unwrap();
+        assert_eq!(report["config"]["ability_rule"], "b2d-0.0.3");
+        assert_eq!(
+            report["summary"]["bench2drive"]["ability_rule"],
+            "b2d-0.0.3"
+        );
+        let bad = crate::common::score_demo(dir.path(), None, &["--ability-rule", "0.0.3"]);
+        assert_eq!(bad.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&bad.stderr).contains("b2d-0.0.3"));
+        for cmd in ["compare", "watch"] {
+            let help = String::from_utf8(sds(&[cmd, "--help"]).stdout).unwrap();
+            assert!(help.contains("--ability-rule <RULE>"), "{cmd}: {help}");
+        }
+    }
+
+    /// Without every town's map, the Traffic Sign note gives the undecided routes and the
+    /// bracket [decided, decided + undecided]; UniAD-Base's published 14.21 lies inside it.
+    #[test]
+    fn i33_5_undecided_traffic_sign_bracket_holds_the_published_rate() {
+        let Some(b2d) = b2d_fixtures() else { return };
+        let maps = b2d.join("../maps");
+        let results = b2d.join("b2dzoo_UniAD-Base_merged.json");
+        let xml = b2d.join("routes/bench2drive220.xml");
+        let out = sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--format",
+            "table",
+            "--results",
+            results.to_str().unwrap(),
+            "--routes",
+            xml.to_str().unwrap(),
+            "--maps",
+            maps.to_str().unwrap(),
+            "--ability-rule",
+            "b2d-0.0.3",
+        ]);
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(text.contains("ability rule b2d-0.0.3"), "{text}");
+        let note = text
+            .lines()
+            .find(|l| l.contains("Traffic Sign lies in"))
+            .unwrap_or_else(|| panic!("no bracket note:\n{text}"));
+        assert!(
+            note.contains(
+                "Traffic_Signs under b2d-0.0.3: 51 route(s) whose junction credit is undecided"
+            ) && note.contains("[2.63, 29.47] (5/190 decided, up to 56/190"),
+            "{note}"
+        );
+        let open = note.find("lies in [").unwrap() + "lies in [".len();
+        let close = open + note[open..].find(']').unwrap();
+        let (lo, hi) = note[open..close].split_once(", ").unwrap();
+        let (lo, hi): (f64, f64) = (lo.parse().unwrap(), hi.parse().unwrap());
+        let published = 14.21; // Bench2Drive's table, UniAD-Base Traffic Sign (27/190)
+        assert!(lo <= published && published <= hi, "[{lo}, {hi}]");
+    }
+
+    /// The published table swaps Merging and Overtaking for TCP-traj: its Merging 8.89 is
+    /// TCP-traj's Overtaking 4/45 and its Overtaking 24.29 the Merging 17/70 (docs/TABLES.md).
+    #[test]
+    fn i33_5_published_table_swaps_merging_and_overtaking_for_tcp() {
+        let Some(b2d) = b2d_fixtures() else { return };
+        let results = b2d.join("b2dzoo_TCP-only-traj_merged.json");
+        let xml = b2d.join("routes/bench2drive220.xml");
+        let (rep, _) = score(&[
+            "--results",
+            results.to_str().unwrap(),
+            "--routes",
+            xml.to_str().unwrap(),
+        ]);
+        let b = &rep["summary"]["bench2drive"];
+        let count = |name: &str| {
+            let c = &b["ability_counts"][name];
+            (
+                c["successes"].as_u64().unwrap(),
+                c["routes"].as_u64().unwrap(),
+            )
+        };
+        assert_eq!(count("Overtaking"), (4, 45));
+        assert_eq!(count("Merging"), (17, 70));
+        let (published_merging, published_overtaking) = (8.89, 24.29);
+        let pct = |name: &str| format!("{:.2}", 100.0 * b["ability"][name].as_f64().unwrap());
+        assert_eq!(pct("Overtaking"), format!("{published_merging:.2}"));
+        assert_eq!(pct("Merging"), format!("{published_overtaking:.2}"));
+    }
 }

@@ -110,7 +110,7 @@ impl ProtocolScores {
                     infraction_score: match p {
                         // The Leaderboard's global statistics divide by every route (v1.4).
                         Protocol::Lb20 | Protocol::Lb21 => {
-                            (s.with_record > 0).then(|| s.penalty).and_then(per)
+                            (s.with_record > 0).then_some(s.penalty).and_then(per)
                         }
                         _ => (s.with_record > 0).then(|| s.penalty / s.with_record as f64),
                     },

@@ -136,6 +136,9 @@ pub struct Settings {
     pub protocols: Vec<Protocol>,
     /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
     pub ability_rule: AbilityRule,
+    /// Which min-speed checkpoint grid a record's entries are read on under the Leaderboard
+    /// protocols (§8.4 v1.4; default `auto`) **\[decision\]**.
+    pub min_speed_grid: MinSpeedGridSetting,
 }
 
 impl Default for Settings {
@@ -160,6 +163,7 @@ impl Default for Settings {
             events: EventSettings::default(),
             protocols: Vec::new(),
             ability_rule: AbilityRule::B2d004,
+            min_speed_grid: MinSpeedGridSetting::Auto,
         }
     }
 }
@@ -207,7 +211,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 42] = [
+    pub const NAMES: [&'static str; 43] = [
         "ability_rule",
         "align_max_dist",
         "align_tie",
@@ -242,6 +246,7 @@ impl Settings {
         "legacy_jerk_spacing",
         "lookahead",
         "min_chunk",
+        "min_speed_grid",
         "motion.moving_speed",
         "motion.stationary_speed",
         "penalty_flavour",
@@ -324,6 +329,14 @@ impl Settings {
                     AbilityRule::from_name(v.trim()).ok_or(SettingsError::Value {
                         name: key,
                         expected: "b2d-0.0.4 or b2d-0.0.3",
+                        value: v.into(),
+                    })?
+            }
+            "min_speed_grid" => {
+                self.min_speed_grid =
+                    MinSpeedGridSetting::from_name(v.trim()).ok_or(SettingsError::Value {
+                        name: key,
+                        expected: "auto, b2d-20 or lb-4",
                         value: v.into(),
                     })?
             }
@@ -446,6 +459,7 @@ impl Settings {
         Some(match name {
             "ability_rule" => self.ability_rule.name().into(),
             "protocols" => protocols_text(&self.protocols),
+            "min_speed_grid" => self.min_speed_grid.name().into(),
             "align_max_dist" => self.align_max_dist.to_string(),
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
@@ -661,6 +675,7 @@ impl serde::Serialize for Settings {
         m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
         m.serialize_entry("lookahead", &self.lookahead)?;
         m.serialize_entry("min_chunk", &c.min_chunk)?;
+        m.serialize_entry("min_speed_grid", self.min_speed_grid.name())?;
         let motion = [
             ("moving_speed", self.motion.moving_speed),
             ("stationary_speed", self.motion.stationary_speed),
@@ -850,6 +865,48 @@ impl AbilityRule {
     }
 }
 
+/// The `min_speed_grid` setting (§8.4 v1.4): on which checkpoint grid a record's min-speed
+/// entries are read under `lb2.0`, `lb2.1` and `lead-nds`.
+///
+/// ```
+/// use monitor_host::settings::MinSpeedGridSetting;
+/// assert_eq!(MinSpeedGridSetting::from_name("b2d-20"), Some(MinSpeedGridSetting::B2d20));
+/// assert_eq!(MinSpeedGridSetting::default().name(), "auto");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MinSpeedGridSetting {
+    /// Per record: Bench2Drive's 20-checkpoint grid when it holds more than 5 min-speed
+    /// entries with a number or any at 100 % or more, else the Leaderboard's (default).
+    #[default]
+    Auto,
+    /// Every record on Bench2Drive's 20-checkpoint grid: entries regrouped by 5.
+    B2d20,
+    /// Every record on the Leaderboard's grid: every entry below 100 % is an event.
+    Lb4,
+}
+
+impl MinSpeedGridSetting {
+    /// `auto`, `b2d-20` or `lb-4`.
+    pub fn name(self) -> &'static str {
+        match self {
+            MinSpeedGridSetting::Auto => "auto",
+            MinSpeedGridSetting::B2d20 => "b2d-20",
+            MinSpeedGridSetting::Lb4 => "lb-4",
+        }
+    }
+
+    /// The setting of a name.
+    pub fn from_name(name: &str) -> Option<MinSpeedGridSetting> {
+        [
+            MinSpeedGridSetting::Auto,
+            MinSpeedGridSetting::B2d20,
+            MinSpeedGridSetting::Lb4,
+        ]
+        .into_iter()
+        .find(|g| g.name() == name)
+    }
+}
+
 /// Which evaluator's penalty rules to re-check against (§8).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PenaltyFlavour {
@@ -938,6 +995,9 @@ mod tests {
         s.set("ability_rule", "b2d-0.0.3").unwrap();
         assert_eq!(s.ability_rule, AbilityRule::B2d003);
         assert!(s.set("ability_rule", "0.0.3").is_err());
+        s.set("min_speed_grid", "lb-4").unwrap();
+        assert_eq!(s.min_speed_grid, MinSpeedGridSetting::Lb4);
+        assert!(s.set("min_speed_grid", "20").is_err());
         s.set("dt", "0.1").unwrap();
         assert_eq!(
             (s.core.dt, s.dt_inference, s.get("dt").as_deref()),

@@ -280,6 +280,24 @@ pub enum Warning {
     /// A route term a scoring protocol could not read as the spec wants (§8.4): what was
     /// skipped or approximated.
     Protocol(String),
+    /// Records whose min-speed entries were regrouped on Bench2Drive's 20-checkpoint grid under
+    /// the Leaderboard protocols (§8.4 v1.4, "The min-speed grid").
+    MinSpeedRegrouped {
+        /// Records on the 20-checkpoint grid.
+        records: usize,
+        /// Records with protocol scores.
+        of: usize,
+        /// The `min_speed_grid` setting.
+        setting: &'static str,
+        /// The asked protocols that regroup (`lb2.0`, `lb2.1`, `lead-nds`).
+        protocols: Vec<&'static str>,
+    },
+    /// Routes that count as Fail2Drive successes though they did not finish: `RC < 100` or a
+    /// failed status (§8.4 v1.4; Fail2Drive's rule reads only the infraction lists).
+    F2dUnfinished {
+        /// Their route ids, in report order.
+        routes: Vec<String>,
+    },
 }
 
 impl std::fmt::Display for Warning {
@@ -568,6 +586,28 @@ impl std::fmt::Display for Warning {
                 keys.join(", ")
             ),
             Warning::Protocol(what) => write!(f, "protocols: {what}"),
+            Warning::MinSpeedRegrouped {
+                records,
+                of,
+                setting,
+                protocols,
+            } => write!(
+                f,
+                "protocols: {records} of {of} records hold Bench2Drive's 20 min-speed checkpoints \
+                 (min_speed_grid={setting}): under {} their entries were regrouped by 5 into one \
+                 Leaderboard checkpoint each, at the group's harmonic mean; each route's \
+                 min_speed_grid and min_speed_events say which and how many (--set \
+                 min_speed_grid=lb-4 charges every entry below 100 %)",
+                protocols.join(", ")
+            ),
+            Warning::F2dUnfinished { routes } => write!(
+                f,
+                "protocols: f2d: {} route(s) count as Fail2Drive successes though they did not \
+                 finish (route completion below 100 or a failed status): Fail2Drive's rule reads \
+                 only the infraction lists: {}",
+                routes.len(),
+                id_list(routes)
+            ),
         }
     }
 }

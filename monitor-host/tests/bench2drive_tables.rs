@@ -220,7 +220,7 @@ fn abilities_reproduce_bench2drive_for_tfpp() {
     let text = String::from_utf8(text.stdout).unwrap();
     assert!(
         text.contains(&format!(
-            "Traffic_Signs: {} failed route(s) whose junction credit is undecided",
+            "Traffic_Signs under b2d-0.0.4: {} failed route(s) whose junction credit is undecided",
             expected.len()
         )),
         "{text}"

@@ -133,6 +133,7 @@ pub fn assemble(
         }));
     }
     let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
+    warnings.extend(protocol_warnings(&counted, settings));
     let scores = Scores::over(&counted, facts.n);
     let mut summary = summarize(outcomes, &counted, scores, facts.n, missing.len());
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
@@ -167,6 +168,44 @@ pub fn assemble(
             .collect(),
         route_set: facts.route_set,
     }
+}
+
+/// The run-level warnings of the scoring protocols (§8.4 v1.4): how many records were
+/// regrouped on Bench2Drive's min-speed grid, and the `f2d` successes that did not finish.
+fn protocol_warnings(counted: &[&RouteReport], settings: &Settings) -> Vec<Warning> {
+    use crate::route::protocol::min_speed::MinSpeedGrid;
+    use crate::route::protocol::Protocol;
+    let mut out = Vec::new();
+    let regrouping: Vec<&'static str> = settings
+        .protocols
+        .iter()
+        .filter(|p| matches!(p, Protocol::Lb20 | Protocol::Lb21 | Protocol::LeadNds))
+        .map(|p| p.id())
+        .collect();
+    let graded: Vec<MinSpeedGrid> = counted.iter().filter_map(|r| r.min_speed_grid).collect();
+    let regrouped = graded.iter().filter(|g| **g == MinSpeedGrid::B2d20).count();
+    if !regrouping.is_empty() && regrouped > 0 {
+        out.push(Warning::MinSpeedRegrouped {
+            records: regrouped,
+            of: graded.len(),
+            setting: settings.min_speed_grid.name(),
+            protocols: regrouping,
+        });
+    }
+    let unfinished: Vec<String> = counted
+        .iter()
+        .filter(|r| {
+            let f2d = r.protocols.as_ref().and_then(|p| p.get(Protocol::F2d));
+            f2d.is_some_and(|s| s.success && s.penalty.is_some())
+                && (r.score_route.is_some_and(|rc| rc < 100.0)
+                    || r.status.as_deref().is_some_and(|s| s.starts_with("Failed")))
+        })
+        .map(|r| row_name(r))
+        .collect();
+    if !unfinished.is_empty() {
+        out.push(Warning::F2dUnfinished { routes: unfinished });
+    }
+    out
 }
 
 impl Report {

@@ -160,6 +160,11 @@ pub struct RunArgs {
     /// events under other arithmetic, not a re-run: see docs/PROTOCOLS.md.
     #[arg(long = "protocol", value_name = "LIST|all")]
     pub protocol: Option<String>,
+    /// Bench2Drive's Traffic_Signs counting rule (spec §8.2): `b2d-0.0.4` (default) or
+    /// `b2d-0.0.3`, the rule of the table most papers cite (every Traffic_Signs route counted
+    /// twice). The same as `--set ability_rule=RULE`.
+    #[arg(long = "ability-rule", value_name = "RULE", value_parser = ["b2d-0.0.4", "b2d-0.0.3"])]
+    pub ability_rule: Option<String>,
 }
 
 impl RunArgs {
@@ -173,7 +178,12 @@ impl RunArgs {
         let flags = self
             .protocol
             .iter()
-            .map(|list| Ok(("protocols".to_string(), list.clone())));
+            .map(|list| Ok(("protocols".to_string(), list.clone())))
+            .chain(
+                self.ability_rule
+                    .iter()
+                    .map(|rule| Ok(("ability_rule".to_string(), rule.clone()))),
+            );
         let overrides = flags
             .chain(self.set.iter().map(|s| {
                 s.split_once('=')

@@ -367,6 +367,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
             set: vec![],
             jobs: None,
             protocol: None,
+            ability_rule: None,
         },
         duplicates: None,
         route_subset: None,

@@ -12,17 +12,68 @@ use crate::input::collision::parse_python_float;
 /// The percentage of `Agent went outside its route lanes for about <m> meters (<pct>% of the
 /// completed route)`.
 pub fn outside_lanes_percent(s: &str) -> Option<f64> {
+    parse_python_float(outside_lanes_percent_text(s)?)
+}
+
+/// The text where [`outside_lanes_percent`] reads its number.
+pub fn outside_lanes_percent_text(s: &str) -> Option<&str> {
     let open = s.rfind('(')?;
     let inner = &s[open + 1..];
     let end = inner.find("% of the completed route)")?;
-    parse_python_float(&inner[..end])
+    Some(&inner[..end])
 }
 
 /// The percentage of `Average speed is <pct>% of the surrounding traffic's one`.
 pub fn min_speed_percent(s: &str) -> Option<f64> {
+    parse_python_float(min_speed_percent_text(s)?)
+}
+
+/// The text where [`min_speed_percent`] reads its number.
+pub fn min_speed_percent_text(s: &str) -> Option<&str> {
     let rest = s.strip_prefix("Average speed is ")?;
     let end = rest.find('%')?;
-    parse_python_float(&rest[..end])
+    Some(&rest[..end])
+}
+
+/// What a message's percentage is, as the scoring protocols read it (§8.4): a possible
+/// percentage (finite, not negative), an impossible one (negative or beyond f64's range: the
+/// entry is refused), or no number at all.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Percent {
+    /// A finite percentage `>= 0`.
+    Possible(f64),
+    /// A number no evaluator writes: negative, or not finite.
+    Impossible,
+    /// No number where the message holds its percentage.
+    Unreadable,
+}
+
+/// Classifies the percentage text found by `find` in `s` ([`min_speed_percent_text`],
+/// [`outside_lanes_percent_text`]).
+///
+/// ```
+/// use monitor_host::input::message::{min_speed_percent_text, percent_of, Percent};
+/// let p = |s| percent_of(s, min_speed_percent_text);
+/// assert_eq!(p("Average speed is 80.5% of it"), Percent::Possible(80.5));
+/// assert_eq!(p("Average speed is -300% of it"), Percent::Impossible);
+/// assert_eq!(p("Average speed is 1e999% of it"), Percent::Impossible);
+/// assert_eq!(p("Average speed is slow"), Percent::Unreadable);
+/// ```
+pub fn percent_of(s: &str, find: impl Fn(&str) -> Option<&str>) -> Percent {
+    let Some(text) = find(s) else {
+        return Percent::Unreadable;
+    };
+    match parse_python_float(text) {
+        Some(v) if v >= 0.0 => Percent::Possible(v),
+        Some(_) => Percent::Impossible,
+        // Digits that overflow to infinity: a number, but none an evaluator writes.
+        None if text.trim().parse::<f64>().is_ok_and(|v| !v.is_finite())
+            && text.bytes().any(|b| b.is_ascii_digit()) =>
+        {
+            Percent::Impossible
+        }
+        None => Percent::Unreadable,
+    }
 }
 
 /// The (x, y, z) of a message ending in ` at (x=<x>, y=<y>, z=<z>)`, or `None` when it has no

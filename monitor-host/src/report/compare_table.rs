@@ -53,8 +53,14 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     } else {
         ""
     };
+    // The ability rule, named as `sds score`'s table names it (one rule, or each model's).
+    let rules: Vec<&str> = c.models.iter().map(|m| m.ability_rule).collect();
+    let rule = match rules.first() {
+        Some(r) if rules.iter().all(|x| x == r) => format!(", ability rule {r}"),
+        _ => String::new(),
+    };
     let mut b2d = Grid::new(
-        &format!("Bench2Drive: closed-loop metrics and multi-ability (%){over}"),
+        &format!("Bench2Drive: closed-loop metrics and multi-ability (%){over}{rule}"),
         ["model", "runs"].into_iter().chain(BENCH2DRIVE_COLUMNS),
     );
     let mut t1 = Grid::new(
@@ -92,6 +98,14 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
             stat(&m.sds, 2, 1.0),
             stat(&m.collision_rate, 2, 1.0),
         ]);
+    }
+    if rule.is_empty() && !c.models.is_empty() {
+        let each: Vec<String> = c
+            .models
+            .iter()
+            .map(|m| format!("{} {}", m.name, m.ability_rule))
+            .collect();
+        b2d.note(format!("ability rules differ: {}", each.join(", ")));
     }
     if c.models.iter().all(|m| m.ability.mean.mean.is_none()) {
         b2d.note("no ability rate: abilities need the route XML (--routes) and routes of Bench2Drive's scenario types");

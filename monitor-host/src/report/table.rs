@@ -109,10 +109,30 @@ pub fn bench2drive_table(report: &Report) -> Grid {
             .collect();
         towns.sort_unstable();
         towns.dedup();
+        // Each undecided route holds one junction credit (its only chance under b2d-0.0.4, its
+        // second count under b2d-0.0.3): the decided rate is a floor, every credit a ceiling.
+        let ts = b.ability_counts.get(crate::route::ability::TRAFFIC_SIGNS);
+        let undecided = b.ability_undecided.len();
+        let bracket = if ts.routes > 0 {
+            let rate = |k: usize| 100.0 * k as f64 / ts.routes as f64;
+            format!(
+                "; Traffic Sign lies in [{:.2}, {:.2}] ({}/{} decided, up to {}/{} with every \
+                 undecided credit)",
+                rate(ts.successes),
+                rate(ts.successes + undecided),
+                ts.successes,
+                ts.routes,
+                ts.successes + undecided,
+                ts.routes
+            )
+        } else {
+            String::new()
+        };
         g.note(format!(
-            "Traffic_Signs: {} {}route(s) whose junction credit is undecided (no map; towns {}) \
-             count as failed: see summary.bench2drive.ability_undecided",
-            b.ability_undecided.len(),
+            "Traffic_Signs under {}: {undecided} {}route(s) whose junction credit is undecided (no \
+             map; towns {}) count as failed{bracket}; add the towns' maps (--maps) to decide them: \
+             see summary.bench2drive.ability_undecided",
+            b.ability_rule,
             if b.ability_rule == "b2d-0.0.4" {
                 "failed "
             } else {

@@ -24,6 +24,7 @@ use crate::route::efficiency::route_efficiency;
 use crate::route::events::{route_events, RouteEvent};
 use crate::route::penalty::check_penalty;
 use crate::route::protocol::ability_rule::apply_rule;
+use crate::route::protocol::min_speed::{min_speed_grid, MinSpeedGrid};
 use crate::route::protocol::route::{score_record, RouteProtocols};
 use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
@@ -180,6 +181,10 @@ pub struct RouteReport {
     /// `score_composed − DS_safe` step by step: the evaluator's rounding and the loss to each
     /// SDS factor (`docs/SCORE.md` "Decomposition"); null when not scored.
     pub decomposition: Option<Losses>,
+    /// The min-speed checkpoint grid its record was read on under the protocols (§8.4 v1.4):
+    /// `b2d-20` or `lb-4`; absent when no protocol is asked or the route has no valid record.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub min_speed_grid: Option<MinSpeedGrid>,
     /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocols: Option<RouteProtocols>,
@@ -308,6 +313,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
                 &settings.core.factors,
             )
         }),
+        min_speed_grid: None,
         protocols: None,
         telemetry: o.telemetry.clone(),
         reason: o
@@ -371,6 +377,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         p_safe: None,
         ds_safe: Some(0.0),
         decomposition: Some(Losses::default()),
+        min_speed_grid: None,
         protocols: None,
         smoothness: None,
         efficiency: None,
@@ -442,8 +449,12 @@ pub fn route_rows(
         for (i, r) in routes.iter_mut().enumerate() {
             r.protocols = Some(match outcomes.get(i).and_then(|o| o.record()) {
                 Some(rec) => {
-                    let (p, w) = score_record(rec, asked);
+                    let (p, w) = score_record(rec, asked, settings.min_speed_grid);
                     r.warnings.extend(w);
+                    r.min_speed_grid = Some(min_speed_grid(
+                        rec.infractions.list(MIN_SPEED_LIST),
+                        settings.min_speed_grid,
+                    ));
                     p
                 }
                 None => RouteProtocols::without_record(asked),

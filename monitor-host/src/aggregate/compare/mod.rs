@@ -422,7 +422,8 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
                 .iter()
                 .map(|r| (r.name.clone(), aggregate(&r.report, &shared, differs)))
                 .collect();
-            model_row(&m.name, &aggs)
+            let rule = m.runs.first().map(|r| r.report.config.ability_rule);
+            model_row(&m.name, &aggs, rule.unwrap_or_default().name())
         })
         .collect();
     let (paired_rows, flips) = pair(models, base, &keys, &per_model, &metrics, options);

@@ -72,6 +72,8 @@ pub struct ModelRow {
     pub smoothness: Stat,
     /// Ability rates (§8.2), 0..1.
     pub ability: AbilityStats,
+    /// The Traffic_Signs counting rule its runs were scored with (`ability_rule`, §8.2).
+    pub ability_rule: &'static str,
     /// Mean moving comfort (v1.3 §8.5).
     pub mean_comfort_moving: Stat,
     /// Mean stationary share (v1.3 §8.5), 0..1.
@@ -102,8 +104,13 @@ pub struct AbilityStats {
     pub mean: Stat,
 }
 
-/// The row of a model from its runs' aggregates (in seed order).
-pub fn model_row(name: &str, runs: &[(String, Aggregates)]) -> ModelRow {
+/// The row of a model from its runs' aggregates (in seed order), scored under the ability rule
+/// `ability_rule`.
+pub fn model_row(
+    name: &str,
+    runs: &[(String, Aggregates)],
+    ability_rule: &'static str,
+) -> ModelRow {
     let stat = |f: &dyn Fn(&Aggregates) -> Option<f64>| {
         Stat::of(&runs.iter().map(|(_, a)| f(a)).collect::<Vec<_>>())
     };
@@ -130,6 +137,7 @@ pub fn model_row(name: &str, runs: &[(String, Aggregates)]) -> ModelRow {
             traffic_signs: ab(&|x| x.traffic_signs),
             mean: ab(&|x| x.mean),
         },
+        ability_rule,
         mean_comfort_moving: stat(&|a| a.scores.motion.mean_comfort_moving),
         mean_stationary_share: stat(&|a| a.scores.motion.mean_stationary_share),
         distance_km: stat(&|a| a.scores.motion.distance_km),

@@ -1,19 +1,26 @@
 //! The protocols' aggregates over a set of routes (`SDS-SPEC.md` v1.3 §8.4): per protocol,
-//! `driving_score` = Σ score / N, `route_completion` = Σ RC / N, `infraction_score` = mean
-//! penalty over the routes with a valid record, `success_rate` = 100 × successes / N, and for
-//! `f2d` the harmonic mean `hm` of DS and SR. f64, summed in the order the routes are given.
+//! `driving_score` = Σ score / N, `route_completion` = Σ RC / N, `infraction_score` = Σ penalty
+//! over the routes with a valid record / N under `lb2.0` and `lb2.1` (v1.4: as the
+//! Leaderboard's global statistics compute it, so a route without a record weighs as 0) and the
+//! mean penalty over those records under the others, `success_rate` = 100 × successes / N, and
+//! for `f2d` the harmonic mean `hm` of DS and SR. f64, summed in the order the routes are given.
 //!
 //! ```
 //! use monitor_host::route::protocol::aggregate::{harmonic_mean, ProtocolScores};
 //! use monitor_host::route::protocol::route::{RouteProtocols, RouteScore};
 //! use monitor_host::route::protocol::Protocol;
-//! let route = RouteProtocols(vec![(Protocol::F2d, RouteScore { penalty: Some(0.5), score: 50.0, success: true })]);
+//! let route = RouteProtocols(vec![(Protocol::F2d, RouteScore { penalty: Some(0.5), score: 50.0, success: true, min_speed_events: 0 })]);
 //! let missing = RouteProtocols::without_record(&[Protocol::F2d]);
 //! let s = ProtocolScores::over([(100.0, &route), (0.0, &missing)], 2).unwrap();
 //! let f2d = s.get(Protocol::F2d).unwrap();
 //! assert_eq!((f2d.driving_score, f2d.route_completion), (Some(25.0), Some(50.0)));
 //! assert_eq!((f2d.infraction_score, f2d.success_rate), (Some(0.5), Some(50.0)));
 //! assert_eq!(f2d.hm, Some(harmonic_mean(25.0, 50.0)));
+//! // Under the Leaderboard the missing route weighs in the infraction score: 0.5 / 2.
+//! let route = RouteProtocols(vec![(Protocol::Lb21, RouteScore { penalty: Some(0.5), score: 50.0, success: true, min_speed_events: 0 })]);
+//! let missing = RouteProtocols::without_record(&[Protocol::Lb21]);
+//! let s = ProtocolScores::over([(100.0, &route), (0.0, &missing)], 2).unwrap();
+//! assert_eq!(s.get(Protocol::Lb21).unwrap().infraction_score, Some(0.25));
 //! assert_eq!(harmonic_mean(0.0, 50.0), 0.0);
 //! ```
 
@@ -29,7 +36,8 @@ pub struct ProtocolAggregate {
     pub driving_score: Option<f64>,
     /// Σ RC / N (0..100).
     pub route_completion: Option<f64>,
-    /// Mean penalty over the routes with a valid record (0..1).
+    /// Σ penalty over the routes with a valid record / N under `lb2.0` and `lb2.1`; the mean
+    /// penalty over those routes under the others (0..1).
     pub infraction_score: Option<f64>,
     /// 100 × successes / N.
     pub success_rate: Option<f64>,
@@ -99,7 +107,13 @@ impl ProtocolScores {
                 let a = ProtocolAggregate {
                     driving_score: ds,
                     route_completion: per(s.rc),
-                    infraction_score: (s.with_record > 0).then(|| s.penalty / s.with_record as f64),
+                    infraction_score: match p {
+                        // The Leaderboard's global statistics divide by every route (v1.4).
+                        Protocol::Lb20 | Protocol::Lb21 => {
+                            (s.with_record > 0).then_some(s.penalty).and_then(per)
+                        }
+                        _ => (s.with_record > 0).then(|| s.penalty / s.with_record as f64),
+                    },
                     success_rate: sr,
                     hm: if p == Protocol::F2d {
                         ds.zip(sr).map(|(d, r)| harmonic_mean(d, r))

@@ -21,8 +21,9 @@
 
 use serde::Serialize;
 
+use crate::input::message::{outside_lanes_percent_text, percent_of, Percent};
 use crate::input::record::Record;
-use crate::route::penalty::{check_penalty, outside_lanes_percent};
+use crate::route::penalty::check_penalty;
 use crate::route::protocol::terms::FIXED_TERMS;
 use crate::settings::PenaltyFlavour;
 
@@ -78,10 +79,17 @@ pub fn outside_lanes_factor(record: &Record) -> OutsideLanes {
     let check = check_penalty(record, PenaltyFlavour::Bench2Drive);
     if check.agrees {
         let f = record.score_penalty / fixed_factor_product(record);
+        // Beyond [0, 1] by more than rounding: an edited record (a factor no evaluator makes).
+        let clamped = !(-CLAMP_SLACK..=1.0 + CLAMP_SLACK).contains(&f);
         return OutsideLanes {
             factor: f.clamp(0.0, 1.0),
             source: FOutSource::RecordedPenalty,
-            warning: None,
+            warning: clamped.then(|| {
+                format!(
+                    "f_out = score_penalty / fixed factors = {f} clamped to [0, 1] (its \
+                     outside_route_lanes percentages are impossible: {first:?})"
+                )
+            }),
         };
     }
     let why = if check.recomputed.is_nan() {
@@ -92,15 +100,32 @@ pub fn outside_lanes_factor(record: &Record) -> OutsideLanes {
             record.score_penalty, check.recomputed
         )
     };
-    match outside_lanes_percent(first) {
-        Some(q) => OutsideLanes {
-            factor: (1.0 - q / 100.0).clamp(0.0, 1.0),
-            source: FOutSource::Message,
+    match percent_of(first, outside_lanes_percent_text) {
+        Percent::Possible(q) => {
+            let f = 1.0 - q / 100.0;
+            let clamp = if (0.0..=1.0).contains(&f) {
+                String::new()
+            } else {
+                format!("; 1 - {q}/100 = {f} clamped to [0, 1]")
+            };
+            OutsideLanes {
+                factor: f.clamp(0.0, 1.0),
+                source: FOutSource::Message,
+                warning: Some(format!(
+                    "f_out from the first outside_route_lanes message ({q}%, rounded), because \
+                     {why}{clamp}"
+                )),
+            }
+        }
+        Percent::Impossible => OutsideLanes {
+            factor: 1.0,
+            source: FOutSource::Unknown,
             warning: Some(format!(
-                "f_out from the first outside_route_lanes message ({q}%, rounded), because {why}"
+                "f_out unknown (taken as 1): an impossible percentage (negative or not finite) \
+                 refused in {first:?}, and {why}"
             )),
         },
-        None => OutsideLanes {
+        Percent::Unreadable => OutsideLanes {
             factor: 1.0,
             source: FOutSource::Unknown,
             warning: Some(format!(
@@ -109,3 +134,7 @@ pub fn outside_lanes_factor(record: &Record) -> OutsideLanes {
         },
     }
 }
+
+/// How far past [0, 1] a recovered `f_out` may lie before its clamp is warned (rounding of the
+/// recorded penalty, 6 decimals, divided by a product of factors).
+const CLAMP_SLACK: f64 = 1e-4;

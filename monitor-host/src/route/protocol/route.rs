@@ -5,11 +5,12 @@
 //! use monitor_host::input::record::Record;
 //! use monitor_host::route::protocol::route::score_record;
 //! use monitor_host::route::protocol::Protocol;
+//! use monitor_host::settings::MinSpeedGridSetting;
 //! let r = Record::from_value(&serde_json::json!({
 //!     "route_id": "RouteScenario_1_rep0", "status": "Completed",
 //!     "infractions": {"collisions_pedestrian": ["a", "b"]},
 //!     "scores": {"score_route": 100, "score_penalty": 0.25, "score_composed": 25.0}}))?;
-//! let (s, warnings) = score_record(&r, &[Protocol::Lb21]);
+//! let (s, warnings) = score_record(&r, &[Protocol::Lb21], MinSpeedGridSetting::Auto);
 //! let lb21 = s.get(Protocol::Lb21).unwrap();
 //! assert!((lb21.score - 100.0 / 3.0).abs() < 1e-12 && !lb21.success && warnings.is_empty());
 //! # Ok::<(), monitor_host::input::record::InvalidRecord>(())
@@ -17,14 +18,15 @@
 
 use serde::Serialize;
 
+use crate::input::message::{outside_lanes_percent_text, percent_of, Percent};
 use crate::input::record::{Record, MIN_SPEED_LIST};
-use crate::route::penalty::outside_lanes_percent;
 use crate::route::protocol::min_speed::{min_speed_events, MinSpeedEvents};
 use crate::route::protocol::outside_lanes::{outside_lanes_factor, OutsideLanes, OUTSIDE_LIST};
 use crate::route::protocol::terms::{
     lb20_min_speed_factor, lb21_min_speed_cost, FIXED_TERMS, LEAD_SCALE,
 };
 use crate::route::protocol::Protocol;
+use crate::settings::MinSpeedGridSetting;
 use crate::warning::Warning;
 
 /// A route under one protocol.
@@ -36,6 +38,9 @@ pub struct RouteScore {
     pub score: f64,
     /// A success under the protocol's rule.
     pub success: bool,
+    /// The min-speed events the protocol charged (§8.4 v1.4): Leaderboard checkpoints below
+    /// 100 % under `lb2.0`, `lb2.1` and `lead-nds`; 0 under `b2d` and `f2d`, which charge none.
+    pub min_speed_events: usize,
 }
 
 /// A route under every asked protocol, in [`Protocol::ALL`] order: the report's per-route
@@ -61,6 +66,7 @@ impl RouteProtocols {
                             penalty: None,
                             score: 0.0,
                             success: false,
+                            min_speed_events: 0,
                         },
                     )
                 })
@@ -117,7 +123,9 @@ pub fn lb21_penalty(record: &Record, f_out: f64, min_speed: &MinSpeedEvents) -> 
 
 /// LEAD's normalised penalty: `prod_k (0.2 v_k)^(n_k / km)` (1 when `km = 0`), the
 /// Leaderboard 2.0 min-speed factors, and `1 - Q/100` per outside-lanes entry, `Q` read from
-/// its message (entries without one are skipped and returned).
+/// its message, the factor clamped to [0, 1]. Entries without a percentage or with an
+/// impossible one (negative, not finite) are skipped; what was skipped or clamped is returned
+/// as warnings.
 pub fn lead_penalty(record: &Record, min_speed: &MinSpeedEvents) -> (f64, Vec<String>) {
     let km = driven_km(record);
     let mut p = 1.0f64;
@@ -132,30 +140,56 @@ pub fn lead_penalty(record: &Record, min_speed: &MinSpeedEvents) -> (f64, Vec<St
     for &pct in &min_speed.percents {
         p *= lb20_min_speed_factor(pct);
     }
-    let mut unreadable = Vec::new();
+    let mut warnings = Vec::new();
     for s in record.infractions.list(OUTSIDE_LIST) {
-        match outside_lanes_percent(s) {
-            Some(q) => p *= 1.0 - q / 100.0,
-            None => unreadable.push(s.clone()),
+        match percent_of(s, outside_lanes_percent_text) {
+            Percent::Possible(q) => {
+                let f = 1.0 - q / 100.0;
+                if !(0.0..=1.0).contains(&f) {
+                    warnings.push(format!(
+                        "lead-nds: outside_route_lanes factor 1 - {q}/100 = {f} clamped to [0, 1]: \
+                         {s:?}"
+                    ));
+                }
+                p *= f.clamp(0.0, 1.0);
+            }
+            Percent::Impossible => warnings.push(format!(
+                "lead-nds: outside_route_lanes entry with an impossible percentage (negative or \
+                 not finite), refused: {s:?}"
+            )),
+            Percent::Unreadable => warnings.push(format!(
+                "lead-nds: outside_route_lanes entry without a percentage, skipped: {s:?}"
+            )),
         }
     }
-    (p, unreadable)
+    (p, warnings)
 }
 
-/// The record under each of `protocols` (in the order given), and the warnings met: min-speed
-/// entries without a number, `f_out` not recovered from the recorded penalty, LEAD's
-/// outside-lanes entries without a percentage, LEAD without a route length.
-pub fn score_record(record: &Record, protocols: &[Protocol]) -> (RouteProtocols, Vec<Warning>) {
+/// The record under each of `protocols` (in the order given), its min-speed entries read on the
+/// grid `grid` gives it, and the warnings met: min-speed entries without a number or with an
+/// impossible one, `f_out` not recovered from the recorded penalty, LEAD's outside-lanes entries
+/// without a percentage or with an impossible one, factors clamped, LEAD without a route length.
+pub fn score_record(
+    record: &Record,
+    protocols: &[Protocol],
+    grid: MinSpeedGridSetting,
+) -> (RouteProtocols, Vec<Warning>) {
     let mut warnings = Vec::new();
     let rc = record.score_route;
     let needs_events = protocols
         .iter()
         .any(|p| matches!(p, Protocol::Lb20 | Protocol::Lb21 | Protocol::LeadNds));
     let min_speed = if needs_events {
-        let m = min_speed_events(record.infractions.list(MIN_SPEED_LIST));
+        let m = min_speed_events(record.infractions.list(MIN_SPEED_LIST), grid);
         for s in &m.unreadable {
             warnings.push(Warning::Protocol(format!(
                 "min_speed_infractions entry without a percentage, skipped: {s:?}"
+            )));
+        }
+        for s in &m.impossible {
+            warnings.push(Warning::Protocol(format!(
+                "min_speed_infractions entry with an impossible percentage (negative or not \
+                 finite), refused: {s:?}"
             )));
         }
         m
@@ -189,12 +223,8 @@ pub fn score_record(record: &Record, protocols: &[Protocol]) -> (RouteProtocols,
                 record.is_success(),
             ),
             Protocol::LeadNds => {
-                let (penalty, unreadable) = lead_penalty(record, &min_speed);
-                for s in unreadable {
-                    warnings.push(Warning::Protocol(format!(
-                        "lead-nds: outside_route_lanes entry without a percentage, skipped: {s:?}"
-                    )));
-                }
+                let (penalty, skipped) = lead_penalty(record, &min_speed);
+                warnings.extend(skipped.into_iter().map(Warning::Protocol));
                 if record.meta.route_length.is_none()
                     && record
                         .infractions
@@ -216,12 +246,17 @@ pub fn score_record(record: &Record, protocols: &[Protocol]) -> (RouteProtocols,
         } else {
             rc * penalty
         };
+        let charged = match p {
+            Protocol::Lb20 | Protocol::Lb21 | Protocol::LeadNds => min_speed.percents.len(),
+            Protocol::B2d | Protocol::F2d => 0,
+        };
         out.push((
             p,
             RouteScore {
                 penalty: Some(penalty),
                 score,
                 success,
+                min_speed_events: charged,
             },
         ));
     }

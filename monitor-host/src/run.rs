@@ -16,6 +16,7 @@ use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
+use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -304,7 +305,16 @@ pub fn score_run_cached(
     // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
     let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
     let rows = route_rows(&outcomes, missing, settings, routes.as_ref(), &maps);
+    let provenance = Provenance::new(
+        settings,
+        files_read
+            .iter()
+            .map(|f| (f.as_path(), "results"))
+            .chain(inputs.route_xml.iter().map(|f| (f.as_path(), "routes")))
+            .chain(maps.files().iter().map(|f| (f.as_path(), "map"))),
+    );
     let facts = RunFacts {
+        provenance,
         n,
         route_set: set,
         inputs: input_reports,

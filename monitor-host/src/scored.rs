@@ -161,6 +161,11 @@ fn label_of<T>(
 /// keys of some routes without a label a warning (added to the report).
 fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels, Error> {
     let labels = read_labels(file)?;
+    report
+        .inputs
+        .provenance
+        .files
+        .push(crate::provenance::FileDigest::of(file, "labels"));
     let counted = counted_routes(&report.routes);
     let (keys, name, option): (Vec<&str>, _, _) = match what {
         LabelKey::Family => (

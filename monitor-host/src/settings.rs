@@ -139,6 +139,10 @@ pub struct Settings {
     /// Which min-speed checkpoint grid a record's entries are read on under the Leaderboard
     /// protocols (§8.4 v1.4; default `auto`) **\[decision\]**.
     pub min_speed_grid: MinSpeedGridSetting,
+    /// Name the host in the report's `inputs.provenance` (§13; default true) **\[decision\]**.
+    /// Not part of `config`: it never changes a number, so parts scored with and without it
+    /// still merge.
+    pub provenance_host: bool,
 }
 
 impl Default for Settings {
@@ -164,6 +168,7 @@ impl Default for Settings {
             protocols: Vec::new(),
             ability_rule: AbilityRule::B2d004,
             min_speed_grid: MinSpeedGridSetting::Auto,
+            provenance_host: true,
         }
     }
 }
@@ -211,7 +216,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 43] = [
+    pub const NAMES: [&'static str; 44] = [
         "ability_rule",
         "align_max_dist",
         "align_tie",
@@ -252,6 +257,7 @@ impl Settings {
         "penalty_flavour",
         "profile",
         "protocols",
+        "provenance.host",
         "route_subset",
         "slack",
         "stationary_speed",
@@ -371,6 +377,7 @@ impl Settings {
                 self.core.slack = (self.lane_width / 2.0 - self.ego_half_width) as f32;
             }
             "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
+            "provenance.host" => self.provenance_host = bool_of(key, v)?,
             "dt_inference" => self.dt_inference = bool_of(key, v)?,
             "route_subset" => {
                 self.route_subset =
@@ -468,6 +475,7 @@ impl Settings {
             "lane_width" => self.lane_width.to_string(),
             "ego_half_width" => self.ego_half_width.to_string(),
             "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
+            "provenance.host" => self.provenance_host.to_string(),
             "dt_inference" => self.dt_inference.to_string(),
             "duplicates" => self.duplicates.name().into(),
             "route_subset" => self.route_subset.name().into(),
@@ -624,7 +632,7 @@ impl std::fmt::Display for Settings {
 
 /// The report's `config` block: every setting by name, keys in alphabetical order, the groups
 /// `bounds` and `factors` as objects, f32 values printed as the decimal a person writes
-/// ([`decimal`]). `threads` is not part of it.
+/// ([`decimal`]). `threads` and `provenance.host` are not part of it.
 impl serde::Serialize for Settings {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;

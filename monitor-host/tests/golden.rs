@@ -3,7 +3,7 @@
 //! file.
 //!
 //! The demo is written to a temporary folder; its path in the report (`source`) is replaced by
-//! `<demo>`. After an intended change to the report, regenerate the file with
+//! `<demo>`, and the host name in its provenance by `<host>`. After an intended change to the report, regenerate the file with
 //! `SDS_BLESS=1 cargo test -p monitor-host --test golden` and commit it with the change.
 
 use std::path::Path;
@@ -25,7 +25,15 @@ fn demo_report(settings: &Settings) -> String {
     let json = String::from_utf8(report::json::json(&report).unwrap()).unwrap();
     let root = dir.path().display().to_string();
     assert!(json.contains(&root), "the report names the results file");
-    json.replace(&root, "<demo>")
+    let json = json.replace(&root, "<demo>");
+    // The provenance names the machine: the golden file names none.
+    match monitor_host::provenance::host_name() {
+        Some(host) => json.replace(
+            &format!("\"host\": {}", serde_json::to_string(&host).unwrap()),
+            "\"host\": \"<host>\"",
+        ),
+        None => json.replace("\"host\": null", "\"host\": \"<host>\""),
+    }
 }
 
 #[test]

@@ -14,6 +14,7 @@ use crate::input::labels::Labels;
 use crate::input::route_set::{route_set_id, MissingRoute, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
+use crate::provenance::Provenance;
 use crate::route::row::{counted_routes, row_name, RouteReport};
 use crate::settings::Settings;
 use crate::warning::Warning;
@@ -64,6 +65,12 @@ pub struct ReportInputs {
     pub files: Vec<InputReport>,
     /// The counted routes' fingerprint (`{"routes", "sha256"}`, v1.3 §10.3).
     pub route_set: RouteSetId,
+    /// The `sds` version, settings hash, input files' sha256 and size, host (v1.4 §13).
+    pub provenance: Provenance,
+    /// A merged report's parts (v1.4 §13): each part's file, sha256, `sds` version and inputs;
+    /// absent for `sds score`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parts: Option<Vec<crate::merge::PartInputs>>,
 }
 
 /// The route set of `route_subset: found`, as the report states it.
@@ -103,6 +110,8 @@ pub struct RunFacts {
     pub kept: Vec<Kept>,
     /// Run-level warnings.
     pub warnings: Vec<Warning>,
+    /// Where the run comes from (v1.4 §13).
+    pub provenance: Provenance,
 }
 
 /// Builds the report from the run's rows (from [`crate::route::row::route_rows`]: the outcomes'
@@ -149,6 +158,8 @@ pub fn assemble(
         inputs: ReportInputs {
             files: facts.inputs,
             route_set: route_set_id(counted.iter().filter_map(|r| r.route_id.as_deref())),
+            provenance: facts.provenance,
+            parts: None,
         },
         route_subset: facts.route_set.as_ref().and_then(|s| {
             s.subset_of.map(|of| SubsetReport {

@@ -298,6 +298,16 @@ pub enum Warning {
         /// Their route ids, in report order.
         routes: Vec<String>,
     },
+    /// A route's warning as a report wrote it (a part of `sds merge` read back, v1.4 §13):
+    /// printed unchanged.
+    Recorded(String),
+    /// A warning of a part of `sds merge` (v1.4 §13), naming the part.
+    Part {
+        /// The part's file.
+        part: PathBuf,
+        /// The warning as the part wrote it.
+        text: String,
+    },
 }
 
 impl std::fmt::Display for Warning {
@@ -600,6 +610,8 @@ impl std::fmt::Display for Warning {
                  min_speed_grid=lb-4 charges every entry below 100 %)",
                 protocols.join(", ")
             ),
+            Warning::Recorded(text) => f.write_str(text),
+            Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
             Warning::F2dUnfinished { routes } => write!(
                 f,
                 "protocols: f2d: {} route(s) count as Fail2Drive successes though they did not \

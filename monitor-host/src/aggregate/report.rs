@@ -11,7 +11,7 @@ use crate::aggregate::groups::{groups, GroupBy, Groups, NeedsLabels};
 use crate::aggregate::summary::{summarize, Summary};
 use crate::input::duplicates::{Dropped, Kept};
 use crate::input::labels::Labels;
-use crate::input::route_set::{route_set_id, MissingRoute, RouteSetId, RunRouteSet};
+use crate::input::route_set::{route_set_id, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
 use crate::provenance::Provenance;
@@ -117,14 +117,25 @@ pub struct RunFacts {
 /// Builds the report from the run's rows (from [`crate::route::row::route_rows`]: the outcomes'
 /// rows in input order, then the missing routes') and the outcomes behind them: the summary
 /// (§8.1), Bench2Drive's metrics (§8.2), and every per-route warning added to the run's
-/// warnings, naming its route.
+/// warnings, naming its route. The figures come from the rows alone ([`assemble_rows`]).
 pub fn assemble(
-    mut routes: Vec<RouteReport>,
+    routes: Vec<RouteReport>,
     outcomes: &[RouteOutcome],
     settings: &Settings,
     facts: RunFacts,
 ) -> Report {
-    let missing: &[MissingRoute] = facts.route_set.as_ref().map_or(&[], |s| &s.missing);
+    let mut report = assemble_rows(routes, settings, facts);
+    report.files_read = outcomes
+        .iter()
+        .flat_map(|o| o.files_read.iter().cloned())
+        .collect();
+    report
+}
+
+/// The report of `routes` (in the report's order: records in input order, then the missing
+/// routes in route-XML order): every aggregate is computed from the rows alone, so that
+/// [`crate::merge`] builds a merged report with the very code `sds score` uses (v1.4 §13).
+pub fn assemble_rows(mut routes: Vec<RouteReport>, settings: &Settings, facts: RunFacts) -> Report {
     for k in facts.kept {
         if let Some(r) = routes
             .iter_mut()
@@ -144,9 +155,13 @@ pub fn assemble(
     let counted: Vec<&RouteReport> = counted_routes(&routes).collect();
     warnings.extend(protocol_warnings(&counted, settings));
     let scores = Scores::over(&counted, facts.n);
-    let mut summary = summarize(outcomes, &counted, scores, facts.n, missing.len());
+    let mut summary = summarize(&routes, scores, facts.n);
     let all = Aggregates::over(&counted, summary.routes.max(counted.len()));
-    let ability_missing = missing.iter().map(|m| m.route_id.clone()).collect();
+    let ability_missing = routes
+        .iter()
+        .filter(|r| r.state == RouteState::Missing)
+        .filter_map(|r| r.route_id.clone())
+        .collect();
     summary.protocols = all.protocols.clone();
     let mut b2d = Bench2Drive::new(&all, &routes, ability_missing);
     b2d.ability_rule = settings.ability_rule.name();
@@ -173,10 +188,7 @@ pub fn assemble(
         summary,
         groups: None,
         warnings,
-        files_read: outcomes
-            .iter()
-            .flat_map(|o| o.files_read.iter().cloned())
-            .collect(),
+        files_read: Vec::new(),
         route_set: facts.route_set,
     }
 }

@@ -5,7 +5,7 @@ use serde::Serialize;
 
 use crate::aggregate::aggregates::Scores;
 use crate::aggregate::bench2drive::Bench2Drive;
-use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::pipeline::outcome::{RouteState, TelemetryState};
 use crate::route::row::RouteReport;
 
 /// Benchmark aggregates (spec section 8).
@@ -40,37 +40,41 @@ pub struct Summary {
 }
 
 /// The run's summary: the §8.1 `scores` (over N, computed by [`Scores::over`] from the counted
-/// routes' reports), with the counts of the outcomes (in input order) behind them; `missing`
-/// routes of the route set are in N. Foreign routes are left out.
-pub fn summarize(
-    all: &[RouteOutcome],
-    rows: &[&RouteReport],
-    scores: Scores,
-    n: usize,
-    missing: usize,
-) -> Summary {
-    let outcomes: Vec<&RouteOutcome> = all.iter().filter(|o| o.counted()).collect();
-    let found = outcomes.len();
+/// routes' rows), with the counts of the rows behind them (`all`: every row of the report, in
+/// its order; missing routes of the route set are in N, foreign routes left out). From rows
+/// alone, so that a merge of reports (v1.4 §13) computes it as `sds score` does.
+pub fn summarize(all: &[RouteReport], scores: Scores, n: usize) -> Summary {
+    let found: Vec<&RouteReport> = all
+        .iter()
+        .filter(|r| !matches!(r.state, RouteState::Foreign | RouteState::Missing))
+        .collect();
+    // A row has a record exactly when it has a status (an invalid record has none).
+    let with_record = || found.iter().filter(|r| r.status.is_some());
     Summary {
         routes: n,
-        routes_found: found,
-        missing,
-        foreign: all.len() - found,
-        scores,
-        penalty_mismatches: rows
+        routes_found: found.len(),
+        missing: all
             .iter()
+            .filter(|r| r.state == RouteState::Missing)
+            .count(),
+        foreign: all
+            .iter()
+            .filter(|r| r.state == RouteState::Foreign)
+            .count(),
+        scores,
+        penalty_mismatches: all
+            .iter()
+            .filter(|r| r.state != RouteState::Foreign)
             .filter(|r| r.penalty_check.as_ref().is_some_and(|p| !p.agrees))
             .filter_map(|r| r.route_id.clone())
             .collect(),
-        telemetry_problems: outcomes
-            .iter()
-            .filter(|o| o.record().is_some() && o.telemetry != TelemetryState::Ok)
+        telemetry_problems: with_record()
+            .filter(|r| r.telemetry != TelemetryState::Ok)
             .count(),
-        invalid_records: outcomes.iter().filter(|o| o.record().is_none()).count(),
-        batch_disagreements: outcomes
-            .iter()
-            .filter(|o| o.batch_agrees == Some(false))
-            .filter_map(|o| o.record().map(|r| r.route_id.clone()))
+        invalid_records: found.iter().filter(|r| r.status.is_none()).count(),
+        batch_disagreements: with_record()
+            .filter(|r| r.batch_agrees == Some(false))
+            .filter_map(|r| r.route_id.clone())
             .collect(),
         bench2drive: None,
         protocols: None,

@@ -269,6 +269,11 @@ pub struct ScoreArgs {
     /// by step) and `routes.svg` (DS and DS_safe per route, sorted), as the HTML page shows them.
     #[arg(long, value_name = "DIR")]
     pub figures: Option<PathBuf>,
+    /// Also write the routes to run again into FILE (spec v1.4 §13): one route XML id per line
+    /// with the reason after a tab (missing, crashed, invalid record), for the Leaderboard's
+    /// `--routes-subset`.
+    #[arg(long, value_name = "FILE")]
+    pub rerun_list: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare` (spec v1.3 section 11).
@@ -326,6 +331,9 @@ pub enum Command {
     /// Score an evaluation while it runs: the inputs of `score`, read again every `--interval`
     /// seconds, the report (`-o`) rewritten after every round, one status line per round.
     Watch(super::watch::WatchArgs),
+    /// Merge the JSON reports of `sds score` scored where the files are (one per shard, node
+    /// or GPU) into the report `sds score` over all their inputs would write (spec v1.4 §13).
+    Merge(super::merge::MergeArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.

@@ -25,6 +25,7 @@ macro_rules! say {
 }
 
 pub mod compare;
+pub mod merge;
 pub mod watch;
 
 use std::ffi::OsString;
@@ -102,6 +103,13 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             _ => 1,
         };
     }
+    if let Some(e) = e.downcast_ref::<crate::merge::MergeError>() {
+        // A part that cannot be read is an input error; every refusal a usage error.
+        return match e {
+            crate::merge::MergeError::Read { .. } => 1,
+            _ => EXIT_USAGE,
+        };
+    }
     if e.downcast_ref::<SettingsError>().is_some()
         || e.downcast_ref::<UnknownInfraction>().is_some()
     {
@@ -129,6 +137,7 @@ fn run(cli: Cli) -> Result<i32> {
         Command::Score(args) => score(&args),
         Command::Compare(args) => compare::compare(&args),
         Command::Watch(args) => watch::watch(&args),
+        Command::Merge(args) => merge::merge(&args),
         Command::Demo {
             dir,
             score: then_score,
@@ -380,6 +389,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         infractions: vec![],
         traces: None,
         figures: None,
+        rerun_list: None,
     }
 }
 
@@ -444,6 +454,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
     }
     write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    if let Some(file) = &args.rerun_list {
+        write_rerun_list(file, &report, &inputs_read)?;
+    }
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
@@ -481,6 +494,22 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         s.invalid_records
     );
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// Writes the rerun list (spec v1.4 §13) into `file` and says how many routes it holds.
+fn write_rerun_list(
+    file: &std::path::Path,
+    report: &crate::Report,
+    inputs: &[std::path::PathBuf],
+) -> Result<()> {
+    let text = crate::report::rerun_list::rerun_list(report);
+    write_output(Some(file), text.as_bytes(), inputs)?;
+    say!(
+        "sds: wrote {} route(s) to run again to {}",
+        text.lines().count(),
+        file.display()
+    );
+    Ok(())
 }
 
 /// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the

@@ -29,6 +29,7 @@ pub mod html;
 pub mod json;
 pub mod protocol_csv;
 pub mod protocol_table;
+pub mod rerun_list;
 pub mod route_chart;
 pub mod table;
 pub mod trace_csv;

@@ -225,8 +225,8 @@ pub struct RouteReport {
     #[serde(skip)]
     pub stationary: Vec<(u32, u32)>,
     /// The Leaderboard's driven distance `RC/100 * meta.route_length / 1000`, km, for a route
-    /// with a record (`infractions_per_km`, §8.5). Not in the JSON report.
-    #[serde(skip)]
+    /// with a record (`infractions_per_km`, §8.5); in the JSON report so that a merge of
+    /// reports (v1.4 §13) recomputes `infractions_per_km`.
     pub driven_km: Option<f64>,
 }
 

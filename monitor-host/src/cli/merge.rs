@@ -1,0 +1,103 @@
+//! `sds merge PART...` (spec v1.4 §13): the library's [`crate::merge::merge`], rendered as
+//! `sds score` renders its report.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+
+use super::args::{DuplicatesArg, Format};
+use super::output::write_output;
+use super::{style, write_rerun_list};
+use crate::aggregate::groups::GroupBy;
+use crate::input::duplicates::DuplicatePolicy;
+use crate::report::table::{self, TableOptions};
+use crate::report::{csv, html, json};
+
+/// Arguments of `sds merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// The parts: JSON reports of `sds score` (each shard scored where its files are), all
+    /// scored with the same settings and, with `--routes`, the same route XML.
+    #[arg(required = true, value_name = "PART")]
+    pub parts: Vec<PathBuf>,
+    /// Output format (the formats of `sds score`).
+    #[arg(long, value_enum, default_value = "json")]
+    pub format: Format,
+    /// Output file (default: standard output); never one of the parts.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// A route id with a record in two parts: `error` (default) names both parts; `first` /
+    /// `last` keep the first / last part's record; `all` scores both.
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
+    /// `provenance.host=false` leaves this machine's name out of the merged report (the
+    /// scoring settings come from the parts).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Also write the routes to run again into FILE (one route XML id per line, the reason
+    /// after a tab).
+    #[arg(long, value_name = "FILE")]
+    pub rerun_list: Option<PathBuf>,
+}
+
+/// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
+pub fn merge(args: &MergeArgs) -> Result<i32> {
+    let mut host = true;
+    for s in &args.set {
+        match s.split_once('=') {
+            Some(("provenance.host", v)) => {
+                host = v.trim().parse::<bool>().map_err(|_| {
+                    anyhow::anyhow!("--set provenance.host={v}: expected true or false")
+                })?;
+            }
+            _ => anyhow::bail!(
+                "--set {s}: sds merge takes only provenance.host; the scoring settings are the \
+                 parts' (score every part with the same --set)"
+            ),
+        }
+    }
+    let policy = args
+        .duplicates
+        .map_or(DuplicatePolicy::Error, DuplicatesArg::policy);
+    let mut report = crate::merge::merge(&args.parts, policy, host)?;
+    if report.groups.is_none() && style(args.format).is_some() {
+        // The table formats break down by scenario, as `sds score` does.
+        report.group(GroupBy::Scenario, None)?;
+    }
+    for w in &report.warnings {
+        say!("sds: warning: {w}");
+    }
+    let options = TableOptions::default();
+    let name = args
+        .parts
+        .iter()
+        .map(|p| {
+            p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    let bytes = match (args.format, style(args.format)) {
+        (Format::Json, _) => json::json(&report)?,
+        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
+        (Format::Html, _) => html::page(&report, &options, &name).into_bytes(),
+        (_, Some(style)) => {
+            table::render(&table::report_tables(&report, &options), style).into_bytes()
+        }
+        (_, None) => anyhow::bail!("no renderer for {:?}", args.format),
+    };
+    write_output(args.output.as_deref(), &bytes, &report.files_read)?;
+    if let Some(file) = &args.rerun_list {
+        write_rerun_list(file, &report, &report.files_read)?;
+    }
+    say!(
+        "sds: merged {} part(s): {} routes ({} found, {} missing)",
+        args.parts.len(),
+        report.summary.routes,
+        report.summary.routes_found,
+        report.summary.missing
+    );
+    Ok(if report.has_problems() { 3 } else { 0 })
+}

@@ -1,0 +1,652 @@
+//! Merging reports scored where the files are (`SDS-SPEC.md` v1.4 §13): each node scores its
+//! shard with `sds score`; [`merge`] reads the parts' JSON reports back into the rows `sds
+//! score` aggregated ([`row::row_from_json`]) and builds the report with the same code
+//! ([`crate::aggregate::report::assemble_rows`]), so the merge equals `sds score` over the union
+//! of the parts' inputs (every field but `inputs` and `warnings`), and a merge of merges equals
+//! the merge of all parts.
+//!
+//! ```
+//! use monitor_host::{demo, merge, report, score_run, Inputs, Settings};
+//! use monitor_host::input::duplicates::DuplicatePolicy;
+//!
+//! let dir = tempfile::tempdir()?;
+//! let run = demo::write(dir.path())?;
+//! let inputs = Inputs { telemetry: Some(run.telemetry), route_xml: Some(run.routes),
+//!                       ..Inputs::new([run.results]) };
+//! let whole = score_run(&inputs, &Settings::default())?;
+//! let part = dir.path().join("part.json");
+//! std::fs::write(&part, report::json::json(&whole)?)?;
+//! // One part merged alone is the run itself.
+//! let merged = merge::merge(&[part], DuplicatePolicy::Error, true)?;
+//! assert_eq!(merged.summary, whole.summary);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod row;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+
+use crate::aggregate::groups::GroupBy;
+use crate::aggregate::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
+use crate::input::duplicates::{Dropped, DuplicatePolicy, Kept, Source};
+use crate::pipeline::outcome::RouteState;
+use crate::provenance::{sha256_hex, FileDigest, Provenance};
+use crate::route::row::{InfractionCounts, RouteReport};
+use crate::settings::Settings;
+use crate::warning::Warning;
+
+use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
+
+/// One part of a merged report, as its `inputs.parts` lists it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PartInputs {
+    /// The part's file, as given.
+    pub file: PathBuf,
+    /// sha256 of the part's bytes.
+    pub sha256: String,
+    /// The `sds` version that scored the part (null for a report without provenance).
+    pub sds_version: Option<String>,
+    /// The part's own `inputs`, as it wrote them.
+    pub inputs: Value,
+}
+
+/// Why parts cannot be merged. Every message names the part(s) and the field or setting.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MergeError {
+    /// A part cannot be read.
+    #[error("{}: cannot read: {source}", file.display())]
+    Read {
+        /// The part.
+        file: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// A part is not an `sds` report (not JSON, another schema, or a field that is not what a
+    /// report writes).
+    #[error("{}: not an sds report ({why}); a part is the JSON report of `sds score --format json`", file.display())]
+    NotAReport {
+        /// The part.
+        file: PathBuf,
+        /// What is wrong.
+        why: String,
+    },
+    /// No part given.
+    #[error("sds merge needs at least one part (the JSON report of `sds score`)")]
+    NoParts,
+    /// Two parts were scored with different settings.
+    #[error(
+        "{} and {} were scored with different settings: {setting} is {a} in the first and {b} in \
+         the second; score every part with the same settings",
+        first.display(), second.display()
+    )]
+    Settings {
+        /// The first part.
+        first: PathBuf,
+        /// The part that differs.
+        second: PathBuf,
+        /// The first setting that differs (`bounds.yaw_rate`, `protocols`).
+        setting: String,
+        /// Its value in the first part.
+        a: String,
+        /// Its value in the second.
+        b: String,
+    },
+    /// Two parts ran different route sets.
+    #[error(
+        "{} and {} ran different route sets: {a} in the first, {b} in the second; score every \
+         part with the same --routes XML (and without --route-subset found, which keeps only a \
+         part's own routes)",
+        first.display(), second.display()
+    )]
+    RouteSets {
+        /// The first part.
+        first: PathBuf,
+        /// The part that differs.
+        second: PathBuf,
+        /// The first part's route set.
+        a: String,
+        /// The second's.
+        b: String,
+    },
+    /// One route has a record in two parts under `--duplicates error`.
+    #[error(
+        "{route} has a record in {} and in {} ({copies} duplicated route id(s) in all); pass \
+         --duplicates first|last|all to choose",
+        first.display(), second.display()
+    )]
+    Duplicate {
+        /// The first duplicated route id.
+        route: String,
+        /// The part of its first record.
+        first: PathBuf,
+        /// The part of its second record.
+        second: PathBuf,
+        /// Duplicated route ids.
+        copies: usize,
+    },
+    /// A policy the merge cannot apply.
+    #[error("--duplicates {0}: not available in sds merge (first, last, all or error): the save_name stamps are not in the reports")]
+    Policy(&'static str),
+    /// N smaller than the routes counted.
+    #[error("expected_routes = {n} but the parts hold {counted} counted routes")]
+    TooFewRoutes {
+        /// N.
+        n: usize,
+        /// Routes counted.
+        counted: usize,
+    },
+    /// Parts grouped by a label map, which the reports do not hold.
+    #[error("{}: grouped by {by}, whose label map the report does not hold: merge parts scored without --group-by {by} (or --group-by scenario|town)", file.display())]
+    Groups {
+        /// The part.
+        file: PathBuf,
+        /// The grouping.
+        by: String,
+    },
+}
+
+/// One part, read.
+#[derive(Debug)]
+pub struct Part {
+    /// The file.
+    pub file: PathBuf,
+    /// What `inputs.parts` says of it.
+    pub inputs: PartInputs,
+    /// The part's size in bytes.
+    pub size: u64,
+    /// Its `config`, as written.
+    pub config: Value,
+    /// The settings that `config` states.
+    pub settings: Settings,
+    /// Scored with a route XML.
+    pub with_xml: bool,
+    /// `inputs.route_set`: `(routes, sha256)`.
+    pub route_set: (u64, String),
+    /// `route_subset`, when `found`.
+    pub subset: Option<SubsetReport>,
+    /// The rows, in the report's order.
+    pub rows: Vec<RouteReport>,
+    /// `dropped`.
+    pub dropped: Vec<Dropped>,
+    /// `warnings`.
+    pub warnings: Vec<String>,
+    /// `groups.by`, when grouped.
+    pub group_by: Option<String>,
+}
+
+/// Reads one part.
+///
+/// # Errors
+/// [`MergeError::Read`], [`MergeError::NotAReport`].
+pub fn read_part(file: &Path) -> Result<Part, MergeError> {
+    let bytes = std::fs::read(file).map_err(|source| MergeError::Read {
+        file: file.to_path_buf(),
+        source,
+    })?;
+    let not = |why: String| MergeError::NotAReport {
+        file: file.to_path_buf(),
+        why,
+    };
+    let field = |e: FieldError| not(e.to_string());
+    let v: Value = serde_json::from_slice(&bytes).map_err(|e| not(format!("not JSON: {e}")))?;
+    match v.get("schema").and_then(Value::as_str) {
+        Some(SCHEMA) => {}
+        Some(s) => return Err(not(format!("schema {s}, not {SCHEMA}"))),
+        None => return Err(not(format!("no \"schema\": \"{SCHEMA}\""))),
+    }
+    let config = v.get("config").cloned().unwrap_or(Value::Null);
+    let settings = settings_of(&config).map_err(not)?;
+    let inputs = v.get("inputs").cloned().unwrap_or(Value::Null);
+    let provenance: Option<Provenance> = inputs
+        .get("provenance")
+        .and_then(|p| serde_json::from_value(p.clone()).ok());
+    let rs = inputs.get("route_set").unwrap_or(&Value::Null);
+    let route_set = (
+        rs.get("routes").and_then(Value::as_u64).unwrap_or(0),
+        At::new(
+            rs.get("sha256").unwrap_or(&Value::Null),
+            "inputs.route_set.sha256",
+        )
+        .str()
+        .map_err(field)?
+        .to_string(),
+    );
+    // A merged part was scored with a route XML when its parts were.
+    let with_xml = provenance
+        .as_ref()
+        .is_some_and(|p| p.files.iter().any(|f| f.role == "routes"))
+        || v.get("routes")
+            .and_then(Value::as_array)
+            .is_some_and(|r| r.iter().any(|r| r.get("state") == Some(&"missing".into())))
+        || inputs
+            .get("parts")
+            .and_then(Value::as_array)
+            .is_some_and(|ps| {
+                ps.iter().any(|p| {
+                    p.pointer("/inputs/provenance/files")
+                        .and_then(Value::as_array)
+                        .is_some_and(|fs| {
+                            fs.iter().any(|f| f.get("role") == Some(&"routes".into()))
+                        })
+                })
+            });
+    let subset = match v.get("route_subset") {
+        None | Some(Value::Null) => None,
+        Some(s) => Some(SubsetReport {
+            subset: "found",
+            routes: s.get("routes").and_then(Value::as_u64).unwrap_or(0) as usize,
+            of: s.get("of").and_then(Value::as_u64).unwrap_or(0) as usize,
+        }),
+    };
+    let ordered: RoutesInfractions =
+        serde_json::from_slice(&bytes).map_err(|e| not(format!("routes: {e}")))?;
+    let routes = At::new(v.get("routes").unwrap_or(&Value::Null), "routes")
+        .array()
+        .map_err(field)?;
+    let rows = routes
+        .iter()
+        .zip(ordered.routes)
+        .enumerate()
+        .map(|(i, (r, inf))| {
+            row_from_json(
+                r,
+                &format!("routes[{i}]"),
+                InfractionCounts(inf.infractions),
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(field)?;
+    let dropped = At::new(v.get("dropped").unwrap_or(&Value::Null), "dropped")
+        .array()
+        .map_err(field)?
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            let p = format!("dropped[{i}]");
+            Ok(Dropped {
+                route_id: At::new(d.get("route_id").unwrap_or(&Value::Null), &p)
+                    .str()?
+                    .to_string(),
+                source: required_source(d.get("source").unwrap_or(&Value::Null), &p)?,
+                kept: required_source(d.get("kept").unwrap_or(&Value::Null), &p)?,
+            })
+        })
+        .collect::<Result<Vec<_>, FieldError>>()
+        .map_err(field)?;
+    let warnings = v
+        .get("warnings")
+        .and_then(Value::as_array)
+        .map(|w| {
+            w.iter()
+                .filter_map(|w| w.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    let group_by = v
+        .pointer("/groups/by")
+        .and_then(Value::as_str)
+        .map(String::from);
+    Ok(Part {
+        file: file.to_path_buf(),
+        inputs: PartInputs {
+            file: file.to_path_buf(),
+            sha256: sha256_hex(&bytes),
+            sds_version: provenance.map(|p| p.sds_version),
+            inputs,
+        },
+        size: bytes.len() as u64,
+        config,
+        settings,
+        with_xml,
+        route_set,
+        subset,
+        rows,
+        dropped,
+        warnings,
+        group_by,
+    })
+}
+
+/// The settings a report's `config` states: each value set by name, then checked to write the
+/// same `config` back.
+fn settings_of(config: &Value) -> Result<Settings, String> {
+    let Some(map) = config.as_object() else {
+        return Err("no \"config\" object".into());
+    };
+    let mut pairs = Vec::new();
+    for (k, v) in map {
+        match v {
+            Value::Object(group) => {
+                for (g, x) in group {
+                    pairs.push((format!("{k}.{g}"), text(x)));
+                }
+            }
+            _ => pairs.push((k.clone(), text(v))),
+        }
+    }
+    let mut s = Settings::default();
+    s.apply_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())))
+        .map_err(|e| format!("config: {e}"))?;
+    let back = serde_json::to_value(&s).map_err(|e| format!("config: {e}"))?;
+    match first_difference(config, &back, "") {
+        None => Ok(s),
+        Some((key, _, _)) => Err(format!(
+            "config.{key} is not a value sds writes (a report of another sds version?)"
+        )),
+    }
+}
+
+/// A config value as `--set` reads it.
+fn text(v: &Value) -> String {
+    match v {
+        Value::String(s) => s.clone(),
+        Value::Array(a) if a.is_empty() => "none".into(),
+        Value::Array(a) => a
+            .iter()
+            .map(|x| x.as_str().map_or_else(|| x.to_string(), String::from))
+            .collect::<Vec<_>>()
+            .join(","),
+        v => v.to_string(),
+    }
+}
+
+/// The first key (in the report's order) whose value differs, with both values.
+fn first_difference(a: &Value, b: &Value, prefix: &str) -> Option<(String, String, String)> {
+    let name = |k: &str| {
+        if prefix.is_empty() {
+            k.to_string()
+        } else {
+            format!("{prefix}.{k}")
+        }
+    };
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let mut keys: Vec<&String> = x.keys().chain(y.keys()).collect();
+            keys.sort();
+            keys.dedup();
+            keys.into_iter().find_map(|k| match (x.get(k), y.get(k)) {
+                (Some(p), Some(q)) => first_difference(p, q, &name(k)),
+                (p, q) => Some((
+                    name(k),
+                    p.map_or_else(|| "absent".into(), Value::to_string),
+                    q.map_or_else(|| "absent".into(), Value::to_string),
+                )),
+            })
+        }
+        _ if a == b => None,
+        _ => Some((prefix.to_string(), a.to_string(), b.to_string())),
+    }
+}
+
+/// Merges the reports in `files` (v1.4 §13): reads each ([`read_part`]) and merges them
+/// ([`merge_parts`]).
+///
+/// # Errors
+/// As [`read_part`] and [`merge_parts`].
+pub fn merge(
+    files: &[PathBuf],
+    duplicates: DuplicatePolicy,
+    host: bool,
+) -> Result<Report, MergeError> {
+    let parts = files
+        .iter()
+        .map(|f| read_part(f))
+        .collect::<Result<Vec<_>, _>>()?;
+    merge_parts(&parts, duplicates, host)
+}
+
+/// The report `sds score` would write over the union of the parts' inputs: the parts must
+/// agree on `config` and (when scored with a route XML) the route set; a route missing in one
+/// part takes another's record; records of one route id in two parts follow `duplicates`
+/// (`error`, `first`, `last`, `all`). `inputs` lists the parts, `warnings` keeps each part's
+/// warnings, naming the part; `host` names this machine in the provenance.
+///
+/// # Errors
+/// [`MergeError::NoParts`], [`MergeError::Settings`], [`MergeError::RouteSets`],
+/// [`MergeError::Duplicate`], [`MergeError::Policy`], [`MergeError::TooFewRoutes`],
+/// [`MergeError::Groups`].
+pub fn merge_parts(
+    parts: &[Part],
+    duplicates: DuplicatePolicy,
+    host: bool,
+) -> Result<Report, MergeError> {
+    let first = parts.first().ok_or(MergeError::NoParts)?;
+    for p in &parts[1..] {
+        if let Some((setting, a, b)) = first_difference(&first.config, &p.config, "") {
+            return Err(MergeError::Settings {
+                first: first.file.clone(),
+                second: p.file.clone(),
+                setting,
+                a,
+                b,
+            });
+        }
+        let set = |q: &Part| match (q.with_xml, &q.subset) {
+            (false, _) => "none (no --routes)".to_string(),
+            (true, s) => format!(
+                "{} routes, sha256 {}{}",
+                q.route_set.0,
+                q.route_set.1,
+                s.as_ref().map_or_else(String::new, |s| format!(
+                    " (--route-subset found, of {})",
+                    s.of
+                ))
+            ),
+        };
+        let differ = first.with_xml != p.with_xml
+            || (first.with_xml && (first.route_set != p.route_set || first.subset != p.subset));
+        if differ {
+            return Err(MergeError::RouteSets {
+                first: first.file.clone(),
+                second: p.file.clone(),
+                a: set(first),
+                b: set(p),
+            });
+        }
+    }
+    if duplicates == DuplicatePolicy::Newest {
+        return Err(MergeError::Policy(duplicates.name()));
+    }
+    let settings = first.settings.clone();
+    // Records in input order (part by part), then the routes no part has a record of.
+    let mut records: Vec<(usize, RouteReport)> = Vec::new();
+    for (i, p) in parts.iter().enumerate() {
+        records.extend(
+            p.rows
+                .iter()
+                .filter(|r| r.state != RouteState::Missing)
+                .map(|r| (i, r.clone())),
+        );
+    }
+    let (records, dropped) = deduplicate(records, parts, duplicates)?;
+    let recorded: std::collections::HashSet<&str> = records
+        .iter()
+        .filter_map(|r| r.route_id.as_deref())
+        .collect();
+    let missing: Vec<RouteReport> = first
+        .rows
+        .iter()
+        .filter(|r| r.state == RouteState::Missing)
+        .filter(|r| {
+            r.route_id
+                .as_deref()
+                .is_none_or(|id| !recorded.contains(id))
+        })
+        .cloned()
+        .collect();
+    let mut rows = records;
+    rows.extend(missing);
+    let counted = rows
+        .iter()
+        .filter(|r| r.state != RouteState::Foreign)
+        .filter(|r| !first.with_xml || r.route_id.is_some())
+        .count();
+    let n = settings.expected_routes.unwrap_or(counted);
+    if n < counted {
+        return Err(MergeError::TooFewRoutes { n, counted });
+    }
+    let mut provenance = Provenance::new(&settings, std::iter::empty());
+    provenance.host = if host {
+        crate::provenance::host_name()
+    } else {
+        None
+    };
+    let facts = RunFacts {
+        n,
+        dropped: parts
+            .iter()
+            .flat_map(|p| p.dropped.iter().cloned())
+            .chain(dropped.iter().cloned())
+            .collect(),
+        provenance: Provenance {
+            files: parts
+                .iter()
+                .map(|p| FileDigest {
+                    file: p.file.clone(),
+                    role: "part".into(),
+                    size: p.size,
+                    sha256: Some(p.inputs.sha256.clone()),
+                })
+                .collect(),
+            ..provenance
+        },
+        ..RunFacts::default()
+    };
+    let mut report = assemble_rows(rows, &settings, facts);
+    report.route_subset = first.subset.clone();
+    report.inputs.parts = Some(parts.iter().map(|p| p.inputs.clone()).collect());
+    let mut warnings: Vec<Warning> = parts
+        .iter()
+        .flat_map(|p| {
+            p.warnings.iter().map(|w| Warning::Part {
+                part: p.file.clone(),
+                text: w.clone(),
+            })
+        })
+        .collect();
+    if !dropped.is_empty() {
+        warnings.push(Warning::Recorded(format!(
+            "merge: {} record(s) of route ids recorded in several parts left out under \
+             --duplicates {} (see dropped)",
+            dropped.len(),
+            duplicates.name()
+        )));
+    }
+    report.warnings = warnings;
+    report.files_read = parts.iter().map(|p| p.file.clone()).collect();
+    if let Some(by) = &first.group_by {
+        let g = match by.as_str() {
+            "scenario" => GroupBy::Scenario,
+            "town" => GroupBy::Town,
+            _ => {
+                return Err(MergeError::Groups {
+                    file: first.file.clone(),
+                    by: by.clone(),
+                })
+            }
+        };
+        let (g, _) =
+            crate::aggregate::groups::groups(&report.routes, report.summary.routes, g, None)
+                .map_err(|_| MergeError::Groups {
+                    file: first.file.clone(),
+                    by: by.clone(),
+                })?;
+        report.groups = Some(g);
+    }
+    Ok(report)
+}
+
+/// Records of one route id in several parts, under `policy`: the records kept (in input
+/// order) and the copies dropped.
+fn deduplicate(
+    records: Vec<(usize, RouteReport)>,
+    parts: &[Part],
+    policy: DuplicatePolicy,
+) -> Result<(Vec<RouteReport>, Vec<Dropped>), MergeError> {
+    // Per route id, the indices of its records in parts other than the first one holding it.
+    let mut by_id: HashMap<&str, Vec<usize>> = HashMap::new();
+    for (i, (_, r)) in records.iter().enumerate() {
+        if let Some(id) = r.route_id.as_deref() {
+            by_id.entry(id).or_default().push(i);
+        }
+    }
+    // Copies inside one part were the part's own choice (scored under `all`): only copies in
+    // different parts are duplicates of the merge.
+    let mut dup: Vec<(&str, Vec<usize>)> = by_id
+        .into_iter()
+        .filter(|(_, ix)| ix.iter().any(|&i| records[i].0 != records[ix[0]].0))
+        .collect();
+    dup.sort_by_key(|(_, ix)| ix[0]);
+    if dup.is_empty() || policy == DuplicatePolicy::All {
+        return Ok((records.into_iter().map(|(_, r)| r).collect(), Vec::new()));
+    }
+    if policy == DuplicatePolicy::Error {
+        let (id, ix) = &dup[0];
+        let second = ix
+            .iter()
+            .find(|&&i| records[i].0 != records[ix[0]].0)
+            .copied()
+            .unwrap_or(ix[0]);
+        return Err(MergeError::Duplicate {
+            route: id.to_string(),
+            first: parts[records[ix[0]].0].file.clone(),
+            second: parts[records[second].0].file.clone(),
+            copies: dup.len(),
+        });
+    }
+    let mut drop = vec![false; records.len()];
+    let mut kept_of: Vec<Option<Kept>> = vec![None; records.len()];
+    let mut dropped = Vec::new();
+    for (id, ix) in &dup {
+        let keep = if policy == DuplicatePolicy::First {
+            ix[0]
+        } else {
+            ix[ix.len() - 1]
+        };
+        let source = |i: usize| {
+            records[i].1.source.clone().unwrap_or(Source {
+                file: PathBuf::new(),
+                index: 0,
+            })
+        };
+        for &i in ix.iter().filter(|&&i| i != keep) {
+            drop[i] = true;
+            dropped.push(Dropped {
+                route_id: id.to_string(),
+                source: source(i),
+                kept: source(keep),
+            });
+        }
+        let which = if policy == DuplicatePolicy::First {
+            "first"
+        } else {
+            "last"
+        };
+        kept_of[keep] = Some(Kept {
+            policy: policy.name(),
+            copies: ix.len(),
+            stamp: None,
+            why: format!("{which} of {} copies in input order", ix.len()),
+            source: source(keep),
+            by_order: false,
+        });
+    }
+    let kept = records
+        .into_iter()
+        .zip(drop)
+        .zip(kept_of)
+        .filter(|((_, d), _)| !d)
+        .map(|(((_, mut r), _), k)| {
+            if k.is_some() {
+                r.kept = k;
+            }
+            r
+        })
+        .collect();
+    Ok((kept, dropped))
+}

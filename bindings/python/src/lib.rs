@@ -11,6 +11,8 @@
 //! - `watch` (`watch.rs`): the library's [`monitor_host::Watcher`] as an iterator of partial
 //!   reports (`Watch`), one round per `next()`, the same options (`options.rs`) and conversion
 //!   (`pyser.rs`) as `score`, GIL released while sleeping and scoring;
+//! - `merge` (`merge.rs`): the library's `merge::merge` over `sds score` JSON reports, the
+//!   merged report converted by `pyser.rs`, GIL released while merging;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
@@ -22,6 +24,7 @@
 mod compare;
 mod convert;
 mod errors;
+mod merge;
 mod monitor;
 mod options;
 mod pyser;
@@ -46,6 +49,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(score::score, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(watch::watch, m)?)?;
+    m.add_function(wrap_pyfunction!(merge::merge, m)?)?;
     m.add_class::<watch::Watch>()?;
     m.add_class::<monitor::Monitor>()?;
     m.add(

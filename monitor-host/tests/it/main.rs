@@ -6,5 +6,6 @@ mod common;
 
 mod compare;
 mod hostile;
+mod merge;
 mod score;
 mod watch;

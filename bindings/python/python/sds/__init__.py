@@ -6,6 +6,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   the same numbers to the bit;
 - :func:`compare` compares runs against a baseline (paired deltas, bootstrap intervals,
   verdicts, flips) and returns the report of ``sds compare --format json``;
+- :func:`merge` merges the reports of ``sds score`` scored where the files are (one per shard)
+  into the report of ``sds score`` over all of them (``sds merge``);
 - :func:`watch` scores an evaluation while it runs: an iterator of partial reports (the
   reports of ``sds watch``), for notebooks and dashboards;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
@@ -53,6 +55,7 @@ __all__ = [
     "Watch",
     "__version__",
     "compare",
+    "merge",
     "score",
     "watch",
 ]
@@ -144,4 +147,40 @@ def score(
         "progress": progress,
     }
     report: Dict[str, Any] = _sds.score(_paths(results), options)
+    return report
+
+
+def merge(
+    parts: Sequence[PathLike],
+    *,
+    duplicates: str = "error",
+    host: bool = True,
+) -> Dict[str, Any]:
+    """Merges reports scored where the files are; returns the report of ``sds merge``.
+
+    Each part is the JSON report of ``sds score`` (or ``sds.score``'s dict written with
+    ``json.dump``) over one shard, all scored with the same settings and route XML. The merged
+    report equals ``sds.score`` over all the shards' files in every field but ``inputs`` (the
+    parts) and ``warnings`` (each part's, naming it); a merge of merges equals one merge.
+
+    Args:
+        parts: The parts' JSON files, in input order.
+        duplicates: A route recorded in two parts: ``"error"`` (raise, naming both parts),
+            keep the ``"first"`` or ``"last"`` part's record, or score ``"all"``.
+        host: Name this machine in ``inputs.provenance`` (``--set provenance.host=false``).
+
+    Returns:
+        The merged report.
+
+    Raises:
+        InputError: A part is not an ``sds`` report, parts were scored with different settings
+            or route sets, or a route is recorded in two parts under ``duplicates="error"``.
+        IoError: A part cannot be read.
+        ConfigError: An unknown ``duplicates``.
+
+    Example:
+        >>> merged = sds.merge(["part0.json", "part1.json"])  # doctest: +SKIP
+        >>> merged["summary"]["driving_score"]  # doctest: +SKIP
+    """
+    report: Dict[str, Any] = _sds.merge(_paths(parts), duplicates, host)
     return report

@@ -40,6 +40,9 @@ def compare(
     ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
     as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``)."""
 
+def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
+    """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""
+
 def watch(results: Sequence[str], options: Mapping[str, Any]) -> "Watch":
     """A watch of a run through the library's ``Watcher``; ``options`` holds every keyword
     argument of ``sds.watch`` but ``results``, by name. Nothing is read until ``next()``."""

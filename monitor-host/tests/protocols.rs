@@ -296,6 +296,10 @@ fn score_json(args: &[&str]) -> Value {
 /// The report without what `--protocol` adds.
 fn strip(mut v: Value) -> Value {
     v["config"].as_object_mut().unwrap().remove("protocols");
+    // The settings' hash (v1.4 §13) covers `protocols` too.
+    if let Some(p) = v["inputs"]["provenance"].as_object_mut() {
+        p.remove("settings_sha256");
+    }
     for r in v["routes"].as_array_mut().unwrap() {
         r.as_object_mut().unwrap().remove("protocols");
         r.as_object_mut().unwrap().remove("min_speed_grid");

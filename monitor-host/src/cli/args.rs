@@ -271,7 +271,7 @@ pub struct ScoreArgs {
     pub figures: Option<PathBuf>,
     /// Also write the routes to run again into FILE (spec v1.4 §13): one route XML id per line
     /// with the reason after a tab (missing, crashed, invalid record), for the Leaderboard's
-    /// `--routes-subset`.
+    /// `--routes-subset`. `sds watch` writes it from its final report, when it stops.
     #[arg(long, value_name = "FILE")]
     pub rerun_list: Option<PathBuf>,
 }

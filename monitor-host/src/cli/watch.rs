@@ -139,6 +139,10 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
     write_round(a, &out, &report, None)?;
+    // The routes to run again, from the final report (v1.4 §13).
+    if let Some(file) = &a.rerun_list {
+        super::write_rerun_list(file, &report, &inputs_read)?;
+    }
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }

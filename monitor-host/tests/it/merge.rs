@@ -491,3 +491,37 @@ fn i36_rerun_list_of_a_merge_names_the_routes_no_part_ran() {
     assert!(!want.is_empty());
     assert_eq!(text, want.concat());
 }
+
+#[test]
+fn i36_watch_writes_the_rerun_list_when_it_stops() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let (a, _) = split_demo(dir, 4);
+    let list = dir.join("rerun.tsv");
+    let out = dir.join("live.json");
+    let mut args = vec![
+        "watch".to_string(),
+        "--once".into(),
+        "--results".into(),
+        s(&a),
+        "-o".into(),
+        s(&out),
+        "--rerun-list".into(),
+        s(&list),
+    ];
+    args.extend(demo_args(dir));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, err) = run(&argv);
+    assert!(code == 0 || code == 3, "{err}");
+    let report = read(&out);
+    let missing = report["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["state"] == "missing")
+        .count();
+    let text = std::fs::read_to_string(&list).unwrap();
+    assert_eq!(text.lines().count(), missing, "{text}");
+    assert!(missing > 0 && text.lines().all(|l| l.ends_with("\tmissing")));
+}

@@ -529,6 +529,27 @@ pub fn merge_parts(
             })
         })
         .collect();
+    // Same settings, but another tool version may compute them differently: say so.
+    let mut versions: Vec<(&str, Vec<String>)> = Vec::new();
+    for p in parts {
+        let v = p.inputs.sds_version.as_deref().unwrap_or("unknown");
+        let file = p.file.display().to_string();
+        match versions.iter_mut().find(|(w, _)| *w == v) {
+            Some((_, files)) => files.push(file),
+            None => versions.push((v, vec![file])),
+        }
+    }
+    if versions.len() > 1 {
+        let list: Vec<String> = versions
+            .iter()
+            .map(|(v, files)| format!("{v}: {}", crate::warning::id_list(files)))
+            .collect();
+        warnings.push(Warning::Recorded(format!(
+            "merge: the parts were scored by different sds versions ({}); one version's figures \
+             may differ from another's",
+            list.join("; ")
+        )));
+    }
     if !dropped.is_empty() {
         warnings.push(Warning::Recorded(format!(
             "merge: {} record(s) of route ids recorded in several parts left out under \
@@ -649,4 +670,49 @@ fn deduplicate(
         })
         .collect();
     Ok((kept, dropped))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn settings_read_back_from_config_are_the_settings() {
+        let mut s = Settings::default();
+        s.apply_pairs([
+            ("protocols", "all"),
+            ("dt", "0.1"),
+            ("lane_width", "3.2"),
+            ("slack", "0.7"),
+            ("bounds.yaw_rate", "1.1"),
+            ("expected_routes", "220"),
+            ("duplicates", "last"),
+        ])
+        .unwrap();
+        for s in [Settings::default(), s] {
+            let config = serde_json::to_value(&s).unwrap();
+            let back = settings_of(&config).unwrap();
+            assert_eq!(serde_json::to_value(&back).unwrap(), config);
+        }
+        // A value sds never writes is named.
+        let mut config = serde_json::to_value(Settings::default()).unwrap();
+        config["bounds"]["nope"] = 1.into();
+        assert!(settings_of(&config).unwrap_err().contains("bounds.nope"));
+    }
+
+    #[test]
+    fn the_first_difference_is_named_with_both_values() {
+        let a = serde_json::json!({"a": 1, "b": {"x": 1, "y": [1]}, "c": 3});
+        let b = serde_json::json!({"a": 1, "b": {"x": 1, "y": [2]}, "c": 4});
+        assert_eq!(
+            first_difference(&a, &b, ""),
+            Some(("b.y".into(), "[1]".into(), "[2]".into()))
+        );
+        assert_eq!(first_difference(&a, &a, ""), None);
+        let c = serde_json::json!({"a": 1});
+        assert_eq!(
+            first_difference(&c, &a, ""),
+            Some(("b".into(), "absent".into(), a["b"].to_string()))
+        );
+    }
 }

@@ -525,3 +525,35 @@ fn i36_watch_writes_the_rerun_list_when_it_stops() {
     assert_eq!(text.lines().count(), missing, "{text}");
     assert!(missing > 0 && text.lines().all(|l| l.ends_with("\tmissing")));
 }
+
+#[test]
+fn i36_merge_says_when_parts_were_scored_by_different_versions() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let (a, b) = split_demo(dir, 4);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let ra = dir.join("ra.json");
+    let rb = dir.join("rb.json");
+    score_to(&ra, &[&a], &extra);
+    let mut v = score_to(&rb, &[&b], &extra);
+    v["inputs"]["provenance"]["sds_version"] = "0.0.9".into();
+    std::fs::write(&rb, v.to_string()).unwrap();
+    let m = merge_to(&dir.join("m.json"), &[&ra, &rb], &[]);
+    let w: Vec<&str> = m["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(Value::as_str)
+        .filter(|w| w.contains("different sds versions"))
+        .collect();
+    assert_eq!(w.len(), 1, "{:?}", m["warnings"]);
+    assert!(
+        w[0].contains(&format!("{}: {}", env!("CARGO_PKG_VERSION"), s(&ra)))
+            && w[0].contains(&format!("0.0.9: {}", s(&rb))),
+        "{}",
+        w[0]
+    );
+    assert_eq!(m["inputs"]["parts"][1]["sds_version"], "0.0.9");
+}

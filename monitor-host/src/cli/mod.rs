@@ -5,7 +5,8 @@
 //! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
 //! 2 usage error (bad option, a `--telemetry` folder that does not exist, duplicated route ids
 //! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
-//! route); 3 the report was written but some route has a problem (missing or invalid telemetry
+//! route, parts `sds merge` refuses: different settings or route sets, a route in two parts, a
+//! file that is not a report); 3 the report was written but some route has a problem (missing or invalid telemetry
 //! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
 //! every such route is in the report with its state; 4 the inputs hold no record at all;
 //! 5 (`sds compare --fail-if-worse`) the report was written and a model is worse than the

@@ -216,9 +216,10 @@ impl ReplayCache for RouteCache {
             .iter()
             .all(|(_, s)| Stamp::settled(s.as_ref(), now, self.racy));
         // A file located but not readable (permissions, gone): its error is not cached.
-        let readable = outcome.files_read.iter().all(|p| {
-            !p.is_file() || crate::input::read::open_nonblocking(p).is_ok()
-        });
+        let readable = outcome
+            .files_read
+            .iter()
+            .all(|p| !p.is_file() || crate::input::read::open_nonblocking(p).is_ok());
         let mut entries = lock(&self.entries);
         if settled && readable {
             entries.insert(

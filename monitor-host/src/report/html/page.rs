@@ -146,7 +146,11 @@ pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) ->
     let mut out = page.to_string();
     if let Some(i) = out.find("<body>") {
         let at = i + "<body>".len();
-        let at = if out[at..].starts_with('\n') { at + 1 } else { at };
+        let at = if out[at..].starts_with('\n') {
+            at + 1
+        } else {
+            at
+        };
         out.insert_str(at, &banner);
     } else {
         out.insert_str(0, &banner);

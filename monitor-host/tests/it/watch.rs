@@ -800,7 +800,9 @@ fn r3_04_status_json_is_json_with_hostile_ids() {
     let dir = tempfile::tempdir().unwrap();
     let run = demo::write(&dir.path().join("src")).unwrap();
     let (c, mut records) = checkpoint(&run);
-    records[0]["route_id"] = "RouteScenario_1\u{202e}01_rep0\n".into();
+    // The last record: the status line's `last_route`.
+    let last = records.len() - 1;
+    records[last]["route_id"] = "RouteScenario_1\u{202e}01_rep0\n".into();
     let results = dir.path().join("results.json");
     let n = records.len();
     fs::write(&results, checkpoint_bytes(&c, &records, n)).unwrap();
@@ -816,6 +818,7 @@ fn r3_04_status_json_is_json_with_hostile_ids() {
     ]);
     let lines = json_lines(&o.stderr);
     assert!(!lines.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(lines[0]["last_route"], "RouteScenario_1\u{202e}01_rep0\n");
     // No raw bidirectional character reaches the terminal either.
     assert!(!String::from_utf8_lossy(&o.stderr).contains('\u{202e}'));
 }

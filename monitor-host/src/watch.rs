@@ -385,7 +385,7 @@ pub struct WatchStatus {
 ///
 /// ```
 /// assert_eq!(monitor_host::watch::duration_text(3900.0), "1h05m");
-/// assert_eq!(monitor_host::watch::duration_text(59.0), "1m");
+/// assert_eq!(monitor_host::watch::duration_text(150.0), "2m");
 /// ```
 pub fn duration_text(secs: f64) -> String {
     let s = secs.clamp(0.0, 1e12).round() as u64;

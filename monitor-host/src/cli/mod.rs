@@ -18,10 +18,16 @@ pub mod progress;
 /// Prints one message on standard error, escaped: it may hold strings from the inputs (route
 /// ids, paths, reasons), which must not reach the terminal raw
 /// ([`crate::report::escape::printable_lines`]).
+/// A closed standard error loses the message, never panics (`eprintln!` would on EPIPE).
 macro_rules! say {
-    ($($t:tt)*) => {
-        eprintln!("{}", crate::report::escape::printable_lines(&format!($($t)*)))
-    };
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
+            "{}",
+            crate::report::escape::printable_lines(&format!($($t)*))
+        );
+    }};
 }
 
 pub mod compare;

@@ -54,9 +54,12 @@ const DELAY_ENV: &str = "SDS_TEST_WRITE_DELAY_MS";
 static DEFER: AtomicBool = AtomicBool::new(false);
 /// A deferred signal arrived.
 static STOP: AtomicBool = AtomicBool::new(false);
+/// A signal this soon after the deferred one is the same request, not a second one.
+const REPEAT: std::time::Duration = std::time::Duration::from_secs(2);
 
 /// From now on the first SIGINT / SIGTERM asks the program to stop ([`stop_requested`]) instead
-/// of ending it (`sds watch` writes its final report first); a second one ends it as before.
+/// of ending it (`sds watch` writes its final report first); another one within 2 s of it is
+/// the same request (ignored), a later one ends the program as before.
 pub fn defer_signals() {
     DEFER.store(true, Ordering::SeqCst);
 }
@@ -73,10 +76,19 @@ pub fn install_signal_cleanup() -> Result<()> {
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])
         .context("cannot install the SIGINT / SIGTERM handler")?;
     std::thread::spawn(move || {
+        let mut first: Option<std::time::Instant> = None;
         for sig in signals.forever() {
-            // `sds watch` stops on the first signal after its final report; a second one kills.
-            if DEFER.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
-                continue;
+            // `sds watch` stops on the first signal after its final report; a second one kills,
+            // unless it comes within REPEAT of the first: coreutils' `timeout` sends its signal
+            // twice at once (to the child, then to its process group), which is one request.
+            if DEFER.load(Ordering::SeqCst) {
+                if !STOP.swap(true, Ordering::SeqCst) {
+                    first = Some(std::time::Instant::now());
+                    continue;
+                }
+                if first.is_some_and(|t| t.elapsed() < REPEAT) {
+                    continue;
+                }
             }
             let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
             if let Some(p) = pending.as_ref() {

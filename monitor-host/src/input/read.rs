@@ -94,7 +94,8 @@ fn describe(ft: std::fs::FileType) -> &'static str {
     }
 }
 
-fn open_nonblocking(path: &Path) -> io::Result<File> {
+/// Opens `path` for reading without blocking on a FIFO.
+pub(crate) fn open_nonblocking(path: &Path) -> io::Result<File> {
     let mut opts = OpenOptions::new();
     opts.read(true);
     #[cfg(unix)]

@@ -122,7 +122,7 @@ def test_ctrl_c_stops_compare_between_routes(sds_bin: Path, tmp_path: Path) -> N
     import time
 
     run = tmp_path / "large"
-    code, _, err = run_cli(sds_bin, ["demo", str(run), "--large", "--large-routes", "40", "--large-frames", "4000"])
+    code, _, err = run_cli(sds_bin, ["demo", str(run), "--large", "--large-routes", "60", "--large-frames", "4000"])
     assert code == 0, err
     r, t = str(run / "results.json"), str(run / "telemetry")
     script = (

@@ -287,7 +287,7 @@ impl std::fmt::Display for GateFailure {
             ),
             GateReason::NoData { why } => write!(
                 f,
-                "{} could not be compared with the baseline on {}: no data (n = 0: {why}); a \
+                "{} could not be compared with the baseline on {} (no data, n = 0): {why}; a \
                  gate that checks nothing fails",
                 self.model, self.metric
             ),
@@ -345,11 +345,11 @@ impl Comparison {
                 "no route key to compare".into()
             }
         } else if metric == "comfort" {
-            "comfort is undefined on every route in the baseline or the model (it needs \
-             telemetry with moving frames)"
+            "comfort is undefined on every route of the baseline or the model (it needs the \
+             routes' telemetry)"
                 .into()
         } else {
-            format!("{metric} is undefined on every route in the baseline or the model")
+            format!("{metric} is undefined on every route of the baseline or the model")
         }
     }
 }

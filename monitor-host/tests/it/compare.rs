@@ -47,6 +47,7 @@ fn i33_5_compare_tables_name_the_ability_rule() {
             );
         }
     }
+}
 
 /// Issue 33 item 3 and parts of items 8, issue 34 findings 4 and 6: one generator per model and
 /// metric, `no data` and the gate, the bounds on B, the forest plot's names and empty panels,

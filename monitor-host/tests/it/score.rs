@@ -1,6 +1,6 @@
 //! `sds score`: protocols, the lateral reference, route sets and what the report says per route.
 
-// ---- issue 33 items 1, 5, 6 and issue 34 finding 8: scoring protocols (engineer `protocols`) ----
+// ---- issue 33 items 1, 5, 6 and issue 34 finding 8: scoring protocols ----
 
 mod protocols {
     use std::path::{Path, PathBuf};

@@ -104,6 +104,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
     }
     if e.downcast_ref::<SettingsError>().is_some()
         || e.downcast_ref::<UnknownInfraction>().is_some()
+        || e.downcast_ref::<output::OutputClash>().is_some()
     {
         return EXIT_USAGE;
     }
@@ -417,6 +418,12 @@ fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
 }
 
 fn score(args: &ScoreArgs) -> Result<i32> {
+    // An `-o` among the figures is a usage error before any work (the traces' names are known
+    // once the run is scored).
+    if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
+        let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
+        output::refuse_clash(out, &figures, "a figure")?;
+    }
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
     bar.finish();
@@ -432,17 +439,40 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let bytes = render(args, &report)?;
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
-    // The traces first, then the report: a trace that cannot be written stops the run (exit
-    // 1, "no report") before the report is written, and the traces written are removed.
-    if let Some(dir) = &args.traces {
-        let n = output::write_traces(dir, &report, &inputs_read)?;
+    if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
+        output::refuse_clash(out, &output::trace_paths(dir, &report), "a trace")?;
+    }
+    // The traces, the figures, then the report, all or nothing: a file that cannot be written
+    // (or Ctrl-C) stops the run (exit 1, "no report") with every file this run wrote removed
+    // and every file it replaced put back (`output::roll_back`).
+    let written = (|| -> Result<_> {
+        let traces = match &args.traces {
+            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        let figures = match &args.figures {
+            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+        Ok((traces, figures))
+    })();
+    let (traces, figures) = match written {
+        Ok(w) => {
+            output::commit();
+            w
+        }
+        Err(e) => {
+            output::roll_back();
+            return Err(e);
+        }
+    };
+    if let Some((dir, n)) = traces {
         say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
-    if let Some(dir) = &args.figures {
-        let names = output::write_figures(dir, &report, &inputs_read)?;
+    if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
     }
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {

@@ -147,3 +147,183 @@ fn r3_01_markdown_cells_render_as_their_text() {
     let folder_name = folder.file_name().unwrap().to_str().unwrap();
     assert_inert("compare", &md, &[folder_name, "![](x.png) *b* `c` &amp;"]);
 }
+
+/// Every file in `dir` with its contents, sorted (none: the folder is absent).
+fn listing(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let Ok(rd) = fs::read_dir(dir) else {
+        return vec![];
+    };
+    let mut v: Vec<(String, Vec<u8>)> = rd
+        .map(|e| {
+            let e = e.unwrap();
+            let bytes = fs::read(e.path()).unwrap_or_default();
+            (e.file_name().to_string_lossy().into_owned(), bytes)
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+const TRACE: &str = "RouteScenario_900005_rep0_collision0";
+
+/// Finding 2: `--figures` / `--traces` wrote through a symbolic link planted at a name the
+/// tool chose (`routes.svg`, `<route>_collision<i>.csv`), overwriting a private file outside.
+#[test]
+fn r3_02_a_planted_link_at_a_chosen_name_is_never_followed() {
+    let run = Run::new();
+    let private = run.path("private.txt");
+    fs::write(&private, "secret").unwrap();
+    let (figs, traces) = (run.path("figs"), run.path("traces"));
+    fs::create_dir(&figs).unwrap();
+    fs::create_dir(&traces).unwrap();
+    for (dir, name, flag) in [
+        (&figs, "routes.svg".to_string(), "--figures"),
+        (&traces, format!("{TRACE}.csv"), "--traces"),
+    ] {
+        let link = dir.join(&name);
+        std::os::unix::fs::symlink(&private, &link).unwrap();
+        let out = run.path("report.json");
+        let o = run.score(
+            &run.s("results.json"),
+            &[flag, dir.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        );
+        assert_eq!(code(&o), 1, "{flag}: {}", stderr(&o));
+        assert_eq!(fs::read_to_string(&private).unwrap(), "secret", "{flag}");
+        assert!(fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert!(
+            stderr(&o).contains(&name) && stderr(&o).contains("symbolic link"),
+            "{flag}: {}",
+            stderr(&o)
+        );
+        assert!(!out.exists(), "{flag}: a report was written");
+        // Nothing else is left in the folder: only the planted link.
+        assert_eq!(listing(dir).len(), 1, "{flag}: {:?}", listing(dir));
+        fs::remove_file(&link).unwrap();
+    }
+}
+
+/// Finding 3: when a later figure or trace failed, "all or nothing" removed the user's own
+/// `decomposition.svg` and a previous run's traces. Only what the call created is removed; what
+/// it replaced is put back.
+#[test]
+fn r3_03_a_failed_write_puts_back_what_it_replaced() {
+    let run = Run::new();
+    let (figs, traces) = (run.path("figs"), run.path("traces"));
+    fs::create_dir(&figs).unwrap();
+    fs::create_dir(&traces).unwrap();
+    fs::write(figs.join("decomposition.svg"), "my own drawing").unwrap();
+    fs::write(figs.join("notes.txt"), "mine").unwrap();
+    fs::write(traces.join(format!("{TRACE}.csv")), "previous run").unwrap();
+    let (figs_before, traces_before) = (listing(&figs), listing(&traces));
+    // routes.svg cannot be written (a folder has its name): the figures fail after the traces
+    // and decomposition.svg were written.
+    fs::create_dir(figs.join("routes.svg")).unwrap();
+    let out = run.path("report.json");
+    let args = [
+        "--traces",
+        traces.to_str().unwrap(),
+        "--figures",
+        figs.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    let o = run.score(&run.s("results.json"), &args);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(stderr(&o).contains("routes.svg"), "{}", stderr(&o));
+    assert_eq!(listing(&traces), traces_before);
+    let mut figs_after = listing(&figs);
+    figs_after.retain(|(n, _)| n != "routes.svg");
+    assert_eq!(figs_after, figs_before);
+    assert!(!out.exists());
+    // The report itself failing (its folder is missing) undoes the traces and figures too.
+    fs::remove_dir(figs.join("routes.svg")).unwrap();
+    let bad_out = run.path("missing/report.json");
+    let args = [
+        "--traces",
+        traces.to_str().unwrap(),
+        "--figures",
+        figs.to_str().unwrap(),
+        "-o",
+        bad_out.to_str().unwrap(),
+    ];
+    let o = run.score(&run.s("results.json"), &args);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert_eq!(listing(&traces), traces_before);
+    assert_eq!(listing(&figs), figs_before);
+    // A folder the run created is removed again.
+    let fresh = run.path("fresh/traces");
+    let args = [
+        "--traces",
+        fresh.to_str().unwrap(),
+        "-o",
+        bad_out.to_str().unwrap(),
+    ];
+    let o = run.score(&run.s("results.json"), &args);
+    assert_eq!(code(&o), 1, "{}", stderr(&o));
+    assert!(!run.path("fresh").exists());
+}
+
+/// Finding 9: Ctrl-C while the traces were written left them on disk.
+#[test]
+fn r3_09_ctrl_c_while_writing_traces_undoes_them() {
+    let run = Run::new();
+    let traces = run.path("traces");
+    fs::create_dir(&traces).unwrap();
+    fs::write(traces.join(format!("{TRACE}.csv")), "previous run").unwrap();
+    let before = listing(&traces);
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args([
+            "score",
+            "--results",
+            &run.s("results.json"),
+            "--telemetry",
+            &run.s("telemetry"),
+            "--traces",
+            traces.to_str().unwrap(),
+            "-o",
+            &run.s("report.json"),
+        ])
+        .env("SDS_TEST_PLACE_DELAY_MS", "150")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupt once some traces are on disk (the 10 files take 1.5 s).
+    let start = std::time::Instant::now();
+    while listing(&traces).len() < before.len() + 4 {
+        assert!(start.elapsed().as_secs() < 60, "no trace appeared");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    // SAFETY: signalling our own child.
+    assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);
+    let o = child.wait_with_output().unwrap();
+    assert!(!o.status.success());
+    assert_eq!(listing(&traces), before, "{}", stderr(&o));
+    assert!(!run.path("report.json").exists());
+}
+
+/// Finding 9: `-o` naming a figure or a trace wrote the report over it.
+#[test]
+fn r3_09_an_output_among_the_figures_or_traces_is_refused() {
+    let run = Run::new();
+    let (figs, traces) = (run.path("figs"), run.path("traces"));
+    for (flag, dir, out) in [
+        ("--figures", &figs, figs.join("routes.svg")),
+        ("--figures", &figs, figs.join("./decomposition.svg")),
+        ("--traces", &traces, traces.join(format!("{TRACE}.svg"))),
+    ] {
+        let o = run.score(
+            &run.s("results.json"),
+            &[flag, dir.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        );
+        assert_eq!(code(&o), 2, "{out:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("choose another output path"),
+            "{}",
+            stderr(&o)
+        );
+        assert!(listing(dir).is_empty(), "{out:?}: {:?}", listing(dir));
+    }
+}

@@ -150,7 +150,15 @@ pub fn compare_runs(
         }
         let report = score_run_with(&r.inputs, settings, progress).map_err(|e| Error::InRun {
             run: r.name.clone(),
-            error: Box::new(e),
+            error: Box::new(match e {
+                // `sds compare` has no `--telemetry`: name the way a run's folder is given.
+                Error::TelemetryRoot { path, reason, .. } => Error::TelemetryRoot {
+                    given_as: "telemetry folder (RESULTS:TELEMETRY or --telemetry-of NAME=DIR)",
+                    path,
+                    reason,
+                },
+                e => e,
+            }),
         })?;
         scored.push(NamedRun {
             name: r.name.clone(),

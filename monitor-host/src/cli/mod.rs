@@ -504,11 +504,18 @@ fn score(args: &ScoreArgs) -> Result<i32> {
             s.batch_disagreements
         );
     }
-    say!(
-        "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
-        s.telemetry_problems,
-        s.invalid_records
-    );
+    // Only the counts that are not zero (a `0 invalid record(s)` reads as a problem).
+    let counts: Vec<String> = [
+        (s.telemetry_problems, "route(s) with telemetry problems"),
+        (s.invalid_records, "invalid record(s)"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!("{n} {what}"))
+    .collect();
+    if !counts.is_empty() {
+        say!("sds: {}; see the report", counts.join(", "));
+    }
     Ok(EXIT_ROUTE_PROBLEMS)
 }
 

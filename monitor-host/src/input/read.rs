@@ -4,7 +4,7 @@
 //! Why: a FIFO named `metric_info.json` would block the tool forever, and a link to `/dev/zero`
 //! would be read until memory runs out. The file is opened without blocking (`O_NONBLOCK`), its
 //! type checked on the open handle (no race between a check and the open), and at most
-//! [`FileKind::max_bytes`] + 1 bytes are read.
+//! [`FileKind::max_bytes`] + 1 bytes are read. A leading UTF-8 byte order mark is skipped.
 //!
 //! ```
 //! use monitor_host::input::read::{read_input, FileKind};
@@ -106,7 +106,7 @@ fn open_nonblocking(path: &Path) -> io::Result<File> {
     opts.open(path)
 }
 
-/// Reads a whole input file of kind `kind`.
+/// Reads a whole input file of kind `kind`, without a leading UTF-8 byte order mark.
 ///
 /// # Errors
 /// The I/O error; or, as [`io::ErrorKind::InvalidInput`], a path that is not a regular file (a
@@ -144,8 +144,15 @@ pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
+    // A UTF-8 byte order mark (Windows editors write one) is not part of the JSON or XML.
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
     Ok(bytes)
 }
+
+/// The UTF-8 byte order mark, skipped at the start of every input file.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// [`read_input`] as UTF-8 text.
 ///
@@ -164,6 +171,14 @@ mod tests {
     fn limits_grow_with_the_real_sizes() {
         assert!(FileKind::Labels.max_bytes() < FileKind::Results.max_bytes());
         assert!(FileKind::Results.max_bytes() < FileKind::MetricInfo.max_bytes());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.json");
+        std::fs::write(&p, b"\xEF\xBB\xBF{}").unwrap();
+        assert_eq!(read_input(&p, FileKind::Results).unwrap(), b"{}");
     }
 
     #[test]

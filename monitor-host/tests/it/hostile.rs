@@ -327,3 +327,57 @@ fn r3_09_an_output_among_the_figures_or_traces_is_refused() {
         assert!(listing(dir).is_empty(), "{out:?}: {:?}", listing(dir));
     }
 }
+
+/// Finding 9: a UTF-8 byte order mark made results and telemetry "invalid JSON at line 1,
+/// column 1"; it is skipped, as in label files.
+#[test]
+fn r3_09_a_byte_order_mark_is_skipped() {
+    let run = Run::new();
+    let with_bom = |p: &Path| {
+        let mut b = b"\xEF\xBB\xBF".to_vec();
+        b.extend(fs::read(p).unwrap());
+        fs::write(p, b).unwrap();
+    };
+    let plain = run.score(&run.s("results.json"), &["--routes", &run.s("routes.xml")]);
+    assert_eq!(code(&plain), 0, "{}", stderr(&plain));
+    with_bom(&run.path("results.json"));
+    for e in fs::read_dir(run.path("telemetry")).unwrap() {
+        with_bom(&e.unwrap().path().join("metric_info.json"));
+    }
+    with_bom(&run.path("routes.xml"));
+    let o = run.score(&run.s("results.json"), &["--routes", &run.s("routes.xml")]);
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let (a, b): (Value, Value) = (
+        serde_json::from_slice(&plain.stdout).unwrap(),
+        serde_json::from_slice(&o.stdout).unwrap(),
+    );
+    assert_eq!(a["summary"], b["summary"]);
+}
+
+/// Finding 9 (round 2 residues): the closing line said "0 invalid record(s)" when there were
+/// none; `sds compare` blamed a missing telemetry folder on `--telemetry`, an option it does
+/// not have.
+#[test]
+fn r3_09_messages_say_what_is_wrong() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    recs[0]["save_name"] = json!("nowhere");
+    let results = run.write("missing.json", &recs);
+    let o = run.score(&results, &["--routes", &run.s("routes.xml")]);
+    assert_eq!(code(&o), 3, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(e.contains("1 route(s) with telemetry problems"), "{e}");
+    assert!(!e.contains(" 0 "), "{e}");
+    let o = sds(&[
+        "compare",
+        &format!("a={}:{}", run.s("results.json"), run.s("no-such-telemetry")),
+        &format!("b={}:{}", run.s("results.json"), run.s("telemetry")),
+    ]);
+    assert_eq!(code(&o), 2, "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(!e.contains("--telemetry "), "{e}");
+    assert!(
+        e.contains("run a: telemetry folder") && e.contains("no-such-telemetry: no such folder"),
+        "{e}"
+    );
+}

@@ -381,3 +381,55 @@ fn r3_09_messages_say_what_is_wrong() {
         "{e}"
     );
 }
+
+/// Runs `sds args` to its end and returns its exit code and its peak resident memory in bytes
+/// (`wait4`'s `ru_maxrss`, this child's own).
+fn peak_rss(args: &[&str]) -> (i32, u64) {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut status = 0;
+    // SAFETY: waiting for our own child, with valid out-pointers; `child` is not waited for
+    // again (its `Drop` does not wait).
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
+    assert_eq!(pid, child.id() as i32);
+    (libc::WEXITSTATUS(status), usage.ru_maxrss as u64 * 1024)
+}
+
+/// Finding 7: parallel workers read whole telemetry files at once: sparse files of 1000 MiB
+/// (40 KB on disk) cost 7 GB with `--jobs 8`. The bytes in flight are now bounded by
+/// `BYTES_IN_FLIGHT` (512 MiB) whatever `--jobs`: four sparse 300 MiB files read one at a time.
+#[test]
+fn r3_07_telemetry_bytes_in_flight_are_bounded() {
+    let run = Run::new();
+    let mut sparse = 0;
+    for e in fs::read_dir(run.path("telemetry")).unwrap() {
+        let p = e.unwrap().path().join("metric_info.json");
+        if sparse < 4 {
+            let f = fs::File::create(&p).unwrap();
+            std::io::Write::write_all(&mut &f, b"{\"1\": ").unwrap();
+            f.set_len(300 << 20).unwrap();
+            sparse += 1;
+        }
+    }
+    let (results, telemetry) = (run.s("results.json"), run.s("telemetry"));
+    let args = [
+        "score",
+        "--results",
+        &results,
+        "--telemetry",
+        &telemetry,
+        "--jobs",
+        "4",
+    ];
+    let (code, peak) = peak_rss(&args);
+    assert_eq!(code, 3, "four routes have invalid telemetry");
+    let mib = peak >> 20;
+    eprintln!("r3_07: peak resident memory {mib} MiB");
+    // One 300 MiB file at a time (two do not fit in 512 MiB); four at once would be 1200 MiB.
+    assert!(mib < 700, "peak resident memory {mib} MiB");
+}

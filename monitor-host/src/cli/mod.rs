@@ -468,7 +468,11 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         }
     };
     if let Some((dir, n)) = traces {
-        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
+        say!(
+            "sds: wrote {n} collision trace(s) to {}{}",
+            dir.display(),
+            untraced_note(&report)
+        );
     }
     if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
@@ -517,6 +521,28 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         say!("sds: {}; see the report", counts.join(", "));
     }
     Ok(EXIT_ROUTE_PROBLEMS)
+}
+
+/// What `--traces` left out: aligned collisions past the first
+/// [`crate::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
+fn untraced_note(report: &crate::Report) -> String {
+    let cap = crate::route::trace::TRACES_PER_ROUTE;
+    let left: usize = report
+        .routes
+        .iter()
+        .filter(|r| r.traces.len() >= cap)
+        .map(|r| {
+            let aligned = r.collision_events.iter().filter(|e| e.frame.is_some());
+            aligned.count().saturating_sub(r.traces.len())
+        })
+        .sum();
+    if left == 0 {
+        return String::new();
+    }
+    format!(
+        "; {left} more collision(s) without a trace (at most {cap} per route; every collision \
+         is in the JSON report's events)"
+    )
 }
 
 /// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the

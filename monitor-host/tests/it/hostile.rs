@@ -433,3 +433,66 @@ fn r3_07_telemetry_bytes_in_flight_are_bounded() {
     // One 300 MiB file at a time (two do not fit in 512 MiB); four at once would be 1200 MiB.
     assert!(mib < 700, "peak resident memory {mib} MiB");
 }
+
+/// Finding 7: no cap on the page's collision figures and timeline markers, nor on `--traces`
+/// (100,000 collisions: a 1.09 GB page, 2.5 GB of memory, `--traces` still writing after
+/// 120 s). Per route: at most 10 figures and 500 markers in the page and 100 traces, each with
+/// "and N more"; every collision stays in the JSON report.
+#[test]
+fn r3_07_figures_markers_and_traces_are_capped_per_route() {
+    let run = Run::new();
+    let mut recs = run.records.clone();
+    let r = recs
+        .iter_mut()
+        .find(|r| r["route_id"] == "RouteScenario_900005_rep0")
+        .unwrap();
+    let hit = r["infractions"]["collisions_vehicle"][0].clone();
+    r["infractions"]["collisions_vehicle"] = json!(vec![hit; 2000]);
+    let results = run.write("many.json", &recs);
+    let (page, traces, json_out) = (
+        run.path("page.html"),
+        run.path("traces"),
+        run.path("r.json"),
+    );
+    let o = run.score(
+        &results,
+        &["--format", "html", "-o", page.to_str().unwrap()],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let html = fs::read_to_string(&page).unwrap();
+    let figs = html.matches("<div class=\"fig\" id=\"route-").count();
+    let markers = html.matches("class=\"ev ev-collision").count();
+    assert!(figs <= 5 * 10, "{figs} figures");
+    assert!(markers <= 500 + 10, "{markers} markers");
+    assert!(
+        html.contains("and 1990 more aligned collision(s)"),
+        "no count of the figures left out"
+    );
+    assert!(html.contains("more placed event(s) without a marker"));
+    assert!(html.len() < 8 << 20, "page of {} bytes", html.len());
+    let o = run.score(
+        &results,
+        &[
+            "--traces",
+            traces.to_str().unwrap(),
+            "-o",
+            json_out.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let files = fs::read_dir(&traces).unwrap().count();
+    assert!(files <= 2 * (100 + 4), "{files} trace files");
+    assert!(
+        stderr(&o).contains("1900 more collision(s) without a trace"),
+        "{}",
+        stderr(&o)
+    );
+    let r: Value = serde_json::from_slice(&fs::read(&json_out).unwrap()).unwrap();
+    let route = r["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|x| x["route_id"] == "RouteScenario_900005_rep0")
+        .unwrap();
+    assert_eq!(route["collision_events"].as_array().unwrap().len(), 2000);
+}

@@ -384,6 +384,8 @@ fn r3_09_messages_say_what_is_wrong() {
 
 /// Runs `sds args` to its end and returns its exit code and its peak resident memory in bytes
 /// (`wait4`'s `ru_maxrss`, this child's own).
+// The child is waited for by `wait4`, which alone gives its own resource usage.
+#[allow(clippy::zombie_processes)]
 fn peak_rss(args: &[&str]) -> (i32, u64) {
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_sds"))
         .args(args)

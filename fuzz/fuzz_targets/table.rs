@@ -1,8 +1,9 @@
 //! The table renderer (`monitor_host::report::grid`) and the HTML escaping on arbitrary cells:
 //! repeated ones (a leading digit repeats a cell, within 512 bytes per input; cells past the
 //! 65,535 a format width holds are a regression test's, see below) and ones full of
-//! bidirectional, invisible and control characters (seeded). Never a panic; no rendering lets such a character through raw (issue 29): the text, Markdown and
-//! LaTeX tables hold none but their own line breaks, the HTML escape none at all.
+//! bidirectional, invisible and control characters (seeded). Never a panic; no rendering lets
+//! such a character through raw (issue 29): the text, Markdown and LaTeX tables hold none but
+//! their own line breaks, the HTML escape none at all.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;

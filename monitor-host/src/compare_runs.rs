@@ -156,6 +156,15 @@ pub fn compare_runs(
         }
         let report = score_run_with(&r.inputs, settings, progress).map_err(|e| match e {
             Error::Cancelled => e,
+            // `sds compare` has no `--telemetry`: name the way a run's folder is given.
+            Error::TelemetryRoot { path, reason, .. } => Error::InRun {
+                run: r.name.clone(),
+                error: Box::new(Error::TelemetryRoot {
+                    given_as: "telemetry folder (RESULTS:TELEMETRY or --telemetry-of NAME=DIR)",
+                    path,
+                    reason,
+                }),
+            },
             e => Error::InRun {
                 run: r.name.clone(),
                 error: Box::new(e),

@@ -78,11 +78,14 @@ pub enum Error {
     },
     /// The telemetry root does not exist or is not a folder.
     #[error(
-        "--telemetry {}: {reason}; give the folder that holds the <save_name>/metric_info.json \
+        "{given_as} {}: {reason}; give the folder that holds the <save_name>/metric_info.json \
          folders",
         path.display()
     )]
     TelemetryRoot {
+        /// How the folder was given: `--telemetry` (`sds score`), or a compared run's
+        /// `RESULTS:TELEMETRY` / `--telemetry-of`.
+        given_as: &'static str,
         /// The path given.
         path: std::path::PathBuf,
         /// Why it cannot be used.

@@ -224,21 +224,6 @@ pub fn place_traces(
     Ok(files.len() / 2)
 }
 
-/// [`place_traces`], then [`commit`] (or [`roll_back`] on an error): all or nothing.
-pub fn write_traces(
-    dir: &Path,
-    report: &crate::report::Report,
-    inputs: &[PathBuf],
-) -> Result<usize> {
-    let n = place_traces(dir, report, inputs);
-    if n.is_ok() {
-        commit();
-    } else {
-        roll_back();
-    }
-    n
-}
-
 /// Creates `dir` (recording the folders it created, for [`roll_back`]) and places each file.
 fn place_all(dir: &Path, files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Result<()> {
     let mut missing = Vec::new();

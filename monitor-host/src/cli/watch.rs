@@ -168,16 +168,39 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(super::label_files(a).files().cloned());
-    // As `sds score`: the traces and figures first, then the report.
-    if let Some(dir) = &a.traces {
-        let n = output::write_traces(dir, &report, &inputs_read)?;
-        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    // As `sds score`: the traces, the figures, then the report, all or nothing.
+    let written = (|| -> Result<_> {
+        let traces = match &a.traces {
+            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        let figures = match &a.figures {
+            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        write_round(a, &out, &report, None)?;
+        Ok((traces, figures))
+    })();
+    let (traces, figures) = match written {
+        Ok(w) => {
+            output::commit();
+            w
+        }
+        Err(e) => {
+            output::roll_back();
+            return Err(e);
+        }
+    };
+    if let Some((dir, n)) = traces {
+        say!(
+            "sds: wrote {n} collision trace(s) to {}{}",
+            dir.display(),
+            super::untraced_note(&report)
+        );
     }
-    if let Some(dir) = &a.figures {
-        let names = output::write_figures(dir, &report, &inputs_read)?;
+    if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
     }
-    write_round(a, &out, &report, None)?;
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }

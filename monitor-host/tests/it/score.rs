@@ -303,3 +303,104 @@ fn i33_7_late_start_and_gap_reacquire_a_real_route() {
     assert_eq!(route["lateral"]["anomalous"], 0, "{}", route["lateral"]);
     assert_eq!(route["ds_safe"], route["score_composed"], "{route}");
 }
+
+/// Rewrites the one record of the results file at `path` with `f`.
+fn i33_edit_record(path: &str, f: impl FnOnce(&mut serde_json::Value)) {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    f(&mut v["_checkpoint"]["records"][0]);
+    std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
+}
+
+/// Issue 33 item 4: the page says why a route's DS is low: its status, route completion and
+/// penalty in the route table (status cell, RC and penalty columns) and its drill-down; a
+/// collision of a route without telemetry is "not placed: no telemetry" (its message has
+/// coordinates), one of a replayed route far from every frame "no frame near its position".
+#[test]
+fn i33_4_page_says_status_rc_penalty_and_why_not_placed() {
+    use i33_lateral::*;
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_run(
+        dir.path(),
+        "900100",
+        "Town01",
+        &synthetic_route(),
+        &excerpt_steps(),
+    );
+    i33_edit_record(&run.0, |r| {
+        r["status"] = "Failed - TickRuntime".into();
+        r["scores"] = serde_json::json!({"score_route": 50.53, "score_penalty": 0.6,
+                                         "score_composed": 30.318});
+        r["infractions"]["collisions_vehicle"] = serde_json::json!([
+            "Agent collided against object with type=vehicle.lincoln.mkz_2017 and id=18834 at (x=2201.654, y=4874.879, z=365.295)"
+        ]);
+    });
+    let (res, tel, routes) = &run;
+    let empty = dir.path().join("no-telemetry");
+    std::fs::create_dir_all(&empty).unwrap();
+    for (telemetry, why) in [
+        (empty.to_str().unwrap(), "no telemetry"),
+        (tel.as_str(), "no frame near its position"),
+    ] {
+        let base = [
+            "score",
+            "--results",
+            res,
+            "--telemetry",
+            telemetry,
+            "--routes",
+            routes,
+            "--allow-missing-telemetry",
+        ];
+        let out = crate::common::sds(&[&base[..], &["--format", "html"]].concat());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let page = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            page.contains(
+                "<p class=\"outcome\">Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32</p>"
+            ),
+            "no outcome line in the drill-down"
+        );
+        assert!(page.contains(
+            "<td class=\"status\" title=\"Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32\">Failed - TickRuntime</td><td data-v=\"50.53\">50.53</td><td data-v=\"0.6\">0.600</td>"
+        ));
+        assert!(!page.contains("no usable position"));
+        let out = crate::common::sds(&base);
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let events = report["routes"][0]["events"].as_array().unwrap();
+        let hit = events.iter().find(|e| e["kind"] == "collision").unwrap();
+        assert!(
+            hit["message"]
+                .as_str()
+                .unwrap()
+                .ends_with(&format!("(not placed: {why})")),
+            "{hit}"
+        );
+        assert!(page.contains(&format!("(not placed: {why})")), "{why}");
+    }
+}
+
+/// Issue 33 item 4 on the real TransFuser++ file: route 4683 reads "Failed - TickRuntime, RC
+/// 50.53 × penalty 0.6 = 30.32" on the page, and its collisions "not placed: no telemetry".
+#[test]
+fn i33_4_real_tickruntime_route_explained_on_the_page() {
+    let Some(fx) = i33_lateral::fixtures() else {
+        return;
+    };
+    let file = fx.join("carla_garage_tfpp_b2d_traj_merged.json");
+    let out = crate::common::sds(&[
+        "score",
+        "--results",
+        file.to_str().unwrap(),
+        "--format",
+        "html",
+    ]);
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(page.contains("Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32"));
+    assert!(page.contains("(not placed: no telemetry)"));
+    assert!(!page.contains("no usable position"));
+}

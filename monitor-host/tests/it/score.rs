@@ -404,3 +404,275 @@ fn i33_4_real_tickruntime_route_explained_on_the_page() {
     assert!(page.contains("(not placed: no telemetry)"));
     assert!(!page.contains("no usable position"));
 }
+
+/// A completed record of route `id` whose `save_name` ends with the time stamp `stamp`.
+fn i33_record(id: u32, stamp: &str, score: f64) -> serde_json::Value {
+    let lists = [
+        "collisions_layout",
+        "collisions_pedestrian",
+        "collisions_vehicle",
+        "min_speed_infractions",
+        "outside_route_lanes",
+        "red_light",
+        "route_dev",
+        "route_timeout",
+        "scenario_timeouts",
+        "stop_infraction",
+        "vehicle_blocked",
+        "yield_emergency_vehicle_infractions",
+    ];
+    let infractions: serde_json::Map<String, serde_json::Value> = lists
+        .iter()
+        .map(|l| (l.to_string(), serde_json::json!([])))
+        .collect();
+    serde_json::json!({
+        "route_id": format!("RouteScenario_{id}_rep0"),
+        "scenario_name": "Excerpt_1",
+        "weather_id": "1",
+        "save_name": format!("RouteScenario_{id}_rep0_Town01_Excerpt_1_1_{stamp}"),
+        "town_name": "Town01",
+        "status": "Completed",
+        "infractions": infractions,
+        "scores": {"score_route": 100, "score_penalty": score / 100.0, "score_composed": score},
+        "meta": {"route_length": 100.0, "duration_game": 50.0, "duration_system": 80.0},
+    })
+}
+
+/// Writes a raw evaluator file of `records` with `progress` `[done, total]`, modified at
+/// `modified` seconds after the epoch.
+fn i33_results_file(
+    path: &std::path::Path,
+    records: Vec<serde_json::Value>,
+    progress: [u64; 2],
+    modified: u64,
+) {
+    let v = serde_json::json!({
+        "_checkpoint": {"global_record": {}, "progress": progress, "records": records},
+        "entry_status": if progress[0] < progress[1] { "Started" } else { "Finished" },
+        "eligible": true, "sensors": [], "values": [], "labels": [],
+    });
+    std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
+    let t = std::time::UNIX_EPOCH + std::time::Duration::from_secs(modified);
+    std::fs::File::options()
+        .write(true)
+        .open(path)
+        .unwrap()
+        .set_modified(t)
+        .unwrap();
+}
+
+/// `sds score --allow-missing-telemetry` of `results` plus `extra`: the report and stderr.
+fn i33_score_files(results: &[&std::path::Path], extra: &[&str]) -> (serde_json::Value, String) {
+    let mut args: Vec<String> = vec!["score".into(), "--allow-missing-telemetry".into()];
+    for r in results {
+        args.extend(["--results".into(), r.to_str().unwrap().to_string()]);
+    }
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = crate::common::sds(&args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.code() == Some(0),
+        "exit {:?}: {err}",
+        out.status.code()
+    );
+    (serde_json::from_slice(&out.stdout).unwrap(), err)
+}
+
+/// Issue 33 item 8: `--duplicates newest` across New Year. A December run (stamp 12_20) and its
+/// January re-run (01_05) carry no year: by stamp the December copy won. Stamps more than half
+/// a year apart could wrap a year: the copy of the most recently modified file is kept, the
+/// route's `kept` says so and a warning names the route; within one file, record order decides.
+#[test]
+fn i33_8_newest_across_new_year_uses_file_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let (dec, jan) = (dir.path().join("dec.json"), dir.path().join("jan.json"));
+    // December 2025 and January 2026 (modification times 1766224800, 1767603600).
+    i33_results_file(
+        &dec,
+        vec![i33_record(1, "12_20_10_00_00", 40.0)],
+        [1, 1],
+        1_766_224_800,
+    );
+    i33_results_file(
+        &jan,
+        vec![i33_record(1, "01_05_09_00_00", 90.0)],
+        [1, 1],
+        1_767_603_600,
+    );
+    for order in [[&jan, &dec], [&dec, &jan]] {
+        let (report, err) = i33_score_files(&[order[0], order[1]], &["--duplicates", "newest"]);
+        let route = &report["routes"][0];
+        assert_eq!(
+            route["score_composed"], 90.0,
+            "the January re-run is kept: {route}"
+        );
+        let why = route["kept"]["why"].as_str().unwrap();
+        assert!(
+            why.contains("could wrap") && why.contains("jan.json"),
+            "{why}"
+        );
+        assert!(err.contains("could wrap a year"), "{err}");
+    }
+    // One checkpoint holding both copies: the checkpoint's own record order decides.
+    let both = dir.path().join("both.json");
+    let recs = vec![
+        i33_record(1, "12_20_10_00_00", 40.0),
+        i33_record(1, "01_05_09_00_00", 90.0),
+    ];
+    i33_results_file(&both, recs, [2, 2], 1_767_603_600);
+    let (report, _) = i33_score_files(&[&both], &["--duplicates", "newest"]);
+    assert_eq!(report["routes"][0]["score_composed"], 90.0);
+    let why = report["routes"][0]["kept"]["why"].as_str().unwrap();
+    assert!(why.contains("checkpoint's own order"), "{why}");
+    // Stamps within half a year still decide by themselves (a later stamp, an older file).
+    i33_results_file(
+        &dec,
+        vec![i33_record(1, "02_20_10_00_00", 40.0)],
+        [1, 1],
+        1_767_603_600,
+    );
+    i33_results_file(
+        &jan,
+        vec![i33_record(1, "01_05_09_00_00", 90.0)],
+        [1, 1],
+        1_766_224_800,
+    );
+    let (report, err) = i33_score_files(&[&jan, &dec], &["--duplicates", "newest"]);
+    assert_eq!(report["routes"][0]["score_composed"], 40.0);
+    assert!(!err.contains("could wrap"), "{err}");
+}
+
+/// Issue 33 item 8: a newer run file that re-ran a run but crashed before finishing (progress
+/// 2 of 3) has no record of route 3: its kept record is from the earlier attempt, and the route's
+/// `kept` and a warning say so.
+#[test]
+fn i33_8_newer_unfinished_run_says_the_record_is_from_the_earlier_attempt() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, rerun) = (dir.path().join("run1.json"), dir.path().join("run2.json"));
+    let recs = (1..=3)
+        .map(|i| i33_record(i, "03_01_10_00_00", 50.0))
+        .collect();
+    i33_results_file(&first, recs, [3, 3], 1_772_000_000);
+    let recs = (1..=2)
+        .map(|i| i33_record(i, "03_02_10_00_00", 80.0))
+        .collect();
+    i33_results_file(&rerun, recs, [2, 3], 1_772_100_000);
+    for policy in ["newest", "last"] {
+        let (report, err) = i33_score_files(&[&first, &rerun], &["--duplicates", policy]);
+        let routes = report["routes"].as_array().unwrap();
+        let r3 = routes
+            .iter()
+            .find(|r| r["route_id"] == "RouteScenario_3_rep0")
+            .unwrap();
+        let why = r3["kept"]["why"].as_str().unwrap_or_default();
+        assert!(
+            why.contains("earlier attempt") && why.contains("run2.json"),
+            "{r3}"
+        );
+        assert!(
+            err.contains("1 route(s) keep their record from the earlier attempt")
+                && err.contains("progress 2 of 3")
+                && err.contains("RouteScenario_3_rep0"),
+            "{err}"
+        );
+    }
+    // A finished re-run of two routes says nothing of the third.
+    i33_results_file(
+        &rerun,
+        (1..=2)
+            .map(|i| i33_record(i, "03_02_10_00_00", 80.0))
+            .collect(),
+        [2, 2],
+        1_772_100_000,
+    );
+    let (_, err) = i33_score_files(&[&first, &rerun], &["--duplicates", "newest"]);
+    assert!(!err.contains("earlier attempt"), "{err}");
+}
+
+/// Issue 33 item 8: a results file (or an XML without a `<route>`) given as `--routes` is
+/// refused with exit 2 (it made every record a foreign route, with a warning each, exit 0).
+#[test]
+fn i33_8_routes_without_a_route_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let res = dir.path().join("results.json");
+    i33_results_file(
+        &res,
+        vec![i33_record(1, "03_01_10_00_00", 50.0)],
+        [1, 1],
+        1_772_000_000,
+    );
+    let empty = dir.path().join("empty.xml");
+    std::fs::write(&empty, "<routes>\n</routes>\n").unwrap();
+    for routes in [&res, &empty] {
+        let out = crate::common::sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--results",
+            res.to_str().unwrap(),
+            "--routes",
+            routes.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("holds no route: not a route XML?"), "{err}");
+        assert!(
+            err.contains(routes.to_str().unwrap()),
+            "names the file: {err}"
+        );
+    }
+}
+
+/// Issue 33 item 8: `--expected-routes 20` on a 20-route run scored against the whole route
+/// XML is refused (N 20 < 220 counted); the message points at `--route-subset found`, which
+/// then scores the 20 routes over N = 20.
+#[test]
+fn i33_8_expected_routes_suggests_route_subset_found() {
+    let Some(fx) = i33_lateral::fixtures() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(fx.join("carla_garage_tfpp_b2d_traj_merged.json")).unwrap(),
+    )
+    .unwrap();
+    let recs = v["_checkpoint"]["records"].as_array_mut().unwrap();
+    recs.truncate(20);
+    let twenty = dir.path().join("twenty.json");
+    std::fs::write(&twenty, serde_json::to_string(&v).unwrap()).unwrap();
+    let xml = fx.join("routes/bench2drive220.xml");
+    let base = [
+        "score",
+        "--allow-missing-telemetry",
+        "--results",
+        twenty.to_str().unwrap(),
+        "--routes",
+        xml.to_str().unwrap(),
+        "--expected-routes",
+        "20",
+    ];
+    let out = crate::common::sds(&base);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("200 of them are routes of --routes without a record")
+            && err.contains("--route-subset found"),
+        "{err}"
+    );
+    let out = crate::common::sds(&[&base[..], &["--route-subset", "found"]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        (
+            report["summary"]["routes"].as_u64(),
+            report["summary"]["missing"].as_u64()
+        ),
+        (Some(20), Some(0)),
+        "{}",
+        report["summary"]
+    );
+}

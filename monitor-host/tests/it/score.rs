@@ -676,3 +676,55 @@ fn i33_8_expected_routes_suggests_route_subset_found() {
         report["summary"]
     );
 }
+
+/// Issue 33 item 8: `--families safe2drive` (no such file) says what the name means (the paper's
+/// three families, why there is no built-in map, how to write one) with exit 2 before scoring;
+/// a file of that name is read as any label file.
+#[test]
+fn i33_8_families_safe2drive_says_what_the_name_means() {
+    let dir = tempfile::tempdir().unwrap();
+    let res = dir.path().join("results.json");
+    i33_results_file(
+        &res,
+        vec![i33_record(1, "03_01_10_00_00", 50.0)],
+        [1, 1],
+        1_772_000_000,
+    );
+    let run = |families: &str| {
+        crate::common::sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--results",
+            res.to_str().unwrap(),
+            "--group-by",
+            "family",
+            "--families",
+            families,
+        ])
+    };
+    let out = run("safe2drive");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    for said in [
+        "work zones",
+        "pedestrian jaywalking",
+        "occluded vulnerable road users",
+        "StaticWorkzoneRoute,work zone",
+    ] {
+        assert!(err.contains(said), "{said}: {err}");
+    }
+    let file = dir.path().join("safe2drive");
+    std::fs::write(&file, "Excerpt,work zone\n").unwrap();
+    let out = run(file.to_str().unwrap());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        report["groups"]["rows"][0]["label"], "work zone",
+        "{}",
+        report["groups"]
+    );
+}

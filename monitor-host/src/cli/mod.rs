@@ -103,7 +103,9 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             | Error::MapsFolder { .. }
             | Error::NeedsLabels(_)
             | Error::UnusedLabels
-            | Error::Labels(crate::LabelsError::NoMatch { .. }) => EXIT_USAGE,
+            | Error::Labels(crate::LabelsError::NoMatch { .. })
+            | Error::Labels(crate::LabelsError::Safe2DriveFamilies { .. })
+            | Error::RouteXml(crate::input::route_xml::RouteError::NoRoutes { .. }) => EXIT_USAGE,
             Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
             _ => 1,
         };

@@ -217,7 +217,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 43] = [
+    pub const NAMES: [&'static str; 44] = [
         "ability_rule",
         "align_max_dist",
         "align_tie",

@@ -520,8 +520,9 @@ impl std::fmt::Display for Warning {
                     write!(f, " (e.g. {route}: {reason})")?;
                 }
                 f.write_str(
-                    "; give --telemetry DIR (the folder holding <save_name>/metric_info.json) \
-                     or --allow-missing-telemetry to score without telemetry terms",
+                    "; give the telemetry folder, the one holding <save_name>/metric_info.json \
+                     (--telemetry DIR; in sds compare RESULTS:TELEMETRY or --telemetry-of \
+                     NAME=DIR), or --allow-missing-telemetry to score without telemetry terms",
                 )
             }
             Warning::LabelsMissKeys { file, keys, count } => write!(

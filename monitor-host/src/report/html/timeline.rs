@@ -337,9 +337,15 @@ pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
     if !unplaced.is_empty() {
         out.push_str("<ul class=\"unplaced\">");
         for e in unplaced.iter().take(MARKERS_PER_ROUTE) {
+            // Most messages already say why ("(not placed: no telemetry)"): say it once.
+            let prefix = if e.message.contains("(not placed: ") {
+                ""
+            } else {
+                "not placed: "
+            };
             let _ = write!(
                 out,
-                "<li data-kind=\"{}\">not placed: {}</li>",
+                "<li data-kind=\"{}\">{prefix}{}</li>",
                 e.kind,
                 escape(&e.message)
             );
@@ -407,7 +413,7 @@ mod tests {
             101,
             vec![
                 event("red_light", Some(50), "ran <it>"),
-                event("red_light", None, "no position"),
+                event("red_light", None, "ran (not placed: no position)"),
             ],
         );
         events(&mut out, &r, 3);
@@ -418,7 +424,7 @@ mod tests {
             "{out}"
         );
         assert!(out.contains("ran &lt;it&gt;") && !out.contains("ran <it>"));
-        assert!(out.contains("<li data-kind=\"red_light\">not placed: no position</li>"));
+        assert!(out.contains("<li data-kind=\"red_light\">ran (not placed: no position)</li>"));
         assert!(out.contains("data-placed=\"1\" data-unplaced=\"1\""));
     }
 

@@ -140,7 +140,8 @@ def map_seeds():
     put("labels", '\ufeff{"7": ["ClearNoon", 3]}')
     put("labels", "A," + "x" * 70000 + "\n")
 
-    # --- table: cells split at `|`, a leading digit d repeats a cell 4^d times (issue 29).
+    # --- table: cells split at `|`, a leading digit d repeats a cell 4^d times (issue 29),
+    # within 512 bytes of repeats per input (issue 34).
     put("table", "title|route|DS|RouteScenario_1\u202e01_rep0|9x|8\u2066y\u2069|\u200b\ufeff|a_b%&#$")
     put("table", "T|9" + "AB" * 10 + "|\u001b[2K\r\n\t|=HYPERLINK(\"x\")|±~^\\")
 

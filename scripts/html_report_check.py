@@ -117,7 +117,8 @@ def main(html_path, json_path):
     check(page.scripts == 1, f"{page.scripts} scripts, expected 1 inline script")
     check(len(page.rows) == len(routes), f"{len(page.rows)} rows for {len(routes)} routes")
     check(page.sds == fmt(report["summary"]["sds"], 2), f"headline SDS {page.sds}")
-    columns = ["route", "state", "town", "scenario", "ds", "ds_safe", "comfort", "comfort_moving",
+    columns = ["route", "state", "town", "scenario", "status", "rc", "penalty", "ds", "ds_safe",
+               "comfort", "comfort_moving",
                "stationary", "collisions",
                "decelerated", "nodecel", "exempt", "unaligned", "anomalous", "critical", "warnings"]
     for i, (r, (attrs, cells)) in enumerate(zip(routes, page.rows)):
@@ -129,6 +130,8 @@ def main(html_path, json_path):
         aligned = [e for e in ev if e["frame"] is not None]
         c = r["collisions"]
         expect = {
+            "rc": (r["score_route"], 2),
+            "penalty": (r["score_penalty"], 3),
             "ds": (r["score_composed"], 2),
             "ds_safe": (r["ds_safe"], 2),
             "comfort": (r["comfort"]["score"], 3),
@@ -152,6 +155,12 @@ def main(html_path, json_path):
                   f"{rid} {col}: data-v {got!r}, JSON {value!r}")
             check(text == fmt(value, digits), f"{rid} {col}: text {text!r}, JSON {value!r}")
         check(cell["route"][1] == rid, f"{rid}: route cell {cell['route'][1]!r}")
+        # The status cell says why the DS is what it is: the status, RC × penalty in its title.
+        status_attrs, status = cell["status"]
+        check(status == (r["status"] or "-"), f"{rid}: status {status!r}, JSON {r['status']!r}")
+        if r["score_route"] is not None and r["score_penalty"] is not None:
+            check(f"RC {r['score_route']:.2f} × penalty " in status_attrs.get("title", ""),
+                  f"{rid}: status title {status_attrs.get('title')!r}")
         check(attrs["data-state"] == str(r["state"]).split(":")[0],
               f"{rid}: state {attrs['data-state']} vs {r['state']}")
         target = attrs["data-target"]

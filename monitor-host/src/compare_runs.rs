@@ -1,11 +1,11 @@
-//! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.3 §11): score each run with
+//! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.4 §11): score each run with
 //! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
 //! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
 
 use std::path::{Path, PathBuf};
 
 use crate::aggregate::compare::{
-    compare, CompareError, CompareOptions, Comparison, Model, NamedRun,
+    check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
 use crate::error::Error;
 use crate::run::{score_run_with, Inputs, Progress};
@@ -114,7 +114,9 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
 }
 
 /// Scores every run (in order, each on the thread pool [`crate::score_run`] makes) and compares
-/// them. `progress` hears each run's routes.
+/// them. `progress` hears each run's routes; once it says [`Progress::cancelled`], the run being
+/// scored stops between routes and no further run or bootstrap block starts
+/// ([`Error::Cancelled`]). The options are checked before any run is scored.
 ///
 /// ```
 /// use monitor_host::compare_runs::{compare_runs, RunInputs};
@@ -131,8 +133,8 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
 /// ```
 ///
 /// # Errors
-/// A run's [`Error`] (naming it is the caller's: the order is the order given), or
-/// [`Error::Compare`].
+/// A run's [`Error`] (naming it is the caller's: the order is the order given),
+/// [`Error::Compare`], or [`Error::Cancelled`].
 pub fn compare_runs(
     runs: &[RunInputs],
     seeds: &[Seeds],
@@ -140,17 +142,33 @@ pub fn compare_runs(
     options: &CompareOptions,
     progress: &dyn Progress,
 ) -> Result<Compared, Error> {
+    check_options(options)?;
     let mut scored = Vec::new();
     for r in runs {
+        if progress.cancelled() {
+            return Err(Error::Cancelled);
+        }
         if scored.iter().any(|x: &NamedRun| x.name == r.name) {
             return Err(Error::Compare(CompareError::DuplicateName {
                 what: "runs",
                 name: r.name.clone(),
             }));
         }
-        let report = score_run_with(&r.inputs, settings, progress).map_err(|e| Error::InRun {
-            run: r.name.clone(),
-            error: Box::new(e),
+        let report = score_run_with(&r.inputs, settings, progress).map_err(|e| match e {
+            Error::Cancelled => e,
+            // `sds compare` has no `--telemetry`: name the way a run's folder is given.
+            Error::TelemetryRoot { path, reason, .. } => Error::InRun {
+                run: r.name.clone(),
+                error: Box::new(Error::TelemetryRoot {
+                    given_as: "telemetry folder (RESULTS:TELEMETRY or --telemetry-of NAME=DIR)",
+                    path,
+                    reason,
+                }),
+            },
+            e => Error::InRun {
+                run: r.name.clone(),
+                error: Box::new(e),
+            },
         })?;
         scored.push(NamedRun {
             name: r.name.clone(),
@@ -158,7 +176,11 @@ pub fn compare_runs(
         });
     }
     let models = group_runs(scored, seeds)?;
-    let mut comparison = compare(&models, options)?;
+    let mut comparison =
+        compare_cancellable(&models, options, &|| progress.cancelled()).map_err(|e| match e {
+            CompareError::Cancelled => Error::Cancelled,
+            e => Error::Compare(e),
+        })?;
     // One results file given as two runs: as seeds their spread is 0 and says nothing.
     let real = |r: &RunInputs| -> Vec<PathBuf> {
         r.inputs

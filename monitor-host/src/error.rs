@@ -66,23 +66,28 @@ pub enum Error {
     #[error(
         "N = {n} is smaller than the {counted} routes counted in the aggregates (a mean over N \
          would exceed its scale){}",
-        if *from_option { "; raise --expected-routes or leave it out" } else { "" }
+        too_few_hint(*n, *counted, *missing, *from_option)
     )]
     TooFewRoutes {
         /// N.
         n: usize,
         /// Routes counted (kept records that are not foreign, and missing routes).
         counted: usize,
+        /// Of those, routes of the route XML without a record (counted as missing).
+        missing: usize,
         /// N came from `--expected-routes`.
         from_option: bool,
     },
     /// The telemetry root does not exist or is not a folder.
     #[error(
-        "--telemetry {}: {reason}; give the folder that holds the <save_name>/metric_info.json \
+        "{given_as} {}: {reason}; give the folder that holds the <save_name>/metric_info.json \
          folders",
         path.display()
     )]
     TelemetryRoot {
+        /// How the folder was given: `--telemetry` (`sds score`), or a compared run's
+        /// `RESULTS:TELEMETRY` / `--telemetry-of`.
+        given_as: &'static str,
         /// The path given.
         path: std::path::PathBuf,
         /// Why it cannot be used.
@@ -139,6 +144,24 @@ pub enum Error {
         "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
     )]
     UnusedLabels,
+}
+
+/// What to do about [`Error::TooFewRoutes`]: when the records alone fit in N and the rest are
+/// the route XML's routes without a record (a partial run scored against the whole route file),
+/// `--route-subset found` is what was meant; otherwise raise `--expected-routes` or drop it.
+fn too_few_hint(n: usize, counted: usize, missing: usize, from_option: bool) -> String {
+    if !from_option {
+        String::new()
+    } else if missing > 0 && counted - missing <= n {
+        format!(
+            "; {missing} of them are routes of --routes without a record, counted as missing: \
+             to score only the {} route(s) found, give --route-subset found (N is then the \
+             routes found, or --expected-routes), or leave --expected-routes out",
+            counted - missing
+        )
+    } else {
+        "; raise --expected-routes or leave it out".into()
+    }
 }
 
 impl Error {

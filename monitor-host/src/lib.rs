@@ -105,4 +105,4 @@ pub use run::{
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;
-pub use watch::{RoundOutcome, RouteCache, Watcher};
+pub use watch::{RoundOutcome, RouteCache, StatusLine, Watcher};

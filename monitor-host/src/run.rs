@@ -8,9 +8,11 @@ use rayon::prelude::*;
 use crate::aggregate::report::{assemble, Report, RunFacts};
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
-use crate::input::duplicates::{deduplicate, DuplicatePolicy, Source};
+use crate::input::duplicates::{
+    deduplicate, earlier_attempts, save_name_stamp, Deduplicated, DuplicatePolicy, Kept, Source,
+};
 use crate::input::record::{InvalidRecord, LoadedRecord};
-use crate::input::results_file::{read_results, ResultSet};
+use crate::input::results_file::{read_results, InputFile, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
@@ -177,6 +179,8 @@ pub fn score_run_cached(
     if !by_order.is_empty() {
         warnings.push(Warning::NewestByOrder { routes: by_order });
     }
+    let mut kept = kept;
+    note_year_wraps_and_earlier_attempts(&mut kept, &all, &sets, settings, &mut warnings);
     let records = kept.records;
     let routes = inputs
         .route_xml
@@ -216,6 +220,7 @@ pub fn score_run_cached(
         return Err(Error::TooFewRoutes {
             n,
             counted,
+            missing,
             from_option: settings.expected_routes.is_some(),
         });
     }
@@ -343,6 +348,7 @@ fn check_telemetry_root(root: &Path) -> Result<(), Error> {
         Err(e) => e.to_string(),
     };
     Err(Error::TelemetryRoot {
+        given_as: "--telemetry",
         path: root.to_path_buf(),
         reason,
     })
@@ -391,6 +397,67 @@ fn read_inputs(
         sets.push(set);
     }
     Ok((sets, records))
+}
+
+/// The duplicates policy's notes beyond the copy it kept: routes whose stamps could wrap a year
+/// (`newest`), and, under `newest` or `last`, records kept from an earlier attempt because the
+/// newer run that re-ran their file did not finish ([`earlier_attempts`]): each such route's
+/// `kept` says so, and one warning per file.
+fn note_year_wraps_and_earlier_attempts(
+    kept: &mut Deduplicated,
+    all: &[LoadedRecord],
+    sets: &[ResultSet],
+    settings: &Settings,
+    warnings: &mut Vec<Warning>,
+) {
+    let wrapped: Vec<String> = kept
+        .kept
+        .iter()
+        .filter(|k| k.year_wrap)
+        .filter_map(|k| all.iter().find(|r| Source::of(r) == k.source))
+        .filter_map(|r| route_id_of(r).map(String::from))
+        .collect();
+    if !wrapped.is_empty() {
+        warnings.push(Warning::NewestYearWrap { routes: wrapped });
+    }
+    if !matches!(
+        settings.duplicates,
+        DuplicatePolicy::Newest | DuplicatePolicy::Last
+    ) {
+        return;
+    }
+    let files: Vec<InputFile> = sets.iter().flat_map(|s| s.files.iter().cloned()).collect();
+    for a in earlier_attempts(kept, &files) {
+        for (_, source) in &a.routes {
+            let stamp = kept
+                .records
+                .iter()
+                .find(|r| Source::of(r) == *source)
+                .and_then(|r| r.entry.as_ref().ok())
+                .and_then(|r| r.save_name.as_deref())
+                .and_then(save_name_stamp);
+            kept.kept.push(Kept {
+                policy: settings.duplicates.name(),
+                copies: 1,
+                stamp: stamp.map(|s| s.map(|x| format!("{x:02}")).join("_")),
+                why: format!(
+                    "the only record, from the earlier attempt {}: the newer run {} re-ran this \
+                     file's routes but holds no record of this one (it did not finish)",
+                    a.earlier.display(),
+                    a.newer.display()
+                ),
+                source: source.clone(),
+                by_order: false,
+                year_wrap: false,
+            });
+        }
+        warnings.push(Warning::EarlierAttempt {
+            routes: a.routes.into_iter().map(|(id, _)| id).collect(),
+            newer: a.newer,
+            progress: a.progress,
+            earlier: a.earlier,
+        });
+    }
 }
 
 /// A record's route id, valid or not.

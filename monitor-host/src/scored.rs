@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use crate::aggregate::groups::{route_label_key, GroupBy};
 use crate::aggregate::report::Report;
 use crate::error::Error;
-use crate::input::labels::{check_coverage, read_labels, Labels};
+use crate::input::labels::{check_coverage, read_labels, Labels, LabelsError};
 use crate::route::row::counted_routes;
 use crate::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::settings::Settings;
@@ -109,6 +109,15 @@ pub fn score_labelled_cached(
     // Usage errors of the grouping before the run is scored.
     if files.routes.is_some() && by != Some(GroupBy::Route) {
         return Err(Error::UnusedLabels);
+    }
+    if let Some(f) = files
+        .families
+        .as_deref()
+        .filter(|f| crate::input::labels::names_safe2drive(f))
+    {
+        return Err(Error::Labels(LabelsError::Safe2DriveFamilies {
+            path: f.to_path_buf(),
+        }));
     }
     if let Some(by) = by {
         by.check_labels(

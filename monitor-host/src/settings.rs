@@ -99,6 +99,11 @@ pub struct Settings {
     pub gap_max: f64,
     /// Forward-search window of the lateral error, m of route length (10.0) **\[decision\]**.
     pub lookahead: f64,
+    /// Re-acquisition of the lateral reference (§2, v1.4): at a frame whose step exceeds the
+    /// previous frame's by more than this (and at a first frame whose step is not 0), the
+    /// forward search looks at the whole rest of the route instead of `lookahead` (10)
+    /// **\[decision\]**.
+    pub reacquire_steps: u64,
     /// What the lateral error is measured against (§2): the route (`route`, default) or the
     /// nearest driving lane of the map (`lane`) **\[decision\]**.
     pub lateral_reference: LateralReference,
@@ -151,6 +156,7 @@ impl Default for Settings {
             core: Config::DEFAULT,
             gap_max: 8.0,
             lookahead: 10.0,
+            reacquire_steps: 10,
             lateral_reference: LateralReference::Route,
             lane_width: 3.5,
             ego_half_width: 0.93,
@@ -216,7 +222,7 @@ fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
 
 impl Settings {
     /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 44] = [
+    pub const NAMES: [&'static str; 45] = [
         "ability_rule",
         "align_max_dist",
         "align_tie",
@@ -258,6 +264,7 @@ impl Settings {
         "profile",
         "protocols",
         "provenance.host",
+        "reacquire_steps",
         "route_subset",
         "slack",
         "stationary_speed",
@@ -358,6 +365,13 @@ impl Settings {
             "align_tie" => self.align_tie = f64_of(key, v)?,
             "gap_max" => self.gap_max = f64_of(key, v)?,
             "lookahead" => self.lookahead = f64_of(key, v)?,
+            "reacquire_steps" => {
+                self.reacquire_steps = v.trim().parse().map_err(|_| SettingsError::Value {
+                    name: key,
+                    expected: "a step count (an integer, 0 or more)",
+                    value: v.into(),
+                })?
+            }
             "lateral_reference" => {
                 self.lateral_reference =
                     LateralReference::from_name(v.trim()).ok_or(SettingsError::Value {
@@ -471,6 +485,7 @@ impl Settings {
             "align_tie" => self.align_tie.to_string(),
             "gap_max" => self.gap_max.to_string(),
             "lookahead" => self.lookahead.to_string(),
+            "reacquire_steps" => self.reacquire_steps.to_string(),
             "lateral_reference" => self.lateral_reference.name().into(),
             "lane_width" => self.lane_width.to_string(),
             "ego_half_width" => self.ego_half_width.to_string(),
@@ -655,7 +670,7 @@ impl serde::Serialize for Settings {
             ("nodecel", f.nodecel),
             ("workzone", f.workzone),
         ];
-        let mut m = s.serialize_map(Some(29))?;
+        let mut m = s.serialize_map(Some(30))?;
         m.serialize_entry("ability_rule", self.ability_rule.name())?;
         m.serialize_entry("align_max_dist", &self.align_max_dist)?;
         m.serialize_entry("align_tie", &self.align_tie)?;
@@ -693,6 +708,7 @@ impl serde::Serialize for Settings {
         m.serialize_entry("profile", c.profile.name())?;
         let ids: Vec<&str> = self.protocols.iter().map(|p| p.id()).collect();
         m.serialize_entry("protocols", &ids)?;
+        m.serialize_entry("reacquire_steps", &self.reacquire_steps)?;
         m.serialize_entry("route_subset", self.route_subset.name())?;
         m.serialize_entry("slack", &w(c.slack))?;
         m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;

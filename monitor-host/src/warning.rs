@@ -122,6 +122,26 @@ pub enum Warning {
         /// The route ids.
         routes: Vec<String>,
     },
+    /// Under `duplicates: newest`, routes whose copies' `save_name` stamps lie more than half a
+    /// year apart (they carry no year, so they could wrap one): the copy of the most recently
+    /// modified file, or the checkpoint's own record order, was kept.
+    NewestYearWrap {
+        /// The route ids.
+        routes: Vec<String>,
+    },
+    /// Routes whose record comes from an earlier attempt: a newer results file that re-ran this
+    /// file's routes (its copies were kept over this file's) did not finish, and holds no record
+    /// of them.
+    EarlierAttempt {
+        /// The newer, unfinished file.
+        newer: PathBuf,
+        /// Its `progress`, `[done, total]`, when it has one.
+        progress: Option<(u64, u64)>,
+        /// The file the kept records come from.
+        earlier: PathBuf,
+        /// The route ids.
+        routes: Vec<String>,
+    },
     /// A record whose route is not in the route set of `--routes` (spec section 1.5).
     ForeignRoute {
         /// The route id.
@@ -420,6 +440,36 @@ impl std::fmt::Display for Warning {
                 routes.len(),
                 id_list(routes)
             ),
+            Warning::NewestYearWrap { routes } => write!(
+                f,
+                "duplicates: newest: {} route id(s) have copies whose save_name time stamps \
+                 (mm_dd_HH_MM_SS, no year) lie more than half a year apart and could wrap a year \
+                 (a December run and a January re-run): the copy in the most recently modified \
+                 file was kept (in one file, the checkpoint's own record order): {} (each \
+                 route's `kept` says which; --duplicates first|last chooses by input order)",
+                routes.len(),
+                id_list(routes)
+            ),
+            Warning::EarlierAttempt {
+                newer,
+                progress,
+                earlier,
+                routes,
+            } => write!(
+                f,
+                "{} route(s) keep their record from the earlier attempt {}: the newer run {} \
+                 (kept over it for the routes it re-ran) holds no record of them{}: {}",
+                routes.len(),
+                earlier.display(),
+                newer.display(),
+                match progress {
+                    Some((done, total)) => format!(
+                        " (progress {done} of {total}: it crashed or stopped before finishing)"
+                    ),
+                    None => " (it did not finish)".into(),
+                },
+                id_list(routes)
+            ),
             Warning::ForeignRoute { route, routes_file } => write!(
                 f,
                 "{route} is not in the route set of {} (a foreign route): reported, left out of \
@@ -480,8 +530,9 @@ impl std::fmt::Display for Warning {
                     write!(f, " (e.g. {route}: {reason})")?;
                 }
                 f.write_str(
-                    "; give --telemetry DIR (the folder holding <save_name>/metric_info.json) \
-                     or --allow-missing-telemetry to score without telemetry terms",
+                    "; give the telemetry folder, the one holding <save_name>/metric_info.json \
+                     (--telemetry DIR; in sds compare RESULTS:TELEMETRY or --telemetry-of \
+                     NAME=DIR), or --allow-missing-telemetry to score without telemetry terms",
                 )
             }
             Warning::LabelsMissKeys { file, keys, count } => write!(

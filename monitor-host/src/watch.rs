@@ -1,15 +1,18 @@
-//! Scoring an evaluation while it runs (`SDS-SPEC.md` v1.3 §12): the same run as `sds score`,
-//! read again every round, each route replayed again only when its record or its telemetry
-//! changed. [`Watcher::round`] is one round; `sds watch` (and any other front end) calls it in a
-//! loop, renders each report and decides when to stop.
+//! Scoring an evaluation while it runs (`SDS-SPEC.md` v1.4 §12): the same run as `sds score`,
+//! read again every round, each route replayed again only when something it was made from
+//! changed (its record, its telemetry files or the folders where its missing telemetry was
+//! looked for, the route XML, the maps). [`Watcher::round`] is one round; `sds watch` and
+//! `sds.watch` call it in a loop, render each report and decide when to stop.
 //!
-//! An evaluator rewrites its checkpoint in place, not atomically, so a round may find a file
-//! half-written: a results file that does not parse, or that is shorter than on the previous
-//! round, makes the round a [`RoundOutcome::Retry`] (the previous report stays current), never
-//! an error.
+//! An evaluator rewrites its checkpoint in place, not atomically (truncated, then written), so a
+//! round may find a file half-written: a results file that ends early, that is shorter than on
+//! the previous round, or that is not there yet makes the round a [`RoundOutcome::Retry`] (the
+//! last good reading stays current), never an error. An error no later write of the evaluator
+//! can mend (a mistyped `--routes` or label file, a null label, duplicate route ids, a results
+//! file that is not JSON from its first bytes) is returned at once, as `sds score` would stop.
 
 use std::collections::{HashMap, HashSet};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, SystemTime};
@@ -18,8 +21,8 @@ use crate::aggregate::aggregates::Scores;
 use crate::aggregate::groups::GroupBy;
 use crate::error::Error;
 use crate::input::record::LoadedRecord;
-use crate::input::results_file::read_results;
-use crate::pipeline::outcome::{RouteOutcome, RouteState, TelemetryState};
+use crate::input::results_file::{read_results, ResultsError};
+use crate::pipeline::outcome::{RouteOutcome, RouteState};
 use crate::run::{Inputs, NoProgress, ReplayCache};
 use crate::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::settings::Settings;
@@ -27,21 +30,50 @@ use crate::settings::Settings;
 /// A results file's `progress` `[done, total]`, and the stamp of the file it was read from.
 type Progress = (Option<Stamp>, (u64, u64));
 
-/// A file's size and modification time: what tells a changed file (spec §12).
+/// What tells a changed file or folder (spec §12): its size, modification and status-change
+/// times, and its inode (a `chmod`, a rename over it or a copy keeping the times all change one
+/// of them). `None` for a path that does not exist.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Stamp {
     len: u64,
     modified: Option<SystemTime>,
+    status_changed: (i64, i64),
+    inode: (u64, u64),
 }
 
 impl Stamp {
-    fn of(path: &std::path::Path) -> Option<Stamp> {
+    fn of(path: &Path) -> Option<Stamp> {
+        use std::os::unix::fs::MetadataExt;
         let m = std::fs::metadata(path).ok()?;
         Some(Stamp {
             len: m.len(),
             modified: m.modified().ok(),
+            status_changed: (m.ctime(), m.ctime_nsec()),
+            inode: (m.dev(), m.ino()),
         })
     }
+
+    /// Old enough to be trusted unchanged: modified (and its status changed) at least `racy`
+    /// before `now`. An absent path is settled (its absence is what is kept).
+    fn settled(stamp: Option<&Stamp>, now: SystemTime, racy: Duration) -> bool {
+        let Some(s) = stamp else {
+            return true;
+        };
+        let changed = SystemTime::UNIX_EPOCH
+            + Duration::new(
+                s.status_changed.0.max(0) as u64,
+                s.status_changed.1.clamp(0, 999_999_999) as u32,
+            );
+        [s.modified, Some(changed)].iter().all(|t| {
+            t.and_then(|t| now.duration_since(t).ok())
+                .is_some_and(|age| age >= racy)
+        })
+    }
+}
+
+/// Stamps of `paths`.
+fn stamps(paths: &[PathBuf]) -> Vec<(PathBuf, Option<Stamp>)> {
+    paths.iter().map(|p| (p.clone(), Stamp::of(p))).collect()
 }
 
 /// One route's replay and what it was made from.
@@ -53,11 +85,15 @@ struct Entry {
 }
 
 /// The routes' replays of earlier rounds, keyed by where the record sits (file, index) and
-/// valid while the record (its whole content) and every telemetry file the replay read (size
-/// and modification time) are unchanged.
+/// valid while the record (its whole content) is unchanged and so is every file and folder the
+/// replay depended on: the telemetry files it read, or, when the telemetry was missing, the
+/// folders where it was looked for (the absence of telemetry is cached like any other result).
+/// Inputs shared by every route (the route XML, the maps) are the [`Watcher`]'s to check: it
+/// empties the cache ([`RouteCache::clear`]) when one of them changes.
 ///
 /// A file modified within `racy` of the moment it was stamped may have changed again within the
-/// clock's resolution (git's "racily clean" problem): such a replay is not kept.
+/// clock's resolution (git's "racily clean" problem): such a replay is not kept. Nor is one whose
+/// telemetry could not be opened (a read error is never cached: a `chmod` mends it).
 ///
 /// ```
 /// use monitor_host::{demo, score_run_cached, Inputs, NoProgress, RouteCache, Settings};
@@ -87,7 +123,7 @@ pub struct RouteCache {
 /// What one round did with the cache ([`RouteCache::end_round`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CacheRound {
-    /// Routes replayed (new or changed, or not cacheable: no telemetry yet).
+    /// Routes replayed (new or changed, or not cacheable: a file too recent or unreadable).
     pub rescored: usize,
     /// Routes taken from the cache.
     pub reused: usize,
@@ -123,6 +159,11 @@ impl RouteCache {
         }
     }
 
+    /// Forgets every replay (an input shared by every route changed).
+    pub fn clear(&self) {
+        lock(&self.entries).clear();
+    }
+
     /// Forgets what a round that came to nothing saw, keeping every replay (a retried round).
     pub fn abandon_round(&self) {
         lock(&self.seen).clear();
@@ -138,8 +179,8 @@ impl RouteCache {
 }
 
 impl ReplayCache for RouteCache {
-    /// The route's cached replay, or `replay()` (then kept when it read telemetry that is not
-    /// too recent).
+    /// The route's cached replay, or `replay()` (then kept unless a file it depends on is too
+    /// recent or could not be opened).
     fn replay(&self, loaded: &LoadedRecord, replay: &dyn Fn() -> RouteOutcome) -> RouteOutcome {
         let key = (loaded.source.clone(), loaded.index);
         lock(&self.seen).insert(key.clone());
@@ -163,23 +204,24 @@ impl ReplayCache for RouteCache {
         if let Ok(r) = &loaded.entry {
             lock(&self.changed).push(r.route_id.clone());
         }
-        // Missing telemetry may appear at any time, under a name only discovery knows: never
-        // cached. Telemetry read (good or half-written) is cached by its files' stamps.
-        let read = !matches!(outcome.telemetry, TelemetryState::Missing(_))
-            && !outcome.files_read.is_empty();
         let now = SystemTime::now();
-        let stamps: Vec<(PathBuf, Option<Stamp>)> = outcome
+        let depends: Vec<PathBuf> = outcome
             .files_read
             .iter()
-            .map(|p| (p.clone(), Stamp::of(p)))
+            .chain(&outcome.looked_in)
+            .cloned()
             .collect();
-        let settled = stamps.iter().all(|(_, s)| {
-            s.and_then(|s| s.modified)
-                .and_then(|m| now.duration_since(m).ok())
-                .is_some_and(|age| age >= self.racy)
-        });
+        let stamps = stamps(&depends);
+        let settled = stamps
+            .iter()
+            .all(|(_, s)| Stamp::settled(s.as_ref(), now, self.racy));
+        // A file located but not readable (permissions, gone): its error is not cached.
+        let readable = outcome
+            .files_read
+            .iter()
+            .all(|p| !p.is_file() || crate::input::read::open_nonblocking(p).is_ok());
         let mut entries = lock(&self.entries);
-        if read && settled {
+        if settled && readable {
             entries.insert(
                 key,
                 Entry {
@@ -221,14 +263,101 @@ pub enum RoundOutcome {
         cache: CacheRound,
         /// Some results file or telemetry changed since the previous scored round.
         changed: bool,
+        /// The round's status line.
+        status: StatusLine,
     },
-    /// A results file was caught half-written (does not parse, or shrank): retried next round.
+    /// A results file was caught half-written (ends early, shrank, not there yet): retried next
+    /// round, the last good reading kept.
     Retry {
         /// Why, naming the file.
         reason: String,
         /// Rounds in a row that failed so (a front end warns from 3 on).
         failures: usize,
+        /// The round's status line: the figures of the last good reading, and `retry`.
+        status: StatusLine,
     },
+}
+
+/// One round's status (spec §12): the same fields for every round, `sds watch --status-json`'s
+/// line and `sds.watch`'s `status` dict alike. A retried round keeps the figures of the last good
+/// reading and adds `retry`.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct StatusLine {
+    /// The round's number, from 1 (retried rounds count).
+    pub round: usize,
+    /// When the round ran, UTC (`2026-11-27T17:45:33Z`).
+    pub time: String,
+    /// Routes with a record.
+    pub done: usize,
+    /// The benchmark's size N.
+    pub n: usize,
+    /// DS over the routes done.
+    pub ds_done: Option<f64>,
+    /// DS over N, the routes not done counting 0.
+    pub ds_n: Option<f64>,
+    /// SDS over the routes done.
+    pub sds_done: Option<f64>,
+    /// SDS over N.
+    pub sds_n: Option<f64>,
+    /// The last route: the last replayed in report order, else the last with a record.
+    pub last_route: Option<String>,
+    /// Its state (`scored`, `invalid: ...`).
+    pub last_state: Option<String>,
+    /// Its DS.
+    pub last_ds: Option<f64>,
+    /// Estimated seconds left ([`WatchStatus::seconds_left`]).
+    pub seconds_left: Option<f64>,
+    /// Routes replayed this round.
+    pub rescored: usize,
+    /// Routes taken from the cache this round.
+    pub reused: usize,
+    /// The ids of the routes replayed, sorted.
+    pub rescored_routes: Vec<String>,
+    /// Something changed since the previous scored round.
+    pub changed: bool,
+    /// The route set is complete ([`WatchStatus::complete`]).
+    pub complete: bool,
+    /// Rounds retried (a results file caught half-written) since the previous good reading; a
+    /// retried round counts itself.
+    pub retries: usize,
+    /// The round's time, ms.
+    pub round_ms: f64,
+    /// Why the watch stopped (`complete`, `once`, `timeout`, `interrupted`), on the last line.
+    pub stopped: Option<String>,
+    /// A retried round only: why, naming the file.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub retry: Option<String>,
+}
+
+impl StatusLine {
+    /// The line as one JSON object (serde_json), with every control, bidirectional and invisible
+    /// format character written as a JSON `\uXXXX` escape: valid JSON that cannot rewrite the
+    /// terminal it is printed on.
+    ///
+    /// ```
+    /// let s = monitor_host::watch::StatusLine { last_route: Some("R\u{202e}1".into()),
+    ///                                            ..Default::default() };
+    /// let line = s.json();
+    /// assert!(line.contains(r#""last_route":"R\u202e1""#));
+    /// let back: serde_json::Value = serde_json::from_str(&line)?;
+    /// assert_eq!(back["last_route"], "R\u{202e}1");
+    /// # Ok::<(), serde_json::Error>(())
+    /// ```
+    pub fn json(&self) -> String {
+        let raw = serde_json::to_string(self).unwrap_or_default();
+        let mut out = String::with_capacity(raw.len());
+        for c in raw.chars() {
+            if crate::report::escape::is_hidden(c) {
+                let mut units = [0u16; 2];
+                for u in c.encode_utf16(&mut units) {
+                    out.push_str(&format!("\\u{u:04x}"));
+                }
+            } else {
+                out.push(c);
+            }
+        }
+        out
+    }
 }
 
 /// The figures of a partial report (spec §12's status line).
@@ -252,6 +381,73 @@ pub struct WatchStatus {
     pub seconds_left: Option<f64>,
 }
 
+/// Seconds as a short duration: `42m`, `3h05m` (rounded to the minute).
+///
+/// ```
+/// assert_eq!(monitor_host::watch::duration_text(3900.0), "1h05m");
+/// assert_eq!(monitor_host::watch::duration_text(150.0), "2m");
+/// ```
+pub fn duration_text(secs: f64) -> String {
+    let s = secs.clamp(0.0, 1e12).round() as u64;
+    match (s / 3600, (s % 3600) / 60) {
+        (0, m) => format!("{m}m"),
+        (h, m) => format!("{h}h{m:02}m"),
+    }
+}
+
+/// The longest `interval` between rounds: one day, s.
+pub const MAX_INTERVAL: f64 = 86_400.0;
+/// The longest `timeout`: 365 days, s.
+pub const MAX_TIMEOUT: f64 = 31_536_000.0;
+
+/// The interval between rounds, checked: above 0 and at most [`MAX_INTERVAL`] s. The error
+/// says the bound; the front end names its option.
+///
+/// ```
+/// use monitor_host::watch::interval;
+/// assert_eq!(interval(0.5).unwrap(), std::time::Duration::from_millis(500));
+/// assert!(interval(1e19).unwrap_err().contains("86400"));
+/// assert!(interval(f64::NAN).is_err() && interval(0.0).is_err());
+/// ```
+///
+/// # Errors
+/// Not a number in (0, [`MAX_INTERVAL`]].
+pub fn interval(secs: f64) -> Result<Duration, String> {
+    if secs > 0.0 && secs <= MAX_INTERVAL {
+        Ok(Duration::from_secs_f64(secs))
+    } else {
+        Err(format!(
+            "a number of seconds above 0 and at most {MAX_INTERVAL} (one day)"
+        ))
+    }
+}
+
+/// The timeout, checked: from 0 to [`MAX_TIMEOUT`] s.
+///
+/// ```
+/// use monitor_host::watch::timeout;
+/// assert_eq!(timeout(0.0).unwrap(), std::time::Duration::ZERO);
+/// for bad in [f64::INFINITY, 1e300, f64::NAN, -5.0] {
+///     assert!(timeout(bad).unwrap_err().contains("31536000"));
+/// }
+/// ```
+///
+/// # Errors
+/// Not a number in [0, [`MAX_TIMEOUT`]].
+pub fn timeout(secs: f64) -> Result<Duration, String> {
+    if (0.0..=MAX_TIMEOUT).contains(&secs) {
+        Ok(Duration::from_secs_f64(secs))
+    } else {
+        Err(format!(
+            "a number of seconds from 0 to {MAX_TIMEOUT} (365 days)"
+        ))
+    }
+}
+
+/// The inputs every route shares, stamped: the route XML, and each OpenDRIVE map where
+/// `--maps` looks (`<dir>/*.xodr`, `<dir>/OpenDrive/*.xodr`, `<dir>/<Town>/OpenDrive/*.xodr`).
+type Shared = Vec<(PathBuf, Option<Stamp>)>;
+
 /// A run kept current: the inputs of `sds score`, read again by every [`Watcher::round`].
 #[derive(Debug)]
 pub struct Watcher {
@@ -259,17 +455,24 @@ pub struct Watcher {
     settings: Settings,
     labels: LabelFiles,
     by: Option<GroupBy>,
+    racy: Duration,
     cache: RouteCache,
     sizes: HashMap<PathBuf, u64>,
     last_stamps: Vec<(PathBuf, Option<Stamp>)>,
+    /// The shared inputs as the cached replays saw them; `None`: not to be trusted (too recent).
+    shared: Option<Shared>,
     failures: usize,
+    round: usize,
+    /// The last good reading's status.
+    last: StatusLine,
     /// Each results file's `progress` by its stamp: read again only when the file changed.
     progress: Mutex<HashMap<PathBuf, Progress>>,
 }
 
 impl Watcher {
     /// A watcher of `inputs`, scored as `sds score` would (`settings`, label files, breakdown);
-    /// `racy` as in [`RouteCache::new`].
+    /// `racy` as in [`RouteCache::new`] (also how long a route XML, map or label file must be
+    /// left unchanged before an error in it stops the watch).
     pub fn new(
         inputs: Inputs,
         settings: Settings,
@@ -282,16 +485,20 @@ impl Watcher {
             settings,
             labels,
             by,
+            racy,
             cache: RouteCache::new(racy),
             sizes: HashMap::new(),
             last_stamps: Vec::new(),
+            shared: None,
             failures: 0,
+            round: 0,
+            last: StatusLine::default(),
             progress: Mutex::new(HashMap::new()),
         }
     }
 
-    /// One round: the results read again (a half-written or shrunk file is a retry), each
-    /// route replayed again only if it changed, the report made.
+    /// One round: the results read again (a half-written, shrunk or absent file is a retry),
+    /// each route replayed again only if something it depends on changed, the report made.
     ///
     /// ```
     /// use monitor_host::{demo, Inputs, LabelFiles, RoundOutcome, Settings, Watcher};
@@ -303,17 +510,24 @@ impl Watcher {
     ///                          std::time::Duration::ZERO);
     /// assert!(matches!(w.round()?, RoundOutcome::Scored { .. }));
     /// std::fs::write(&run.results, "{\"_checkpoint\": {\"reco")?; // caught half-written
-    /// assert!(matches!(w.round()?, RoundOutcome::Retry { failures: 1, .. }));
+    /// let RoundOutcome::Retry { failures: 1, status, .. } = w.round()? else { panic!() };
+    /// assert_eq!(status.done, run.route_ids.len()); // the last good reading
+    /// assert!(status.retry.is_some());
     /// # Ok::<(), Box<dyn std::error::Error>>(())
     /// ```
     ///
     /// # Errors
-    /// The errors a later round cannot mend: invalid settings, a `--telemetry` or `--maps`
-    /// folder that does not exist, a label file not matching the grouping.
+    /// The errors no later write of the evaluator can mend, as `sds score` stops on them:
+    /// invalid settings, a `--telemetry` or `--maps` folder that does not exist, a route XML,
+    /// map or label file that cannot be read or is invalid (once it has been left unchanged for
+    /// `racy`), a label file not matching the grouping, duplicate route ids, a results file that
+    /// is not JSON from its start (not a file being written) or not a checkpoint, an
+    /// `expected_routes` below the routes counted.
     pub fn round(&mut self) -> Result<RoundOutcome, Error> {
+        let began = std::time::Instant::now();
+        self.round += 1;
         let files = results_files(&self.inputs.results);
-        let stamps: Vec<(PathBuf, Option<Stamp>)> =
-            files.iter().map(|p| (p.clone(), Stamp::of(p))).collect();
+        let stamps: Vec<(PathBuf, Option<Stamp>)> = stamps(&files);
         let mut shrunk = None;
         for (p, s) in &stamps {
             let len = s.map_or(0, |s| s.len);
@@ -332,8 +546,18 @@ impl Watcher {
             self.sizes.insert(p.clone(), s.map_or(0, |s| s.len));
         }
         if let Some(reason) = shrunk {
-            return Ok(self.retry(reason));
+            return Ok(self.retry(reason, began));
         }
+        // A route XML or map changed (or may still be changing): no earlier replay is kept.
+        let shared = self.shared_inputs();
+        let now = SystemTime::now();
+        let settled = shared
+            .iter()
+            .all(|(_, s)| Stamp::settled(s.as_ref(), now, self.racy));
+        if self.shared.as_ref() != Some(&shared) {
+            self.cache.clear();
+        }
+        self.shared = settled.then_some(shared);
         let result = score_labelled_cached(
             &self.inputs,
             &self.settings,
@@ -344,45 +568,161 @@ impl Watcher {
         );
         let scored = match result {
             Ok(s) => s,
-            Err(e) if fatal(&e) => return Err(e),
-            Err(e) => return Ok(self.retry(crate::error::message(&e))),
-        };
-        // A file of a results folder that does not parse is most likely being written.
-        if self.failures < 3 {
-            if let Some(r) = scored
-                .report
-                .routes
-                .iter()
-                .find(|r| matches!(r.state, RouteState::Invalid(_)) && r.route_id.is_none())
-            {
-                let reason = format!(
-                    "{}: {}",
-                    r.source
-                        .as_ref()
-                        .map_or_else(|| "-".into(), |s| s.file.display().to_string()),
-                    r.state
-                );
-                return Ok(self.retry(reason));
+            Err(e) if being_written(&e) || (user_file(&e) && !self.user_files_settled()) => {
+                return Ok(self.retry(crate::error::message(&e), began))
             }
+            Err(e) => {
+                self.cache.abandon_round();
+                return Err(e);
+            }
+        };
+        // A file of a results folder caught half-written keeps the last good reading; one that
+        // can never parse is an invalid row, as in `sds score`.
+        if let Some(r) = scored.report.routes.iter().find(|r| {
+            matches!(r.state, RouteState::Invalid(_))
+                && r.route_id.is_none()
+                && r.source.as_ref().is_some_and(|s| half_written(&s.file))
+        }) {
+            let reason = format!(
+                "{}: {}",
+                r.source
+                    .as_ref()
+                    .map_or_else(|| "-".into(), |s| s.file.display().to_string()),
+                r.state
+            );
+            return Ok(self.retry(reason, began));
         }
-        self.failures = 0;
         let cache = self.cache.end_round();
         let changed = cache.rescored > 0 || stamps != self.last_stamps;
         self.last_stamps = stamps;
+        let p = self.progress(&scored.report);
+        let status = self.status_line(&p, &scored.report, &cache, changed, began);
+        self.failures = 0;
+        self.last = status.clone();
         Ok(RoundOutcome::Scored {
             scored: Box::new(scored),
             cache,
             changed,
+            status,
         })
     }
 
-    fn retry(&mut self, reason: String) -> RoundOutcome {
+    fn retry(&mut self, reason: String, began: std::time::Instant) -> RoundOutcome {
         self.failures += 1;
         self.cache.abandon_round();
+        let status = StatusLine {
+            round: self.round,
+            time: utc(SystemTime::now()),
+            rescored: 0,
+            reused: 0,
+            rescored_routes: Vec::new(),
+            changed: false,
+            retries: self.failures,
+            round_ms: began.elapsed().as_secs_f64() * 1e3,
+            stopped: None,
+            retry: Some(reason.clone()),
+            ..self.last.clone()
+        };
         RoundOutcome::Retry {
             reason,
             failures: self.failures,
+            status,
         }
+    }
+
+    /// The status line of the last round (scored or retried): the figures of the last good
+    /// reading. A front end sets its `stopped` on the line it prints last.
+    pub fn last_status(&self) -> &StatusLine {
+        &self.last
+    }
+
+    /// The round's status line.
+    fn status_line(
+        &self,
+        p: &WatchStatus,
+        report: &crate::Report,
+        cache: &CacheRound,
+        changed: bool,
+        began: std::time::Instant,
+    ) -> StatusLine {
+        // The last route: the last changed one in report order, else the last with a record.
+        let last = report
+            .routes
+            .iter()
+            .rev()
+            .find(|r| {
+                r.route_id
+                    .as_ref()
+                    .is_some_and(|id| cache.changed.contains(id))
+            })
+            .or_else(|| {
+                report
+                    .routes
+                    .iter()
+                    .rev()
+                    .find(|r| !matches!(r.state, RouteState::Missing))
+            });
+        let mut ids = cache.changed.clone();
+        ids.sort();
+        StatusLine {
+            round: self.round,
+            time: utc(SystemTime::now()),
+            done: p.done,
+            n: p.n,
+            ds_done: p.over_done.driving_score,
+            ds_n: p.over_n.driving_score,
+            sds_done: p.over_done.sds,
+            sds_n: p.over_n.sds,
+            last_route: last.and_then(|r| r.route_id.clone()),
+            last_state: last.map(|r| r.state.to_string()),
+            last_ds: last.and_then(|r| r.score_composed),
+            seconds_left: p.seconds_left,
+            rescored: cache.rescored,
+            reused: cache.reused,
+            rescored_routes: ids,
+            changed,
+            complete: p.complete,
+            retries: self.failures,
+            round_ms: began.elapsed().as_secs_f64() * 1e3,
+            stopped: None,
+            retry: None,
+        }
+    }
+
+    /// The route XML and the maps, stamped.
+    fn shared_inputs(&self) -> Shared {
+        let mut paths: Vec<PathBuf> = self.inputs.route_xml.iter().cloned().collect();
+        if let Some(dir) = &self.inputs.maps {
+            paths.push(dir.clone());
+            let mut maps: Vec<PathBuf> = walkdir::WalkDir::new(dir)
+                .min_depth(1)
+                .max_depth(3)
+                .into_iter()
+                .filter_map(Result::ok)
+                .filter(|e| {
+                    e.file_type().is_dir()
+                        || e.file_name()
+                            .to_string_lossy()
+                            .to_ascii_lowercase()
+                            .ends_with(".xodr")
+                })
+                .map(|e| e.into_path())
+                .collect();
+            maps.sort();
+            paths.extend(maps);
+        }
+        stamps(&paths)
+    }
+
+    /// The route XML, maps and label files have been left unchanged for `racy` (an error in one
+    /// of them is then the user's to fix, not a file being copied).
+    fn user_files_settled(&self) -> bool {
+        let now = SystemTime::now();
+        let labels: Vec<PathBuf> = self.labels.files().cloned().collect();
+        self.shared_inputs()
+            .iter()
+            .chain(&stamps(&labels))
+            .all(|(_, s)| Stamp::settled(s.as_ref(), now, self.racy))
     }
 
     /// The status figures of a report of this watch.
@@ -451,15 +791,62 @@ impl Watcher {
     }
 }
 
-/// Errors no later round can mend (usage errors).
-fn fatal(e: &Error) -> bool {
+/// An error a later write of the evaluator mends: a results file not there yet, unreadable,
+/// ending early (truncated, then written), a folder without results yet, no record yet.
+fn being_written(e: &Error) -> bool {
     matches!(
         e,
-        Error::Settings(_)
-            | Error::TelemetryRoot { .. }
-            | Error::MapsFolder { .. }
-            | Error::NeedsLabels(_)
-            | Error::UnusedLabels
+        Error::Results(
+            ResultsError::Io { .. }
+                | ResultsError::TruncatedJson { .. }
+                | ResultsError::NoResults { .. }
+        ) | Error::EmptyRun { .. }
+    )
+}
+
+/// An error in a file the user gives (route XML, map, label file): retried while the file may
+/// still be being written, else final.
+fn user_file(e: &Error) -> bool {
+    matches!(e, Error::RouteXml(_) | Error::Map(_) | Error::Labels(_))
+}
+
+/// A file of a results folder that is being written: gone or unreadable since it was listed,
+/// or JSON that ends early (a prefix of a checkpoint always does).
+fn half_written(path: &Path) -> bool {
+    match crate::input::read::read_input(path, crate::input::read::FileKind::Results) {
+        Err(_) => true,
+        Ok(bytes) => serde_json::from_slice::<serde::de::IgnoredAny>(&bytes)
+            .is_err_and(|e| e.classify() == serde_json::error::Category::Eof),
+    }
+}
+
+/// `t` as an RFC 3339 UTC time to the second (`2026-11-27T17:45:33Z`).
+///
+/// ```
+/// use std::time::{Duration, SystemTime};
+/// let t = SystemTime::UNIX_EPOCH + Duration::from_secs(1_795_801_533);
+/// assert_eq!(monitor_host::watch::utc(t), "2026-11-27T17:45:33Z");
+/// ```
+pub fn utc(t: SystemTime) -> String {
+    let secs = t
+        .duration_since(SystemTime::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let (days, rest) = (secs / 86_400, secs % 86_400);
+    // Days since 1970-01-01 to a civil date (Howard Hinnant's algorithm).
+    let z = days as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}Z",
+        rest / 3600,
+        rest % 3600 / 60,
+        rest % 60
     )
 }
 

@@ -305,7 +305,10 @@ fn real_red_lights_and_stop_signs_are_listed_and_within_reach() {
                 );
                 for e in &mine {
                     assert!(e["frame"].is_null(), "{name}: placed without telemetry");
-                    assert!(e["message"].as_str().unwrap().ends_with("(not placed)"));
+                    assert!(e["message"]
+                        .as_str()
+                        .unwrap()
+                        .ends_with("(not placed: no telemetry)"));
                 }
                 listed += mine.len();
             }
@@ -333,7 +336,7 @@ fn real_red_lights_and_stop_signs_are_listed_and_within_reach() {
                     .filter(|e| e["list"] == list)
                     .map(|e| {
                         let m = e["message"].as_str().unwrap();
-                        m[list.len() + 2..m.len() - " (not placed)".len()].to_string()
+                        m[list.len() + 2..m.len() - " (not placed: no telemetry)".len()].to_string()
                     })
                     .collect()
             };

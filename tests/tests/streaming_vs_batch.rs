@@ -692,3 +692,51 @@ proptest! {
         compare(&s, &frames, &config)?;
     }
 }
+
+proptest! {
+    #![proptest_config(proptest_config(500))]
+
+    /// §2 v1.4 re-acquisition, and §9: frames along the demo's straight junction route (x from
+    /// 1510 to 1658 at y = -3310, a junction gap without a map; 0.05 m a step) whose telemetry
+    /// starts at a random step (often not 0) and jumps ahead by hundreds of steps at random. Every frame beside
+    /// a scored segment reads its own offset `|dy|` (the 10 m window alone lags tens of metres
+    /// behind after a jump); the monitor and the batch reference agree bit for bit.
+    #[test]
+    fn reacquired_lateral_values_stream_as_batch(
+        first in prop_oneof![Just(0u64), 1u64..1_000],
+        moves in vec((select(vec![1u64, 1, 2, 11, 300, 600]), -1.5f64..1.5), 1..MAX_FRAMES),
+        config in config(),
+    ) {
+        use monitor_host::geometry::corridor::Corridor;
+        let (_, set) = demo_town();
+        let route = set.get("900009");
+        let settings = monitor_host::Settings { core: config, ..Default::default() };
+        // 0.05 m a step (1 m/s at 20 Hz), within the route's 148 m: a jump of 300 steps is
+        // 15 m, beyond the 10 m window; the frames past the route's end are left out.
+        let mut steps = vec![first];
+        for (d, _) in &moves[1..] {
+            let next = steps[steps.len() - 1] + d;
+            if next > 2_900 {
+                break;
+            }
+            steps.push(next);
+        }
+        let mut corridor = Corridor::new(route, None, &settings);
+        let mut frames = Vec::with_capacity(moves.len());
+        let mut previous = None;
+        for (step, (_, dy)) in steps.iter().zip(&moves) {
+            let x = 1511.0 + 0.05 * *step as f64;
+            let sample = corridor.sample_at([x, -3310.0 + dy], 0.0, *step, previous);
+            if let Some(s) = sample {
+                prop_assert!((s.lat_err - dy.abs()).abs() < 1e-9,
+                    "step {} (previous {:?}): lat_err {} for an offset of {}", step, previous, s.lat_err, dy);
+            }
+            previous = Some(*step);
+            let lat_err = sample.map(|s| s.value as f32);
+            frames.push(Frame { speed: 10.0, lat_err, ..Frame::default() });
+        }
+        let s = stream(&frames, &config)
+            .map_err(|e| TestCaseError::fail(format!("monitor refused a valid route: {e:?}")))?;
+        compare(&s, &frames, &config)?;
+    }
+}

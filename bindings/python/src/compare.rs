@@ -1,33 +1,45 @@
-//! `sds.compare` (spec v1.3 section 11): the library's [`compare_runs`] called with the runs,
+//! `sds.compare` (spec v1.4 section 11): the library's [`compare_runs`] called with the runs,
 //! [`Settings`] and [`CompareOptions`] built from the keyword arguments (the shared ones through
 //! [`RunKwargs`], as `sds.score`), the `sds-compare/1` report converted to Python objects
-//! directly ([`crate::pyser`]). No command line in between.
+//! directly ([`crate::pyser`]). No command line in between. Ctrl-C stops it between routes,
+//! runs and bootstrap blocks, as `sds.score` (`interrupt.rs`).
 
 use std::path::PathBuf;
 
-use monitor_host::aggregate::compare::CompareOptions;
+use monitor_host::aggregate::compare::{CompareError, CompareOptions};
 use monitor_host::compare_runs::{compare_runs, telemetry_beside, RunInputs, Seeds};
 use monitor_host::error::message;
 use monitor_host::{Error, Inputs, NoProgress, Settings};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyInt};
 
 use crate::errors::{run_error, ConfigError};
+use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
 
 /// The keyword arguments of `sds.compare` beyond the shared ones ([`RunKwargs`]).
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
-struct CompareKwargs {
+struct CompareKwargs<'py> {
     seeds: Vec<(String, Vec<String>)>,
     baseline: Option<String>,
     routes: Option<PathBuf>,
     maps: Option<PathBuf>,
     common_routes: bool,
     fail_if_worse: Vec<String>,
-    bootstrap_samples: usize,
+    /// Any int: one beyond a machine word is out of range, said as the library says it.
+    bootstrap_samples: Bound<'py, PyInt>,
     bootstrap_seed: u64,
+}
+
+/// B as the library takes it, or the library's out-of-range error (any int that is not a
+/// machine word is out of range too: `2**64`, `-1`).
+fn samples(b: &Bound<'_, PyInt>) -> PyResult<usize> {
+    b.extract::<usize>().map_err(|_| {
+        let shown = b.str().map_or_else(|_| "?".into(), |s| s.to_string());
+        ConfigError::new_err(message(&CompareError::SamplesOutOfRange(shown)))
+    })
 }
 
 /// The exception for an error of [`compare_runs`]: how the runs are compared is the caller's
@@ -50,7 +62,8 @@ pub fn compare<'py>(
     options: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
-    let kw: CompareKwargs = options.extract()?;
+    let kw: CompareKwargs<'_> = options.extract()?;
+    let bootstrap_samples = samples(&kw.bootstrap_samples)?;
     let runs: Vec<RunInputs> = runs
         .into_iter()
         .map(|(name, results, telemetry)| RunInputs {
@@ -71,7 +84,7 @@ pub fn compare<'py>(
     let options = CompareOptions {
         baseline: kw.baseline,
         common_routes: kw.common_routes,
-        bootstrap_samples: kw.bootstrap_samples,
+        bootstrap_samples,
         bootstrap_seed: kw.bootstrap_seed,
         fail_if_worse: kw
             .fail_if_worse
@@ -80,7 +93,11 @@ pub fn compare<'py>(
             .collect(),
     };
     let compared = py
-        .detach(|| compare_runs(&runs, &seeds, &settings, &options, &NoProgress))
+        .detach(|| {
+            with_signals(&NoProgress, |p| {
+                compare_runs(&runs, &seeds, &settings, &options, p)
+            })
+        })?
         .map_err(|e| compare_error(py, &e))?;
     to_python(py, &compared.comparison)
 }

@@ -18,12 +18,14 @@
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
 //!   the command line (the one use of `monitor_host::cli`: the installed `sds` is the binary's
 //!   program, run in-process);
-//! - `errors.rs`: the exception classes.
+//! - `errors.rs`: the exception classes; `interrupt.rs`: Ctrl-C while `score` or `compare`
+//!   works (the calling thread watches for signals, the library stops between routes).
 #![deny(missing_docs)]
 
 mod compare;
 mod convert;
 mod errors;
+mod interrupt;
 mod merge;
 mod monitor;
 mod options;

@@ -4,6 +4,7 @@
 
 use monitor_core::Profile;
 use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::input::route_set::RouteSubset;
 use monitor_host::settings::RunOptions;
 use monitor_host::Settings;
 use pyo3::prelude::*;
@@ -46,7 +47,8 @@ fn choice<T: Copy>(option: &str, value: &str, choices: &[(&str, T)]) -> PyResult
 
 /// The keyword arguments every scored-run function of the package shares (`sds.score`,
 /// `sds.compare`), read by name from the dict the Python layer passes: `profile`,
-/// `duplicates`, `expected_routes`, `allow_missing_telemetry`, `settings`, `jobs`, `protocols`.
+/// `duplicates`, `expected_routes`, `allow_missing_telemetry`, `settings`, `jobs`, `protocols`,
+/// `route_subset`.
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub struct RunKwargs<'py> {
@@ -65,13 +67,16 @@ pub struct RunKwargs<'py> {
     pub jobs: Option<usize>,
     /// Scoring protocols to add (ids, or `["all"]`), or None.
     pub protocols: Option<Vec<String>>,
+    /// Which routes of `routes` make the route set: `"all"` or `"found"` (`--route-subset`);
+    /// None: the setting's default or a `settings` override.
+    pub route_subset: Option<String>,
 }
 
 impl RunKwargs<'_> {
     /// The library's options.
     ///
     /// # Errors
-    /// [`ConfigError`]: an unknown profile or duplicate policy; a settings mapping whose items
+    /// [`ConfigError`]: an unknown profile, duplicate policy or route subset; a settings mapping whose items
     /// are not `(str, value)` pairs.
     pub fn options(&self) -> PyResult<RunOptions> {
         let profile = choice(
@@ -92,6 +97,12 @@ impl RunKwargs<'_> {
         .into_iter()
         .map(|p| (p.name(), p))
         .collect();
+        let subsets = [RouteSubset::All, RouteSubset::Found].map(|r| (r.name(), r));
+        let route_subset = self
+            .route_subset
+            .as_deref()
+            .map(|r| choice("route_subset", r, &subsets))
+            .transpose()?;
         Ok(RunOptions {
             profile,
             expected_routes: self.expected_routes,
@@ -102,11 +113,16 @@ impl RunKwargs<'_> {
                 .transpose()?,
             allow_missing_telemetry: self.allow_missing_telemetry,
             threads: self.jobs,
-            // `protocols` first, as the setting of that name: `settings` can override it.
-            overrides: self
-                .protocols
-                .iter()
-                .map(|p| ("protocols".to_string(), p.join(",")))
+            // `route_subset` and `protocols` first, as the settings of those names (as the
+            // command line's options): `settings` can override them.
+            overrides: route_subset
+                .map(|r| ("route_subset".to_string(), r.name().to_string()))
+                .into_iter()
+                .chain(
+                    self.protocols
+                        .iter()
+                        .map(|p| ("protocols".to_string(), p.join(","))),
+                )
                 .chain(setting_pairs(self.settings.as_ref())?)
                 .collect(),
         })

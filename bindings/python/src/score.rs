@@ -3,8 +3,6 @@
 //! directly ([`crate::pyser`]). No command line in between.
 
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use monitor_host::aggregate::groups::GroupBy;
@@ -13,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{run_error, ConfigError};
+use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
 
@@ -38,27 +37,6 @@ impl Progress for Bar {
         self.0.inc(1);
     }
 }
-
-/// A [`Progress`] that forwards to a bar (or nothing) and is cancelled by a flag.
-struct Cancellable<'a> {
-    inner: &'a dyn Progress,
-    cancel: &'a AtomicBool,
-}
-
-impl Progress for Cancellable<'_> {
-    fn start(&self, routes: usize) {
-        self.inner.start(routes);
-    }
-    fn route_done(&self) {
-        self.inner.route_done();
-    }
-    fn cancelled(&self) -> bool {
-        self.cancel.load(Ordering::Relaxed)
-    }
-}
-
-/// How often the calling thread looks for a signal (Ctrl-C) while the run is scored.
-const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
 /// The grouping named `name`, and the label files with `labels` as its map.
 pub(crate) fn breakdown(
@@ -131,44 +109,19 @@ pub fn score<'py>(
         maps: kw.maps,
     };
     let progress = kw.progress;
-    // Ctrl-C: Python runs signal handlers on its main thread only, so the run is scored on a
-    // worker thread while the calling thread checks for signals every 50 ms; on one, the run
-    // stops between routes and the signal's exception (`KeyboardInterrupt`) is raised.
-    let cancel = AtomicBool::new(false);
-    let (scored, signal) = py.detach(|| {
+    // Ctrl-C stops the run between routes and raises `KeyboardInterrupt` (`interrupt.rs`).
+    let scored = py.detach(|| {
         let bar = progress.then(Bar::new);
         let inner: &dyn Progress = match &bar {
             Some(b) => b,
             None => &NoProgress,
         };
-        let watched = Cancellable {
-            inner,
-            cancel: &cancel,
-        };
-        let (r, signal) = std::thread::scope(|s| {
-            let run = s.spawn(|| score_labelled(&inputs, &settings, &files, by, &watched));
-            let mut signal = None;
-            while !run.is_finished() {
-                std::thread::sleep(SIGNAL_POLL);
-                if signal.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        cancel.store(true, Ordering::Relaxed);
-                        signal = Some(e);
-                    }
-                }
-            }
-            (run.join(), signal)
-        });
+        let r = with_signals(inner, |p| score_labelled(&inputs, &settings, &files, by, p));
         if let Some(b) = bar {
             b.0.finish_and_clear();
         }
-        (r, signal)
-    });
-    if let Some(e) = signal {
-        return Err(e);
-    }
-    let scored = scored
-        .map_err(|_| crate::errors::SdsError::new_err("the scoring thread panicked"))?
-        .map_err(|e| run_error(&e))?;
+        r
+    })?;
+    let scored = scored.map_err(|e| run_error(&e))?;
     to_python(py, &scored.report)
 }

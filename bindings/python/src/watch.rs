@@ -9,7 +9,6 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use monitor_host::watch::WatchStatus;
 use monitor_host::{Inputs, RoundOutcome, Settings, Watcher};
 use pyo3::exceptions::PyStopIteration;
 use pyo3::prelude::*;
@@ -49,10 +48,8 @@ pub struct Watch {
     interval: Duration,
     timeout: Option<Duration>,
     start: Option<Instant>,
-    round: usize,
-    retries: usize,
     finished: bool,
-    status: Option<Py<PyDict>>,
+    status: Option<Py<PyAny>>,
 }
 
 /// Why a sleep ended early.
@@ -85,14 +82,11 @@ impl Watch {
 
     /// One round on a worker thread (GIL released) while this thread checks for signals; a
     /// signal is raised once the round has ended (a round cannot be cut short).
-    fn round(&mut self, py: Python<'_>) -> PyResult<(RoundOutcome, Duration)> {
+    fn round(&mut self, py: Python<'_>) -> PyResult<RoundOutcome> {
         let watcher = &mut self.watcher;
         let (result, signal) = py.detach(|| {
             std::thread::scope(|s| {
-                let run = s.spawn(|| {
-                    let began = Instant::now();
-                    watcher.round().map(|o| (o, began.elapsed()))
-                });
+                let run = s.spawn(|| watcher.round());
                 let mut signal = None;
                 while !run.is_finished() {
                     std::thread::sleep(Duration::from_millis(5).min(SIGNAL_POLL));
@@ -108,43 +102,17 @@ impl Watch {
         if let Some(e) = signal {
             return Err(e);
         }
-        self.round += 1;
         result
             .map_err(|_| SdsError::new_err("the watch round's thread panicked"))?
             .map_err(|e| run_error(&e))
     }
 
-    /// The round's figures as the `status` dict.
-    #[allow(clippy::too_many_arguments)]
-    fn status_dict<'py>(
-        &self,
-        py: Python<'py>,
-        p: &WatchStatus,
-        cache: &monitor_host::watch::CacheRound,
-        changed: bool,
-        took: Duration,
-        stopped: Option<&str>,
-    ) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        d.set_item("round", self.round)?;
-        d.set_item("done", p.done)?;
-        d.set_item("n", p.n)?;
-        d.set_item("ds_done", p.over_done.driving_score)?;
-        d.set_item("ds_n", p.over_n.driving_score)?;
-        d.set_item("sds_done", p.over_done.sds)?;
-        d.set_item("sds_n", p.over_n.sds)?;
-        d.set_item("complete", p.complete)?;
-        d.set_item("seconds_left", p.seconds_left)?;
-        d.set_item("changed", changed)?;
-        d.set_item("rescored", cache.rescored)?;
-        d.set_item("reused", cache.reused)?;
-        let mut ids = cache.changed.clone();
-        ids.sort();
-        d.set_item("rescored_routes", ids)?;
-        d.set_item("retries", self.retries)?;
-        d.set_item("round_ms", took.as_secs_f64() * 1e3)?;
-        d.set_item("stopped", stopped)?;
-        Ok(d)
+    /// Sets `stopped` on the last status dict.
+    fn stop(&self, py: Python<'_>, why: &str) -> PyResult<()> {
+        if let Some(st) = &self.status {
+            st.bind(py).set_item("stopped", why)?;
+        }
+        Ok(())
     }
 }
 
@@ -174,30 +142,46 @@ impl Watch {
             }
             wait = true;
             // After the timeout: one last round, retried a few times on a half-written file.
+            // An error no later round can mend raises here, as `sds.score` would.
             let tries = if last { LAST_TRIES } else { 1 };
             let mut scored = None;
+            let mut stale = None;
             for i in 0..tries {
                 if i > 0 {
                     py.detach(|| std::thread::sleep(LAST_PAUSE));
                 }
                 match self.round(py)? {
-                    (RoundOutcome::Retry { .. }, _) => self.retries += 1,
-                    (
-                        RoundOutcome::Scored {
-                            scored: s,
-                            cache,
-                            changed,
-                        },
-                        took,
-                    ) => {
-                        scored = Some((s, cache, changed, took));
+                    RoundOutcome::Retry { reason, .. } => stale = Some(reason),
+                    RoundOutcome::Scored {
+                        scored: s,
+                        changed,
+                        status,
+                        ..
+                    } => {
+                        scored = Some((s, changed, status));
                         break;
                     }
                 }
             }
-            let Some((s, cache, changed, took)) = scored else {
+            let Some((s, changed, mut status)) = scored else {
                 if last {
                     self.finished = true;
+                    self.stop(py, "timeout")?;
+                    if let Some(reason) = stale {
+                        // The last report yielded is not of the final files: say so.
+                        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+                        PyErr::warn(
+                            py,
+                            &category,
+                            &std::ffi::CString::new(format!(
+                                "sds.watch: {reason}: a results file was still half-written at \
+                                 the timeout; the last report is not of the final files (run \
+                                 sds.score once the file is complete)"
+                            ))
+                            .unwrap_or_default(),
+                            1,
+                        )?;
+                    }
                     return Err(PyStopIteration::new_err(()));
                 }
                 continue;
@@ -206,26 +190,21 @@ impl Watch {
             // Complete and nothing new since the report yielded: the files are final.
             if (p.complete && !changed && !first) || (last && !changed) {
                 self.finished = true;
-                if let Some(st) = &self.status {
-                    st.bind(py)
-                        .set_item("stopped", if last { "timeout" } else { "complete" })?;
-                }
+                self.stop(py, if last { "timeout" } else { "complete" })?;
                 return Err(PyStopIteration::new_err(()));
             }
-            let stopped = last.then_some("timeout");
-            let status = self.status_dict(py, &p, &cache, changed, took, stopped)?;
-            self.status = Some(status.unbind());
-            self.retries = 0;
             if last {
+                status.stopped = Some("timeout".into());
                 self.finished = true;
             }
+            self.status = Some(to_python(py, &status)?.unbind());
             return to_python(py, &s.report);
         }
     }
 
     /// The figures of the round that made the last report (None before the first).
     #[getter]
-    fn status(&self, py: Python<'_>) -> Option<Py<PyDict>> {
+    fn status(&self, py: Python<'_>) -> Option<Py<PyAny>> {
         self.status.as_ref().map(|s| s.clone_ref(py))
     }
 
@@ -242,21 +221,15 @@ impl Watch {
 pub fn watch(results: Vec<PathBuf>, options: &Bound<'_, PyDict>) -> PyResult<Watch> {
     let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
     let kw: WatchKwargs = options.extract()?;
-    if !(kw.interval.is_finite() && kw.interval > 0.0) {
-        return Err(ConfigError::new_err(format!(
-            "interval={}: a number of seconds above 0",
-            kw.interval
-        )));
-    }
-    let timeout = match kw.timeout {
-        Some(t) if t.is_nan() => {
-            return Err(ConfigError::new_err(
-                "timeout=nan: a number of seconds, or None",
-            ))
-        }
-        Some(t) => Some(Duration::try_from_secs_f64(t.max(0.0)).unwrap_or(Duration::MAX)),
-        None => None,
-    };
+    let interval = monitor_host::watch::interval(kw.interval)
+        .map_err(|bound| ConfigError::new_err(format!("interval={}: {bound}", kw.interval)))?;
+    let timeout = kw
+        .timeout
+        .map(|t| {
+            monitor_host::watch::timeout(t)
+                .map_err(|bound| ConfigError::new_err(format!("timeout={t}: {bound}")))
+        })
+        .transpose()?;
     let (by, files) = breakdown(kw.group_by.as_deref(), kw.labels)?;
     let inputs = Inputs {
         results,
@@ -264,15 +237,11 @@ pub fn watch(results: Vec<PathBuf>, options: &Bound<'_, PyDict>) -> PyResult<Wat
         route_xml: kw.routes,
         maps: kw.maps,
     };
-    let interval = Duration::try_from_secs_f64(kw.interval)
-        .map_err(|_| ConfigError::new_err(format!("interval={}: too long", kw.interval)))?;
     Ok(Watch {
         watcher: Watcher::new(inputs, settings, files, by, RACY),
         interval,
         timeout,
         start: None,
-        round: 0,
-        retries: 0,
         finished: false,
         status: None,
     })

@@ -221,3 +221,27 @@ def test_ctrl_c_stops_the_run_between_routes(sds_bin: Path, tmp_path: Path) -> N
     interrupted = time.monotonic() - t0
     assert "KeyboardInterrupt" in err and "done" not in out, (out, err)
     assert interrupted < whole * 0.7, f"stopped after {interrupted:.2f} s of a {whole:.2f} s run"
+
+
+def test_route_subset_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 33, item 8: `sds.score(route_subset=...)` as `--route-subset`."""
+    data = json.loads(demo.results.read_text())
+    data["_checkpoint"]["records"] = data["_checkpoint"]["records"][:3]
+    part = tmp_path / "part.json"
+    part.write_text(json.dumps(data))
+    base = ["--results", str(part), "--telemetry", str(demo.telemetry), "--routes", str(demo.routes)]
+    found = sds.score(part, telemetry=demo.telemetry, routes=demo.routes, route_subset="found")
+    assert same(found, cli_report(sds_bin, base + ["--route-subset", "found"], tmp_path))
+    assert found["config"]["route_subset"] == "found"
+    assert found["summary"]["missing"] == 0 and len(found["routes"]) == 3
+    every = sds.score(part, telemetry=demo.telemetry, routes=demo.routes, route_subset="all")
+    assert same(every, cli_report(sds_bin, base, tmp_path))
+    assert every["summary"]["missing"] == len(demo.records()) - 3
+    # A `settings` override wins, as `--set` after `--route-subset` does.
+    over = sds.score(part, telemetry=demo.telemetry, routes=demo.routes, route_subset="all",
+                     settings={"route_subset": "found"})
+    assert same(over, found)
+    with pytest.raises(sds.ConfigError) as e:
+        sds.score(part, telemetry=demo.telemetry, routes=demo.routes,
+                  route_subset="some")  # type: ignore[arg-type]
+    assert "route_subset" in str(e.value) and "found" in str(e.value)

@@ -162,3 +162,45 @@ def test_options_are_checked_at_once(demo: Demo) -> None:
         sds.watch(demo.results, profile="nope")
     with pytest.raises(sds.ConfigError, match="group_by"):
         sds.watch(demo.results, group_by="nope")
+
+
+def test_i33_2_status_has_the_command_line_schema(sds_bin: Path, demo: Demo, tmp_path: Path) -> None:
+    """One status schema: `sds.watch`'s `status` dict has the fields of `--status-json`."""
+    from conftest import run_cli
+
+    out = tmp_path / "w.json"
+    args = ["watch", "--results", str(demo.results), "--telemetry", str(demo.telemetry)]
+    args += ["--routes", str(demo.routes), "--once", "--status-json", "-o", str(out)]
+    code, _, err = run_cli(sds_bin, args)
+    assert code == 0, err
+    line = json.loads(next(l for l in err.splitlines() if l.startswith("{")))
+    w = sds.watch(demo.results, telemetry=demo.telemetry, routes=demo.routes, interval=0.05)
+    next(w)
+    assert w.status is not None
+    assert sorted(w.status) == sorted(line)
+    assert "retry" not in w.status
+
+
+def test_r3_05_permanent_errors_raise_at_once(demo: Demo, tmp_path: Path) -> None:
+    """A mistyped route XML is not retried forever: `next()` raises as `sds.score` does."""
+    w = sds.watch(demo.results, telemetry=demo.telemetry, routes=tmp_path / "nope.xml", interval=0.05, timeout=30)
+    began = time.monotonic()
+    with pytest.raises(sds.SdsError, match="nope.xml"):
+        next(w)
+    assert time.monotonic() - began < 5
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"interval": 1e19}, "interval"),
+        ({"interval": float("nan")}, "interval"),
+        ({"timeout": float("inf")}, "timeout"),
+        ({"timeout": 1e300}, "timeout"),
+        ({"timeout": float("nan")}, "timeout"),
+        ({"timeout": -5.0}, "timeout"),
+    ],
+)
+def test_r3_05_interval_and_timeout_are_bounded(demo: Demo, kwargs: Dict[str, float], name: str) -> None:
+    with pytest.raises(sds.ConfigError, match=name):
+        sds.watch(demo.results, **kwargs)

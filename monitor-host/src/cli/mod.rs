@@ -19,10 +19,16 @@ pub mod progress;
 /// Prints one message on standard error, escaped: it may hold strings from the inputs (route
 /// ids, paths, reasons), which must not reach the terminal raw
 /// ([`crate::report::escape::printable_lines`]).
+/// A closed standard error loses the message, never panics (`eprintln!` would on EPIPE).
 macro_rules! say {
-    ($($t:tt)*) => {
-        eprintln!("{}", crate::report::escape::printable_lines(&format!($($t)*)))
-    };
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
+            "{}",
+            crate::report::escape::printable_lines(&format!($($t)*))
+        );
+    }};
 }
 
 pub mod compare;
@@ -99,7 +105,9 @@ fn exit_code(e: &anyhow::Error) -> i32 {
             | Error::MapsFolder { .. }
             | Error::NeedsLabels(_)
             | Error::UnusedLabels
-            | Error::Labels(crate::LabelsError::NoMatch { .. }) => EXIT_USAGE,
+            | Error::Labels(crate::LabelsError::NoMatch { .. })
+            | Error::Labels(crate::LabelsError::Safe2DriveFamilies { .. })
+            | Error::RouteXml(crate::input::route_xml::RouteError::NoRoutes { .. }) => EXIT_USAGE,
             Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
             _ => 1,
         };
@@ -113,6 +121,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
     }
     if e.downcast_ref::<SettingsError>().is_some()
         || e.downcast_ref::<UnknownInfraction>().is_some()
+        || e.downcast_ref::<output::OutputClash>().is_some()
     {
         return EXIT_USAGE;
     }
@@ -429,6 +438,12 @@ fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
 }
 
 fn score(args: &ScoreArgs) -> Result<i32> {
+    // An `-o` among the figures is a usage error before any work (the traces' names are known
+    // once the run is scored).
+    if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
+        let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
+        output::refuse_clash(out, &figures, "a figure")?;
+    }
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
     bar.finish();
@@ -444,17 +459,44 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     let bytes = render(args, &report)?;
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
-    // The traces first, then the report: a trace that cannot be written stops the run (exit
-    // 1, "no report") before the report is written, and the traces written are removed.
-    if let Some(dir) = &args.traces {
-        let n = output::write_traces(dir, &report, &inputs_read)?;
-        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
+        output::refuse_clash(out, &output::trace_paths(dir, &report), "a trace")?;
     }
-    if let Some(dir) = &args.figures {
-        let names = output::write_figures(dir, &report, &inputs_read)?;
+    // The traces, the figures, then the report, all or nothing: a file that cannot be written
+    // (or Ctrl-C) stops the run (exit 1, "no report") with every file this run wrote removed
+    // and every file it replaced put back (`output::roll_back`).
+    let written = (|| -> Result<_> {
+        let traces = match &args.traces {
+            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        let figures = match &args.figures {
+            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+        Ok((traces, figures))
+    })();
+    let (traces, figures) = match written {
+        Ok(w) => {
+            output::commit();
+            w
+        }
+        Err(e) => {
+            output::roll_back();
+            return Err(e);
+        }
+    };
+    if let Some((dir, n)) = traces {
+        say!(
+            "sds: wrote {n} collision trace(s) to {}{}",
+            dir.display(),
+            untraced_note(&report)
+        );
+    }
+    if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
     }
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
     if let Some(file) = &args.rerun_list {
         write_rerun_list(file, &report, &inputs_read)?;
     }
@@ -489,11 +531,18 @@ fn score(args: &ScoreArgs) -> Result<i32> {
             s.batch_disagreements
         );
     }
-    say!(
-        "sds: {} route(s) with telemetry problems, {} invalid record(s); see the report",
-        s.telemetry_problems,
-        s.invalid_records
-    );
+    // Only the counts that are not zero (a `0 invalid record(s)` reads as a problem).
+    let counts: Vec<String> = [
+        (s.telemetry_problems, "route(s) with telemetry problems"),
+        (s.invalid_records, "invalid record(s)"),
+    ]
+    .iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!("{n} {what}"))
+    .collect();
+    if !counts.is_empty() {
+        say!("sds: {}; see the report", counts.join(", "));
+    }
     Ok(EXIT_ROUTE_PROBLEMS)
 }
 
@@ -511,6 +560,28 @@ fn write_rerun_list(
         file.display()
     );
     Ok(())
+}
+
+/// What `--traces` left out: aligned collisions past the first
+/// [`crate::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
+fn untraced_note(report: &crate::Report) -> String {
+    let cap = crate::route::trace::TRACES_PER_ROUTE;
+    let left: usize = report
+        .routes
+        .iter()
+        .filter(|r| r.traces.len() >= cap)
+        .map(|r| {
+            let aligned = r.collision_events.iter().filter(|e| e.frame.is_some());
+            aligned.count().saturating_sub(r.traces.len())
+        })
+        .sum();
+    if left == 0 {
+        return String::new();
+    }
+    format!(
+        "; {left} more collision(s) without a trace (at most {cap} per route; every collision \
+         is in the JSON report's events)"
+    )
 }
 
 /// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the

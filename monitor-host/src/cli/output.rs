@@ -22,8 +22,79 @@ use std::sync::Mutex;
 
 use anyhow::{bail, Context, Result};
 
-/// The temporary file being written, removed by the signal thread.
-static PENDING: Mutex<Option<PathBuf>> = Mutex::new(None);
+/// What this process has put on disk and not yet committed: the temporary files being written,
+/// the files it created, and the files it replaced (each kept as a hard-linked backup until the
+/// commit). The signal thread and every error undo exactly this, nothing else ([`roll_back`]).
+#[derive(Default)]
+struct Undo {
+    temps: Vec<PathBuf>,
+    created: Vec<PathBuf>,
+    replaced: Vec<(PathBuf, PathBuf)>,
+    dirs: Vec<PathBuf>,
+}
+
+impl Undo {
+    const fn new() -> Undo {
+        Undo {
+            temps: Vec::new(),
+            created: Vec::new(),
+            replaced: Vec::new(),
+            dirs: Vec::new(),
+        }
+    }
+
+    /// Removes what was created, puts back what was replaced (newest first), removes the
+    /// folders created for it when they are empty again.
+    fn roll_back(&mut self) {
+        for p in self.temps.drain(..) {
+            let _ = fs::remove_file(p);
+        }
+        for p in self.created.drain(..).rev() {
+            let _ = fs::remove_file(p);
+        }
+        for (path, backup) in self.replaced.drain(..).rev() {
+            let _ = fs::rename(backup, path);
+        }
+        for d in self.dirs.drain(..).rev() {
+            let _ = fs::remove_dir(d);
+        }
+    }
+
+    /// Keeps what was written: drops the backups of the replaced files.
+    fn commit(&mut self) {
+        for (_, backup) in self.replaced.drain(..) {
+            let _ = fs::remove_file(backup);
+        }
+        self.temps.clear();
+        self.created.clear();
+        self.dirs.clear();
+    }
+}
+
+/// The files being written, undone by the signal thread.
+static PENDING: Mutex<Undo> = Mutex::new(Undo::new());
+
+fn pending() -> std::sync::MutexGuard<'static, Undo> {
+    PENDING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Undoes every file written since the last [`commit`] (traces and figures: all or nothing).
+pub fn roll_back() {
+    pending().roll_back();
+}
+
+/// Keeps every file written since the last [`commit`] or [`roll_back`].
+pub fn commit() {
+    pending().commit();
+}
+
+/// A unique name for a temporary or backup file in the folder of the file it stands for; short,
+/// so that it fits wherever the file's own name fits.
+fn scratch_name(dir: &Path, what: &str) -> PathBuf {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    dir.join(format!(".sds-{}-{n}.{what}", std::process::id()))
+}
 
 /// Standard output was closed when the process started.
 static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
@@ -49,14 +120,20 @@ extern "C" fn check_stdout_at_start() {
 /// Test seam: milliseconds to wait between writing the temporary file and renaming it, so that
 /// the signal tests can interrupt the final write. Not documented for users.
 const DELAY_ENV: &str = "SDS_TEST_WRITE_DELAY_MS";
+/// Test seam: milliseconds to wait after placing each trace or figure, so that the signal tests
+/// can interrupt the traces half-written. Not documented for users.
+const PLACE_DELAY_ENV: &str = "SDS_TEST_PLACE_DELAY_MS";
 
 /// Set by [`defer_signals`]: the first SIGINT / SIGTERM only sets [`stop_requested`].
 static DEFER: AtomicBool = AtomicBool::new(false);
 /// A deferred signal arrived.
 static STOP: AtomicBool = AtomicBool::new(false);
+/// A signal this soon after the deferred one is the same request, not a second one.
+const REPEAT: std::time::Duration = std::time::Duration::from_secs(2);
 
 /// From now on the first SIGINT / SIGTERM asks the program to stop ([`stop_requested`]) instead
-/// of ending it (`sds watch` writes its final report first); a second one ends it as before.
+/// of ending it (`sds watch` writes its final report first); another one within 2 s of it is
+/// the same request (ignored), a later one ends the program as before.
 pub fn defer_signals() {
     DEFER.store(true, Ordering::SeqCst);
 }
@@ -66,22 +143,30 @@ pub fn stop_requested() -> bool {
     STOP.load(Ordering::SeqCst)
 }
 
-/// Starts a thread that, on SIGINT or SIGTERM, removes the temporary output file (if one is
-/// being written) and then dies of the signal as it would have without the handler.
+/// Starts a thread that, on SIGINT or SIGTERM, undoes what is being written (the temporary
+/// output file; the traces and figures written so far, the files they replaced put back) and
+/// then dies of the signal as it would have without the handler.
 pub fn install_signal_cleanup() -> Result<()> {
     use signal_hook::consts::{SIGINT, SIGTERM};
     let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM])
         .context("cannot install the SIGINT / SIGTERM handler")?;
     std::thread::spawn(move || {
+        let mut first: Option<std::time::Instant> = None;
         for sig in signals.forever() {
-            // `sds watch` stops on the first signal after its final report; a second one kills.
-            if DEFER.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
-                continue;
+            // `sds watch` stops on the first signal after its final report; a second one kills,
+            // unless it comes within REPEAT of the first: coreutils' `timeout` sends its signal
+            // twice at once (to the child, then to its process group), which is one request.
+            if DEFER.load(Ordering::SeqCst) {
+                if !STOP.swap(true, Ordering::SeqCst) {
+                    first = Some(std::time::Instant::now());
+                    continue;
+                }
+                if first.is_some_and(|t| t.elapsed() < REPEAT) {
+                    continue;
+                }
             }
-            let pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
-            if let Some(p) = pending.as_ref() {
-                let _ = fs::remove_file(p);
-            }
+            let mut pending = pending();
+            pending.roll_back();
             // Die of the signal while holding the lock: the writer cannot start a new file.
             let _ = signal_hook::low_level::emulate_default_handler(sig);
             std::process::exit(128 + sig);
@@ -90,17 +175,10 @@ pub fn install_signal_cleanup() -> Result<()> {
     Ok(())
 }
 
-/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG,
-/// under unique names ([`crate::report::trace_csv::unique_stems`]); returns the number of
-/// traces. All or nothing: when one file cannot be written, the files this call wrote are
-/// removed again and the error names the file.
-pub fn write_traces(
-    dir: &Path,
-    report: &crate::report::Report,
-    inputs: &[PathBuf],
-) -> Result<usize> {
+/// The trace files of the report in `dir`: `(path, contents)`, CSV and SVG per trace, under
+/// unique names ([`crate::report::trace_csv::unique_stems`]).
+fn trace_files(dir: &Path, report: &crate::report::Report) -> Vec<(PathBuf, Vec<u8>)> {
     use crate::report::{figure, trace_csv};
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let traces: Vec<(usize, &crate::route::trace::CollisionTrace)> = report
         .routes
         .iter()
@@ -108,7 +186,7 @@ pub fn write_traces(
         .flat_map(|(i, r)| r.traces.iter().map(move |t| (i, t)))
         .collect();
     let stems = trace_csv::unique_stems(&traces);
-    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    let mut files = Vec::with_capacity(2 * traces.len());
     for ((_, t), stem) in traces.iter().zip(&stems) {
         files.push((
             dir.join(format!("{stem}.csv")),
@@ -116,60 +194,229 @@ pub fn write_traces(
         ));
         files.push((dir.join(format!("{stem}.svg")), figure::svg(t).into_bytes()));
     }
-    write_all_or_nothing(&files, inputs).map_err(|e| {
+    files
+}
+
+/// The paths `--traces DIR` writes for this report (to refuse an `-o` among them).
+pub fn trace_paths(dir: &Path, report: &crate::report::Report) -> Vec<PathBuf> {
+    trace_files(dir, report)
+        .into_iter()
+        .map(|(p, _)| p)
+        .collect()
+}
+
+/// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG
+/// and returns the number of traces, leaving them to the caller's [`commit`] or [`roll_back`].
+/// The names are the tool's: a file there is replaced (and put back on [`roll_back`]), a
+/// symbolic link there is refused, never followed ([`place`]).
+pub fn place_traces(
+    dir: &Path,
+    report: &crate::report::Report,
+    inputs: &[PathBuf],
+) -> Result<usize> {
+    let files = trace_files(dir, report);
+    place_all(dir, &files, inputs).map_err(|e| {
         e.context(format!(
             "--traces {}: no trace written and no report (fix the folder, or leave out --traces)",
             dir.display()
         ))
     })?;
-    Ok(traces.len())
+    Ok(files.len() / 2)
 }
 
-/// Writes each `(path, bytes)` in order; when one cannot be written, removes those this call
-/// wrote and returns that error (the traces and the pictures: all or nothing).
-fn write_all_or_nothing(files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Result<()> {
-    let mut written: Vec<&Path> = Vec::new();
+/// Creates `dir` (recording the folders it created, for [`roll_back`]) and places each file.
+fn place_all(dir: &Path, files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Result<()> {
+    let mut missing = Vec::new();
+    let mut d = Some(dir);
+    while let Some(p) = d.filter(|p| !p.as_os_str().is_empty() && fs::symlink_metadata(p).is_err())
+    {
+        missing.push(p.to_path_buf());
+        d = p.parent();
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    pending().dirs.extend(missing.into_iter().rev());
     for (path, bytes) in files {
-        if let Err(e) = write_output(Some(path), bytes, inputs) {
-            for p in &written {
-                let _ = fs::remove_file(p);
-            }
-            return Err(e);
-        }
-        written.push(path);
+        place(path, bytes, inputs)?;
     }
     Ok(())
 }
 
-/// Writes the run's pictures into `dir` (created if needed): `decomposition.svg` (the
-/// waterfall from DS to SDS; left out when the run has no decomposition) and `routes.svg` (DS
-/// and DS_safe per route). Returns the names written. All or nothing, as [`write_traces`].
-pub fn write_figures(
+/// The figure files of the run: `decomposition.svg` (the waterfall from DS to SDS; left out
+/// when the run has no decomposition) and `routes.svg` (DS and DS_safe per route).
+fn figure_files(report: &crate::report::Report) -> Vec<(&'static str, Vec<u8>)> {
+    use crate::report::{route_chart, waterfall};
+    let decomposition = report.summary.scores.decomposition.as_ref();
+    [
+        ("decomposition.svg", decomposition.map(waterfall::svg)),
+        ("routes.svg", Some(route_chart::svg(&report.routes))),
+    ]
+    .into_iter()
+    .filter_map(|(name, svg)| svg.map(|s| (name, s.into_bytes())))
+    .collect()
+}
+
+/// The names `--figures DIR` may write (to refuse an `-o` among them).
+pub const FIGURE_NAMES: [&str; 2] = ["decomposition.svg", "routes.svg"];
+
+/// Writes the run's pictures into `dir` (created if needed) and returns the names written,
+/// leaving them to the caller's [`commit`] or [`roll_back`], as [`place_traces`].
+pub fn place_figures(
     dir: &Path,
     report: &crate::report::Report,
     inputs: &[PathBuf],
 ) -> Result<Vec<&'static str>> {
-    use crate::report::{route_chart, waterfall};
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let mut names = Vec::new();
-    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
-    let decomposition = report.summary.scores.decomposition.as_ref();
-    for (name, svg) in [
-        ("decomposition.svg", decomposition.map(waterfall::svg)),
-        ("routes.svg", Some(route_chart::svg(&report.routes))),
-    ] {
-        if let Some(svg) = svg {
-            names.push(name);
-            files.push((dir.join(name), svg.into_bytes()));
-        }
-    }
-    write_all_or_nothing(&files, inputs).map_err(|e| {
+    let named = figure_files(report);
+    let names = named.iter().map(|(n, _)| *n).collect();
+    let files: Vec<(PathBuf, Vec<u8>)> = named.into_iter().map(|(n, b)| (dir.join(n), b)).collect();
+    place_all(dir, &files, inputs).map_err(|e| {
         e.context(format!(
             "--figures {}: no figure written and no report (fix the folder, or leave out --figures)",
             dir.display()
         ))
     })?;
     Ok(names)
+}
+
+/// Writes `bytes` at `path`, a name the tool chose (a trace, a figure), through a temporary
+/// file in the same folder renamed over it: never through a symbolic link (one planted there
+/// is refused, and its target stays untouched), never over anything but a regular file that
+/// is not an input. A file replaced is kept as a hard-linked backup until [`commit`], so that
+/// [`roll_back`] can put it back; a file created is removed by [`roll_back`].
+fn place(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
+    let existed = match fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => bail!(
+            "{}: a symbolic link; sds never writes through a link at a name it chose \
+             (remove the link, or choose another folder)",
+            path.display()
+        ),
+        Ok(m) if !m.is_file() => bail!(
+            "{}: {}, not a regular file; sds writes only regular files",
+            path.display(),
+            describe(m.file_type())
+        ),
+        Ok(m) => {
+            refuse_input(path, &m, inputs)?;
+            true
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
+        Err(e) => return Err(e).with_context(|| format!("cannot inspect {}", path.display())),
+    };
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let tmp = scratch_name(dir, "tmp");
+    let result = (|| -> Result<()> {
+        let mut f = {
+            let mut pending = pending();
+            pending.temps.push(tmp.clone());
+            // `create_new` (O_EXCL) never follows a link at the temporary name either.
+            OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .mode(0o666)
+                .open(&tmp)
+                .with_context(|| format!("cannot create {}", tmp.display()))?
+        };
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        drop(f);
+        let mut pending = pending();
+        if existed {
+            // The file replaced, kept under a second name (same folder, same file system);
+            // moved aside when it cannot be linked (it is put back all the same).
+            let backup = scratch_name(dir, "bak");
+            fs::hard_link(path, &backup)
+                .or_else(|_| fs::rename(path, &backup))
+                .with_context(|| format!("cannot keep a copy of {}", path.display()))?;
+            pending.replaced.push((path.to_path_buf(), backup));
+        }
+        // Checked again just before the rename: a folder, device or FIFO that appeared at the
+        // name since is refused (a link there is replaced by the rename, never followed).
+        if let Ok(m) = fs::symlink_metadata(path) {
+            if !m.is_file() && !m.file_type().is_symlink() {
+                bail!(
+                    "{}: became {} while it was written; not replaced",
+                    path.display(),
+                    describe(m.file_type())
+                );
+            }
+        }
+        fs::rename(&tmp, path)?;
+        pending.temps.retain(|t| t != &tmp);
+        if !existed {
+            pending.created.push(path.to_path_buf());
+        }
+        Ok(())
+    })();
+    result.with_context(|| format!("cannot write {}", path.display()))?;
+    if let Some(ms) = std::env::var(PLACE_DELAY_ENV)
+        .ok()
+        .and_then(|v| v.parse().ok())
+    {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+    Ok(())
+}
+
+/// `-o` names a file the run writes itself (a figure, a trace): the report would be written
+/// over it, or it over the report.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("-o {out}: this is the path of {what} the run writes ({path}); choose another output path")]
+pub struct OutputClash {
+    /// The `-o` path.
+    pub out: String,
+    /// `a figure` or `a trace`.
+    pub what: &'static str,
+    /// The file it is.
+    pub path: String,
+}
+
+/// Refuses an `-o` that is one of `paths` (the run's own files, `what`): by device and inode
+/// when both exist, else by their folders resolved and their names.
+pub fn refuse_clash(out: &Path, paths: &[PathBuf], what: &'static str) -> Result<(), OutputClash> {
+    let key = place_key(out);
+    let meta = fs::metadata(out).ok();
+    for p in paths {
+        let same_file = meta
+            .as_ref()
+            .zip(fs::metadata(p).ok())
+            .is_some_and(|(a, b)| a.dev() == b.dev() && a.ino() == b.ino());
+        if same_file || place_key(p) == key {
+            return Err(OutputClash {
+                out: out.display().to_string(),
+                what,
+                path: p.display().to_string(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Where `p` is on disk: the file resolved when it exists, else its folder resolved (or, for a
+/// folder that does not exist yet, made absolute with `.` and `..` taken out) and its name.
+fn place_key(p: &Path) -> PathBuf {
+    if let Ok(c) = fs::canonicalize(p) {
+        return c;
+    }
+    let abs = std::env::current_dir().unwrap_or_default().join(p);
+    let (Some(parent), Some(name)) = (abs.parent(), abs.file_name()) else {
+        return abs;
+    };
+    let dir = fs::canonicalize(parent).unwrap_or_else(|_| {
+        let mut d = PathBuf::new();
+        for c in parent.components() {
+            match c {
+                std::path::Component::CurDir => {}
+                std::path::Component::ParentDir => {
+                    d.pop();
+                }
+                c => d.push(c),
+            }
+        }
+        d
+    });
+    dir.join(name)
 }
 
 fn describe(ft: fs::FileType) -> &'static str {
@@ -187,6 +434,22 @@ fn describe(ft: fs::FileType) -> &'static str {
     } else {
         "not a regular file"
     }
+}
+
+/// Refuses a path whose file (`meta`) is one of `inputs` (compared by device and inode).
+fn refuse_input(path: &Path, meta: &fs::Metadata, inputs: &[PathBuf]) -> Result<()> {
+    for input in inputs {
+        if let Ok(m) = fs::metadata(input) {
+            if m.dev() == meta.dev() && m.ino() == meta.ino() {
+                bail!(
+                    "{}: this is one of the run's inputs ({}); choose another output path",
+                    path.display(),
+                    input.display()
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Refuses an output path that exists and is not a regular file, or that is one of `inputs`.
@@ -215,17 +478,7 @@ fn check_target(path: &Path, inputs: &[PathBuf]) -> Result<(PathBuf, Option<u32>
             path.display()
         );
     }
-    for input in inputs {
-        if let Ok(m) = fs::metadata(input) {
-            if m.dev() == meta.dev() && m.ino() == meta.ino() {
-                bail!(
-                    "{}: this is one of the run's inputs ({}); choose another output path",
-                    path.display(),
-                    input.display()
-                );
-            }
-        }
-    }
+    refuse_input(path, &meta, inputs)?;
     let target =
         fs::canonicalize(path).with_context(|| format!("cannot resolve {}", path.display()))?;
     Ok((target, Some(meta.permissions().mode() & 0o7777)))
@@ -252,10 +505,10 @@ pub fn write_output(path: Option<&Path>, bytes: &[u8], inputs: &[PathBuf]) -> Re
     ));
     let result = write_temp_then_rename(&tmp, &target, bytes, keep_mode);
     if result.is_err() {
-        let _guard = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+        let mut pending = pending();
         let _ = fs::remove_file(&tmp);
+        pending.temps.retain(|t| t != &tmp);
     }
-    *PENDING.lock().unwrap_or_else(|e| e.into_inner()) = None;
     result.with_context(|| format!("cannot write {}", path.display()))
 }
 
@@ -268,8 +521,8 @@ fn write_temp_then_rename(
     keep_mode: Option<u32>,
 ) -> Result<()> {
     let mut f = {
-        let mut pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
-        *pending = Some(tmp.to_path_buf());
+        let mut pending = pending();
+        pending.temps.push(tmp.to_path_buf());
         // 0666 on creation: the kernel applies the umask, as for a shell redirection.
         OpenOptions::new()
             .write(true)
@@ -287,7 +540,7 @@ fn write_temp_then_rename(
     if let Some(ms) = std::env::var(DELAY_ENV).ok().and_then(|v| v.parse().ok()) {
         std::thread::sleep(std::time::Duration::from_millis(ms));
     }
-    let mut pending = PENDING.lock().unwrap_or_else(|e| e.into_inner());
+    let mut pending = pending();
     // Checked again just before the rename: a device or FIFO that appeared at the path since
     // `check_target` (as root, a rename would turn `/dev/null` into a regular file) is refused.
     if let Ok(m) = fs::symlink_metadata(target) {
@@ -300,7 +553,7 @@ fn write_temp_then_rename(
         }
     }
     fs::rename(tmp, target)?;
-    *pending = None;
+    pending.temps.retain(|t| t != tmp);
     Ok(())
 }
 

@@ -11,7 +11,7 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs};
 use super::output::{self, write_output};
-use crate::watch::{RoundOutcome, Watcher};
+use crate::watch::{RoundOutcome, StatusLine, Watcher};
 
 /// How recent a telemetry file may be and still be trusted unchanged by its stamp.
 const RACY: Duration = Duration::from_secs(1);
@@ -22,13 +22,13 @@ pub struct WatchArgs {
     /// The inputs and options of `sds score` (`-o` is required).
     #[command(flatten)]
     pub score: ScoreArgs,
-    /// Seconds between rounds (fractions allowed).
+    /// Seconds between rounds (fractions allowed; above 0, at most 86400).
     #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
     pub interval: f64,
     /// One round, then the final report.
     #[arg(long)]
     pub once: bool,
-    /// Stop after this many seconds (with the final report).
+    /// Stop after this many seconds (with the final report; 0 to 31536000).
     #[arg(long, value_name = "SECONDS")]
     pub timeout: Option<f64>,
     /// Print each round's status as one JSON object per line (standard error) instead of text.
@@ -45,6 +45,18 @@ enum Stop {
     Signal,
 }
 
+impl Stop {
+    /// The status line's `stopped`.
+    fn name(self) -> &'static str {
+        match self {
+            Stop::Complete => "complete",
+            Stop::Once => "once",
+            Stop::Timeout => "timeout",
+            Stop::Signal => "interrupted",
+        }
+    }
+}
+
 /// Runs `sds watch`; returns the exit code (as `sds score`'s for the final report).
 pub fn watch(args: &WatchArgs) -> Result<i32> {
     let a = &args.score;
@@ -52,13 +64,23 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
         return Ok(super::EXIT_USAGE);
     };
-    if !(args.interval.is_finite() && args.interval > 0.0) {
-        say!(
-            "sds: error: --interval {}: a number of seconds above 0",
-            args.interval
-        );
-        return Ok(super::EXIT_USAGE);
-    }
+    let interval = match crate::watch::interval(args.interval) {
+        Ok(d) => d,
+        Err(bound) => {
+            say!("sds: error: --interval {}: {bound}", args.interval);
+            return Ok(super::EXIT_USAGE);
+        }
+    };
+    let timeout = match args.timeout.map(crate::watch::timeout).transpose() {
+        Ok(t) => t,
+        Err(bound) => {
+            say!(
+                "sds: error: --timeout {}: {bound}",
+                args.timeout.unwrap_or_default()
+            );
+            return Ok(super::EXIT_USAGE);
+        }
+    };
     let settings = super::settings(a)?;
     if let Some(bad) = a
         .infractions
@@ -76,31 +98,39 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     output::defer_signals();
     let mut watcher = Watcher::new(super::inputs(a), settings, super::label_files(a), by, RACY);
     let start = Instant::now();
-    let interval = Duration::from_secs_f64(args.interval);
-    let timeout = args.timeout.map(|t| Duration::from_secs_f64(t.max(0.0)));
-    let mut round = 0usize;
     let mut last = None;
     let stop = loop {
-        round += 1;
-        let began = Instant::now();
-        let outcome = watcher.round()?;
-        let took = began.elapsed();
-        let complete = match outcome {
-            RoundOutcome::Retry { reason, failures } => {
-                status_retry(args, round, &reason, failures);
+        // An error no later round can mend (a mistyped --routes, duplicate ids...) stops here,
+        // as `sds score` would.
+        let complete = match watcher.round()? {
+            RoundOutcome::Retry {
+                reason,
+                failures,
+                status,
+            } => {
+                status_retry(args, &status, &reason, failures);
                 false
             }
             RoundOutcome::Scored {
                 scored,
-                cache,
                 changed,
+                status,
+                ..
             } => {
-                let p = watcher.progress(&scored.report);
-                status(args, round, &p, &scored.report, &cache, changed, took);
-                write_round(a, &out, &scored.report, Some(args.interval))?;
-                last = Some(scored.report);
+                status_line(args, &status);
+                // A live round that cannot be written is retried next round; only the final
+                // write is fatal.
+                if let Err(e) = write_round(a, &out, &scored.report, Some((args.interval, &status)))
+                {
+                    say!(
+                        "sds: warning: watch round {}: {}; written again next round",
+                        status.round,
+                        super::error_message(&*e)
+                    );
+                }
+                last = Some((scored.report, status.round));
                 // Complete, and one more round that found nothing new: the files are final.
-                p.complete && !changed
+                status.complete && !changed
             }
         };
         if complete {
@@ -115,36 +145,84 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         }
     };
     // After a signal or a timeout the inputs are read once more (they may have changed since
-    // the last round), retried a few times on a half-written file; else the last good report
-    // stands.
+    // the last round), retried a few times on a half-written file.
+    let mut stale = None;
     if matches!(stop, Stop::Timeout | Stop::Signal) {
         for _ in 0..5 {
             match watcher.round()? {
-                RoundOutcome::Scored { scored, .. } => {
-                    last = Some(scored.report);
+                RoundOutcome::Scored { scored, status, .. } => {
+                    last = Some((scored.report, status.round));
+                    stale = None;
                     break;
                 }
-                RoundOutcome::Retry { .. } => std::thread::sleep(Duration::from_millis(200)),
+                RoundOutcome::Retry { reason, .. } => {
+                    stale = Some(reason);
+                    std::thread::sleep(Duration::from_millis(200));
+                }
             }
         }
     }
-    let Some(report) = last else {
+    let Some((report, round)) = last else {
         say!("sds: watch: no round could be scored; no report written");
         return Ok(1);
     };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(super::label_files(a).files().cloned());
-    if let Some(dir) = &a.traces {
-        let n = output::write_traces(dir, &report, &inputs_read)?;
-        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
+    // As `sds score`: the traces, the figures, then the report, all or nothing.
+    let written = (|| -> Result<_> {
+        let traces = match &a.traces {
+            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        let figures = match &a.figures {
+            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
+            None => None,
+        };
+        write_round(a, &out, &report, None)?;
+        Ok((traces, figures))
+    })();
+    let (traces, figures) = match written {
+        Ok(w) => {
+            output::commit();
+            w
+        }
+        Err(e) => {
+            output::roll_back();
+            return Err(e);
+        }
+    };
+    if let Some((dir, n)) = traces {
+        say!(
+            "sds: wrote {n} collision trace(s) to {}{}",
+            dir.display(),
+            super::untraced_note(&report)
+        );
     }
-    write_round(a, &out, &report, None)?;
+    if let Some((dir, names)) = figures {
+        say!("sds: wrote {} to {}", names.join(", "), dir.display());
+    }
     // The routes to run again, from the final report (v1.4 §13).
     if let Some(file) = &a.rerun_list {
         super::write_rerun_list(file, &report, &inputs_read)?;
     }
     for w in &report.warnings {
         say!("sds: warning: {w}");
+    }
+    if args.status_json {
+        let end = crate::watch::StatusLine {
+            stopped: Some(stop.name().into()),
+            ..watcher.last_status().clone()
+        };
+        print_line(&end.json());
+    }
+    if let Some(reason) = stale {
+        say!(
+            "sds: error: {reason}: a results file was still half-written when the watch stopped; \
+             {} holds the report of round {round}, not of the final files (run `sds score` once \
+             the file is complete)",
+            out.display()
+        );
+        return Ok(1);
     }
     let why = match stop {
         Stop::Complete => "the route set is complete",
@@ -178,132 +256,73 @@ fn sleep(interval: Duration, start: Instant, timeout: Option<Duration>) -> Optio
     }
 }
 
-/// Writes a round's report; `refresh`: the HTML page reloads itself every so many seconds
-/// (while the watch runs; never in the final report).
+/// Writes a round's report; `live`: while the watch runs, the HTML page reloads itself every
+/// so many seconds and says that it is live (never in the final report).
 fn write_round(
     a: &ScoreArgs,
     out: &std::path::Path,
     report: &crate::Report,
-    refresh: Option<f64>,
+    live: Option<(f64, &StatusLine)>,
 ) -> Result<()> {
     let mut bytes = super::render(a, report)?;
-    if let (Format::Html, Some(secs)) = (a.format, refresh) {
-        bytes = with_refresh(&bytes, secs);
+    if let (Format::Html, Some((secs, status))) = (a.format, live) {
+        bytes = crate::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
+            .into_bytes();
     }
     let mut inputs: Vec<PathBuf> = report.files_read.clone();
     inputs.extend(super::label_files(a).files().cloned());
     write_output(Some(out), &bytes, &inputs)
 }
 
-/// The page with `<meta http-equiv="refresh">` after its `<head>` tag.
-fn with_refresh(page: &[u8], secs: f64) -> Vec<u8> {
-    let text = String::from_utf8_lossy(page);
-    let tag = format!(
-        "<meta http-equiv=\"refresh\" content=\"{}\">",
-        secs.ceil().max(1.0)
-    );
-    match text.find("<head>") {
-        Some(i) => {
-            let at = i + "<head>".len();
-            format!("{}{tag}{}", &text[..at], &text[at..]).into_bytes()
-        }
-        None => format!("{tag}{text}").into_bytes(),
-    }
-}
-
 fn pct(x: Option<f64>) -> String {
     x.map_or_else(|| "-".into(), |v| format!("{v:.1}"))
 }
 
-fn duration(secs: f64) -> String {
-    let s = secs.max(0.0).round() as u64;
-    match (s / 3600, (s % 3600) / 60) {
-        (0, m) => format!("{m}m"),
-        (h, m) => format!("{h}h{m:02}m"),
-    }
+/// One line on standard error, never a panic (a closed pipe loses the line, not the report).
+fn print_line(line: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "{line}");
 }
 
-/// One status line (spec §12).
-fn status(
-    args: &WatchArgs,
-    round: usize,
-    p: &crate::watch::WatchStatus,
-    report: &crate::Report,
-    cache: &crate::watch::CacheRound,
-    changed: bool,
-    took: Duration,
-) {
-    // The last route: the last changed one in report order, else the last with a record.
-    let last = report
-        .routes
-        .iter()
-        .rev()
-        .find(|r| {
-            r.route_id
-                .as_ref()
-                .is_some_and(|id| cache.changed.contains(id))
-        })
-        .or_else(|| {
-            report
-                .routes
-                .iter()
-                .rev()
-                .find(|r| !matches!(r.state, crate::RouteState::Missing))
-        });
-    let od = (p.over_done.driving_score, p.over_done.sds);
-    let on = (p.over_n.driving_score, p.over_n.sds);
+/// One status line (spec §12): JSON (serde_json, valid whatever the route ids hold) or text.
+fn status_line(args: &WatchArgs, s: &StatusLine) {
     if args.status_json {
-        let v = serde_json::json!({
-            "round": round,
-            "done": p.done,
-            "n": p.n,
-            "ds_done": od.0, "ds_n": on.0,
-            "sds_done": od.1, "sds_n": on.1,
-            "last_route": last.and_then(|r| r.route_id.clone()),
-            "last_state": last.map(|r| r.state.to_string()),
-            "last_ds": last.and_then(|r| r.score_composed),
-            "seconds_left": p.seconds_left,
-            "rescored": cache.rescored,
-            "reused": cache.reused,
-            "changed": changed,
-            "complete": p.complete,
-            "round_ms": took.as_secs_f64() * 1e3,
-        });
-        say!("{v}");
+        print_line(&s.json());
         return;
     }
-    let last = last.map_or_else(
+    let last = s.last_route.as_ref().map_or_else(
         || "-".to_string(),
-        |r| {
+        |id| {
             format!(
-                "{} {} DS {}",
-                r.route_id.as_deref().unwrap_or("<no route_id>"),
-                r.state,
-                pct(r.score_composed)
+                "{id} {} DS {}",
+                s.last_state.as_deref().unwrap_or("-"),
+                pct(s.last_ds)
             )
         },
     );
     say!(
-        "sds watch #{round}: {}/{} routes | DS {} done, {} of N | SDS {} done, {} of N | last {last} | {} left | rescored {}",
-        p.done,
-        p.n,
-        pct(od.0),
-        pct(on.0),
-        pct(od.1),
-        pct(on.1),
-        p.seconds_left.map_or_else(|| "?".into(), duration),
-        cache.rescored
+        "sds watch #{}: {}/{} routes | DS {} done, {} of N | SDS {} done, {} of N | last {last} | {} left | rescored {}",
+        s.round,
+        s.done,
+        s.n,
+        pct(s.ds_done),
+        pct(s.ds_n),
+        pct(s.sds_done),
+        pct(s.sds_n),
+        s.seconds_left.map_or_else(|| "?".into(), crate::watch::duration_text),
+        s.rescored
     );
 }
 
-fn status_retry(args: &WatchArgs, round: usize, reason: &str, failures: usize) {
+fn status_retry(args: &WatchArgs, s: &StatusLine, reason: &str, failures: usize) {
+    let round = s.round;
     if args.status_json {
-        say!(
-            "{}",
-            serde_json::json!({"round": round, "retry": reason, "failures": failures})
-        );
+        print_line(&s.json());
     } else if failures >= 3 {
-        say!("sds: warning: watch round {round}: {reason} ({failures} rounds in a row; retrying)");
+        say!(
+            "sds: warning: watch round {round}: {reason} ({failures} rounds in a row; retrying; \
+             the figures are those of the last good reading)"
+        );
     } else {
         say!("sds watch #{round}: {reason}; retried next round");
     }

@@ -153,6 +153,7 @@ pub struct Corridor<'a> {
     lane_width: f64,
     ego_half_width: f64,
     core_slack: f32,
+    reacquire_steps: u64,
 }
 
 impl Corridor<'static> {
@@ -228,6 +229,7 @@ impl<'a> Corridor<'a> {
             lane_width: settings.lane_width,
             ego_half_width: settings.ego_half_width,
             core_slack: settings.core.slack,
+            reacquire_steps: settings.reacquire_steps,
         }
     }
 
@@ -260,10 +262,48 @@ impl<'a> Corridor<'a> {
     /// Like [`Corridor::next`], with the host-side values behind the core's value: what
     /// `sds frames` prints for each frame.
     pub fn sample(&mut self, loc: [f64; 2], z: f64) -> Option<LateralSample> {
+        self.measure(loc, z, false)
+    }
+
+    /// [`Corridor::sample`] of a frame at `step` whose previous frame was at `previous` (`None`
+    /// for the first frame): the route search re-acquires the reference after a gap of more than
+    /// `reacquire_steps` steps or at a first step that is not 0 (§2, v1.4,
+    /// [`crate::geometry::lateral::reacquires`]). Every front end (replay, live monitor, watch)
+    /// measures its frames through this, so their lateral values agree.
+    ///
+    /// ```
+    /// use monitor_host::geometry::corridor::Corridor;
+    /// use monitor_host::Settings;
+    /// // A straight 100 m route of 2 m pieces; telemetry that starts at step 480, at x = 61.
+    /// let route: Vec<[f64; 3]> = (0..=50).map(|i| [2.0 * f64::from(i), 0.0, 0.0]).collect();
+    /// let mut c = Corridor::owned(Some(&route), None, &Settings::default());
+    /// let s = c.sample_at([61.0, 0.3], 0.0, 480, None).unwrap();
+    /// assert!((s.lat_err - 0.3).abs() < 1e-12);
+    /// ```
+    pub fn sample_at(
+        &mut self,
+        loc: [f64; 2],
+        z: f64,
+        step: u64,
+        previous: Option<u64>,
+    ) -> Option<LateralSample> {
+        let rest = crate::geometry::lateral::reacquires(step, previous, self.reacquire_steps);
+        self.measure(loc, z, rest)
+    }
+
+    /// One frame's sample; `rest`: search the whole rest of the route.
+    fn measure(&mut self, loc: [f64; 2], z: f64, rest: bool) -> Option<LateralSample> {
+        let search = |t: &mut LateralTracker<'a>| {
+            if rest {
+                t.reacquire_with_point(loc)
+            } else {
+                t.next_with_point(loc)
+            }
+        };
         match self.kind {
             ReferenceKind::None => None,
             ReferenceKind::Xml => {
-                let d = self.tracker.as_mut()?.next(loc)?;
+                let (d, _) = search(self.tracker.as_mut()?)?;
                 Some(LateralSample {
                     lat_err: d,
                     // The configured slack, as the user wrote it (the core subtracts its f32).
@@ -273,7 +313,7 @@ impl<'a> Corridor<'a> {
                 })
             }
             ReferenceKind::MapRoute => {
-                let (d, foot) = self.tracker.as_mut()?.next_with_point(loc)?;
+                let (d, foot) = search(self.tracker.as_mut()?)?;
                 let (w, from_map) = self.width_at(foot, z);
                 Some(self.with_width(d, w, from_map))
             }

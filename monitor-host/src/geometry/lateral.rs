@@ -1,6 +1,6 @@
-//! The lateral error of a drive against its reference polyline (`SDS-SPEC.md` v1.2 §2): the
+//! The lateral error of a drive against its reference polyline (`SDS-SPEC.md` v1.4 §2): the
 //! straight segments between consecutive route waypoints, followed with a bounded forward
-//! search.
+//! search that re-acquires the route after a gap in the telemetry or a late start.
 //!
 //! ```
 //! use monitor_host::geometry::lateral::LateralTracker;
@@ -29,7 +29,8 @@ use crate::input::route_xml::RouteRef;
 /// candidates are the segments `j >= m` whose start lies at most `lookahead` metres of route length
 /// beyond the end of segment `m`. The nearest candidate (distance to the clamped segment) wins,
 /// a later segment only if strictly nearer; `m` moves to it, also onto a junction gap (a segment
-/// strictly longer than `gap_max`), where the lateral error is unknown.
+/// strictly longer than `gap_max`), where the lateral error is unknown. Re-acquisition
+/// ([`LateralTracker::reacquire_with_point`]) drops the window for one frame.
 ///
 /// Distances are computed in f64 relative to the segment start. The route's cumulative length is
 /// computed once, in [`LateralTracker::new`]; each frame costs O(candidates). A run of identical
@@ -111,12 +112,41 @@ impl<'a> LateralTracker<'a> {
     /// As [`LateralTracker::next`], with the *reference point*: the nearest point of the matched
     /// segment, whose lane gives the frame's lane width with a map (§2).
     pub fn next_with_point(&mut self, loc: [f64; 2]) -> Option<(f64, [f64; 2])> {
+        self.search(loc, false)
+    }
+
+    /// As [`LateralTracker::next_with_point`], re-acquiring the reference (§2, v1.4): the
+    /// candidates are every segment `j >= m`, the whole rest of the route, for a frame after a
+    /// gap in the telemetry or the first frame of telemetry that starts mid-route
+    /// ([`reacquires`] says when). Ties still keep the earlier segment.
+    ///
+    /// ```
+    /// use monitor_host::geometry::lateral::LateralTracker;
+    /// // 2 m segments along x for 100 m; the drive is first seen at x = 61.
+    /// let pts: Vec<[f64; 2]> = (0..=50).map(|i| [2.0 * f64::from(i), 0.0]).collect();
+    /// let mut late = LateralTracker::owned(pts.clone(), 8.0, 10.0);
+    /// assert_eq!(late.reacquire_with_point([61.0, 0.5]), Some((0.5, [61.0, 0.0])));
+    /// // The 10 m window alone only reaches x = 14 from the start.
+    /// let mut window = LateralTracker::owned(pts, 8.0, 10.0);
+    /// assert!(window.next([61.0, 0.5]).unwrap() > 40.0);
+    /// ```
+    pub fn reacquire_with_point(&mut self, loc: [f64; 2]) -> Option<(f64, [f64; 2])> {
+        self.search(loc, true)
+    }
+
+    /// The forward search of one frame: the window of `lookahead` metres beyond segment `m`, or
+    /// the whole rest of the route when `rest`.
+    fn search(&mut self, loc: [f64; 2], rest: bool) -> Option<(f64, [f64; 2])> {
         let nseg = self.waypoints.len().checked_sub(1)?;
         if nseg == 0 {
             return None;
         }
         let m = self.m;
-        let limit = self.cum[m + 1] + self.lookahead;
+        let limit = if rest {
+            f64::INFINITY
+        } else {
+            self.cum[m + 1] + self.lookahead
+        };
         let mut best = m;
         let (mut best_d, mut best_p) = self.dist_to_segment(m, loc);
         let mut j = self.after[m];
@@ -174,6 +204,24 @@ impl<'a> LateralTracker<'a> {
         };
         let (ex, ey) = (px - t * dx, py - t * dy);
         ((ex * ex + ey * ey).sqrt(), [a[0] + t * dx, a[1] + t * dy])
+    }
+}
+
+/// Whether a frame at `step` re-acquires the reference (§2, v1.4): the first frame (`previous`
+/// is `None`) when its step is not 0 (telemetry that starts mid-route), or a frame whose step
+/// exceeds the previous frame's by more than `reacquire_steps` (a gap in the telemetry).
+///
+/// ```
+/// use monitor_host::geometry::lateral::reacquires;
+/// assert!(!reacquires(0, None, 10));
+/// assert!(reacquires(480, None, 10));
+/// assert!(!reacquires(511, Some(501), 10)); // 10 steps: within the window's reach
+/// assert!(reacquires(789, Some(501), 10));
+/// ```
+pub fn reacquires(step: u64, previous: Option<u64>, reacquire_steps: u64) -> bool {
+    match previous {
+        None => step != 0,
+        Some(p) => step.saturating_sub(p) > reacquire_steps,
     }
 }
 
@@ -347,6 +395,59 @@ mod tests {
             1,
             "strictly nearer: (2.5,1) is 1.118 from segment 0"
         );
+    }
+
+    #[test]
+    fn reacquisition_searches_the_rest_of_the_route() {
+        // 2 m segments along x to 100 m. From m = 0 the window reaches 12 m; re-acquiring at
+        // x = 61 finds segment 30 at once, and the window then follows from there.
+        let pts: Vec<[f64; 2]> = (0..=50).map(|i| [2.0 * i as f64, 0.0]).collect();
+        let r = route(&pts);
+        let mut t = LateralTracker::new(&r, 8.0, 10.0);
+        assert!(close(t.reacquire_with_point([61.0, 0.5]).map(|p| p.0), 0.5));
+        assert_eq!(t.segment(), 30);
+        assert!(close(t.next([62.5, 0.25]), 0.25));
+        assert_eq!(t.segment(), 31);
+        // Never backwards: re-acquiring behind m measures against segment m's clamped start.
+        assert!(close(
+            t.reacquire_with_point([10.0, 0.0]).map(|p| p.0),
+            52.0
+        ));
+        assert_eq!(t.segment(), 31);
+    }
+
+    #[test]
+    fn reacquisition_keeps_the_earlier_pass_on_a_tie_and_lands_on_gaps() {
+        // Out along y = 0 to (20, 0), back along y = 2 to (0, 2): a point at (9, 1) is 1 m from
+        // both passes; the earlier one is kept.
+        let mut pts: Vec<[f64; 2]> = (0..=10).map(|i| [2.0 * i as f64, 0.0]).collect();
+        pts.extend((0..=10).map(|i| [20.0 - 2.0 * i as f64, 2.0]));
+        let r = route(&pts);
+        let mut t = LateralTracker::new(&r, 8.0, 10.0);
+        assert!(close(t.reacquire_with_point([9.0, 1.0]).map(|p| p.0), 1.0));
+        assert_eq!(t.segment(), 4);
+        // Strictly nearer to the way back: it wins.
+        assert!(close(t.reacquire_with_point([9.0, 1.5]).map(|p| p.0), 0.5));
+        assert!(t.segment() > 10, "{}", t.segment());
+        // A gap segment (40 m) far along: m moves onto it and the error is unknown.
+        let r = route(&[[0.0, 0.0], [2.0, 0.0], [4.0, 0.0], [44.0, 0.0], [46.0, 0.0]]);
+        let mut t = LateralTracker::new(&r, 8.0, 10.0);
+        assert_eq!(t.reacquire_with_point([30.0, 0.5]), None);
+        assert_eq!(t.segment(), 2);
+    }
+
+    #[test]
+    fn reacquires_at_a_late_first_step_and_after_a_gap() {
+        assert!(!reacquires(0, None, 10));
+        assert!(
+            reacquires(1, None, 10),
+            "the rule is literal: a first step that is not 0"
+        );
+        assert!(!reacquires(11, Some(1), 10));
+        assert!(reacquires(12, Some(1), 10));
+        assert!(reacquires(2, Some(1), 0));
+        assert!(!reacquires(u64::MAX, Some(u64::MAX - 10), 10));
+        assert!(!reacquires(3, Some(5), 10), "out of order never panics");
     }
 
     #[test]

@@ -236,6 +236,48 @@ pub fn missing_reason(
     parts.join("; ")
 }
 
+/// The folders whose listing decides that a record's `metric_info.json` is missing, and the
+/// reason given ([`locate_metric_info`], [`missing_reason`]): the telemetry root (its folders,
+/// the closest one named), `<root>/<save_name>`, and the results file's folder when the file
+/// holds this one record. While none of them changes (a folder's size and modification time
+/// change when an entry is added, removed or renamed in it), the telemetry is still missing for
+/// the same reason. Empty without a `save_name` (nothing is looked for).
+///
+/// ```
+/// use monitor_host::input::discovery::looked_in;
+/// use std::path::Path;
+/// let at = looked_in(Some(Path::new("tel")), Some("R_1"), Path::new("run/r.json"), true);
+/// assert_eq!(at, [Path::new("tel"), Path::new("tel/R_1"), Path::new("run")]);
+/// assert!(looked_in(Some(Path::new("tel")), None, Path::new("r.json"), false).is_empty());
+/// ```
+pub fn looked_in(
+    telemetry_root: Option<&Path>,
+    save_name: Option<&str>,
+    result_file: &Path,
+    file_holds_one_record: bool,
+) -> Vec<PathBuf> {
+    let Some(save) = save_name else {
+        return Vec::new();
+    };
+    let mut at = Vec::new();
+    if let Some(root) = telemetry_root {
+        at.push(root.to_path_buf());
+        let safe = !save.is_empty() && save != "." && save != ".." && !save.contains(['/', '\\']);
+        if safe {
+            at.push(root.join(save));
+        }
+    }
+    if file_holds_one_record {
+        let dir = result_file.parent().unwrap_or_else(|| Path::new(""));
+        at.push(if dir.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            dir.to_path_buf()
+        });
+    }
+    at
+}
+
 /// The folder under `root` whose name starts with `<route_id>_` and shares the longest prefix
 /// with `save_name` (ties: the smallest name).
 fn closest_folder(root: &Path, save_name: &str, route_id: &str) -> Option<String> {

@@ -105,6 +105,11 @@ pub struct Kept {
     /// Input order decided under `newest` (a tie or an unparsable stamp).
     #[serde(skip)]
     pub by_order: bool,
+    /// Under `newest`, the copies' stamps lie more than half a year apart: without a year they
+    /// could wrap one (a December run and its January re-run), so the files' modification times
+    /// and the checkpoint's own record order decided.
+    #[serde(skip)]
+    pub year_wrap: bool,
 }
 
 /// The `mm_dd_HH_MM_SS` time stamp that ends a `save_name`
@@ -139,6 +144,33 @@ pub fn save_name_stamp(save_name: &str) -> Option<[u32; 5]> {
 /// A stamp as written in the `save_name`.
 fn stamp_text(s: [u32; 5]) -> String {
     s.map(|x| format!("{x:02}")).join("_")
+}
+
+/// Seconds from January 1st 00:00 of a stamp, in a year of 365 days (the stamp has no year).
+fn seconds_in_year(s: [u32; 5]) -> u64 {
+    const BEFORE: [u32; 12] = [0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334];
+    let [mo, d, h, mi, se] = s.map(u64::from);
+    let days = u64::from(BEFORE[(mo as usize).clamp(1, 12) - 1]) + d.saturating_sub(1);
+    ((days * 24 + h) * 60 + mi) * 60 + se
+}
+
+/// Half a year, s: stamps farther apart than this could belong to two years.
+const HALF_YEAR: u64 = 183 * 86_400;
+
+/// Whether stamps without a year could wrap one **\[decision\]**: the earliest and the latest
+/// lie more than half a year apart (`12_20_...` and `01_05_...` are 16 days apart across New
+/// Year, or 349 days apart within one year; runs are rarely half a year apart, re-runs after New
+/// Year are common). Their order by stamp is then not trusted.
+///
+/// ```
+/// use monitor_host::input::duplicates::stamps_could_wrap_a_year;
+/// assert!(stamps_could_wrap_a_year(&[[12, 20, 10, 0, 0], [1, 5, 9, 0, 0]]));
+/// assert!(!stamps_could_wrap_a_year(&[[1, 5, 9, 0, 0], [2, 11, 9, 0, 0]]));
+/// ```
+pub fn stamps_could_wrap_a_year(stamps: &[[u32; 5]]) -> bool {
+    let t = stamps.iter().map(|&s| seconds_in_year(s));
+    let (lo, hi) = t.fold((u64::MAX, 0), |(lo, hi), x| (lo.min(x), hi.max(x)));
+    hi > lo && hi - lo > HALF_YEAR
 }
 
 /// A copy of a route left out by the `first` / `last` / `newest` policy.
@@ -372,9 +404,10 @@ pub fn deduplicate(
             policy: policy.name(),
             copies: all.len(),
             stamp: stamp.map(stamp_text),
-            why,
+            why: why.text,
             source: Source::of(&records[index]),
             by_order,
+            year_wrap: why.year_wrap,
         });
     }
     for (i, r) in records.iter().enumerate() {
@@ -403,13 +436,148 @@ pub fn deduplicate(
     })
 }
 
+/// Why a copy was kept: the report's text, and whether the stamps could wrap a year.
+struct Why {
+    text: String,
+    year_wrap: bool,
+}
+
+impl From<String> for Why {
+    fn from(text: String) -> Self {
+        Why {
+            text,
+            year_wrap: false,
+        }
+    }
+}
+
+/// The file's modification time (`None` when the system cannot say).
+fn modified(path: &Path) -> Option<std::time::SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}
+
+/// Under `newest`, copies whose stamps could wrap a year ([`stamps_could_wrap_a_year`]): the
+/// copy of the most recently modified file, and among copies of one file (or of files modified
+/// at the same time) the last in input order, which is the checkpoint's own record order within
+/// a file. Without a modification time for every file, input order alone.
+fn newest_by_file_time(records: &[LoadedRecord], all: &[usize], stamps: &[String]) -> (usize, Why) {
+    let times: Option<Vec<std::time::SystemTime>> =
+        all.iter().map(|&i| modified(&records[i].source)).collect();
+    let n = all.len();
+    let (pos, how) = match &times {
+        Some(t) => {
+            let pos = (0..n).max_by_key(|&j| (t[j], j)).unwrap_or(n - 1);
+            let same_file = all
+                .iter()
+                .filter(|&&i| records[i].source == records[all[pos]].source)
+                .count()
+                > 1;
+            let how = if same_file && t.iter().all(|x| *x == t[pos]) {
+                format!(
+                    "the last record of {} in the checkpoint's own order",
+                    records[all[pos]].source.display()
+                )
+            } else {
+                format!(
+                    "the copy in the most recently modified file, {}",
+                    records[all[pos]].source.display()
+                )
+            };
+            (pos, how)
+        }
+        None => (
+            n - 1,
+            "the last copy in input order (a file's modification time is unknown)".into(),
+        ),
+    };
+    let text = format!(
+        "save_name time stamps {} lie more than half a year apart and carry no year, so they \
+         could wrap one (a December run and a January re-run): kept {how}",
+        stamps.join(", ")
+    );
+    (
+        all[pos],
+        Why {
+            text,
+            year_wrap: true,
+        },
+    )
+}
+
+/// Routes whose kept record comes from an earlier attempt ([`earlier_attempts`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct EarlierAttempt {
+    /// The newer file: its copies were kept over `earlier`'s, and it did not finish.
+    pub newer: PathBuf,
+    /// Its `progress` `[done, total]`, when it has one.
+    pub progress: Option<(u64, u64)>,
+    /// The file the records come from.
+    pub earlier: PathBuf,
+    /// The records (sources) kept from `earlier` that `newer` has no copy of, with their ids.
+    pub routes: Vec<(String, Source)>,
+}
+
+/// Under `newest` or `last`, the records kept from a file that a newer, unfinished file re-ran:
+/// when the copies of file G were kept over those of file F (G is the re-run) and G did not
+/// finish (its `progress` is `[done, total]` with `done < total`, or it holds fewer records than
+/// `total`), every record of F whose route G has no copy of is from the earlier attempt: the
+/// re-run crashed or stopped before reaching it. `files`: the inputs' files with their
+/// `progress` ([`crate::input::results_file::InputFile`]).
+pub fn earlier_attempts(
+    kept: &Deduplicated,
+    files: &[crate::input::results_file::InputFile],
+) -> Vec<EarlierAttempt> {
+    let mut pairs: Vec<(&Path, &Path)> = Vec::new();
+    for d in &kept.dropped {
+        let pair = (d.source.file.as_path(), d.kept.file.as_path());
+        if pair.0 != pair.1 && !pairs.contains(&pair) {
+            pairs.push(pair);
+        }
+    }
+    let unfinished = |path: &Path| {
+        files.iter().find(|f| f.path == path).and_then(|f| {
+            f.progress
+                .filter(|&(done, total)| done < total || (f.records as u64) < total)
+                .map(Some)
+        })
+    };
+    let duplicated: std::collections::HashSet<&str> = kept
+        .duplicates
+        .iter()
+        .map(|d| d.route_id.as_str())
+        .collect();
+    let mut out = Vec::new();
+    for (earlier, newer) in pairs {
+        let Some(progress) = unfinished(newer) else {
+            continue;
+        };
+        let routes: Vec<(String, Source)> = kept
+            .records
+            .iter()
+            .filter(|r| r.source == earlier)
+            .filter_map(|r| id_of(r).map(|id| (id, r)))
+            .filter(|(id, _)| !duplicated.contains(id))
+            .map(|(id, r)| (id.to_string(), Source::of(r)))
+            .collect();
+        if !routes.is_empty() {
+            out.push(EarlierAttempt {
+                newer: newer.to_path_buf(),
+                progress,
+                earlier: earlier.to_path_buf(),
+                routes,
+            });
+        }
+    }
+    out
+}
+
 /// The copy of one route id (indices `all`, in input order) a policy keeps: its index, its
 /// stamp, why, and whether input order decided under `newest`.
 fn choose(
     records: &[LoadedRecord],
     all: &[usize],
     policy: DuplicatePolicy,
-) -> (usize, Option<[u32; 5]>, String, bool) {
+) -> (usize, Option<[u32; 5]>, Why, bool) {
     let stamp_of = |i: usize| {
         records[i]
             .entry
@@ -424,7 +592,7 @@ fn choose(
         DuplicatePolicy::First => (
             all[0],
             stamp_of(all[0]),
-            format!("first of {n} copies in input order"),
+            format!("first of {n} copies in input order").into(),
             false,
         ),
         DuplicatePolicy::Newest => {
@@ -437,9 +605,16 @@ fn choose(
                     format!(
                         "last of {n} copies in input order: {bad} of them have no save_name \
                          time stamp (mm_dd_HH_MM_SS) to compare"
-                    ),
+                    )
+                    .into(),
                     true,
                 );
+            }
+            let known: Vec<[u32; 5]> = stamps.iter().flatten().copied().collect();
+            if stamps_could_wrap_a_year(&known) {
+                let texts: Vec<String> = known.iter().map(|s| stamp_text(*s)).collect();
+                let (index, why) = newest_by_file_time(records, all, &texts);
+                return (index, stamp_of(index), why, false);
             }
             let newest = stamps.iter().flatten().max().copied();
             let tied = stamps.iter().filter(|s| **s == newest).count();
@@ -459,7 +634,8 @@ fn choose(
                     format!(
                         "{tied} of {n} copies share the newest save_name time stamp {text}: the \
                          last of them in input order"
-                    ),
+                    )
+                    .into(),
                     true,
                 )
             } else {
@@ -469,7 +645,8 @@ fn choose(
                     format!(
                         "newest save_name time stamp {text} of {n} copies (others {})",
                         others.join(", ")
-                    ),
+                    )
+                    .into(),
                     false,
                 )
             }
@@ -477,7 +654,7 @@ fn choose(
         _ => (
             last,
             stamp_of(last),
-            format!("last of {n} copies in input order"),
+            format!("last of {n} copies in input order").into(),
             false,
         ),
     }

@@ -4,7 +4,7 @@
 //! Why: a FIFO named `metric_info.json` would block the tool forever, and a link to `/dev/zero`
 //! would be read until memory runs out. The file is opened without blocking (`O_NONBLOCK`), its
 //! type checked on the open handle (no race between a check and the open), and at most
-//! [`FileKind::max_bytes`] + 1 bytes are read.
+//! [`FileKind::max_bytes`] + 1 bytes are read. A leading UTF-8 byte order mark is skipped.
 //!
 //! ```
 //! use monitor_host::input::read::{read_input, FileKind};
@@ -94,7 +94,8 @@ fn describe(ft: std::fs::FileType) -> &'static str {
     }
 }
 
-fn open_nonblocking(path: &Path) -> io::Result<File> {
+/// Opens `path` for reading without blocking on a FIFO.
+pub(crate) fn open_nonblocking(path: &Path) -> io::Result<File> {
     let mut opts = OpenOptions::new();
     opts.read(true);
     #[cfg(unix)]
@@ -106,13 +107,105 @@ fn open_nonblocking(path: &Path) -> io::Result<File> {
     opts.open(path)
 }
 
-/// Reads a whole input file of kind `kind`.
+/// The bytes of input files that the run's workers may hold at once, whatever `--jobs`:
+/// 512 MiB. A file larger than that (up to its kind's [`FileKind::max_bytes`]) is read alone.
+/// Without it, eight workers reading eight sparse 1000 MiB `metric_info.json` files (40 KB on
+/// disk) held 7 GB.
+pub const BYTES_IN_FLIGHT: u64 = 512 * MIB;
+
+/// The run-wide count of input bytes held ([`read_input_held`]).
+struct Budget {
+    used: std::sync::Mutex<u64>,
+    freed: std::sync::Condvar,
+}
+
+static BUDGET: Budget = Budget {
+    used: std::sync::Mutex::new(0),
+    freed: std::sync::Condvar::new(),
+};
+
+impl Budget {
+    /// Waits until `n` bytes (at most [`BYTES_IN_FLIGHT`]) fit, and takes them.
+    fn take(&self, n: u64) -> u64 {
+        let n = n.min(BYTES_IN_FLIGHT);
+        let mut used = self.used.lock().unwrap_or_else(|e| e.into_inner());
+        while *used + n > BYTES_IN_FLIGHT && *used > 0 {
+            used = self.freed.wait(used).unwrap_or_else(|e| e.into_inner());
+        }
+        *used += n;
+        n
+    }
+
+    /// Counts `n` more bytes without waiting (a file that grew while it was read: waiting
+    /// while holding could deadlock two such readers).
+    fn add(&self, n: u64) {
+        *self.used.lock().unwrap_or_else(|e| e.into_inner()) += n;
+    }
+
+    fn give_back(&self, n: u64) {
+        let mut used = self.used.lock().unwrap_or_else(|e| e.into_inner());
+        *used = used.saturating_sub(n);
+        self.freed.notify_all();
+    }
+}
+
+/// The bytes of an input file, counted against the run's [`BYTES_IN_FLIGHT`] until dropped.
+#[derive(Debug)]
+pub struct HeldBytes {
+    bytes: Vec<u8>,
+    held: u64,
+}
+
+impl std::ops::Deref for HeldBytes {
+    type Target = [u8];
+    fn deref(&self) -> &[u8] {
+        &self.bytes
+    }
+}
+
+impl Drop for HeldBytes {
+    fn drop(&mut self) {
+        BUDGET.give_back(self.held);
+    }
+}
+
+/// [`read_input`] for files that many workers read at once (`metric_info.json`,
+/// `infractions.json`): the read first waits until the file's size fits in
+/// [`BYTES_IN_FLIGHT`] with the bytes other workers hold, and the bytes stay counted until the
+/// result is dropped (parse before dropping it). Memory for input bytes is so bounded whatever
+/// `--jobs` and however large the files claim to be.
+///
+/// ```
+/// use monitor_host::input::read::{read_input_held, FileKind};
+/// let dir = tempfile::tempdir()?;
+/// let p = dir.path().join("metric_info.json");
+/// std::fs::write(&p, "{}")?;
+/// assert_eq!(&*read_input_held(&p, FileKind::MetricInfo)?, b"{}");
+/// # Ok::<(), std::io::Error>(())
+/// ```
 ///
 /// # Errors
-/// The I/O error; or, as [`io::ErrorKind::InvalidInput`], a path that is not a regular file (a
-/// FIFO, a device, a directory, a socket) or a file larger than [`FileKind::max_bytes`]. The
-/// message does not repeat the path: callers name it.
-pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
+/// As [`read_input`].
+pub fn read_input_held(path: &Path, kind: FileKind) -> io::Result<HeldBytes> {
+    let file = open_regular(path)?;
+    let size = file.metadata()?.len();
+    let held = BUDGET.take(size);
+    // Counted from here: an error below gives the bytes back.
+    let mut out = HeldBytes {
+        bytes: Vec::new(),
+        held,
+    };
+    out.bytes = read_bounded(file, size, kind)?;
+    let len = out.bytes.len() as u64;
+    if len > out.held {
+        BUDGET.add(len - out.held);
+        out.held = len;
+    }
+    Ok(out)
+}
+
+/// Opens `path` for reading without blocking and refuses anything but a regular file.
+fn open_regular(path: &Path) -> io::Result<File> {
     let file = open_nonblocking(path)?;
     let meta = file.metadata()?;
     if !meta.is_file() {
@@ -124,6 +217,23 @@ pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
             ),
         ));
     }
+    Ok(file)
+}
+
+/// Reads a whole input file of kind `kind`, without a leading UTF-8 byte order mark.
+///
+/// # Errors
+/// The I/O error; or, as [`io::ErrorKind::InvalidInput`], a path that is not a regular file (a
+/// FIFO, a device, a directory, a socket) or a file larger than [`FileKind::max_bytes`]. The
+/// message does not repeat the path: callers name it.
+pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
+    let file = open_regular(path)?;
+    let size = file.metadata()?.len();
+    read_bounded(file, size, kind)
+}
+
+/// Reads `file` (of `size` bytes when opened) whole, refusing more than the kind's limit.
+fn read_bounded(file: File, size: u64, kind: FileKind) -> io::Result<Vec<u8>> {
     let limit = kind.max_bytes();
     let too_large = |size: u64| {
         io::Error::new(
@@ -135,17 +245,24 @@ pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
             ),
         )
     };
-    if meta.len() > limit {
-        return Err(too_large(meta.len()));
+    if size > limit {
+        return Err(too_large(size));
     }
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    let mut bytes = Vec::with_capacity(size as usize);
     // The file may grow after the check: never read more than the limit + 1.
     file.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
         return Err(too_large(bytes.len() as u64));
     }
+    // A UTF-8 byte order mark (Windows editors write one) is not part of the JSON or XML.
+    if bytes.starts_with(BOM) {
+        bytes.drain(..BOM.len());
+    }
     Ok(bytes)
 }
+
+/// The UTF-8 byte order mark, skipped at the start of every input file.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
 
 /// [`read_input`] as UTF-8 text.
 ///
@@ -164,6 +281,27 @@ mod tests {
     fn limits_grow_with_the_real_sizes() {
         assert!(FileKind::Labels.max_bytes() < FileKind::Results.max_bytes());
         assert!(FileKind::Results.max_bytes() < FileKind::MetricInfo.max_bytes());
+    }
+
+    #[test]
+    fn held_bytes_are_given_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("m.json");
+        std::fs::write(&p, vec![b' '; 1000]).unwrap();
+        let held = read_input_held(&p, FileKind::MetricInfo).unwrap();
+        assert!(*BUDGET.used.lock().unwrap() >= 1000);
+        drop(held);
+        // Other tests may hold bytes at the same time; this file's are back.
+        assert!(*BUDGET.used.lock().unwrap() < BYTES_IN_FLIGHT);
+        assert!(read_input_held(&dir.path().join("none"), FileKind::MetricInfo).is_err());
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_skipped() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.json");
+        std::fs::write(&p, b"\xEF\xBB\xBF{}").unwrap();
+        assert_eq!(read_input(&p, FileKind::Results).unwrap(), b"{}");
     }
 
     #[test]

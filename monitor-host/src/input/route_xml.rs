@@ -73,6 +73,17 @@ pub enum RouteError {
         /// The parser's message.
         message: String,
     },
+    /// A route file without a single `<route>` element: most likely another file given as
+    /// `--routes` (a results JSON reads as XML text without elements). Refused: it would make
+    /// every record a foreign route.
+    #[error(
+        "{file}: holds no route: not a route XML? (--routes takes a Bench2Drive route file: \
+         <routes><route id=\"..\" town=\"..\"><waypoints><position x y z/>...)"
+    )]
+    NoRoutes {
+        /// The file.
+        file: String,
+    },
     /// A `<route>` without an `id` attribute (the whole set is rejected: it cannot be named).
     #[error("{file}: route #{index} (1-based) has no id attribute")]
     MissingId {
@@ -243,8 +254,20 @@ impl RouteSet {
 /// Loads a route XML file (see [`parse_route_xml`]).
 ///
 /// # Errors
-/// [`RouteError::Io`] if unreadable, otherwise as [`parse_route_xml`] (naming this file).
+/// [`RouteError::Io`] if unreadable, [`RouteError::NoRoutes`] if it holds no `<route>` (a
+/// results JSON given as `--routes`), otherwise as [`parse_route_xml`] (naming this file).
 pub fn read_route_xml(path: &Path) -> Result<RouteSet, RouteError> {
+    let set = read_any(path)?;
+    if set.routes.is_empty() {
+        return Err(RouteError::NoRoutes {
+            file: path.display().to_string(),
+        });
+    }
+    Ok(set)
+}
+
+/// [`read_route_xml`] without the check that the file holds a route.
+fn read_any(path: &Path) -> Result<RouteSet, RouteError> {
     let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::RouteXml)
         .map_err(|source| RouteError::Io {
             path: path.to_path_buf(),

@@ -207,7 +207,7 @@ impl<'a> LiveFrames<'a> {
         t: &TelemetryFrame,
         collisions: Collisions,
     ) -> (Frame, Option<LateralSample>) {
-        let sample = self.corridor.sample(t.location, t.z);
+        let sample = self.measure(t);
         let frame = self.builder.push(t, sample.map(|s| s.value), collisions);
         (frame, sample)
     }
@@ -230,10 +230,17 @@ impl<'a> LiveFrames<'a> {
             return Err(LiveError::StepOrder { step, last });
         }
         let t = TelemetryFrame::from_raw(step, tick.raw())?;
-        let sample = self.corridor.sample(t.location, t.z);
+        let sample = self.measure(&t);
         Ok(self
             .builder
             .push(&t, lat_err.or(sample.map(|s| s.value)), collisions))
+    }
+
+    /// The corridor's sample of the next frame: after a gap in the steps, or at a first step
+    /// that is not 0, the route search re-acquires the reference (§2, v1.4).
+    fn measure(&mut self, t: &TelemetryFrame) -> Option<LateralSample> {
+        let previous = self.builder.last_step();
+        self.corridor.sample_at(t.location, t.z, t.step, previous)
     }
 
     /// Where this route is, for [`LiveFrames::rewind`].

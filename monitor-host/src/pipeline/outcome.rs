@@ -190,6 +190,10 @@ pub struct RouteOutcome {
     /// The telemetry files located for this route (`metric_info.json`, `infractions.json`),
     /// read or not: a front end never writes over one of them.
     pub files_read: Vec<std::path::PathBuf>,
+    /// When the telemetry is missing: the folders whose listing decided it
+    /// ([`crate::input::discovery::looked_in`]); `sds watch` replays the route again only when
+    /// one of them changed.
+    pub looked_in: Vec<std::path::PathBuf>,
 }
 
 impl RouteOutcome {

@@ -124,6 +124,25 @@ pub struct PlacedEvent {
     reach: Reach,
 }
 
+/// Why an event (a collision or another infraction) stays off the frame axis, as the report's
+/// `events` say it: the route was not replayed (`no telemetry`: none found, or none usable), its
+/// message gives no position (and no `infractions.json` step placed it), or no frame lies near
+/// that position (§5's `align_max_dist`, or `events.signal_reach` for a light or a stop sign).
+///
+/// ```
+/// use monitor_host::pipeline::placement::unplaced_reason;
+/// assert_eq!(unplaced_reason(false, Some([1.0, 2.0])), "no telemetry");
+/// assert_eq!(unplaced_reason(true, None), "no position in the message");
+/// assert_eq!(unplaced_reason(true, Some([1.0, 2.0])), "no frame near its position");
+/// ```
+pub fn unplaced_reason(replayed: bool, position: Option<[f64; 2]>) -> &'static str {
+    match (replayed, position) {
+        (false, _) => "no telemetry",
+        (true, None) => "no position in the message",
+        (true, Some(_)) => "no frame near its position",
+    }
+}
+
 /// A record's non-collision infractions as events, unplaced, in the record's list order (the
 /// collision lists are left to §5).
 ///

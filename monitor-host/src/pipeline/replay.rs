@@ -389,6 +389,7 @@ pub fn replay(
         reference: None,
         warnings: Vec::new(),
         files_read: Vec::new(),
+        looked_in: Vec::new(),
     };
     let Ok(record) = &loaded.entry else {
         return out;
@@ -484,6 +485,14 @@ pub fn replay(
             }
         }
         Err(state) => {
+            if matches!(state, TelemetryState::Missing(_)) {
+                out.looked_in = discovery::looked_in(
+                    telemetry_root,
+                    record.save_name.as_deref(),
+                    &loaded.source,
+                    loaded.records_in_file == 1,
+                );
+            }
             out.telemetry = state;
             None
         }

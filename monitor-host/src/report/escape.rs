@@ -16,6 +16,18 @@
 //!   cell of every CSV rendering (per route, per group) goes through it: numbers are written as
 //!   numbers (a negative number stays a number). Quoting of `"`, `,`, CR and LF is the `csv`
 //!   crate's.
+//! - [`markdown`] (Markdown tables: every cell and the title, after [`printable`]) and
+//!   [`markdown_paragraph`] (the notes under a table): the text renders as itself in CommonMark
+//!   and on GitHub, never as markup. A backslash goes before `\\`, `` ` ``, `*`, `[`, `]`, `<`,
+//!   `>`, `!`, `|`, `~`, `$` and `&` (no emphasis, code, link, image, raw HTML, `<...>` autolink,
+//!   strikethrough, math or entity can start), before `_` unless it stands inside a word
+//!   (`RouteScenario_1_rep0` stays: there it cannot make emphasis), before `.` unless it stands
+//!   between two digits (`1.50` stays, `www.` and `evil.example` are broken, so no `www.` autolink), and
+//!   before `:` when `/` follows (no `https://` autolink). `(` and `)` stay: they make a link
+//!   only after `]`, which is always escaped. A paragraph also escapes a block marker at its
+//!   start (`#`, `>`, `-`, `+`, `=`, `1.` / `1)`). What escaping cannot stop: GitHub still links
+//!   an address shaped like `name@host.tld` as `mailto:` (its text is the address itself) and
+//!   its own `@user` and `#123` references, which it finds in the rendered text.
 //!
 //! ```
 //! use monitor_host::report::escape::{csv_cell, printable};
@@ -81,6 +93,64 @@ pub fn printable_lines(s: &str) -> String {
     s.split('\n').map(printable).collect::<Vec<_>>().join("\n")
 }
 
+/// Whether `c` at `i` in `chars` must be backslash-escaped in Markdown (see the module docs).
+fn markdown_escapes(chars: &[char], i: usize) -> bool {
+    let at = |j: Option<usize>| j.and_then(|j| chars.get(j)).copied();
+    let digit = |j| at(j).is_some_and(|c| c.is_ascii_digit());
+    let alnum = |j| at(j).is_some_and(char::is_alphanumeric);
+    match chars[i] {
+        '\\' | '`' | '*' | '[' | ']' | '<' | '>' | '!' | '|' | '~' | '$' | '&' => true,
+        '.' => !(digit(i.checked_sub(1)) && digit(Some(i + 1))),
+        // Inside a word `_` can neither open nor close emphasis (`RouteScenario_1_rep0` stays).
+        '_' => !(alnum(i.checked_sub(1)) && alnum(Some(i + 1))),
+        ':' => chars.get(i + 1) == Some(&'/'),
+        _ => false,
+    }
+}
+
+/// Text for a Markdown table cell that renders as itself: no markup, link, image or HTML can
+/// start in it (see the module docs). Apply it after [`printable`].
+///
+/// ```
+/// use monitor_host::report::escape::markdown;
+/// assert_eq!(markdown("<script>x</script>"), "\\<script\\>x\\</script\\>");
+/// assert_eq!(markdown("[log](https://evil.example)"), "\\[log\\](https\\://evil\\.example)");
+/// assert_eq!(markdown("1.50 ± 0.25"), "1.50 ± 0.25");
+/// ```
+pub fn markdown(s: &str) -> String {
+    let chars: Vec<char> = s.chars().collect();
+    let mut out = String::with_capacity(s.len() + 8);
+    for (i, &c) in chars.iter().enumerate() {
+        if markdown_escapes(&chars, i) {
+            out.push('\\');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// [`markdown`] for a paragraph (a note under a table): also escapes a block marker at its
+/// start, so the line cannot become a heading, quote, list or rule.
+///
+/// ```
+/// use monitor_host::report::escape::markdown_paragraph;
+/// assert_eq!(markdown_paragraph("# big"), "\\# big");
+/// assert_eq!(markdown_paragraph("12) item"), "12\\) item");
+/// assert_eq!(markdown_paragraph("a - b"), "a - b");
+/// ```
+pub fn markdown_paragraph(s: &str) -> String {
+    let body = markdown(s);
+    if body.starts_with(['#', '>', '-', '+', '=']) {
+        return format!("\\{body}");
+    }
+    // An ordered list marker: digits, then `)` (a `.` there is escaped by `markdown`).
+    let digits = body.chars().take_while(char::is_ascii_digit).count();
+    if digits > 0 && body[digits..].starts_with(')') {
+        return format!("{}\\{}", &body[..digits], &body[digits..]);
+    }
+    body
+}
+
 /// A string cell of a CSV rendering: [`printable`], and neutralised against formula injection
 /// (see the module docs).
 ///
@@ -122,5 +192,16 @@ mod tests {
             assert_eq!(printable(&s), format!("a\\u{{{:x}}}b", c as u32));
             assert_eq!(csv_cell(&s), printable(&s));
         }
+    }
+
+    #[test]
+    fn markdown_escapes_markup_and_keeps_numbers() {
+        assert_eq!(markdown("a\\|b"), "a\\\\\\|b");
+        assert_eq!(markdown("www.x"), "www\\.x");
+        assert_eq!(markdown("_a_b_ é_1"), "\\_a_b\\_ é_1");
+        assert_eq!(markdown("-0.25 & 3.5."), "-0.25 \\& 3.5\\.");
+        assert_eq!(markdown("a:b"), "a:b");
+        assert_eq!(markdown_paragraph("1. x"), "1\\. x");
+        assert_eq!(markdown_paragraph(""), "");
     }
 }

@@ -1,14 +1,18 @@
-//! The comparison's forest plot (`sds compare --format html`, `SDS-SPEC.md` v1.3 §11): per metric
+//! The comparison's forest plot (`sds compare --format html`, `SDS-SPEC.md` v1.4 §11): per metric
 //! a panel, per model a row with its delta against the baseline (a dot) and its 95 % interval
-//! (a bar), and the line of no difference. Green: better, red: worse, grey: within noise.
+//! (a bar), and the line of no difference. Green: better, red: worse, grey: within noise; a row
+//! without a compared route says `no data` (so an empty panel says why it is empty).
 //!
 //! Drawn with `plotters`' SVG backend, as the collision figures ([`crate::report::figure`]):
-//! no font is loaded, and the same comparison gives the same bytes.
+//! no font is loaded, and the same comparison gives the same bytes. Model names come from the
+//! user and are shown through [`printable`], as in every other output.
 
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::aggregate::compare::bootstrap::Verdict;
 use crate::aggregate::compare::Comparison;
+use crate::report::escape::printable;
 
 const FONT: &str = "sans-serif";
 const BETTER: RGBColor = RGBColor(42, 160, 90);
@@ -19,7 +23,7 @@ const ROW: u32 = 34;
 /// Width of one metric's panel, px.
 const PANEL: u32 = 300;
 
-/// The forest plot as an SVG document (empty panels when nothing could be compared).
+/// The forest plot as an SVG document (`no data` in the rows where nothing could be compared).
 ///
 /// ```
 /// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
@@ -41,15 +45,18 @@ pub fn svg(c: &Comparison) -> String {
         .map(|m| m.name.as_str())
         .filter(|m| *m != c.baseline)
         .collect();
+    // The labels as every output shows them: control and bidirectional characters escaped.
+    let labels: Vec<String> = models.iter().map(|m| printable(m).into_owned()).collect();
     let width = PANEL * c.metrics.len() as u32;
     let height = 90 + ROW * models.len().max(1) as u32;
-    crate::report::figure::render_svg((width, height), |root| draw(root, c, &models))
+    crate::report::figure::render_svg((width, height), |root| draw(root, c, &models, &labels))
 }
 
 fn draw(
     root: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
     c: &Comparison,
     models: &[&str],
+    labels: &[String],
 ) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
     root.fill(&WHITE)?;
     let panels = root.split_evenly((1, c.metrics.len()));
@@ -66,6 +73,10 @@ fn draw(
                 Some((j, p.result.delta?, p.result.ci95?, p.result.verdict))
             })
             .collect();
+        // The rows without an interval: no route was compared (n = 0).
+        let empty: Vec<usize> = (0..models.len())
+            .filter(|j| !rows.iter().any(|r| r.0 == *j))
+            .collect();
         let (mut lo, mut hi) = (0.0f64, 0.0f64);
         for (_, d, [a, b], _) in &rows {
             lo = lo.min(*a).min(*d);
@@ -79,7 +90,7 @@ fn draw(
         };
         let pad = ((hi - lo) * 0.1).max(if hi > lo { 0.0 } else { unit });
         let digits = if unit < 1.0 { 3 } else { 1 };
-        let longest = models.iter().map(|m| m.chars().count()).max().unwrap_or(1) as u32;
+        let longest = labels.iter().map(|m| m.chars().count()).max().unwrap_or(1) as u32;
         let y_area = if i == 0 {
             (12 + 7 * longest).min(160)
         } else {
@@ -91,7 +102,7 @@ fn draw(
             .x_label_area_size(30)
             .y_label_area_size(y_area)
             .build_cartesian_2d(lo - pad..hi + pad, -0.5..k - 0.5)?;
-        let names = models.to_vec();
+        let names = labels;
         chart
             .configure_mesh()
             .disable_y_mesh()
@@ -119,6 +130,16 @@ fn draw(
             4,
             BLACK.mix(0.5).stroke_width(1),
         ))?;
+        for j in empty {
+            chart.draw_series(std::iter::once(Text::new(
+                "no data (n = 0)",
+                ((lo + hi) / 2.0, j as f64),
+                (FONT, 13)
+                    .into_font()
+                    .color(&NOISE)
+                    .pos(Pos::new(HPos::Center, VPos::Center)),
+            )))?;
+        }
         for (j, d, [a, b], v) in rows {
             let color = match v {
                 Some(Verdict::Better) => BETTER,

@@ -141,14 +141,16 @@ impl Grid {
     }
 
     fn markdown(&self) -> String {
-        let esc = |c: &String| c.replace('|', "\\|");
+        // Every cell, the title and the notes render as their text, never as markup: a name
+        // from the inputs cannot become a link, an image or HTML (`escape::markdown`).
+        let esc = |c: &String| crate::report::escape::markdown(c);
         let line = |r: &Vec<String>| {
             format!(
                 "| {} |\n",
                 r.iter().map(esc).collect::<Vec<_>>().join(" | ")
             )
         };
-        let mut out = format!("**{}**\n\n", self.title);
+        let mut out = format!("**{}**\n\n", esc(&self.title));
         out += &line(&self.header);
         let align: Vec<&str> = (0..self.header.len())
             .map(|i| if i == 0 { ":--" } else { "--:" })
@@ -162,7 +164,7 @@ impl Grid {
             out += &format!("| {} |\n", bold.join(" | "));
         }
         for n in &self.notes {
-            out += &format!("\n{}\n", esc(n));
+            out += &format!("\n{}\n", crate::report::escape::markdown_paragraph(n));
         }
         out
     }

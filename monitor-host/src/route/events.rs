@@ -16,7 +16,7 @@ use monitor_core::{Band, Failures};
 use serde::Serialize;
 
 use crate::pipeline::outcome::CollisionEvent;
-use crate::pipeline::placement::{PlacedBy, PlacedEvent};
+use crate::pipeline::placement::{unplaced_reason, PlacedBy, PlacedEvent};
 use crate::pipeline::timeline::RouteTimeline;
 
 /// One event of a route.
@@ -74,6 +74,7 @@ pub fn route_events(
     chunk_len: u16,
     frames: usize,
 ) -> Vec<RouteEvent> {
+    let replayed = timeline.is_some();
     let mut out: Vec<RouteEvent> = collisions
         .iter()
         .enumerate()
@@ -88,14 +89,16 @@ pub fn route_events(
             distance_m: None,
             collision: Some(i),
             message: format!(
-                "{}: {}{}",
+                "{}: {} ({})",
                 e.list.name(),
                 e.message,
                 match (e.frame, e.exempt, e.decelerated) {
-                    (None, _, _) => " (not placed: no usable position)",
-                    (_, Some(true), _) => " (exempt: standing)",
-                    (_, _, Some(true)) => " (decelerated)",
-                    _ => " (no deceleration)",
+                    (None, _, _) => {
+                        format!("not placed: {}", unplaced_reason(replayed, e.location))
+                    }
+                    (_, Some(true), _) => "exempt: standing".into(),
+                    (_, _, Some(true)) => "decelerated".into(),
+                    _ => "no deceleration".into(),
                 }
             ),
         })
@@ -113,7 +116,11 @@ pub fn route_events(
         distance_m: p.distance_m,
         collision: None,
         message: match (&p.list, p.frame, p.placed_by, p.distance_m) {
-            (Some(list), None, _, _) => format!("{list}: {} (not placed)", p.message),
+            (Some(list), None, _, _) => format!(
+                "{list}: {} (not placed: {})",
+                p.message,
+                unplaced_reason(replayed, p.location)
+            ),
             (Some(list), Some(_), Some(PlacedBy::ClosestApproach), Some(d)) => {
                 format!(
                     "{list}: {} (placed at the closest approach, {d:.1} m)",

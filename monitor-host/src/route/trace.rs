@@ -87,8 +87,13 @@ pub struct CollisionTrace {
     pub points: Vec<TracePoint>,
 }
 
-/// The traces of a route's aligned collisions, in event order; one per event (two events of
-/// one frame give two traces with the same points). `decel_window` and `threshold` are the
+/// The most traces made for one route: each costs a pass over the route's frames and, under
+/// `--traces`, two files (100,000 collisions in a results file kept `--traces` writing past
+/// 120 s). Every collision stays in the JSON report's `collision_events` and `events`.
+pub const TRACES_PER_ROUTE: usize = 100;
+
+/// The traces of a route's aligned collisions, in event order, the first [`TRACES_PER_ROUTE`];
+/// one per event (two events of one frame give two traces with the same points). `decel_window` and `threshold` are the
 /// run's `decel_window` and `decel_threshold`.
 ///
 /// ```
@@ -149,5 +154,6 @@ pub fn collision_traces(
                 points,
             })
         })
+        .take(TRACES_PER_ROUTE)
         .collect()
 }

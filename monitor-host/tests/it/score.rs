@@ -1,6 +1,6 @@
 //! `sds score`: protocols, the lateral reference, route sets and what the report says per route.
 
-// ---- issue 33 items 1, 5, 6 and issue 34 finding 8: scoring protocols (engineer `protocols`) ----
+// ---- issue 33 items 1, 5, 6 and issue 34 finding 8: scoring protocols ----
 
 mod protocols {
     use std::path::{Path, PathBuf};
@@ -610,4 +610,733 @@ mod protocols {
         assert_eq!(pct("Overtaking"), format!("{published_merging:.2}"));
         assert_eq!(pct("Merging"), format!("{published_overtaking:.2}"));
     }
+}
+
+// ---- Issue 33, items 7, 4 and 8 (lateral re-acquisition, the page's route status, inputs) ----
+
+mod i33_lateral {
+    use std::path::{Path, PathBuf};
+
+    use crate::common::sds;
+
+    /// The shared fixtures, or `None` (with the reason printed) when they are absent.
+    pub fn fixtures() -> Option<PathBuf> {
+        let p = PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../shared/fixtures/b2d"
+        ));
+        if p.is_dir() {
+            Some(p)
+        } else {
+            eprintln!("skipped: shared fixtures absent at {}", p.display());
+            None
+        }
+    }
+
+    /// The point `s` m along the polyline `w`, moved `offset` m to its right (CARLA's y points
+    /// right of x), and the direction of travel there.
+    fn along(w: &[[f64; 2]], s: f64, offset: f64) -> ([f64; 2], [f64; 2]) {
+        let mut left = s;
+        for p in w.windows(2) {
+            let (dx, dy) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);
+            let len = dx.hypot(dy);
+            if len == 0.0 {
+                continue;
+            }
+            let (ux, uy) = (dx / len, dy / len);
+            if left <= len {
+                let (x, y) = (p[0][0] + ux * left, p[0][1] + uy * left);
+                return ([x - uy * offset, y + ux * offset], [ux, uy]);
+            }
+            left -= len;
+        }
+        let p = w[w.len() - 1];
+        (p, [1.0, 0.0])
+    }
+
+    /// The steps of the excerpt of issue 33: telemetry that starts at step 480 and jumps from
+    /// 501 to 789 (as a Bench2Drive-VL excerpt does), then runs to 899.
+    pub fn excerpt_steps() -> Vec<u64> {
+        (480..=501).chain(789..=899).collect()
+    }
+
+    /// Writes a one-route run into `dir`: a route XML of `waypoints` (`[x, y, z]`) under id `id`,
+    /// a raw evaluator file with one completed record and, for each of `steps`, a
+    /// `metric_info.json` frame `step / 1000` of the way along the route, 0.3 m right of it.
+    /// Returns (results, telemetry root, routes).
+    pub fn write_run(
+        dir: &Path,
+        id: &str,
+        town: &str,
+        waypoints: &[[f64; 3]],
+        steps: &[u64],
+    ) -> (String, String, String) {
+        let w2: Vec<[f64; 2]> = waypoints.iter().map(|p| [p[0], p[1]]).collect();
+        let length: f64 = w2
+            .windows(2)
+            .map(|p| (p[1][0] - p[0][0]).hypot(p[1][1] - p[0][1]))
+            .sum();
+        let mut xml = format!("<routes><route id=\"{id}\" town=\"{town}\"><waypoints>\n");
+        for p in waypoints {
+            xml += &format!("<position x=\"{}\" y=\"{}\" z=\"{}\"/>\n", p[0], p[1], p[2]);
+        }
+        xml += "</waypoints></route></routes>\n";
+        let routes = dir.join("routes.xml");
+        std::fs::write(&routes, xml).unwrap();
+
+        let route_id = format!("RouteScenario_{id}_rep0");
+        let save_name = format!("{route_id}_{town}_Excerpt_1_1_11_27_10_00_00");
+        let frames: serde_json::Map<String, serde_json::Value> = steps
+            .iter()
+            .map(|&step| {
+                let (loc, fwd) = along(&w2, length * step as f64 / 1000.0, 0.3);
+                let frame = serde_json::json!({
+                    "acceleration": [0.0, 0.0, 0.0],
+                    "angular_velocity": [0.0, 0.0, 0.0],
+                    "forward_vector": [fwd[0], fwd[1], 0.0],
+                    "right_vector": [-fwd[1], fwd[0], 0.0],
+                    "location": [loc[0], loc[1], 0.0],
+                    "rotation": [0.0, 0.0, 0.0],
+                });
+                (step.to_string(), frame)
+            })
+            .collect();
+        let tel = dir.join("telemetry");
+        std::fs::create_dir_all(tel.join(&save_name)).unwrap();
+        std::fs::write(
+            tel.join(&save_name).join("metric_info.json"),
+            serde_json::to_string(&frames).unwrap(),
+        )
+        .unwrap();
+
+        let lists = [
+            "collisions_layout",
+            "collisions_pedestrian",
+            "collisions_vehicle",
+            "min_speed_infractions",
+            "outside_route_lanes",
+            "red_light",
+            "route_dev",
+            "route_timeout",
+            "scenario_timeouts",
+            "stop_infraction",
+            "vehicle_blocked",
+            "yield_emergency_vehicle_infractions",
+        ];
+        let infractions: serde_json::Map<String, serde_json::Value> = lists
+            .iter()
+            .map(|l| (l.to_string(), serde_json::json!([])))
+            .collect();
+        let results = serde_json::json!({
+            "_checkpoint": {"global_record": {}, "progress": [1, 1], "records": [{
+                "index": 0,
+                "route_id": route_id,
+                "scenario_name": "Excerpt_1",
+                "weather_id": "1",
+                "save_name": save_name,
+                "town_name": town,
+                "status": "Completed",
+                "infractions": infractions,
+                "scores": {"score_route": 100, "score_penalty": 1.0, "score_composed": 100.0},
+                "meta": {"route_length": length, "duration_game": 50.0, "duration_system": 80.0},
+            }]},
+            "entry_status": "Finished", "eligible": true, "sensors": [], "values": [], "labels": [],
+        });
+        let res = dir.join("results.json");
+        std::fs::write(&res, serde_json::to_string_pretty(&results).unwrap()).unwrap();
+        let s = |p: PathBuf| p.to_str().unwrap().to_string();
+        (s(res), s(tel), s(routes))
+    }
+
+    /// `sds score` of the run (plus `extra`), its one route, and `sds frames`' host-side
+    /// lateral error per frame (`None` where unknown), each with its step.
+    pub fn score(
+        run: &(String, String, String),
+        id: &str,
+        extra: &[&str],
+    ) -> (serde_json::Value, Vec<(u64, Option<f64>)>) {
+        let (res, tel, routes) = run;
+        let mut args = vec![
+            "score",
+            "--results",
+            res,
+            "--telemetry",
+            tel,
+            "--routes",
+            routes,
+        ];
+        args.extend_from_slice(extra);
+        let out = sds(&args);
+        assert!(
+            out.status.success(),
+            "sds score: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let route = report["routes"][0].clone();
+        let rid = format!("RouteScenario_{id}_rep0");
+        let mut args = vec![
+            "frames",
+            "--results",
+            res,
+            "--telemetry",
+            tel,
+            "--routes",
+            routes,
+            "--route-id",
+            &rid,
+        ];
+        args.extend_from_slice(extra);
+        let out = sds(&args);
+        assert!(
+            out.status.success(),
+            "sds frames: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let lat = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(|l| {
+                let v: serde_json::Value = serde_json::from_str(l).unwrap();
+                (
+                    v["host"]["step"].as_u64().unwrap(),
+                    v["host"]["lat_err"].as_f64(),
+                )
+            })
+            .collect();
+        (route, lat)
+    }
+
+    /// The largest known lateral error, m.
+    pub fn worst(lat: &[(u64, Option<f64>)]) -> f64 {
+        lat.iter().filter_map(|l| l.1).fold(0.0, f64::max)
+    }
+
+    /// A synthetic route that always runs: 300 m of 2 m pieces, bending left halfway.
+    pub fn synthetic_route() -> Vec<[f64; 3]> {
+        let mut w: Vec<[f64; 3]> = (0..=75).map(|i| [2.0 * f64::from(i), 0.0, 0.0]).collect();
+        w.extend((1..=75).map(|i| [150.0, -2.0 * f64::from(i), 0.0]));
+        w
+    }
+}
+
+/// Issue 33 item 7 (spec v1.4 §2 re-acquisition), on a synthetic route: telemetry that starts at
+/// step 480 and jumps 501 → 789 stays within 0.3 m of its route (the drive's own offset) and
+/// no chunk is anomalous or critical. Before, the 10 m window needed frames to catch up: the
+/// first frames read 130 m and the frames after the jump 80 m, as critical chunks.
+#[test]
+fn i33_7_late_start_and_gap_reacquire_the_route_synthetic() {
+    use i33_lateral::*;
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_run(
+        dir.path(),
+        "900100",
+        "Town01",
+        &synthetic_route(),
+        &excerpt_steps(),
+    );
+    let (route, lat) = score(&run, "900100", &[]);
+    assert_eq!(lat.len(), excerpt_steps().len());
+    assert!(
+        worst(&lat) <= 0.3 + 1e-9,
+        "lat_err up to {} m: {lat:?}",
+        worst(&lat)
+    );
+    assert!(
+        lat.iter().all(|l| l.1.is_some()),
+        "every frame has a lateral error"
+    );
+    assert_eq!(route["lateral"]["critical"], 0, "{}", route["lateral"]);
+    assert_eq!(route["lateral"]["anomalous"], 0, "{}", route["lateral"]);
+    assert_eq!(route["ds_safe"], route["score_composed"], "{route}");
+    assert_eq!(route["batch_agrees"], true, "streaming == batch: {route}");
+}
+
+/// Issue 33 item 7: `reacquire_steps` is a setting: at 1000 the 288-step jump is not a gap, the
+/// window must catch up again and the frames after it are critical (the first frame still
+/// re-acquires: its step is not 0).
+#[test]
+fn i33_7_reacquire_steps_is_a_setting() {
+    use i33_lateral::*;
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_run(
+        dir.path(),
+        "900100",
+        "Town01",
+        &synthetic_route(),
+        &excerpt_steps(),
+    );
+    let (route, lat) = score(&run, "900100", &["--set", "reacquire_steps=1000"]);
+    let before_jump = lat.iter().filter(|l| l.0 <= 501);
+    assert!(
+        before_jump.filter_map(|l| l.1).all(|e| e <= 0.3 + 1e-9),
+        "{lat:?}"
+    );
+    let after = lat.iter().find(|l| l.0 == 789).and_then(|l| l.1).unwrap();
+    assert!(
+        after > 10.0,
+        "the window alone lags behind after the jump: {after} m"
+    );
+    assert!(
+        route["lateral"]["critical"].as_u64().unwrap() >= 1,
+        "{}",
+        route["lateral"]
+    );
+    let (_, lat) = score(&run, "900100", &["--set", "reacquire_steps=287"]);
+    assert!(
+        worst(&lat) <= 0.3 + 1e-9,
+        "a jump of 288 steps > 287 re-acquires"
+    );
+}
+
+/// Issue 33 item 7 on a real route of `bench2drive220.xml` (route 25300, Town04, 155 m, no
+/// junction gap): the late-start excerpt stays within its 0.3 m offset, no chunk is critical.
+#[test]
+fn i33_7_late_start_and_gap_reacquire_a_real_route() {
+    use i33_lateral::*;
+    let Some(fx) = fixtures() else { return };
+    let set = monitor_host::input::route_xml::read_route_xml(&fx.join("routes/bench2drive220.xml"))
+        .unwrap();
+    let r = set.get("25300").expect("route 25300 in bench2drive220.xml");
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_run(
+        dir.path(),
+        "25300",
+        &r.town,
+        &r.waypoints_3d(),
+        &excerpt_steps(),
+    );
+    let (route, lat) = score(&run, "25300", &[]);
+    assert!(
+        worst(&lat) <= 0.3 + 1e-6,
+        "lat_err up to {} m: {lat:?}",
+        worst(&lat)
+    );
+    assert_eq!(route["lateral"]["critical"], 0, "{}", route["lateral"]);
+    assert_eq!(route["lateral"]["anomalous"], 0, "{}", route["lateral"]);
+    assert_eq!(route["ds_safe"], route["score_composed"], "{route}");
+}
+
+/// Rewrites the one record of the results file at `path` with `f`.
+fn i33_edit_record(path: &str, f: impl FnOnce(&mut serde_json::Value)) {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    f(&mut v["_checkpoint"]["records"][0]);
+    std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
+}
+
+/// Issue 33 item 4: the page says why a route's DS is low: its status, route completion and
+/// penalty in the route table (status cell, RC and penalty columns) and its drill-down; a
+/// collision of a route without telemetry is "not placed: no telemetry" (its message has
+/// coordinates), one of a replayed route far from every frame "no frame near its position".
+#[test]
+fn i33_4_page_says_status_rc_penalty_and_why_not_placed() {
+    use i33_lateral::*;
+    let dir = tempfile::tempdir().unwrap();
+    let run = write_run(
+        dir.path(),
+        "900100",
+        "Town01",
+        &synthetic_route(),
+        &excerpt_steps(),
+    );
+    i33_edit_record(&run.0, |r| {
+        r["status"] = "Failed - TickRuntime".into();
+        r["scores"] = serde_json::json!({"score_route": 50.53, "score_penalty": 0.6,
+                                         "score_composed": 30.318});
+        r["infractions"]["collisions_vehicle"] = serde_json::json!([
+            "Agent collided against object with type=vehicle.lincoln.mkz_2017 and id=18834 at (x=2201.654, y=4874.879, z=365.295)"
+        ]);
+    });
+    let (res, tel, routes) = &run;
+    let empty = dir.path().join("no-telemetry");
+    std::fs::create_dir_all(&empty).unwrap();
+    for (telemetry, why) in [
+        (empty.to_str().unwrap(), "no telemetry"),
+        (tel.as_str(), "no frame near its position"),
+    ] {
+        let base = [
+            "score",
+            "--results",
+            res,
+            "--telemetry",
+            telemetry,
+            "--routes",
+            routes,
+            "--allow-missing-telemetry",
+        ];
+        let out = crate::common::sds(&[&base[..], &["--format", "html"]].concat());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let page = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            page.contains(
+                "<p class=\"outcome\">Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32</p>"
+            ),
+            "no outcome line in the drill-down"
+        );
+        assert!(page.contains(
+            "<td class=\"status\" title=\"Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32\">Failed - TickRuntime</td><td data-v=\"50.53\">50.53</td><td data-v=\"0.6\">0.600</td>"
+        ));
+        assert!(!page.contains("no usable position"));
+        let out = crate::common::sds(&base);
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        let events = report["routes"][0]["events"].as_array().unwrap();
+        let hit = events.iter().find(|e| e["kind"] == "collision").unwrap();
+        assert!(
+            hit["message"]
+                .as_str()
+                .unwrap()
+                .ends_with(&format!("(not placed: {why})")),
+            "{hit}"
+        );
+        assert!(page.contains(&format!("(not placed: {why})")), "{why}");
+    }
+}
+
+/// Issue 33 item 4 on the real TransFuser++ file: route 4683 reads "Failed - TickRuntime, RC
+/// 50.53 × penalty 0.6 = 30.32" on the page, and its collisions "not placed: no telemetry".
+#[test]
+fn i33_4_real_tickruntime_route_explained_on_the_page() {
+    let Some(fx) = i33_lateral::fixtures() else {
+        return;
+    };
+    let file = fx.join("carla_garage_tfpp_b2d_traj_merged.json");
+    let out = crate::common::sds(&[
+        "score",
+        "--results",
+        file.to_str().unwrap(),
+        "--format",
+        "html",
+    ]);
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(page.contains("Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32"));
+    assert!(page.contains("(not placed: no telemetry)"));
+    assert!(!page.contains("no usable position"));
+}
+
+/// A completed record of route `id` whose `save_name` ends with the time stamp `stamp`.
+fn i33_record(id: u32, stamp: &str, score: f64) -> serde_json::Value {
+    let lists = [
+        "collisions_layout",
+        "collisions_pedestrian",
+        "collisions_vehicle",
+        "min_speed_infractions",
+        "outside_route_lanes",
+        "red_light",
+        "route_dev",
+        "route_timeout",
+        "scenario_timeouts",
+        "stop_infraction",
+        "vehicle_blocked",
+        "yield_emergency_vehicle_infractions",
+    ];
+    let infractions: serde_json::Map<String, serde_json::Value> = lists
+        .iter()
+        .map(|l| (l.to_string(), serde_json::json!([])))
+        .collect();
+    serde_json::json!({
+        "route_id": format!("RouteScenario_{id}_rep0"),
+        "scenario_name": "Excerpt_1",
+        "weather_id": "1",
+        "save_name": format!("RouteScenario_{id}_rep0_Town01_Excerpt_1_1_{stamp}"),
+        "town_name": "Town01",
+        "status": "Completed",
+        "infractions": infractions,
+        "scores": {"score_route": 100, "score_penalty": score / 100.0, "score_composed": score},
+        "meta": {"route_length": 100.0, "duration_game": 50.0, "duration_system": 80.0},
+    })
+}
+
+/// Writes a raw evaluator file of `records` with `progress` `[done, total]`, modified at
+/// `modified` seconds after the epoch.
+fn i33_results_file(
+    path: &std::path::Path,
+    records: Vec<serde_json::Value>,
+    progress: [u64; 2],
+    modified: u64,
+) {
+    let v = serde_json::json!({
+        "_checkpoint": {"global_record": {}, "progress": progress, "records": records},
+        "entry_status": if progress[0] < progress[1] { "Started" } else { "Finished" },
+        "eligible": true, "sensors": [], "values": [], "labels": [],
+    });
+    std::fs::write(path, serde_json::to_string(&v).unwrap()).unwrap();
+    let t = std::time::UNIX_EPOCH + std::time::Duration::from_secs(modified);
+    std::fs::File::options()
+        .write(true)
+        .open(path)
+        .unwrap()
+        .set_modified(t)
+        .unwrap();
+}
+
+/// `sds score --allow-missing-telemetry` of `results` plus `extra`: the report and stderr.
+fn i33_score_files(results: &[&std::path::Path], extra: &[&str]) -> (serde_json::Value, String) {
+    let mut args: Vec<String> = vec!["score".into(), "--allow-missing-telemetry".into()];
+    for r in results {
+        args.extend(["--results".into(), r.to_str().unwrap().to_string()]);
+    }
+    args.extend(extra.iter().map(|s| s.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = crate::common::sds(&args);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.code() == Some(0),
+        "exit {:?}: {err}",
+        out.status.code()
+    );
+    (serde_json::from_slice(&out.stdout).unwrap(), err)
+}
+
+/// Issue 33 item 8: `--duplicates newest` across New Year. A December run (stamp 12_20) and its
+/// January re-run (01_05) carry no year: by stamp the December copy won. Stamps more than half
+/// a year apart could wrap a year: the copy of the most recently modified file is kept, the
+/// route's `kept` says so and a warning names the route; within one file, record order decides.
+#[test]
+fn i33_8_newest_across_new_year_uses_file_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let (dec, jan) = (dir.path().join("dec.json"), dir.path().join("jan.json"));
+    // December 2025 and January 2026 (modification times 1766224800, 1767603600).
+    i33_results_file(
+        &dec,
+        vec![i33_record(1, "12_20_10_00_00", 40.0)],
+        [1, 1],
+        1_766_224_800,
+    );
+    i33_results_file(
+        &jan,
+        vec![i33_record(1, "01_05_09_00_00", 90.0)],
+        [1, 1],
+        1_767_603_600,
+    );
+    for order in [[&jan, &dec], [&dec, &jan]] {
+        let (report, err) = i33_score_files(&[order[0], order[1]], &["--duplicates", "newest"]);
+        let route = &report["routes"][0];
+        assert_eq!(
+            route["score_composed"], 90.0,
+            "the January re-run is kept: {route}"
+        );
+        let why = route["kept"]["why"].as_str().unwrap();
+        assert!(
+            why.contains("could wrap") && why.contains("jan.json"),
+            "{why}"
+        );
+        assert!(err.contains("could wrap a year"), "{err}");
+    }
+    // One checkpoint holding both copies: the checkpoint's own record order decides.
+    let both = dir.path().join("both.json");
+    let recs = vec![
+        i33_record(1, "12_20_10_00_00", 40.0),
+        i33_record(1, "01_05_09_00_00", 90.0),
+    ];
+    i33_results_file(&both, recs, [2, 2], 1_767_603_600);
+    let (report, _) = i33_score_files(&[&both], &["--duplicates", "newest"]);
+    assert_eq!(report["routes"][0]["score_composed"], 90.0);
+    let why = report["routes"][0]["kept"]["why"].as_str().unwrap();
+    assert!(why.contains("checkpoint's own order"), "{why}");
+    // Stamps within half a year still decide by themselves (a later stamp, an older file).
+    i33_results_file(
+        &dec,
+        vec![i33_record(1, "02_20_10_00_00", 40.0)],
+        [1, 1],
+        1_767_603_600,
+    );
+    i33_results_file(
+        &jan,
+        vec![i33_record(1, "01_05_09_00_00", 90.0)],
+        [1, 1],
+        1_766_224_800,
+    );
+    let (report, err) = i33_score_files(&[&jan, &dec], &["--duplicates", "newest"]);
+    assert_eq!(report["routes"][0]["score_composed"], 40.0);
+    assert!(!err.contains("could wrap"), "{err}");
+}
+
+/// Issue 33 item 8: a newer run file that re-ran a run but crashed before finishing (progress
+/// 2 of 3) has no record of route 3: its kept record is from the earlier attempt, and the route's
+/// `kept` and a warning say so.
+#[test]
+fn i33_8_newer_unfinished_run_says_the_record_is_from_the_earlier_attempt() {
+    let dir = tempfile::tempdir().unwrap();
+    let (first, rerun) = (dir.path().join("run1.json"), dir.path().join("run2.json"));
+    let recs = (1..=3)
+        .map(|i| i33_record(i, "03_01_10_00_00", 50.0))
+        .collect();
+    i33_results_file(&first, recs, [3, 3], 1_772_000_000);
+    let recs = (1..=2)
+        .map(|i| i33_record(i, "03_02_10_00_00", 80.0))
+        .collect();
+    i33_results_file(&rerun, recs, [2, 3], 1_772_100_000);
+    for policy in ["newest", "last"] {
+        let (report, err) = i33_score_files(&[&first, &rerun], &["--duplicates", policy]);
+        let routes = report["routes"].as_array().unwrap();
+        let r3 = routes
+            .iter()
+            .find(|r| r["route_id"] == "RouteScenario_3_rep0")
+            .unwrap();
+        let why = r3["kept"]["why"].as_str().unwrap_or_default();
+        assert!(
+            why.contains("earlier attempt") && why.contains("run2.json"),
+            "{r3}"
+        );
+        assert!(
+            err.contains("1 route(s) keep their record from the earlier attempt")
+                && err.contains("progress 2 of 3")
+                && err.contains("RouteScenario_3_rep0"),
+            "{err}"
+        );
+    }
+    // A finished re-run of two routes says nothing of the third.
+    i33_results_file(
+        &rerun,
+        (1..=2)
+            .map(|i| i33_record(i, "03_02_10_00_00", 80.0))
+            .collect(),
+        [2, 2],
+        1_772_100_000,
+    );
+    let (_, err) = i33_score_files(&[&first, &rerun], &["--duplicates", "newest"]);
+    assert!(!err.contains("earlier attempt"), "{err}");
+}
+
+/// Issue 33 item 8: a results file (or an XML without a `<route>`) given as `--routes` is
+/// refused with exit 2 (it made every record a foreign route, with a warning each, exit 0).
+#[test]
+fn i33_8_routes_without_a_route_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let res = dir.path().join("results.json");
+    i33_results_file(
+        &res,
+        vec![i33_record(1, "03_01_10_00_00", 50.0)],
+        [1, 1],
+        1_772_000_000,
+    );
+    let empty = dir.path().join("empty.xml");
+    std::fs::write(&empty, "<routes>\n</routes>\n").unwrap();
+    for routes in [&res, &empty] {
+        let out = crate::common::sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--results",
+            res.to_str().unwrap(),
+            "--routes",
+            routes.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("holds no route: not a route XML?"), "{err}");
+        assert!(
+            err.contains(routes.to_str().unwrap()),
+            "names the file: {err}"
+        );
+    }
+}
+
+/// Issue 33 item 8: `--expected-routes 20` on a 20-route run scored against the whole route
+/// XML is refused (N 20 < 220 counted); the message points at `--route-subset found`, which
+/// then scores the 20 routes over N = 20.
+#[test]
+fn i33_8_expected_routes_suggests_route_subset_found() {
+    let Some(fx) = i33_lateral::fixtures() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(fx.join("carla_garage_tfpp_b2d_traj_merged.json")).unwrap(),
+    )
+    .unwrap();
+    let recs = v["_checkpoint"]["records"].as_array_mut().unwrap();
+    recs.truncate(20);
+    let twenty = dir.path().join("twenty.json");
+    std::fs::write(&twenty, serde_json::to_string(&v).unwrap()).unwrap();
+    let xml = fx.join("routes/bench2drive220.xml");
+    let base = [
+        "score",
+        "--allow-missing-telemetry",
+        "--results",
+        twenty.to_str().unwrap(),
+        "--routes",
+        xml.to_str().unwrap(),
+        "--expected-routes",
+        "20",
+    ];
+    let out = crate::common::sds(&base);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("200 of them are routes of --routes without a record")
+            && err.contains("--route-subset found"),
+        "{err}"
+    );
+    let out = crate::common::sds(&[&base[..], &["--route-subset", "found"]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        (
+            report["summary"]["routes"].as_u64(),
+            report["summary"]["missing"].as_u64()
+        ),
+        (Some(20), Some(0)),
+        "{}",
+        report["summary"]
+    );
+}
+
+/// Issue 33 item 8: `--families safe2drive` (no such file) says what the name means (the paper's
+/// three families, why there is no built-in map, how to write one) with exit 2 before scoring;
+/// a file of that name is read as any label file.
+#[test]
+fn i33_8_families_safe2drive_says_what_the_name_means() {
+    let dir = tempfile::tempdir().unwrap();
+    let res = dir.path().join("results.json");
+    i33_results_file(
+        &res,
+        vec![i33_record(1, "03_01_10_00_00", 50.0)],
+        [1, 1],
+        1_772_000_000,
+    );
+    let run = |families: &str| {
+        crate::common::sds(&[
+            "score",
+            "--allow-missing-telemetry",
+            "--results",
+            res.to_str().unwrap(),
+            "--group-by",
+            "family",
+            "--families",
+            families,
+        ])
+    };
+    let out = run("safe2drive");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    for said in [
+        "work zones",
+        "pedestrian jaywalking",
+        "occluded vulnerable road users",
+        "StaticWorkzoneRoute,work zone",
+    ] {
+        assert!(err.contains(said), "{said}: {err}");
+    }
+    let file = dir.path().join("safe2drive");
+    std::fs::write(&file, "Excerpt,work zone\n").unwrap();
+    let out = run(file.to_str().unwrap());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(
+        report["groups"]["rows"][0]["label"], "work zone",
+        "{}",
+        report["groups"]
+    );
 }

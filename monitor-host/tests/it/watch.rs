@@ -1,1 +1,886 @@
 //! `sds watch`: rounds, the cache, the stop rule, retries and the final report.
+
+use std::fs;
+use std::io::Read as _;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use monitor_host::report::json::json;
+use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
+use monitor_host::{Report, StatusLine, Watcher};
+use serde_json::Value;
+
+use crate::common::sds;
+
+fn s(p: &Path) -> String {
+    p.to_str().unwrap().to_string()
+}
+
+/// Spawns `sds` with `args`, standard error piped.
+fn spawn(args: &[String], env: &[(&str, &str)]) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(args)
+        .envs(env.iter().copied())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Waits for `child` (killed after `limit`), returning its exit status and standard error.
+fn wait(child: &mut Child, limit: Duration) -> Output {
+    let mut err = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut text = Vec::new();
+        let _ = err.read_to_end(&mut text);
+        text
+    });
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!(
+                "sds watch did not stop within {limit:?}: {}",
+                String::from_utf8_lossy(&reader.join().unwrap())
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let status = child.wait().unwrap();
+    Output {
+        status,
+        stdout: Vec::new(),
+        stderr: reader.join().unwrap(),
+    }
+}
+
+/// The JSON status lines of a watch's standard error.
+fn json_lines(err: &[u8]) -> Vec<Value> {
+    String::from_utf8_lossy(err)
+        .lines()
+        .filter(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str(l).unwrap_or_else(|e| panic!("not JSON ({e}): {l}")))
+        .collect()
+}
+
+/// The demo's checkpoint and its records.
+fn checkpoint(run: &demo::DemoRun) -> (Value, Vec<Value>) {
+    let c: Value = serde_json::from_slice(&fs::read(&run.results).unwrap()).unwrap();
+    let records = c["_checkpoint"]["records"].as_array().unwrap().clone();
+    (c, records)
+}
+
+/// The checkpoint holding `records` of `total`, as the leaderboard writes it.
+fn checkpoint_bytes(c: &Value, records: &[Value], total: usize) -> Vec<u8> {
+    let mut c = c.clone();
+    c["_checkpoint"]["records"] = Value::Array(records.to_vec());
+    c["_checkpoint"]["progress"] = serde_json::json!([records.len(), total]);
+    serde_json::to_vec_pretty(&c).unwrap()
+}
+
+/// Rewrites `file` in place, as the evaluator does (truncate, then write).
+fn rewrite(file: &Path, bytes: &[u8]) {
+    use std::io::Write as _;
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(file)
+        .unwrap();
+    f.write_all(bytes).unwrap();
+}
+
+fn watcher(inputs: Inputs) -> Watcher {
+    Watcher::new(
+        inputs,
+        Settings::default(),
+        LabelFiles::default(),
+        None,
+        Duration::ZERO,
+    )
+}
+
+/// The report's JSON text.
+fn j(r: &Report) -> String {
+    String::from_utf8(json(r).unwrap()).unwrap()
+}
+
+fn fresh(inputs: &Inputs) -> Report {
+    score_labelled(
+        inputs,
+        &Settings::default(),
+        &LabelFiles::default(),
+        None,
+        &NoProgress,
+    )
+    .unwrap()
+    .report
+}
+
+fn scored(w: &mut Watcher) -> (Report, StatusLine) {
+    match w.round().unwrap() {
+        RoundOutcome::Scored { scored, status, .. } => (scored.report, status),
+        RoundOutcome::Retry { reason, .. } => panic!("round retried: {reason}"),
+    }
+}
+
+fn demo_inputs(run: &demo::DemoRun) -> Inputs {
+    Inputs {
+        telemetry: Some(run.telemetry.clone()),
+        route_xml: Some(run.routes.clone()),
+        maps: Some(run.maps.clone()),
+        ..Inputs::new([run.results.clone()])
+    }
+}
+
+/// Issue 33 item 2: a run without telemetry (every public Bench2Drive file) is played back,
+/// a record every 250 ms; the watch stops by itself within two rounds of the last record, and a
+/// round that found nothing new replayed nothing.
+#[test]
+fn i33_2_no_telemetry_playback_stops_by_itself() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, records) = checkpoint(&run);
+    let n = records.len();
+    let results = dir.path().join("results.json");
+    rewrite(&results, &checkpoint_bytes(&c, &records[..1], n));
+    // The route XML and the results' folder just written are too recent to trust (1 s).
+    std::thread::sleep(Duration::from_millis(1100));
+    let out = dir.path().join("live.json");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&results),
+        "--routes",
+        &s(&run.routes),
+        "-o",
+        &s(&out),
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "60",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut child = spawn(&args, &[]);
+    for k in 2..=n {
+        std::thread::sleep(Duration::from_millis(250));
+        rewrite(&results, &checkpoint_bytes(&c, &records[..k], n));
+    }
+    let o = wait(&mut child, Duration::from_secs(90));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("the route set is complete"), "{err}");
+    let lines: Vec<Value> = json_lines(&o.stderr)
+        .into_iter()
+        .filter(|l| l["stopped"].is_null())
+        .collect();
+    let first_complete = lines.iter().position(|l| l["done"] == n).unwrap();
+    // The round that read the last record, then one that found nothing new.
+    assert!(
+        lines.len() - first_complete <= 2,
+        "{} rounds after the last record: {err}",
+        lines.len() - first_complete
+    );
+    // A round after one that read the same records found nothing new: it replays nothing
+    // (from 2 records on; the first one's folder may be too recent to trust at first).
+    let idle: Vec<&Value> = lines
+        .windows(2)
+        .filter(|w| w[0]["done"] == w[1]["done"] && w[1]["done"].as_u64() >= Some(2))
+        .map(|w| &w[1])
+        .collect();
+    assert!(idle.len() >= 3, "{err}");
+    for l in idle {
+        assert_eq!(l["rescored"], 0, "{l}: {err}");
+    }
+    // The final report is `sds score`'s.
+    let reference = dir.path().join("score.json");
+    let sc = sds(&[
+        "score",
+        "--results",
+        &s(&results),
+        "--routes",
+        &s(&run.routes),
+        "-o",
+        &s(&reference),
+    ]);
+    assert_eq!(o.status.code(), sc.status.code(), "{err}");
+    assert_eq!(fs::read(&out).unwrap(), fs::read(&reference).unwrap());
+}
+
+/// Issue 33 item 2: a shard caught half-written for several rounds keeps its last good reading
+/// (the routes done never drop), and the status of a retried round keeps those figures.
+#[test]
+fn i33_2_half_written_round_keeps_the_last_good_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, records) = checkpoint(&run);
+    let n = records.len();
+    let shards = dir.path().join("shards");
+    fs::create_dir_all(&shards).unwrap();
+    let (a, b) = (shards.join("eval_0.json"), shards.join("eval_1.json"));
+    rewrite(&a, &checkpoint_bytes(&c, &records[..4], 5));
+    rewrite(&b, &checkpoint_bytes(&c, &records[5..8], 4));
+    let inputs = Inputs {
+        results: vec![shards.clone()],
+        ..demo_inputs(&run)
+    };
+    let mut w = watcher(inputs.clone());
+    let (_, good) = scored(&mut w);
+    assert_eq!((good.done, good.n), (7, n));
+    // Shard 0 caught half-written, 5 rounds in a row (a warning from the third).
+    let full = checkpoint_bytes(&c, &records[..5], 5);
+    rewrite(&a, &full[..full.len() / 2]);
+    for round in 1..=5 {
+        match w.round().unwrap() {
+            RoundOutcome::Retry {
+                failures, status, ..
+            } => {
+                assert_eq!(failures, round);
+                assert_eq!((status.done, status.n), (good.done, good.n));
+                assert_eq!((status.ds_done, status.ds_n), (good.ds_done, good.ds_n));
+                assert!(status.retry.as_deref().unwrap().contains("eval_0.json"));
+            }
+            RoundOutcome::Scored { status, .. } => {
+                panic!(
+                    "round {round} scored a half-written shard: done {}",
+                    status.done
+                )
+            }
+        }
+    }
+    rewrite(&a, &full);
+    let (report, now) = scored(&mut w);
+    assert_eq!(now.done, 8);
+    assert_eq!(j(&report), j(&fresh(&inputs)));
+}
+
+/// Issue 33 item 2: every status line has the same fields; a retried round adds `retry`.
+#[test]
+fn i33_2_status_schema_is_the_same_in_retry_rounds() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, records) = checkpoint(&run);
+    let n = records.len();
+    let results = dir.path().join("results.json");
+    let bytes = checkpoint_bytes(&c, &records[..4], n);
+    rewrite(&results, &bytes);
+    let out = dir.path().join("live.json");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "-o",
+        &s(&out),
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "2",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut child = spawn(&args, &[]);
+    std::thread::sleep(Duration::from_millis(600));
+    let more = checkpoint_bytes(&c, &records[..5], n);
+    rewrite(&results, &more[..more.len() / 2]);
+    std::thread::sleep(Duration::from_millis(400));
+    rewrite(&results, &more);
+    let o = wait(&mut child, Duration::from_secs(60));
+    let lines = json_lines(&o.stderr);
+    let keys = |v: &Value| -> Vec<String> {
+        let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+        k.sort();
+        k
+    };
+    let normal: Vec<&Value> = lines.iter().filter(|l| l.get("retry").is_none()).collect();
+    let retry: Vec<&Value> = lines.iter().filter(|l| l.get("retry").is_some()).collect();
+    assert!(!normal.is_empty() && !retry.is_empty(), "{lines:?}");
+    let schema = keys(normal[0]);
+    for l in &normal {
+        assert_eq!(keys(l), schema);
+    }
+    for l in &retry {
+        let mut k = keys(l);
+        k.retain(|k| k != "retry");
+        assert_eq!(k, schema, "{l}");
+        // The last good reading's figures.
+        assert_eq!(l["done"], 4, "{l}");
+        assert!(l["ds_done"].is_number(), "{l}");
+    }
+    for key in [
+        "round",
+        "done",
+        "n",
+        "ds_done",
+        "ds_n",
+        "seconds_left",
+        "time",
+    ] {
+        assert!(schema.contains(&key.to_string()), "{key}");
+    }
+}
+
+/// `sds score` and `sds watch --once` over the demo with `extra` arguments: their exit codes
+/// and the watch's time.
+fn score_and_watch(
+    run: &demo::DemoRun,
+    results: &Path,
+    extra: &[&str],
+) -> (i32, i32, Duration, String) {
+    let dir = run.results.parent().unwrap();
+    let base: Vec<String> = [
+        "--results",
+        &s(results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--maps",
+        &s(&run.maps),
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut score_args = vec!["score".to_string()];
+    score_args.extend(base.clone());
+    score_args.extend(extra.iter().map(|a| a.to_string()));
+    score_args.extend(["-o".into(), s(&dir.join("score.out"))]);
+    let sc = Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(&score_args)
+        .output()
+        .unwrap();
+    let mut args = vec!["watch".to_string()];
+    args.extend(base);
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args.extend(
+        [
+            "-o",
+            &s(&dir.join("watch.out")),
+            "--interval",
+            "0.05",
+            "--timeout",
+            "20",
+        ]
+        .map(String::from),
+    );
+    let start = Instant::now();
+    let mut child = spawn(&args, &[]);
+    let o = wait(&mut child, Duration::from_secs(60));
+    (
+        sc.status.code().unwrap(),
+        o.status.code().unwrap(),
+        start.elapsed(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Issue 34 finding 5: errors no later round can mend stop the watch at once, with `sds
+/// score`'s exit code: a mistyped `--routes`, `--labels`, `--families`, a null label,
+/// duplicate route ids, a results file with a byte order mark.
+#[test]
+fn r3_05_permanent_errors_stop_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let (c, records) = checkpoint(&run);
+    let null_label = dir.path().join("null_labels.json");
+    fs::write(&null_label, r#"{"900001": null}"#).unwrap();
+    let dup = dir.path().join("dup.json");
+    let mut twice = records.clone();
+    twice.push(records[0].clone());
+    fs::write(&dup, checkpoint_bytes(&c, &twice, twice.len())).unwrap();
+    let bom = dir.path().join("bom.json");
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(fs::read(&run.results).unwrap());
+    fs::write(&bom, bytes).unwrap();
+    let missing = s(&dir.path().join("no_such_file"));
+    let nl = s(&null_label);
+    let cases: Vec<(&str, PathBuf, Vec<&str>)> = vec![
+        ("--routes", run.results.clone(), vec!["--routes", &missing]),
+        (
+            "--labels",
+            run.results.clone(),
+            vec!["--group-by", "route", "--labels", &missing],
+        ),
+        (
+            "--families",
+            run.results.clone(),
+            vec!["--group-by", "family", "--families", &missing],
+        ),
+        (
+            "null label",
+            run.results.clone(),
+            vec!["--group-by", "route", "--labels", &nl],
+        ),
+        ("duplicates", dup, vec![]),
+        ("BOM", bom, vec![]),
+    ];
+    for (what, results, extra) in cases {
+        let (score_code, watch_code, took, err) = score_and_watch(&run, &results, &extra);
+        assert!(took < Duration::from_secs(10), "{what}: {took:?}: {err}");
+        assert_eq!(watch_code, score_code, "{what}: {err}");
+    }
+}
+
+/// Issue 34 finding 5: the cache key holds every input that changes a route's result. A map
+/// added, the route XML changed, a telemetry file mended without a change of size or
+/// modification time (what `chmod` does to an unreadable file): the next round equals `sds
+/// score` over the same files.
+#[test]
+fn r3_05_cache_key_holds_every_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("run")).unwrap();
+    // A map added mid-watch (renamed into place, as a copy finishes).
+    let maps = dir.path().join("maps");
+    fs::create_dir_all(&maps).unwrap();
+    let inputs = Inputs {
+        maps: Some(maps.clone()),
+        ..demo_inputs(&run)
+    };
+    let mut w = watcher(inputs.clone());
+    let (without, _) = scored(&mut w);
+    for f in fs::read_dir(&run.maps).unwrap() {
+        let f = f.unwrap();
+        let tmp = dir.path().join("copy.tmp");
+        fs::copy(f.path(), &tmp).unwrap();
+        fs::rename(&tmp, maps.join(f.file_name())).unwrap();
+    }
+    let (with, _) = scored(&mut w);
+    let reference = j(&fresh(&inputs));
+    assert_ne!(j(&without), reference, "the map changes nothing?");
+    assert_eq!(j(&with), reference, "map added");
+
+    // The route XML changed: the first route's waypoints moved 1.5 m sideways (no maps, so
+    // that the route is the lateral reference).
+    let xml = fs::read_to_string(&run.routes).unwrap();
+    let end = xml.find("</route>").unwrap();
+    let changed = format!(
+        "{}{}",
+        xml[..end].replace("y=\"-3310.0\"", "y=\"-3308.5\""),
+        &xml[end..]
+    );
+    assert_ne!(changed, xml);
+    let routes = dir.path().join("routes.xml");
+    fs::write(&routes, &xml).unwrap();
+    let inputs = Inputs {
+        route_xml: Some(routes.clone()),
+        maps: None,
+        ..demo_inputs(&run)
+    };
+    let mut w = watcher(inputs.clone());
+    let (before, _) = scored(&mut w);
+    fs::write(&routes, changed).unwrap();
+    let (after, _) = scored(&mut w);
+    let reference = j(&fresh(&inputs));
+    assert_ne!(j(&before), reference, "the XML changes nothing?");
+    assert_eq!(j(&after), reference, "route XML changed");
+
+    // A telemetry file unreadable for a round, mended with the same size and times.
+    let inputs = demo_inputs(&run);
+    let name = fs::read_dir(&run.telemetry)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .min()
+        .unwrap();
+    let file = name.join("metric_info.json");
+    let good = fs::read(&file).unwrap();
+    let mtime = fs::metadata(&file).unwrap().modified().unwrap();
+    let keep_mtime = |f: &Path| {
+        fs::File::options()
+            .write(true)
+            .open(f)
+            .unwrap()
+            .set_modified(mtime)
+            .unwrap()
+    };
+    rewrite(&file, &vec![b'x'; good.len()]);
+    keep_mtime(&file);
+    let mut w = watcher(inputs.clone());
+    let (broken, _) = scored(&mut w);
+    rewrite(&file, &good);
+    keep_mtime(&file);
+    let (mended, _) = scored(&mut w);
+    let reference = j(&fresh(&inputs));
+    assert_ne!(j(&broken), reference);
+    assert_eq!(j(&mended), reference, "telemetry mended");
+}
+
+/// Issue 34 finding 5: a results file half-written when the watch stops is said, with a
+/// non-zero exit (not an older report with exit 0).
+#[test]
+fn r3_05_half_written_at_the_stop_exits_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, records) = checkpoint(&run);
+    let n = records.len();
+    let results = dir.path().join("results.json");
+    rewrite(&results, &checkpoint_bytes(&c, &records[..4], n));
+    let out = dir.path().join("live.json");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "-o",
+        &s(&out),
+        "--interval",
+        "0.05",
+        "--timeout",
+        "1",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut child = spawn(&args, &[]);
+    std::thread::sleep(Duration::from_millis(400));
+    let more = checkpoint_bytes(&c, &records[..5], n);
+    rewrite(&results, &more[..more.len() / 2]);
+    let o = wait(&mut child, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("still half-written when the watch stopped"),
+        "{err}"
+    );
+}
+
+/// Issue 34 finding 5: a live round that cannot be written warns and is written again; only
+/// the final write is fatal.
+#[test]
+fn r3_05_unwritable_live_round_warns_and_retries() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let out = dir.path().join("live.json");
+    // A folder in the report's place: no round can be written while it is there.
+    fs::create_dir_all(&out).unwrap();
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--expected-routes",
+        "12",
+        "-o",
+        &s(&out),
+        "--interval",
+        "0.05",
+        "--timeout",
+        "1.5",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut child = spawn(&args, &[]);
+    std::thread::sleep(Duration::from_millis(500));
+    fs::remove_dir(&out).unwrap();
+    let o = wait(&mut child, Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("sds: warning: watch round 1:"), "{err}");
+    assert!(err.contains("written again next round"), "{err}");
+    assert!(err.contains("watch stopped (--timeout)"), "{err}");
+    assert!(out.is_file());
+}
+
+/// Issue 34 finding 5: `--interval` and `--timeout` are bounded (usage errors naming the
+/// option and the bound), never a panic or a silent 0.
+#[test]
+fn r3_05_interval_and_timeout_are_bounded() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let out = s(&dir.path().join("out.json"));
+    let results = s(&run.results);
+    for (option, value, bound) in [
+        ("--interval", "1e19", "86400"),
+        ("--interval", "NaN", "86400"),
+        ("--interval", "0", "86400"),
+        ("--timeout", "inf", "31536000"),
+        ("--timeout", "1e300", "31536000"),
+        ("--timeout", "NaN", "31536000"),
+        ("--timeout", "-5", "31536000"),
+    ] {
+        let o = sds(&[
+            "watch",
+            "--results",
+            &results,
+            "-o",
+            &out,
+            "--allow-missing-telemetry",
+            &format!("{option}={value}"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{option} {value}: {err}");
+        assert!(
+            err.contains(option) && err.contains(bound),
+            "{option} {value}: {err}"
+        );
+    }
+}
+
+/// Issue 34 finding 5: a closed standard error never panics the watch (`eprintln!` did on
+/// EPIPE); the report is still written.
+#[test]
+fn r3_05_closed_stderr_does_not_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let out = dir.path().join("out.json");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args([
+            "watch",
+            "--results",
+            &s(&run.results),
+            "--telemetry",
+            &s(&run.telemetry),
+            "--routes",
+            &s(&run.routes),
+            "-o",
+            &s(&out),
+            "--interval",
+            "0.05",
+            "--status-json",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stderr.take()); // the reader goes away
+    let start = Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "no stop");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_ne!(status.code(), Some(101), "panicked");
+    assert_eq!(status.code(), Some(0));
+    assert!(out.is_file());
+}
+
+/// Issue 34 finding 5: the double SIGTERM of coreutils' `timeout` (to the child, then to its
+/// process group) no longer loses the final report: the second signal, within 2 s of the
+/// first, is the same request. The final write is slowed down (test seam) so that the second
+/// signal arrives while it runs.
+#[test]
+fn r3_05_double_sigterm_keeps_the_final_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let reference = dir.path().join("score.html");
+    let sc = sds(&[
+        "score",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--expected-routes",
+        "12",
+        "--format",
+        "html",
+        "-o",
+        &s(&reference),
+    ]);
+    for trial in 0..4 {
+        let out = dir.path().join(format!("live{trial}.html"));
+        let args: Vec<String> = [
+            "watch",
+            "--results",
+            &s(&run.results),
+            "--telemetry",
+            &s(&run.telemetry),
+            "--routes",
+            &s(&run.routes),
+            "--expected-routes",
+            "12",
+            "--format",
+            "html",
+            "-o",
+            &s(&out),
+            "--interval",
+            "0.2",
+        ]
+        .map(String::from)
+        .to_vec();
+        let mut child = spawn(&args, &[("SDS_TEST_WRITE_DELAY_MS", "150")]);
+        let start = Instant::now();
+        while !out.exists() {
+            assert!(start.elapsed() < Duration::from_secs(60), "no live round");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        std::thread::sleep(Duration::from_millis(40 * trial as u64));
+        for _ in 0..2 {
+            #[allow(unsafe_code)]
+            // SAFETY: kill(2) on our own child's pid.
+            unsafe {
+                libc::kill(child.id() as i32, libc::SIGTERM);
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let o = wait(&mut child, Duration::from_secs(60));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), sc.status.code(), "trial {trial}: {err}");
+        assert!(err.contains("watch stopped (interrupted)"), "{err}");
+        assert_eq!(
+            fs::read(&out).unwrap(),
+            fs::read(&reference).unwrap(),
+            "trial {trial}"
+        );
+    }
+}
+
+/// Issue 34 finding 5: `--figures` writes the final report's figures, as `sds score` does.
+#[test]
+fn r3_05_figures_are_written_for_the_final_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let common = [
+        "--results".to_string(),
+        s(&run.results),
+        "--telemetry".into(),
+        s(&run.telemetry),
+        "--routes".into(),
+        s(&run.routes),
+    ];
+    let (fs_score, fs_watch) = (dir.path().join("fs"), dir.path().join("fw"));
+    let mut a: Vec<String> = vec!["score".into()];
+    a.extend(common.clone());
+    a.extend([
+        "--figures".into(),
+        s(&fs_score),
+        "-o".into(),
+        s(&dir.path().join("s.json")),
+    ]);
+    let sc = Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(&a)
+        .output()
+        .unwrap();
+    assert!(sc.status.success());
+    let mut a: Vec<String> = vec!["watch".into(), "--once".into()];
+    a.extend(common);
+    a.extend([
+        "--figures".into(),
+        s(&fs_watch),
+        "-o".into(),
+        s(&dir.path().join("w.json")),
+    ]);
+    let o = Command::new(env!("CARGO_BIN_EXE_sds"))
+        .args(&a)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let names = |d: &Path| {
+        let mut v: Vec<_> = fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        v.sort();
+        v
+    };
+    assert!(!names(&fs_score).is_empty());
+    assert_eq!(names(&fs_watch), names(&fs_score));
+    for n in names(&fs_score) {
+        assert_eq!(
+            fs::read(fs_watch.join(&n)).unwrap(),
+            fs::read(fs_score.join(&n)).unwrap()
+        );
+    }
+}
+
+/// Issue 34 finding 4 (status part): a route id holding U+202E and a newline keeps every
+/// `--status-json` line valid JSON (serde_json's escapes, not the text escape `\u{202e}`).
+#[test]
+fn r3_04_status_json_is_json_with_hostile_ids() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, mut records) = checkpoint(&run);
+    // The last record: the status line's `last_route`.
+    let last = records.len() - 1;
+    records[last]["route_id"] = "RouteScenario_1\u{202e}01_rep0\n".into();
+    let results = dir.path().join("results.json");
+    let n = records.len();
+    fs::write(&results, checkpoint_bytes(&c, &records, n)).unwrap();
+    let o = sds(&[
+        "watch",
+        "--results",
+        &s(&results),
+        "--allow-missing-telemetry",
+        "--once",
+        "--status-json",
+        "-o",
+        &s(&dir.path().join("out.json")),
+    ]);
+    let lines = json_lines(&o.stderr);
+    assert!(!lines.is_empty(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(lines[0]["last_route"], "RouteScenario_1\u{202e}01_rep0\n");
+    // No raw bidirectional character reaches the terminal either.
+    assert!(!String::from_utf8_lossy(&o.stderr).contains('\u{202e}'));
+}
+
+/// Issue 33 item 2: the live page says it is live (done / N, DS over the routes done and of N,
+/// the time left, the round's time); the final page is `sds score`'s.
+#[test]
+fn i33_2_live_page_says_it_is_live() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let out = dir.path().join("live.html");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--expected-routes",
+        "12",
+        "--format",
+        "html",
+        "-o",
+        &s(&out),
+        "--interval",
+        "0.1",
+        "--timeout",
+        "1",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut child = spawn(&args, &[]);
+    let start = Instant::now();
+    while !out.exists() {
+        assert!(start.elapsed() < Duration::from_secs(60), "no live round");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let page = fs::read_to_string(&out).unwrap();
+    assert!(page.contains("id=\"live\""), "no live banner");
+    assert!(page.contains("9 / 12 routes done"));
+    assert!(page.contains("over the routes done") && page.contains("of N"));
+    assert!(page.contains("left"));
+    let year = monitor_host::watch::utc(std::time::SystemTime::now())[..4].to_string();
+    assert!(page.contains(&format!("at {year}-")));
+    let o = wait(&mut child, Duration::from_secs(60));
+    let reference = dir.path().join("score.html");
+    let sc = sds(&[
+        "score",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--expected-routes",
+        "12",
+        "--format",
+        "html",
+        "-o",
+        &s(&reference),
+    ]);
+    assert_eq!(o.status.code(), sc.status.code());
+    assert_eq!(fs::read(&out).unwrap(), fs::read(&reference).unwrap());
+}

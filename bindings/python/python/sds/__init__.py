@@ -22,7 +22,7 @@ does not have yet).
 
 from __future__ import annotations
 
-from typing import Any, Dict, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._sds import (
@@ -78,6 +78,7 @@ def score(
     jobs: Optional[int] = None,
     progress: bool = False,
     protocols: Optional[Sequence[str]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
 ) -> Dict[str, Any]:
     """Scores a run; returns the report of ``sds score --format json`` as a dict.
 
@@ -112,6 +113,10 @@ def score(
             ``"lb2.0"``, ``"lb2.1"``, ``"lead-nds"``, ``"f2d"``, or ``["all"]`` (``--protocol``;
             the report's per-route and summary ``protocols``). The recorded events under other
             arithmetic, not a re-run.
+        route_subset: Which routes of ``routes`` make the route set (``--route-subset``):
+            ``"all"`` (every route of the XML; one without a record counts as 0) or ``"found"``
+            (those with a record: a run of 20 routes scored over 20). None: the setting
+            ``route_subset`` (default ``"all"``, or from ``settings``).
 
     Returns:
         The report (``schema``, ``profile``, ``config``, ``routes``, ``summary``, ``warnings``).
@@ -121,8 +126,8 @@ def score(
         InputError: A results file, the route XML or a labels file is invalid; route ids are
             duplicated under ``duplicates="error"``; the inputs hold no record.
         IoError: A file or folder cannot be read (a ``telemetry`` folder that does not exist).
-        ConfigError: An option or setting is invalid (an unknown ``profile``, ``duplicates`` or
-            ``group_by``, ``expected_routes`` below the routes found); its subclass
+        ConfigError: An option or setting is invalid (an unknown ``profile``, ``duplicates``,
+            ``route_subset`` or ``group_by``, ``expected_routes`` below the routes found); its subclass
             :class:`NeedsLabelsError`: ``group_by="family"`` or ``"route"`` without ``labels``.
 
     Example:
@@ -138,6 +143,7 @@ def score(
             settings=settings,
             jobs=jobs,
             protocols=protocols,
+            route_subset=route_subset,
         ),
         "telemetry": telemetry,
         "routes": routes,

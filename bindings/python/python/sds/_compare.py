@@ -1,4 +1,4 @@
-"""``sds.compare``: runs compared against a baseline (spec v1.3 section 11), from Python."""
+"""``sds.compare``: runs compared against a baseline (spec v1.4 section 11), from Python."""
 
 from __future__ import annotations
 
@@ -52,8 +52,11 @@ def compare(
         common_routes: Compare over the routes every run holds instead of refusing runs whose
             route sets differ (``--common-routes``).
         fail_if_worse: Metrics of the gate (``--fail-if-worse``): check
-            ``report["paired"]`` for a ``"worse"`` verdict on them (the CLI exits 5).
-        bootstrap_samples: Resamples B. bootstrap_seed: The SplitMix64 seed.
+            ``report["paired"]`` for a ``"worse"`` or ``"no data"`` verdict on them (the CLI
+            exits 5 on either: a gate never passes by checking nothing).
+        bootstrap_samples: Resamples B, 1000 to 1000000 (and n x B at most 250 million per
+            model and metric). bootstrap_seed: The SplitMix64 seed; each model and metric
+            draws from its own generator seeded with it.
         settings: Setting overrides, as for :func:`sds.score`.
         jobs: Worker threads.
         protocols: Also score every run's routes under these scoring protocols, as for
@@ -68,9 +71,12 @@ def compare(
 
     Raises:
         ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
-            unknown metric, route sets that differ without ``common_routes``; an invalid
-            ``profile``, ``settings`` or ``protocols``.
+            unknown metric, route sets that differ without ``common_routes``,
+            ``bootstrap_samples`` out of range; an invalid ``profile``, ``settings`` or
+            ``protocols``.
         InputError, IoError: A run's inputs, as for :func:`sds.score` (the message names the run).
+        KeyboardInterrupt: Ctrl-C, which stops the comparison between routes, runs and
+            bootstrap blocks.
 
     Example:
         >>> c = sds.compare({"base": "base/", "new": "new/"}, routes="bench2drive220.xml")

@@ -28,6 +28,7 @@ def run_options(
     settings: Optional[Mapping[str, Union[str, int, float, bool]]],
     jobs: Optional[int],
     protocols: Optional[Sequence[str]],
+    route_subset: Optional[str] = None,
 ) -> Dict[str, Any]:
     """The options every scored run takes (Rust's ``RunKwargs``); ``protocols`` as one string
     is refused (it would read as a list of characters)."""
@@ -43,4 +44,5 @@ def run_options(
         "settings": settings,
         "jobs": None if jobs is None else int(jobs),
         "protocols": None if protocols is None else list(protocols),
+        "route_subset": route_subset,
     }

@@ -37,9 +37,12 @@ def watch(
     that made it are in the iterator's ``status`` dict:
 
     - ``round``: the round's number (rounds retried on a half-written file count too);
+      ``time``: when it ran (UTC, ``2026-11-27T17:45:33Z``);
     - ``done``, ``n``: routes with a record, and the benchmark's size N;
     - ``ds_done``, ``sds_done``: DS and SDS over the routes done; ``ds_n``, ``sds_n``: over N,
       the routes not done counting 0 (the two "so far" figures of the status line);
+    - ``last_route``, ``last_state``, ``last_ds``: the last route replayed (else the last with a
+      record), its state and DS;
     - ``complete``: every route of the set has a record (a route XML or ``expected_routes``
       gives the set; without one, every checkpoint's ``progress`` says done);
     - ``seconds_left``: the routes' mean ``meta.duration_system`` times the routes left, or None;
@@ -48,6 +51,8 @@ def watch(
     - ``retries``: rounds since the previous report that caught a results file half-written
       (retried, never raised); ``round_ms``: the round's time;
     - ``stopped``: None, or why the iterator stopped (``"complete"``, ``"timeout"``).
+
+    These are the fields of ``sds watch --status-json``, one schema for both.
 
     The first ``next()`` scores at once; each later one first sleeps ``interval`` seconds (and
     again after a retried round). The iterator stops once the route set is complete and one
@@ -71,10 +76,14 @@ def watch(
         stopped).
 
     Raises:
-        ConfigError: An invalid option, as :func:`sds.score`, or an ``interval`` not above 0
-            (at once); an invalid setting or label file, or a ``telemetry`` or ``maps`` folder
-            that does not exist (``IoError``), from the first ``next()``. A results file that
-            does not parse yet is retried, never raised.
+        ConfigError: An invalid option, as :func:`sds.score`, an ``interval`` not in
+            (0, 86400] or a ``timeout`` not in [0, 31536000] seconds (at once). From ``next()``,
+            at once, the errors no later write of the evaluator can mend, as :func:`sds.score`
+            raises them: an invalid setting, route XML or label file (a missing one, a null
+            label), duplicate route ids, a ``telemetry`` or ``maps`` folder that does not exist,
+            a results file that is not JSON from its first byte. A results file that ends early,
+            shrank or is not there yet is retried, never raised; one still half-written at the
+            timeout gives a ``RuntimeWarning``.
 
     Example:
         >>> w = sds.watch("eval/results.json", telemetry="eval/", routes="bench2drive220.xml",

@@ -1,6 +1,7 @@
-//! The paired bootstrap of one model and metric (`SDS-SPEC.md` v1.3 §11): the mean of the
+//! The paired bootstrap of one model and metric (`SDS-SPEC.md` v1.4 §11): the mean of the
 //! per-route differences, B resamples of the n routes with replacement, the 95 % percentile
-//! interval, `p_better` and the verdict.
+//! interval, `p_better` and the verdict (`no data` when no route could be compared). Also the
+//! bounds on B ([`SAMPLES`], [`DRAW_BUDGET`]) that keep one comparison's time and memory in check.
 //!
 //! ```
 //! use monitor_host::aggregate::compare::bootstrap::{paired, Verdict};
@@ -29,6 +30,10 @@ pub enum Verdict {
     /// The interval holds 0.
     #[serde(rename = "within noise")]
     WithinNoise,
+    /// No route could be compared (n = 0: comfort undefined on every route, or no shared route
+    /// key under `--common-routes`): nothing is known, and a gate on it fails (v1.4).
+    #[serde(rename = "no data")]
+    NoData,
 }
 
 impl Verdict {
@@ -38,12 +43,13 @@ impl Verdict {
             Verdict::Better => "better",
             Verdict::Worse => "worse",
             Verdict::WithinNoise => "within noise",
+            Verdict::NoData => "no data",
         }
     }
 }
 
 /// What the bootstrap says about one set of paired differences. With n = 0 every figure is
-/// `None` (and no number is drawn).
+/// `None`, the verdict is [`Verdict::NoData`], and no number is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Paired {
     /// Routes compared.
@@ -54,9 +60,18 @@ pub struct Paired {
     pub ci95: Option<[f64; 2]>,
     /// Share of resamples whose mean is > 0.
     pub p_better: Option<f64>,
-    /// Better, worse or within noise.
+    /// Better, worse, within noise, or no data (n = 0); `None` only when B = 0.
     pub verdict: Option<Verdict>,
 }
+
+/// The resamples B a comparison accepts (`--bootstrap-samples`, `bootstrap_samples`): below
+/// 1,000 the interval's ends rest on a handful of resamples (B = 1 gives a one-point "interval");
+/// above 1,000,000 the bounds no longer move while time and memory (8 bytes a resample) grow.
+pub const SAMPLES: std::ops::RangeInclusive<usize> = 1_000..=1_000_000;
+
+/// The most draws one model and metric may take, n × B (about a second of one core): B =
+/// 1,000,000 over Bench2Drive's 220 routes, the default 10,000 over up to 25,000 routes.
+pub const DRAW_BUDGET: u64 = 250_000_000;
 
 /// The indices of the 95 % interval in the B sorted statistics: `floor(0.025 B)` and
 /// `ceil(0.975 B) - 1`, in integers (0.025 = 1/40), so no rounding of a float decides them.
@@ -67,8 +82,9 @@ pub fn interval_indices(b: usize) -> (usize, usize) {
 }
 
 /// The bootstrap of the differences `d` (in the baseline's route order) with `b` resamples,
-/// drawing from `rng`: resample by resample, n indices each (`rng` is shared by the whole
-/// comparison, so the order of the calls matters). `b` must be at least 1.
+/// drawing from `rng`: resample by resample, n indices each. A comparison gives each model and
+/// metric a generator of its own, seeded with `bootstrap_seed` (v1.4). `b` must be at least 1
+/// (the verdict is `None` when it is 0); n = 0 draws nothing and says [`Verdict::NoData`].
 pub fn paired(d: &[f64], b: usize, rng: &mut SplitMix64) -> Paired {
     let n = d.len();
     if n == 0 || b == 0 {
@@ -77,7 +93,7 @@ pub fn paired(d: &[f64], b: usize, rng: &mut SplitMix64) -> Paired {
             delta: None,
             ci95: None,
             p_better: None,
-            verdict: None,
+            verdict: (n == 0).then_some(Verdict::NoData),
         };
     }
     let delta = d.iter().fold(0.0, |a, x| a + x) / n as f64;
@@ -195,7 +211,7 @@ mod tests {
         assert_eq!(p.n, 0);
         assert_eq!(
             (p.delta, p.ci95, p.p_better, p.verdict),
-            (None, None, None, None)
+            (None, None, None, Some(Verdict::NoData))
         );
         assert_eq!(rng, before, "n = 0 draws nothing");
     }

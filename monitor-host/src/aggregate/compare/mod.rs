@@ -1,6 +1,10 @@
-//! Comparing runs (`sds compare`, `SDS-SPEC.md` v1.3 §11): models (one run, or the seeds of one
+//! Comparing runs (`sds compare`, `SDS-SPEC.md` v1.4 §11): models (one run, or the seeds of one
 //! model) compared route by route against a baseline, with paired differences, a bootstrap
 //! interval, a verdict per metric, the routes that flipped, and a regression gate.
+//!
+//! Each model and metric draws from its own generator seeded with `bootstrap_seed` (v1.4): the
+//! same n gives the same resamples of route positions (common random numbers), so adding a model,
+//! a metric or a protocol changes no other figure.
 //!
 //! [`compare`] works on reports already made; [`crate::compare_runs::compare_runs`] scores the
 //! runs and calls it. The pieces: [`route_values`] (keys, repetitions, seeds), [`splitmix`] (the
@@ -39,7 +43,7 @@ use serde::Serialize;
 use crate::aggregate::aggregates::Aggregates;
 use crate::aggregate::report::Report;
 use crate::route::row::{counted_routes, RouteReport};
-use bootstrap::{paired, Paired, Verdict};
+use bootstrap::{paired, Paired, Verdict, DRAW_BUDGET, SAMPLES};
 use flips::{flipped, largest, Flips};
 use models::{model_row, ModelRow};
 use route_values::{mean_values, metric_names, route_key, run_values, RunValues, Values, METRICS};
@@ -73,11 +77,12 @@ pub struct CompareOptions {
     pub baseline: Option<String>,
     /// Compare over the keys all runs share instead of refusing different route sets.
     pub common_routes: bool,
-    /// Bootstrap resamples B (default 10000, at least 1).
+    /// Bootstrap resamples B (default 10000; [`bootstrap::SAMPLES`], and n × B at most
+    /// [`bootstrap::DRAW_BUDGET`]).
     pub bootstrap_samples: usize,
     /// SplitMix64 seed (default 0).
     pub bootstrap_seed: u64,
-    /// Metrics whose `worse` verdict fails the gate (exit 5 of `sds compare`).
+    /// Metrics whose `worse` or `no data` verdict fails the gate (exit 5 of `sds compare`).
     pub fail_if_worse: Vec<String>,
 }
 
@@ -133,9 +138,35 @@ pub enum CompareError {
     /// A protocol metric (`ds@<id>`) whose protocol was not asked.
     #[error("metric {0} compares a protocol's scores: score the runs with it (--protocol {1})")]
     ProtocolNotAsked(String, String),
-    /// `bootstrap_samples` = 0.
-    #[error("bootstrap_samples must be at least 1")]
-    NoSamples,
+    /// `bootstrap_samples` outside [`bootstrap::SAMPLES`] (the value as given).
+    #[error(
+        "bootstrap_samples (--bootstrap-samples) = {0}: B must be between {lo} and {hi} \
+         resamples (fewer leave the interval's ends to a handful of resamples; more cost time \
+         and memory without moving them)",
+        lo = SAMPLES.start(), hi = SAMPLES.end()
+    )]
+    SamplesOutOfRange(String),
+    /// n × B above [`bootstrap::DRAW_BUDGET`] for a model and metric.
+    #[error(
+        "bootstrap_samples (--bootstrap-samples) = {b} over the {n} routes of {model} on {metric} \
+         is {draws} draws, above the budget of {DRAW_BUDGET} per model and metric (n × B): use \
+         at most {most} resamples for {n} routes",
+        draws = (*n as u128) * (*b as u128), most = DRAW_BUDGET / (*n).max(1) as u64
+    )]
+    DrawBudget {
+        /// The model.
+        model: String,
+        /// The metric.
+        metric: String,
+        /// Routes compared.
+        n: usize,
+        /// Resamples asked.
+        b: usize,
+    },
+    /// The comparison was cancelled ([`crate::Progress::cancelled`], e.g. Ctrl-C in Python)
+    /// before every model and metric was drawn.
+    #[error("cancelled before every model and metric was compared: no report")]
+    Cancelled,
     /// The runs' route sets differ.
     #[error(
         "the runs do not hold the same routes: {differ} route key(s) are not in every run \
@@ -216,45 +247,110 @@ pub struct Comparison {
     pub warnings: Vec<String>,
 }
 
-/// A failed gate: a model worse than the baseline on a gated metric.
+/// Why a gated metric fails the gate.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GateReason {
+    /// The verdict is `worse`: the interval lies below 0.
+    Worse {
+        /// The delta.
+        delta: f64,
+        /// The interval.
+        ci95: [f64; 2],
+    },
+    /// The verdict is `no data` (n = 0): the metric could not be compared, and a gate must
+    /// never pass by checking nothing (v1.4).
+    NoData {
+        /// Why no route could be compared.
+        why: String,
+    },
+}
+
+/// A failed gate: a model worse than the baseline on a gated metric, or not comparable on it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GateFailure {
     /// The model.
     pub model: String,
     /// The metric.
     pub metric: String,
-    /// Its delta.
-    pub delta: f64,
-    /// Its interval.
-    pub ci95: [f64; 2],
+    /// Worse, or no data.
+    pub reason: GateReason,
 }
 
 impl std::fmt::Display for GateFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} is worse than the baseline on {}: delta {:.4}, 95 % interval [{:.4}, {:.4}]",
-            self.model, self.metric, self.delta, self.ci95[0], self.ci95[1]
-        )
+        match &self.reason {
+            GateReason::Worse { delta, ci95 } => write!(
+                f,
+                "{} is worse than the baseline on {}: delta {delta:.4}, 95 % interval [{:.4}, \
+                 {:.4}]",
+                self.model, self.metric, ci95[0], ci95[1]
+            ),
+            GateReason::NoData { why } => write!(
+                f,
+                "{} could not be compared with the baseline on {} (no data, n = 0): {why}; a \
+                 gate that checks nothing fails",
+                self.model, self.metric
+            ),
+        }
     }
 }
 
 impl Comparison {
-    /// The gate (`--fail-if-worse`): every model and listed metric whose verdict is `worse`.
+    /// The gate (`--fail-if-worse`): every model and listed metric whose verdict is `worse` or
+    /// `no data` (v1.4).
+    ///
+    /// ```
+    /// use monitor_host::aggregate::compare::{compare, CompareOptions, GateReason, Model, NamedRun};
+    /// use monitor_host::{demo, score_run, Inputs, Settings};
+    /// let dir = tempfile::tempdir()?;
+    /// let run = demo::write(dir.path())?;
+    /// // Without telemetry, comfort is undefined on every route: n = 0.
+    /// let settings = Settings { allow_missing_telemetry: true, ..Settings::default() };
+    /// let report = score_run(&Inputs::new([run.results]), &settings)?;
+    /// let m = |n: &str| Model { name: n.into(), runs: vec![NamedRun { name: n.into(), report: report.clone() }] };
+    /// let options = CompareOptions { fail_if_worse: vec!["comfort".into()], ..CompareOptions::default() };
+    /// let c = compare(&[m("base"), m("new")], &options)?;
+    /// let failed = c.gate_failures();
+    /// assert!(matches!(failed[0].reason, GateReason::NoData { .. }));
+    /// assert!(failed[0].to_string().contains("could not be compared"));
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
     pub fn gate_failures(&self) -> Vec<GateFailure> {
         self.paired
             .iter()
             .filter(|p| self.config.fail_if_worse.contains(&p.metric))
-            .filter(|p| p.result.verdict == Some(Verdict::Worse))
             .filter_map(|p| {
+                let reason = match (p.result.verdict?, p.result.delta, p.result.ci95) {
+                    (Verdict::Worse, Some(delta), Some(ci95)) => GateReason::Worse { delta, ci95 },
+                    (Verdict::NoData, _, _) => GateReason::NoData {
+                        why: self.no_data_why(&p.metric),
+                    },
+                    _ => return None,
+                };
                 Some(GateFailure {
                     model: p.model.clone(),
                     metric: p.metric.clone(),
-                    delta: p.result.delta?,
-                    ci95: p.result.ci95?,
+                    reason,
                 })
             })
             .collect()
+    }
+
+    /// Why a metric has no compared route.
+    fn no_data_why(&self, metric: &str) -> String {
+        if self.scope.routes == 0 {
+            if self.scope.common_routes {
+                "the runs share no route key (--common-routes)".into()
+            } else {
+                "no route key to compare".into()
+            }
+        } else if metric == "comfort" {
+            "comfort is undefined on every route of the baseline or the model (it needs the \
+             routes' telemetry)"
+                .into()
+        } else {
+            format!("{metric} is undefined on every route of the baseline or the model")
+        }
     }
 }
 
@@ -296,8 +392,22 @@ fn asked_protocols(models: &[Model]) -> Vec<crate::settings::Protocol> {
 ///
 /// # Errors
 /// [`CompareError`]: fewer than two models, duplicate names, an unknown baseline or metric,
-/// B = 0, or different route sets without `common_routes`.
+/// B outside [`bootstrap::SAMPLES`] or n × B above [`bootstrap::DRAW_BUDGET`], or different
+/// route sets without `common_routes`.
 pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison, CompareError> {
+    compare_cancellable(models, options, &|| false)
+}
+
+/// [`compare`], stopping between models and metrics once `cancelled` says so (a binding's
+/// Ctrl-C): then [`CompareError::Cancelled`].
+///
+/// # Errors
+/// As [`compare`], and [`CompareError::Cancelled`].
+pub fn compare_cancellable(
+    models: &[Model],
+    options: &CompareOptions,
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<Comparison, CompareError> {
     check(models, options)?;
     let protocols = asked_protocols(models);
     let metrics = metric_names(&protocols);
@@ -426,7 +536,9 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
             model_row(&m.name, &aggs, rule.unwrap_or_default().name())
         })
         .collect();
-    let (paired_rows, flips) = pair(models, base, &keys, &per_model, &metrics, options);
+    let (paired_rows, flips) = pair(
+        models, base, &keys, &per_model, &metrics, options, cancelled,
+    )?;
     let mut notes = Vec::new();
     for m in models.iter().filter(|m| m.runs.len() > 1) {
         let names: Vec<&str> = m.runs.iter().map(|r| r.name.as_str()).collect();
@@ -474,16 +586,35 @@ pub fn compare(models: &[Model], options: &CompareOptions) -> Result<Comparison,
     })
 }
 
-fn check(models: &[Model], options: &CompareOptions) -> Result<(), CompareError> {
-    if models.len() < 2 {
-        return Err(CompareError::TooFewModels(models.len()));
-    }
-    if options.bootstrap_samples == 0 {
-        return Err(CompareError::NoSamples);
+/// Checks the options that need no run: B within [`bootstrap::SAMPLES`] and the gate's metric
+/// names. Front ends call it before scoring, so that a typo costs no scoring.
+///
+/// ```
+/// use monitor_host::aggregate::compare::{check_options, CompareOptions};
+/// assert!(check_options(&CompareOptions::default()).is_ok());
+/// let one = CompareOptions { bootstrap_samples: 1, ..CompareOptions::default() };
+/// assert!(check_options(&one).unwrap_err().to_string().contains("between 1000 and 1000000"));
+/// ```
+///
+/// # Errors
+/// [`CompareError::SamplesOutOfRange`], [`CompareError::UnknownMetric`].
+pub fn check_options(options: &CompareOptions) -> Result<(), CompareError> {
+    if !SAMPLES.contains(&options.bootstrap_samples) {
+        return Err(CompareError::SamplesOutOfRange(
+            options.bootstrap_samples.to_string(),
+        ));
     }
     for m in &options.fail_if_worse {
         check_metric(m)?;
     }
+    Ok(())
+}
+
+fn check(models: &[Model], options: &CompareOptions) -> Result<(), CompareError> {
+    if models.len() < 2 {
+        return Err(CompareError::TooFewModels(models.len()));
+    }
+    check_options(options)?;
     let mut names = HashSet::new();
     let mut runs = HashSet::new();
     for m in models {
@@ -526,9 +657,12 @@ fn aggregate(report: &Report, shared: &HashSet<&str>, common: bool) -> Aggregate
     Aggregates::over(&kept, kept.len())
 }
 
-/// The paired table and the flips. One generator for the whole comparison, models in order,
-/// metrics in `metrics` order ([`METRICS`], then the protocols); each block of draws starts where the previous one ends
-/// ([`SplitMix64::skip`]), so the blocks run in parallel and draw what one generator would.
+/// The paired table and the flips. Each model and metric (a block) draws from its own
+/// generator seeded with `bootstrap_seed` (v1.4): no block's figures depend on which other
+/// models, metrics or protocols are compared, and the blocks run in parallel. Every block's
+/// n × B is checked against [`DRAW_BUDGET`] before anything is drawn; `cancelled` is asked
+/// before each block.
+#[allow(clippy::too_many_arguments)]
 fn pair(
     models: &[Model],
     base: usize,
@@ -536,10 +670,10 @@ fn pair(
     per_model: &[Vec<Values>],
     metrics: &[String],
     options: &CompareOptions,
-) -> (Vec<PairedRow>, Vec<Flips>) {
+    cancelled: &(dyn Fn() -> bool + Sync),
+) -> Result<(Vec<PairedRow>, Vec<Flips>), CompareError> {
     let b = options.bootstrap_samples;
     let mut blocks = Vec::new();
-    let mut offset: u64 = 0;
     for (mi, _) in models.iter().enumerate().filter(|(i, _)| *i != base) {
         for (k, metric) in metrics.iter().enumerate() {
             let d: Vec<f64> = per_model[mi]
@@ -547,23 +681,34 @@ fn pair(
                 .zip(&per_model[base])
                 .filter_map(|(x, y)| Some(x[k]? - y[k]?))
                 .collect();
-            let draws = (d.len() as u64).wrapping_mul(b as u64);
-            blocks.push((mi, metric.as_str(), d, offset));
-            offset = offset.wrapping_add(draws);
+            if (d.len() as u128) * (b as u128) > u128::from(DRAW_BUDGET) {
+                return Err(CompareError::DrawBudget {
+                    model: models[mi].name.clone(),
+                    metric: metric.clone(),
+                    n: d.len(),
+                    b,
+                });
+            }
+            blocks.push((mi, metric.as_str(), d));
         }
     }
-    let results: Vec<Paired> = blocks
+    let results: Vec<Option<Paired>> = blocks
         .par_iter()
-        .map(|(_, _, d, offset)| {
-            let mut rng = SplitMix64::new(options.bootstrap_seed);
-            rng.skip(*offset);
-            paired(d, b, &mut rng)
+        .map(|(_, _, d)| {
+            if cancelled() {
+                return None;
+            }
+            Some(paired(d, b, &mut SplitMix64::new(options.bootstrap_seed)))
         })
         .collect();
+    let results: Vec<Paired> = results
+        .into_iter()
+        .collect::<Option<_>>()
+        .ok_or(CompareError::Cancelled)?;
     let paired_rows = blocks
         .iter()
         .zip(results)
-        .map(|((mi, metric, _, _), result)| PairedRow {
+        .map(|((mi, metric, _), result)| PairedRow {
             model: models[*mi].name.clone(),
             metric: metric.to_string(),
             result,
@@ -583,5 +728,5 @@ fn pair(
             }
         })
         .collect();
-    (paired_rows, flips)
+    Ok((paired_rows, flips))
 }

@@ -1,6 +1,7 @@
-//! SplitMix64, the bootstrap's generator (`SDS-SPEC.md` v1.3 §11): a 64-bit state advanced by
+//! SplitMix64, the bootstrap's generator (`SDS-SPEC.md` v1.4 §11): a 64-bit state advanced by
 //! the golden-ratio increment and mixed by two multiply-xorshift rounds. Written out here so that
-//! every front end (and any other implementation of the spec) draws the same indices.
+//! every front end (and any other implementation of the spec) draws the same indices. A
+//! comparison makes one per model and metric, each seeded with `bootstrap_seed`.
 //!
 //! ```
 //! use monitor_host::aggregate::compare::splitmix::SplitMix64;
@@ -28,15 +29,6 @@ impl SplitMix64 {
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
-    }
-
-    /// The generator `draws` outputs later, without computing them: each output advances the
-    /// state by the same increment, so this is one multiply (what lets the blocks of a
-    /// comparison run in parallel and still draw exactly the numbers one generator would).
-    pub fn skip(&mut self, draws: u64) {
-        self.state = self
-            .state
-            .wrapping_add(draws.wrapping_mul(0x9E37_79B9_7F4A_7C15));
     }
 
     /// One draw of an index in `0..n`: `floor(((next() >> 11) * 2^-53) * n)`. The top 53 bits
@@ -69,18 +61,6 @@ mod tests {
                 0xf88b_b8a8_724c_81ec
             ]
         );
-    }
-
-    #[test]
-    fn skip_equals_drawing() {
-        let mut a = SplitMix64::new(5);
-        for _ in 0..1_000 {
-            a.next_u64();
-        }
-        let mut b = SplitMix64::new(5);
-        b.skip(1_000);
-        assert_eq!(a, b);
-        assert_eq!(a.next_u64(), b.next_u64());
     }
 
     #[test]

@@ -24,6 +24,36 @@ use std::collections::BTreeMap;
 pub mod carla_weather;
 mod weather_xml;
 
+/// What `--families safe2drive` means, said instead of reading a file of that name: the
+/// Safe2Drive paper groups its routes into three families but names the scenario type of one
+/// of them only, and a family map is keyed by scenario type, so the project ships no built-in
+/// map (a guessed one would put routes in the wrong rows of a published table).
+pub const SAFE2DRIVE_FAMILIES: &str = "--families takes a file that maps scenario types to \
+    family labels (`type,family` lines, or a JSON object). The Safe2Drive paper groups its 100 \
+    routes into three families: work zones (75 routes, its `StaticWorkzoneRoute` scenario), \
+    pedestrian jaywalking (10) and occluded vulnerable road users (15: a worker hidden by a \
+    construction vehicle, a child hidden by a bus, blind corners and buildings). It names the \
+    scenario type of the work-zone routes only, so there is no built-in `safe2drive` map: write \
+    one line per scenario type of your run, e.g. `StaticWorkzoneRoute,work zone` (the types are \
+    the record's `scenario_name` without its `_N` suffix; `--group-by scenario` lists them)";
+
+/// Whether `--families PATH` names the Safe2Drive paper rather than a file: no file is there and
+/// its name is `safe2drive` (any case, with or without `.csv` / `.json`).
+///
+/// ```
+/// use monitor_host::input::labels::names_safe2drive;
+/// assert!(names_safe2drive(std::path::Path::new("Safe2Drive")));
+/// assert!(!names_safe2drive(std::path::Path::new("families.csv")));
+/// ```
+pub fn names_safe2drive(path: &Path) -> bool {
+    let stem = path.file_name().and_then(|n| n.to_str()).map(|n| {
+        n.trim_end_matches(".csv")
+            .trim_end_matches(".json")
+            .to_ascii_lowercase()
+    });
+    stem.as_deref() == Some("safe2drive") && !path.exists()
+}
+
 /// Labels of scenario types (families), weather ids or route ids, read by
 /// [`read_labels`]; a key may have several labels.
 pub type Labels = BTreeMap<String, Vec<String>>;
@@ -94,6 +124,13 @@ pub enum LabelsError {
         file: String,
         /// What is wrong.
         message: String,
+    },
+    /// `--families safe2drive` (no such file): the name of the Safe2Drive paper, whose families
+    /// cannot be a built-in map (see [`SAFE2DRIVE_FAMILIES`]).
+    #[error("--families {}: no such file. {SAFE2DRIVE_FAMILIES}", path.display())]
+    Safe2DriveFamilies {
+        /// The name given.
+        path: PathBuf,
     },
     /// No key of the file matches any route (a label file for something else?).
     #[error(

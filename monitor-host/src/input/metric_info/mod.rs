@@ -52,7 +52,8 @@ pub use crate::input::telemetry::{FieldProblem, Telemetry, TelemetryError, Telem
 /// # Errors
 /// [`TelemetryError::Io`] if the file cannot be read, otherwise as [`parse_metric_info`].
 pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
-    let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::MetricInfo)
+    // Held against the run's budget of bytes in flight until parsed (`read_input_held`).
+    let bytes = crate::input::read::read_input_held(path, crate::input::read::FileKind::MetricInfo)
         .map_err(|source| TelemetryError::Io {
             path: path.to_path_buf(),
             source,

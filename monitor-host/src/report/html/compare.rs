@@ -1,4 +1,4 @@
-//! The comparison as one HTML page (`sds compare --format html`, `SDS-SPEC.md` v1.3 §11): the
+//! The comparison as one HTML page (`sds compare --format html`, `SDS-SPEC.md` v1.4 §11): the
 //! tables at full width, the forest plot, the per-route values and deltas (sortable; each route
 //! links to its row in each run), then each run's own tables and route rows.
 
@@ -37,7 +37,10 @@ fn cell(v: Option<f64>, digits: usize, signed: bool) -> String {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn compare_page(c: &Comparison, models: &[Model]) -> String {
-    let mut body = String::from("<h1>SDS comparison</h1>\n<p id=\"status\">script not run</p>\n");
+    // The script's status line is for tests and errors (as on the score page): hidden, so a
+    // reader never sees a stray "ok" under the heading.
+    let mut body =
+        String::from("<h1>SDS comparison</h1>\n<p id=\"status\" hidden>script not run</p>\n");
     body.push_str(&format!(
         "<p class=\"note\">baseline: {}; models: {}</p>\n",
         escape(&c.baseline),
@@ -64,7 +67,7 @@ pub fn compare_page(c: &Comparison, models: &[Model]) -> String {
     }
     body.push_str(
         "<h2 id=\"forest\">Deltas against the baseline</h2>\n\
-         <p class=\"note\">dot: delta (model − baseline); bar: 95 % bootstrap interval; green better, red worse, grey within noise</p>\n<div class=\"fig wide\">",
+         <p class=\"note\">dot: delta (model − baseline); bar: 95 % bootstrap interval; green better, red worse, grey within noise; no data: no route compared (n = 0)</p>\n<div class=\"fig wide\">",
     );
     body.push_str(&forest::svg(c));
     body.push_str("</div>\n");

@@ -19,7 +19,7 @@ use crate::report::table::{self, TableOptions};
 use crate::report::Report;
 
 pub use compare::compare_page;
-pub use page::escape;
+pub use page::{escape, live_page};
 
 /// The whole report as an HTML page.
 ///

@@ -103,3 +103,61 @@ pub(super) fn grid(out: &mut String, g: &Grid) {
         out.push_str(&format!("<p class=\"note\">{}</p>\n", escape(n)));
     }
 }
+
+/// The page of a live round of `sds watch` (spec §12): `page` (the report's page, as `sds score`
+/// writes it) with a tag that reloads it every `refresh` seconds and, first in its body, a banner
+/// saying that it is live: the round and its time, routes done / N, DS over the routes done and
+/// DS of N, the estimate of the time left. The final page of the watch has neither.
+///
+/// ```
+/// use monitor_host::{report::html::live_page, StatusLine};
+/// let s = StatusLine { round: 3, time: "2026-11-27T17:45:33Z".into(), done: 4, n: 9,
+///                      ds_done: Some(80.0), ds_n: Some(35.56), seconds_left: Some(600.0),
+///                      ..Default::default() };
+/// let page = live_page("<html><head></head><body>\n<h1>x</h1></body></html>", &s, 10.0);
+/// assert!(page.contains("<meta http-equiv=\"refresh\" content=\"10\">"));
+/// assert!(page.contains("4 / 9 routes done"));
+/// assert!(page.contains("DS 80.00 over the routes done, 35.56 of N"));
+/// assert!(page.contains("about 10m left") && page.contains("2026-11-27T17:45:33Z"));
+/// ```
+pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) -> String {
+    let tag = format!(
+        "<meta http-equiv=\"refresh\" content=\"{}\">",
+        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+    );
+    let s = status;
+    let banner = format!(
+        "<p id=\"live\" role=\"status\" style=\"background:#fff3cd;border:1px solid #e0c060;\
+         padding:.4em .6em\"><b>Live</b> · round {} at {} · {} / {} routes done · DS {} over the \
+         routes done, {} of N · {} · this page reloads every {} s; the final report replaces it \
+         when the watch stops</p>\n",
+        s.round,
+        escape(&s.time),
+        s.done,
+        s.n,
+        num(s.ds_done, 2),
+        num(s.ds_n, 2),
+        s.seconds_left.map_or_else(
+            || "time left unknown".to_string(),
+            |t| format!("about {} left", crate::watch::duration_text(t))
+        ),
+        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+    );
+    let mut out = page.to_string();
+    if let Some(i) = out.find("<body>") {
+        let at = i + "<body>".len();
+        let at = if out[at..].starts_with('\n') {
+            at + 1
+        } else {
+            at
+        };
+        out.insert_str(at, &banner);
+    } else {
+        out.insert_str(0, &banner);
+    }
+    match out.find("<head>") {
+        Some(i) => out.insert_str(i + "<head>".len(), &tag),
+        None => out.insert_str(0, &tag),
+    }
+    out
+}

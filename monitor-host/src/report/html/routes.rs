@@ -54,12 +54,42 @@ fn count(n: usize) -> String {
     format!("<td data-v=\"{n}\">{n}</td>")
 }
 
+/// A penalty factor as a person writes it: at most 4 decimals, no trailing zeros (`0.6`,
+/// `0.42`, `1`), so that `0.6 * 0.7` reads 0.42, not 0.41999999999999998.
+fn factor(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+/// Why a route's DS is what it is, from its record: the evaluator's status, route completion
+/// and penalty (`Failed - TickRuntime, RC 50.53 × penalty 0.6 = 30.32`); a route without a
+/// record says so.
+fn outcome(r: &RouteReport) -> String {
+    let status = r.status.as_deref().unwrap_or("no record");
+    match (r.score_route, r.score_penalty, r.score_composed) {
+        (Some(rc), Some(p), ds) => format!(
+            "{status}, RC {rc:.2} × penalty {} = {}",
+            factor(p),
+            num(ds, 2)
+        ),
+        _ => format!("{status}, DS {}", num(r.score_composed, 2)),
+    }
+}
+
 /// The columns: (key the test hook sorts by, header).
-const COLUMNS: [(&str, &str); 17] = [
+const COLUMNS: [(&str, &str); 20] = [
     ("route", "route"),
     ("state", "state"),
     ("town", "town"),
     ("scenario", "scenario"),
+    ("status", "status"),
+    ("rc", "RC"),
+    ("penalty", "penalty"),
     ("ds", "DS"),
     ("ds_safe", "DS_safe"),
     ("comfort", "comfort"),
@@ -75,9 +105,17 @@ const COLUMNS: [(&str, &str); 17] = [
     ("warnings", "warnings"),
 ];
 
+/// The most collision figures drawn in the page for one route (100,000 collisions made a
+/// 1.09 GB page); the others are counted under them, and every collision is in the JSON report.
+pub const FIGURES_PER_ROUTE: usize = 10;
+
 /// The route table with its filter controls.
 pub(super) fn route_table(out: &mut String, report: &Report) {
-    let figures: usize = report.routes.iter().map(|r| r.traces.len()).sum();
+    let figures: usize = report
+        .routes
+        .iter()
+        .map(|r| r.traces.len().min(FIGURES_PER_ROUTE))
+        .sum();
     let mut states: Vec<String> = report.routes.iter().map(state_name).collect();
     states.sort();
     states.dedup();
@@ -117,6 +155,14 @@ pub(super) fn route_table(out: &mut String, report: &Report) {
             escape(r.town.as_deref().unwrap_or("")),
             escape(r.scenario_type.as_deref().unwrap_or("")),
         ));
+        // The status in full in the cell, the arithmetic behind the DS in its tooltip.
+        out.push_str(&format!(
+            "<td class=\"status\" title=\"{}\">{}</td>",
+            escape(&outcome(r)),
+            escape(r.status.as_deref().unwrap_or("-"))
+        ));
+        out.push_str(&cell(r.score_route, 2));
+        out.push_str(&cell(r.score_penalty, 3));
         out.push_str(&cell(r.score_composed, 2));
         out.push_str(&cell(r.ds_safe, 2));
         out.push_str(&cell(r.comfort.score, 3));
@@ -162,6 +208,10 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
             num(r.comfort.score, 3),
             r.collision_events.len(),
         ));
+        out.push_str(&format!(
+            "<p class=\"outcome\">{}</p>\n",
+            escape(&outcome(r))
+        ));
         if let Some(src) = &r.source {
             out.push_str(&format!(
                 "<p>source {}#{}</p>\n",
@@ -173,7 +223,7 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
             out.push_str(&format!("<p class=\"warn\">{}</p>\n", escape(reason)));
         }
         timeline::events(out, r, i);
-        for t in &r.traces {
+        for t in r.traces.iter().take(FIGURES_PER_ROUTE) {
             out.push_str(&format!(
                 "<div class=\"fig\" id=\"{}-collision-{}\">",
                 target(i),
@@ -181,6 +231,19 @@ pub(super) fn drill_downs(out: &mut String, report: &Report) {
             ));
             out.push_str(&figure::svg(t));
             out.push_str("</div>\n");
+        }
+        let more = r
+            .collision_events
+            .iter()
+            .filter(|e| e.frame.is_some())
+            .count();
+        let more = more.saturating_sub(r.traces.len().min(FIGURES_PER_ROUTE));
+        if more > 0 && !r.traces.is_empty() {
+            out.push_str(&format!(
+                "<p class=\"note more-figures\">and {more} more aligned collision(s) without a \
+                 figure here (at most {FIGURES_PER_ROUTE} per route; every collision is in the \
+                 JSON report's events)</p>\n"
+            ));
         }
         let unaligned = r
             .collision_events

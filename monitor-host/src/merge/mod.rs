@@ -655,6 +655,7 @@ fn deduplicate(
             why: format!("{which} of {} copies in input order", ix.len()),
             source: source(keep),
             by_order: false,
+            year_wrap: false,
         });
     }
     let kept = records

@@ -419,6 +419,7 @@ fn kept_of(v: &Value, path: &str, source: Source) -> R<Kept> {
         why: at(v, path, "why").str()?.to_string(),
         source,
         by_order: false,
+        year_wrap: false,
     })
 }
 

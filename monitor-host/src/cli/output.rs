@@ -208,7 +208,7 @@ pub fn trace_paths(dir: &Path, report: &crate::report::Report) -> Vec<PathBuf> {
 /// Writes every collision trace of the report into `dir` (created if needed) as CSV and SVG
 /// and returns the number of traces, leaving them to the caller's [`commit`] or [`roll_back`].
 /// The names are the tool's: a file there is replaced (and put back on [`roll_back`]), a
-/// symbolic link there is refused, never followed ([`place`]).
+/// symbolic link there is refused, never followed (see `place`).
 pub fn place_traces(
     dir: &Path,
     report: &crate::report::Report,

@@ -30,6 +30,7 @@ pub mod json;
 pub mod protocol_csv;
 pub mod protocol_table;
 pub mod route_chart;
+pub mod seeds_table;
 pub mod table;
 pub mod trace_csv;
 pub mod waterfall;

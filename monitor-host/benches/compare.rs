@@ -2,7 +2,8 @@
 //! values, the same-route-set check, B bootstrap resamples per model and metric, flips) over 10
 //! runs of 220 routes, each its own model (9 compared with the baseline), B = 10,000.
 //!
-//! Usage: `cargo bench -p monitor-host --bench compare [-- RUNS ROUTES B REPEATS]`. The runs are
+//! Usage: `cargo bench -p monitor-host --bench compare [-- RUNS ROUTES B REPEATS SEEDS RANK]`
+//! (SEEDS runs per model, default 1; RANK 1 adds `--rank`, v1.4 §14). The runs are
 //! one scored `sds demo --large` run (40 frames a route, so comfort is defined) copied with
 //! per-route scores changed deterministically, so that no two models are equal. Prints
 //! `runs=R routes=N B=B min_s=.. median_s=.. cpu_s=..` (cpu: this process, every thread).
@@ -27,27 +28,32 @@ fn main() {
         ..Inputs::new([run.results])
     };
     let report = score_run(&inputs, &Settings::default()).expect("scored");
-    let models: Vec<Model> = (0..runs)
-        .map(|m| {
-            let mut r = report.clone();
-            for (i, route) in r.routes.iter_mut().enumerate() {
-                // A fixed, different pattern per model: DS, success and DS_safe move together.
-                let k = ((i * 31 + m * 17) % 101) as f64 / 100.0;
-                route.score_composed = Some(100.0 * k);
-                route.ds_safe = Some(90.0 * k);
-                route.success = k > 0.5;
-            }
-            Model {
-                name: format!("m{m}"),
-                runs: vec![NamedRun {
-                    name: format!("m{m}"),
-                    report: r,
-                }],
-            }
+    // SEEDS > 1 groups the runs into models of SEEDS runs each (seeds of one model, §14).
+    let seeds = arg(4, 1).max(1);
+    let rank = arg(5, 0) == 1;
+    let perturbed = |m: usize| {
+        let mut r = report.clone();
+        for (i, route) in r.routes.iter_mut().enumerate() {
+            // A fixed, different pattern per run: DS, success and DS_safe move together.
+            let k = ((i * 31 + m * 17) % 101) as f64 / 100.0;
+            route.score_composed = Some(100.0 * k);
+            route.ds_safe = Some(90.0 * k);
+            route.success = k > 0.5;
+        }
+        NamedRun {
+            name: format!("r{m}"),
+            report: r,
+        }
+    };
+    let models: Vec<Model> = (0..runs / seeds)
+        .map(|m| Model {
+            name: format!("m{m}"),
+            runs: (0..seeds).map(|s| perturbed(m * seeds + s)).collect(),
         })
         .collect();
     let options = CompareOptions {
         bootstrap_samples: b,
+        rank,
         ..CompareOptions::default()
     };
     let cpu0 = cpu_s();
@@ -55,14 +61,15 @@ fn main() {
         .map(|_| {
             let t = Instant::now();
             let c = compare(&models, &options).expect("compared");
-            assert_eq!(c.paired.len(), (runs - 1) * 4);
+            assert_eq!(c.paired.len(), (models.len() - 1) * 4);
+            assert_eq!(c.ranking.is_some(), rank);
             t.elapsed().as_secs_f64()
         })
         .collect();
     let cpu = (cpu_s() - cpu0) / repeats as f64;
     times.sort_by(f64::total_cmp);
     println!(
-        "runs={runs} routes={routes} B={b} min_s={:.3} median_s={:.3} cpu_s={cpu:.3}",
+        "runs={runs} seeds={seeds} rank={rank} routes={routes} B={b} min_s={:.3} median_s={:.3} cpu_s={cpu:.3}",
         times[0],
         times[times.len() / 2]
     );

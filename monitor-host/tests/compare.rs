@@ -321,7 +321,9 @@ fn different_route_sets_are_refused_unless_common_routes() {
     assert_eq!(paired(&c, "b", "ds")["n"], 4);
     // Each model's aggregates run over the shared routes too.
     assert_eq!(c["models"][0]["driving_score"]["mean"], 50.0);
-    assert_eq!(c["models"][0]["routes"], json!([4]));
+    assert_eq!(c["models"][0]["route_counts"], json!([4]));
+    // v1.4 §14: `routes` is the per-route spread over the compared keys.
+    assert_eq!(c["models"][0]["routes"].as_array().map(Vec::len), Some(4));
 }
 
 #[test]

@@ -91,6 +91,7 @@ pub fn compare<'py>(
             .iter()
             .map(|m| m.trim().to_string())
             .collect(),
+        ..CompareOptions::default()
     };
     let compared = py
         .detach(|| {

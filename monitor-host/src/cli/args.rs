@@ -311,6 +311,14 @@ pub struct CompareArgs {
     /// Seed of the bootstrap's SplitMix64 generator.
     #[arg(long, default_value_t = 0)]
     pub bootstrap_seed: u64,
+    /// Rank the models: each one's rank with a 95 % bootstrap interval and the share of
+    /// resamples where it is best (`p_best`).
+    #[arg(long)]
+    pub rank: bool,
+    /// `repro.halfwidth`: the half-width, in DS points, of the 95 % interval of a model's mean
+    /// DS that `seeds_needed` sizes.
+    #[arg(long, value_name = "DS", default_value_t = 1.0)]
+    pub repro_halfwidth: f64,
     /// The options `sds score` shares (each run scored with them).
     #[command(flatten)]
     pub run: RunArgs,

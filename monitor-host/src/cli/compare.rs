@@ -112,6 +112,8 @@ pub fn plan(
             .iter()
             .map(|m| m.trim().to_string())
             .collect(),
+        rank: args.rank,
+        repro_halfwidth: args.repro_halfwidth,
     };
     Ok((runs, seeds, options))
 }

@@ -189,5 +189,8 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         ]);
     }
     flips.note("regressed: success 1 -> 0; fixed: 0 -> 1 (success fraction over seeds); the JSON report lists all, and the top 10 moves");
-    vec![b2d, t1, paired, flips]
+    let mut out = vec![b2d, t1, paired, flips];
+    // v1.4 §14: the ranking, the seeds line and the flaky routes.
+    out.extend(crate::report::seeds_table::seed_tables(c));
+    out
 }

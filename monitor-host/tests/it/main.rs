@@ -8,4 +8,5 @@ mod compare;
 mod hostile;
 mod merge;
 mod score;
+mod seeds;
 mod watch;

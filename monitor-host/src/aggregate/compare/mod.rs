@@ -32,7 +32,9 @@
 pub mod bootstrap;
 pub mod flips;
 pub mod models;
+pub mod rank;
 pub mod route_values;
+pub mod seeds;
 pub mod splitmix;
 
 use std::collections::HashSet;
@@ -84,6 +86,12 @@ pub struct CompareOptions {
     pub bootstrap_seed: u64,
     /// Metrics whose `worse` or `no data` verdict fails the gate (exit 5 of `sds compare`).
     pub fail_if_worse: Vec<String>,
+    /// Rank the models with bootstrap intervals (`--rank`, v1.4 §14).
+    pub rank: bool,
+    /// `repro.halfwidth` h (default 1.0 DS point): `seeds_needed` sizes a 95 % interval of a
+    /// model's mean DS no wider than ±h (§14 **\[decision\]**; `--repro-halfwidth`).
+    #[serde(rename = "repro.halfwidth")]
+    pub repro_halfwidth: f64,
 }
 
 impl Default for CompareOptions {
@@ -94,6 +102,8 @@ impl Default for CompareOptions {
             bootstrap_samples: 10_000,
             bootstrap_seed: 0,
             fail_if_worse: Vec::new(),
+            rank: false,
+            repro_halfwidth: 1.0,
         }
     }
 }
@@ -163,6 +173,12 @@ pub enum CompareError {
         /// Resamples asked.
         b: usize,
     },
+    /// `repro.halfwidth` not a positive finite number (the value as given).
+    #[error(
+        "repro.halfwidth (--repro-halfwidth) = {0}: the half-width of the mean DS's 95 % interval \
+         that seeds_needed sizes must be a positive number of DS points (default 1.0)"
+    )]
+    HalfwidthOutOfRange(String),
     /// The comparison was cancelled ([`crate::Progress::cancelled`], e.g. Ctrl-C in Python)
     /// before every model and metric was drawn.
     #[error("cancelled before every model and metric was compared: no report")]
@@ -239,6 +255,10 @@ pub struct Comparison {
     /// The metrics, in the order of [`RouteRow::values`]: [`METRICS`], then `ds@<id>` per
     /// protocol the runs were scored with.
     pub metrics: Vec<String>,
+    /// With `--rank` (v1.4 §14): every model's mean `ds`, rank, rank interval and `p_best`, by
+    /// rank, ties by name.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ranking: Option<Vec<rank::RankRow>>,
     /// The settings of the comparison.
     pub config: CompareOptions,
     /// What a reader should know (grouping, one-seed intervals, left-out routes).
@@ -533,12 +553,34 @@ pub fn compare_cancellable(
                 .map(|r| (r.name.clone(), aggregate(&r.report, &shared, differs)))
                 .collect();
             let rule = m.runs.first().map(|r| r.report.config.ability_rule);
-            model_row(&m.name, &aggs, rule.unwrap_or_default().name())
+            let mut row = model_row(&m.name, &aggs, rule.unwrap_or_default().name());
+            let runs: Vec<(&str, &Report)> = m
+                .runs
+                .iter()
+                .map(|r| (r.name.as_str(), &r.report))
+                .collect();
+            let seed_ds = aggs.iter().map(|(_, a)| a.scores.driving_score).collect();
+            row.seeds = seeds::seed_stats(&runs, &keys, seed_ds, options.repro_halfwidth);
+            row
         })
         .collect();
     let (paired_rows, flips) = pair(
         models, base, &keys, &per_model, &metrics, options, cancelled,
     )?;
+    let ranking = options.rank.then(|| {
+        let names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
+        // `ds` is defined on every compared route (a missing route 0).
+        let ds: Vec<Vec<f64>> = per_model
+            .iter()
+            .map(|v| v.iter().map(|x| x[0].unwrap_or(0.0)).collect())
+            .collect();
+        rank::ranking(
+            &names,
+            &ds,
+            options.bootstrap_samples,
+            options.bootstrap_seed,
+        )
+    });
     let mut notes = Vec::new();
     for m in models.iter().filter(|m| m.runs.len() > 1) {
         let names: Vec<&str> = m.runs.iter().map(|r| r.name.as_str()).collect();
@@ -580,6 +622,7 @@ pub fn compare_cancellable(
         },
         routes: route_rows,
         metrics,
+        ranking,
         config: options.clone(),
         notes,
         warnings,
@@ -597,11 +640,17 @@ pub fn compare_cancellable(
 /// ```
 ///
 /// # Errors
-/// [`CompareError::SamplesOutOfRange`], [`CompareError::UnknownMetric`].
+/// [`CompareError::SamplesOutOfRange`], [`CompareError::HalfwidthOutOfRange`],
+/// [`CompareError::UnknownMetric`].
 pub fn check_options(options: &CompareOptions) -> Result<(), CompareError> {
     if !SAMPLES.contains(&options.bootstrap_samples) {
         return Err(CompareError::SamplesOutOfRange(
             options.bootstrap_samples.to_string(),
+        ));
+    }
+    if !(options.repro_halfwidth.is_finite() && options.repro_halfwidth > 0.0) {
+        return Err(CompareError::HalfwidthOutOfRange(
+            options.repro_halfwidth.to_string(),
         ));
     }
     for m in &options.fail_if_worse {

@@ -12,6 +12,7 @@
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
+use crate::aggregate::compare::seeds::SeedStats;
 
 /// A mean and sample standard deviation over seeds (std null for one seed; both null when some
 /// seed has no value).
@@ -52,8 +53,9 @@ pub struct ModelRow {
     pub name: String,
     /// Its runs (seeds), in the order given.
     pub runs: Vec<String>,
-    /// Routes each run was aggregated over (N).
-    pub routes: Vec<usize>,
+    /// Routes each run was aggregated over (N). v1.4 gives `routes` to the per-route spread
+    /// ([`SeedStats::routes`], §14), so the counts are `route_counts`.
+    pub route_counts: Vec<usize>,
     /// Driving score (§8.1).
     pub driving_score: Stat,
     /// Success rate, % (§8.1).
@@ -80,6 +82,10 @@ pub struct ModelRow {
     pub mean_stationary_share: Stat,
     /// Distance driven, km (v1.3 §8.5).
     pub distance_km: Stat,
+    /// Seeds and flaky routes (v1.4 §14): `routes`, `flaky_routes`, `seed_ds`, `seed_std`,
+    /// `seeds_needed`.
+    #[serde(flatten)]
+    pub seeds: SeedStats,
 }
 
 /// The five ability rates and their mean, over seeds.
@@ -120,7 +126,7 @@ pub fn model_row(
     ModelRow {
         name: name.to_string(),
         runs: runs.iter().map(|(n, _)| n.clone()).collect(),
-        routes: runs.iter().map(|(_, a)| a.routes).collect(),
+        route_counts: runs.iter().map(|(_, a)| a.routes).collect(),
         driving_score: stat(&|a| a.scores.driving_score),
         success_rate: stat(&|a| a.scores.success_rate),
         mean_ds_safe: stat(&|a| a.scores.mean_ds_safe),
@@ -141,5 +147,6 @@ pub fn model_row(
         mean_comfort_moving: stat(&|a| a.scores.motion.mean_comfort_moving),
         mean_stationary_share: stat(&|a| a.scores.motion.mean_stationary_share),
         distance_km: stat(&|a| a.scores.motion.distance_km),
+        seeds: SeedStats::default(),
     }
 }

@@ -269,6 +269,12 @@ pub struct ScoreArgs {
     /// by step) and `routes.svg` (DS and DS_safe per route, sorted), as the HTML page shows them.
     #[arg(long, value_name = "DIR")]
     pub figures: Option<PathBuf>,
+    /// Also write the long tables into DIR (spec v1.4 §15): `routes.csv` (one row per route,
+    /// every field of the JSON report's route), `events.csv` (one row per event) and
+    /// `frames.csv` (one row per frame of each route with telemetry, as `sds frames` prints
+    /// it); columns in docs/TABLES-SCHEMA.md.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare` (spec v1.3 section 11).

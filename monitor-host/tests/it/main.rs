@@ -7,4 +7,5 @@ mod common;
 mod compare;
 mod hostile;
 mod score;
+mod tables;
 mod watch;

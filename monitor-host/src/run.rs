@@ -536,6 +536,9 @@ pub fn route_frames(
     )
 }
 
+/// One record's frames (or why it has none), keyed by its source.
+pub type SourcedFrames = (Source, Result<RouteFrames, Error>);
+
 /// The frames of every valid record the duplicate rule keeps, each keyed by its source (file
 /// and index, as the report's `source`): what `sds score --tables` writes as `frames`. The
 /// results, route XML and maps are read once; a route whose telemetry cannot be read has its
@@ -543,10 +546,7 @@ pub fn route_frames(
 ///
 /// # Errors
 /// As [`score_run`] (the inputs as a whole).
-pub fn run_frames(
-    inputs: &Inputs,
-    settings: &Settings,
-) -> Result<Vec<(Source, Result<RouteFrames, Error>)>, Error> {
+pub fn run_frames(inputs: &Inputs, settings: &Settings) -> Result<Vec<SourcedFrames>, Error> {
     let (kept, routes, files_read) = frame_records(inputs, settings)?;
     if let Some(dir) = &inputs.maps {
         check_maps_folder(dir)?;

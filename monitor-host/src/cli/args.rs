@@ -321,6 +321,10 @@ pub struct CompareArgs {
     /// Write here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
+    /// Also write the long tables of every run into DIR (spec v1.4 §15): `routes.csv` and
+    /// `events.csv`, as `sds score --tables` writes them, each row led by its `run` and `model`.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }
 
 /// Subcommands.

@@ -343,7 +343,8 @@ fn routes_and_events(
     }
 }
 
-/// The three long tables of one scored run.
+/// The long tables of one scored run (`sds score`) or of the runs of a comparison
+/// (`sds compare`: `run` and `model` columns first, no `frames`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LongTables {
     /// One row per route row of the report: `route_index` (its position in the report's
@@ -352,22 +353,65 @@ pub struct LongTables {
     /// One row per event: `route_index`, `route_id`, `event_index`, then every field.
     pub events: Table,
     /// One row per frame of each route with telemetry: `route_index`, `route_id`, `frame`
-    /// (0-based, the `frame` of the events), then the fields of `sds frames`.
-    pub frames: Table,
+    /// (0-based, the `frame` of the events), then the fields of `sds frames`; `None` for a
+    /// comparison.
+    pub frames: Option<Table>,
 }
 
 impl LongTables {
-    /// The files `--tables DIR` writes: `routes.csv`, `events.csv`, `frames.csv`.
+    /// The files `--tables DIR` writes: `routes.csv`, `events.csv`, and `frames.csv` when
+    /// there are frames to write (`sds score`).
     ///
     /// # Errors
     /// As [`Table::csv`].
     pub fn files(&self) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
-        Ok(vec![
+        let mut files = vec![
             (TABLE_NAMES[0], self.routes.csv()?),
             (TABLE_NAMES[1], self.events.csv()?),
-            (TABLE_NAMES[2], self.frames.csv()?),
-        ])
+        ];
+        if let Some(f) = &self.frames {
+            files.push((TABLE_NAMES[2], f.csv()?));
+        }
+        Ok(files)
     }
+}
+
+/// The `routes` and `events` tables of the runs of a comparison: each run's report (as
+/// `sds score` of that run writes it) under its `run` and `model` names.
+///
+/// # Errors
+/// As [`report_tree`].
+///
+/// ```
+/// use monitor_host::{demo, report::long_tables::compare_tables, score_run, Inputs, Settings};
+/// let dir = std::env::temp_dir().join(format!("sds-ctables-doc-{}", std::process::id()));
+/// let run = demo::write(&dir).unwrap();
+/// let report = score_run(&Inputs::new([run.results.clone()]), &Settings::default()).unwrap();
+/// let t = compare_tables(&[("a", "a", &report), ("b", "b", &report)]).unwrap();
+/// assert_eq!(&t.routes.columns[..3], ["run", "model", "route_index"]);
+/// assert_eq!(t.routes.rows.len(), 2 * report.routes.len());
+/// assert!(t.frames.is_none());
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn compare_tables(runs: &[(&str, &str, &Report)]) -> Result<LongTables, String> {
+    let (mut routes, mut events) = (Vec::new(), Vec::new());
+    for (run, model, report) in runs {
+        let tree = report_tree(report)?;
+        routes_and_events(
+            &tree,
+            &[("run", run), ("model", model)],
+            &mut routes,
+            &mut events,
+        );
+    }
+    Ok(LongTables {
+        routes: table(&["run", "model", "route_index"], &borrow(&routes)),
+        events: table(
+            &["run", "model", "route_index", "route_id", "event_index"],
+            &borrow(&events),
+        ),
+        frames: None,
+    })
 }
 
 /// The long tables of a run: `report` and the frames of its routes ([`crate::run_frames`],
@@ -388,7 +432,7 @@ impl LongTables {
 /// let t = long_tables(&report, &frames).unwrap();
 /// assert_eq!(t.routes.rows.len(), report.routes.len());
 /// assert_eq!(&t.routes.columns[..2], ["route_index", "route_id"]);
-/// assert!(t.frames.columns.contains(&"host.step".to_string()));
+/// assert!(t.frames.unwrap().columns.contains(&"host.step".to_string()));
 /// # std::fs::remove_dir_all(&dir).unwrap();
 /// ```
 pub fn long_tables(
@@ -421,7 +465,10 @@ pub fn long_tables(
             &["route_index", "route_id", "event_index"],
             &borrow(&events),
         ),
-        frames: table(&["route_index", "route_id", "frame"], &borrow(&frame_rows)),
+        frames: Some(table(
+            &["route_index", "route_id", "frame"],
+            &borrow(&frame_rows),
+        )),
     })
 }
 

@@ -355,3 +355,83 @@ fn tables_refuse_a_planted_link_and_write_nothing() {
     assert!(!tables.join("routes.csv").exists() && !dir.join("report.json").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn compare_tables_hold_each_runs_score_report_under_its_run_and_model() {
+    let dir = tmp("compare");
+    demo(&dir);
+    let s = |p: &str| dir.join(p).to_str().unwrap().to_string();
+    let (results, telemetry, routes) = (s("results.json"), s("telemetry"), s("routes.xml"));
+    let out = sds(&[
+        "compare",
+        &format!("a={results}:{telemetry}"),
+        &format!("b={results}:{telemetry}"),
+        &format!("c={results}:{telemetry}"),
+        "--seeds",
+        "m=a,b",
+        "--routes",
+        &routes,
+        "--format",
+        "json",
+        "-o",
+        &s("compare.json"),
+        "--tables",
+        &s("tables"),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        !dir.join("tables/frames.csv").exists(),
+        "frames: sds score only"
+    );
+    let out = sds(&[
+        "score",
+        "--results",
+        &results,
+        "--telemetry",
+        &telemetry,
+        "--routes",
+        &routes,
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let report: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let routes = report["routes"].as_array().unwrap();
+
+    let (header, rows) = read_csv(&dir.join("tables/routes.csv"));
+    assert_eq!(header[..4], ["run", "model", "route_index", "route_id"]);
+    assert_eq!(rows.len(), 3 * routes.len());
+    for (k, row) in rows.iter().enumerate() {
+        let (run, i) = (["a", "b", "c"][k / routes.len()], k % routes.len());
+        let model = if run == "c" { "c" } else { "m" };
+        assert_eq!((row[0].as_str(), row[1].as_str()), (run, model));
+        assert_eq!(row[2], i.to_string());
+        assert_row(&header, row, 3, &routes[i], &format!("{run} route {i}"));
+    }
+    let (eh, erows) = read_csv(&dir.join("tables/events.csv"));
+    let events: usize = routes
+        .iter()
+        .map(|r| r["events"].as_array().unwrap().len())
+        .sum();
+    assert_eq!(erows.len(), 3 * events);
+    for row in &erows {
+        let i: usize = row[2].parse().unwrap();
+        let j: usize = row[4].parse().unwrap();
+        assert_row(&eh, row, 5, &routes[i]["events"][j], "compare events.csv");
+    }
+    let docs = documented();
+    for (file, header) in [("routes.csv", &header), ("events.csv", &eh)] {
+        for c in header {
+            assert!(
+                docs[file].iter().any(|(n, _)| matches(n, c)),
+                "{file}: {c} undocumented"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

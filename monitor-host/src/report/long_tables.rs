@@ -185,6 +185,14 @@ fn flatten<'a>(prefix: &str, node: &'a Node, out: &mut Vec<(String, &'a Node)>) 
     }
 }
 
+/// A row's leaf names, each with whether it holds something other than `null`.
+fn shape_of(leaves: &[(String, &Node)]) -> Vec<(String, bool)> {
+    leaves
+        .iter()
+        .map(|(k, v)| (k.clone(), !matches!(v, Node::Null)))
+        .collect()
+}
+
 /// The columns of a table, built from the rows' shapes in two passes ([`Columns::add`] for
 /// every row, then [`Columns::finish`]).
 #[derive(Default)]
@@ -199,10 +207,11 @@ impl Columns {
     /// Takes a row's leaf names: a name not seen yet goes right after the name before it in
     /// this row (the JSON's field order).
     fn add(&mut self, leaves: &[(String, &Node)]) {
-        let shape: Vec<(String, bool)> = leaves
-            .iter()
-            .map(|(k, v)| (k.clone(), !matches!(v, Node::Null)))
-            .collect();
+        self.add_shape(shape_of(leaves));
+    }
+
+    /// [`Columns::add`] for a row's shape ([`shape_of`]).
+    fn add_shape(&mut self, shape: Vec<(String, bool)>) {
         if self.shapes.contains(&shape) {
             return;
         }
@@ -247,6 +256,8 @@ pub struct Table {
     pub columns: Vec<String>,
     /// The rows, each as long as `columns`.
     pub rows: Vec<Vec<String>>,
+    /// More rows, already written as CSV (after `rows`): the frames, written route by route.
+    pub body: Vec<u8>,
 }
 
 impl Table {
@@ -261,7 +272,9 @@ impl Table {
         for r in &self.rows {
             w.write_record(r).map_err(err)?;
         }
-        w.into_inner().map_err(|e| e.to_string())
+        let mut out = w.into_inner().map_err(|e| e.to_string())?;
+        out.extend_from_slice(&self.body);
+        Ok(out)
     }
 }
 
@@ -301,6 +314,7 @@ fn table(keys: &[&str], rows: &[(Vec<String>, &Node)]) -> Table {
     Table {
         columns: keys.iter().map(|k| k.to_string()).chain(names).collect(),
         rows,
+        body: Vec::new(),
     }
 }
 
@@ -442,33 +456,102 @@ pub fn long_tables(
     let tree = report_tree(report)?;
     let (mut routes, mut events) = (Vec::new(), Vec::new());
     routes_and_events(&tree, &[], &mut routes, &mut events);
-    let mut frame_rows: Vec<(Vec<String>, Node)> = Vec::new();
-    for (i, r) in report.routes.iter().enumerate() {
-        let Some(source) = &r.source else { continue };
-        let Some((_, f)) = frames.iter().find(|(s, _)| s == source) else {
-            continue;
-        };
-        let id = r.route_id.clone().unwrap_or_default();
-        let lines = crate::report::frames::frame_lines(f).map_err(|e| format!("{id}: {e}"))?;
-        for (k, line) in lines
-            .split(|&b| b == b'\n')
-            .filter(|l| !l.is_empty())
-            .enumerate()
-        {
-            let node: Node = serde_json::from_slice(line).map_err(|e| format!("{id}: {e}"))?;
-            frame_rows.push((vec![i.to_string(), id.clone(), k.to_string()], node));
-        }
-    }
+    let framed: Vec<(usize, String, &RouteFrames)> = report
+        .routes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let source = r.source.as_ref()?;
+            let (_, f) = frames.iter().find(|(s, _)| s == source)?;
+            Some((i, r.route_id.clone().unwrap_or_default(), f))
+        })
+        .collect();
+    let frames = frames_table(&framed)?;
     Ok(LongTables {
         routes: table(&["route_index"], &borrow(&routes)),
         events: table(
             &["route_index", "route_id", "event_index"],
             &borrow(&events),
         ),
-        frames: Some(table(
-            &["route_index", "route_id", "frame"],
-            &borrow(&frame_rows),
-        )),
+        frames: Some(frames),
+    })
+}
+
+/// Each frame of `route` (its index, id and frames) as its `sds frames` line read back.
+fn each_frame(
+    (_, id, f): &(usize, String, &RouteFrames),
+    mut each: impl FnMut(usize, &Node) -> Result<(), String>,
+) -> Result<(), String> {
+    let lines = crate::report::frames::frame_lines(f).map_err(|e| format!("{id}: {e}"))?;
+    let lines = lines.split(|&b| b == b'\n').filter(|l| !l.is_empty());
+    for (k, line) in lines.enumerate() {
+        let node: Node = serde_json::from_slice(line).map_err(|e| format!("{id}: {e}"))?;
+        each(k, &node)?;
+    }
+    Ok(())
+}
+
+/// The `frames` table, built route by route in two passes (the columns, then the rows as CSV),
+/// so that a benchmark-sized run never holds its frames' values all at once.
+fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, String> {
+    use rayon::prelude::*;
+    // Pass 1: each route's distinct shapes in order, merged in route order.
+    let shapes: Vec<Vec<Vec<(String, bool)>>> = framed
+        .par_iter()
+        .map(|route| {
+            let (mut seen, mut shapes) = (HashSet::new(), Vec::new());
+            each_frame(route, |_, node| {
+                let mut l = Vec::new();
+                flatten("", node, &mut l);
+                let shape = shape_of(&l);
+                if seen.insert(shape.clone()) {
+                    shapes.push(shape);
+                }
+                Ok(())
+            })?;
+            Ok(shapes)
+        })
+        .collect::<Result<_, String>>()?;
+    let mut columns = Columns::default();
+    for shape in shapes.into_iter().flatten() {
+        columns.add_shape(shape);
+    }
+    let names = columns.finish();
+    let position: HashMap<&str, usize> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), i))
+        .collect();
+    // Pass 2: each route's rows as CSV, in route order.
+    let bodies: Vec<Vec<u8>> = framed
+        .par_iter()
+        .map(|route| {
+            let mut w = ::csv::Writer::from_writer(Vec::new());
+            let (i, id) = (route.0.to_string(), csv_cell(&route.1).into_owned());
+            each_frame(route, |k, node| {
+                let mut l = Vec::new();
+                flatten("", node, &mut l);
+                let mut cells = vec![String::new(); names.len()];
+                for (c, v) in l {
+                    if let Some(&p) = position.get(c.as_str()) {
+                        cells[p] = v.cell();
+                    }
+                }
+                let key = [i.clone(), id.clone(), k.to_string()];
+                w.write_record(key.iter().chain(&cells))
+                    .map_err(|e| e.to_string())
+            })?;
+            w.into_inner().map_err(|e| e.to_string())
+        })
+        .collect::<Result<_, String>>()?;
+    Ok(Table {
+        columns: ["route_index", "route_id", "frame"]
+            .iter()
+            .map(|k| k.to_string())
+            .chain(names)
+            .collect(),
+        rows: Vec::new(),
+        body: bodies.concat(),
     })
 }
 

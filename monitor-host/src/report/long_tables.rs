@@ -7,7 +7,7 @@
 //! order kept): every scalar of the per-route object, nested objects joined with `.`
 //! (`comfort.failed.lon_acc`), lists as JSON text. A field added to the report appears here by
 //! itself, and a cell holds the very number the JSON prints: the JSON's shortest round-trip
-//! decimal read back as an f64 is printed by the same formatter (`ryu`, through
+//! decimal read back as an f64 is printed by the same formatter as the JSON writer (serde_json's own, through
 //! [`serde_json::Number`]). A column that a row lacks is an empty cell, and so is `null`.
 //! Column order is the JSON's field order (a field only some rows have sits after the field it
 //! follows in those rows). String cells go through [`csv_cell`], as every CSV of the tool.

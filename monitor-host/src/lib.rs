@@ -99,8 +99,8 @@ pub use input::telemetry::TelemetryError;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{
-    route_frames, score_run, score_run_cached, score_run_with, Inputs, NoProgress, Progress,
-    ReplayCache, RouteFrames,
+    route_frames, run_frames, score_run, score_run_cached, score_run_with, Inputs, NoProgress,
+    Progress, ReplayCache, RouteFrames,
 };
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};

@@ -508,24 +508,9 @@ pub fn route_frames(
     route_id: &str,
     settings: &Settings,
 ) -> Result<RouteFrames, Error> {
-    settings.validate()?;
-    let mut records = Vec::new();
-    let mut files_read = Vec::new();
-    for path in &inputs.results {
-        let set = read_results(path)?;
-        records.extend(set.records);
-        files_read.extend(set.files_read);
-    }
-    files_read.extend(inputs.route_xml.iter().cloned());
-    let routes = inputs
-        .route_xml
-        .as_deref()
-        .map(read_route_xml)
-        .transpose()?;
+    let (kept, routes, files_read) = frame_records(inputs, settings)?;
     // The copy `score` would stream: the duplicate rule picks it.
-    let kept = deduplicate(records, settings.duplicates)?;
     let mut copies = kept
-        .records
         .into_iter()
         .filter(|r| r.entry.as_ref().is_ok_and(|r| r.route_id == route_id));
     let loaded = copies.next().ok_or_else(|| Error::NoRoute {
@@ -549,18 +534,117 @@ pub fn route_frames(
         check_maps_folder(dir)?;
     }
     let maps = TownMaps::load(inputs.maps.as_deref(), town.map(str::to_string))?;
+    let mut files_read = files_read;
     files_read.extend(maps.files().iter().cloned());
+    frames_of(
+        &loaded,
+        inputs,
+        settings,
+        routes.as_ref(),
+        &maps,
+        files_read,
+    )
+}
+
+/// One record's frames (or why it has none), keyed by its source.
+pub type SourcedFrames = (Source, Result<RouteFrames, Error>);
+
+/// The frames of every valid record the duplicate rule keeps, each keyed by its source (file
+/// and index, as the report's `source`): what `sds score --tables` writes as `frames`. The
+/// results, route XML and maps are read once; a route whose telemetry cannot be read has its
+/// error in place of its frames.
+///
+/// # Errors
+/// As [`score_run`] (the inputs as a whole).
+pub fn run_frames(inputs: &Inputs, settings: &Settings) -> Result<Vec<SourcedFrames>, Error> {
+    let (kept, routes, files_read) = frame_records(inputs, settings)?;
+    if let Some(dir) = &inputs.maps {
+        check_maps_folder(dir)?;
+    }
+    let towns: Vec<String> = kept
+        .iter()
+        .filter_map(|l| l.entry.as_ref().ok())
+        .filter_map(|r| town_of(r, routes.as_ref()).map(str::to_string))
+        .collect();
+    let maps = TownMaps::load(inputs.maps.as_deref(), towns)?;
+    let files_read: Vec<PathBuf> = files_read
+        .into_iter()
+        .chain(maps.files().iter().cloned())
+        .collect();
+    Ok(kept
+        .par_iter()
+        .filter(|l| l.entry.is_ok())
+        .map(|l| {
+            let frames = frames_of(
+                l,
+                inputs,
+                settings,
+                routes.as_ref(),
+                &maps,
+                files_read.clone(),
+            );
+            (Source::of(l), frames)
+        })
+        .collect())
+}
+
+/// The records `score` would stream (the duplicate rule applied), the route XML and the files
+/// read, for [`route_frames`] and [`run_frames`].
+#[allow(clippy::type_complexity)]
+fn frame_records(
+    inputs: &Inputs,
+    settings: &Settings,
+) -> Result<
+    (
+        Vec<LoadedRecord>,
+        Option<crate::input::route_xml::RouteSet>,
+        Vec<PathBuf>,
+    ),
+    Error,
+> {
+    settings.validate()?;
+    let mut records = Vec::new();
+    let mut files_read = Vec::new();
+    for path in &inputs.results {
+        let set = read_results(path)?;
+        records.extend(set.records);
+        files_read.extend(set.files_read);
+    }
+    files_read.extend(inputs.route_xml.iter().cloned());
+    let routes = inputs
+        .route_xml
+        .as_deref()
+        .map(read_route_xml)
+        .transpose()?;
+    let kept = deduplicate(records, settings.duplicates)?;
+    Ok((kept.records, routes, files_read))
+}
+
+/// One valid record's frames: its telemetry read and prepared as [`score_run`] streams it.
+fn frames_of(
+    loaded: &LoadedRecord,
+    inputs: &Inputs,
+    settings: &Settings,
+    routes: Option<&crate::input::route_xml::RouteSet>,
+    maps: &TownMaps,
+    mut files_read: Vec<PathBuf>,
+) -> Result<RouteFrames, Error> {
+    let route_id = route_id_of(loaded).unwrap_or_default().to_string();
+    let Ok(record) = &loaded.entry else {
+        return Err(Error::InvalidRecord { route: route_id });
+    };
+    let town = town_of(record, routes);
     let mut warnings = Vec::new();
     let context = RouteContext {
-        routes: routes.as_ref(),
+        routes,
         map: town.and_then(|t| maps.get(t).ok()),
         telemetry_root: inputs.telemetry.as_deref(),
         settings,
         keep_lateral: true,
     };
-    let telemetry = read_telemetry(&loaded, record, context, &mut warnings, &mut files_read)
+    let telemetry = read_telemetry(loaded, record, context, &mut warnings, &mut files_read)
         .map_err(|state| Error::Telemetry {
-            route: route_id.into(),
+            route: route_id.clone(),
             state,
         })?;
     Ok(RouteFrames {

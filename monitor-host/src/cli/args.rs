@@ -274,6 +274,12 @@ pub struct ScoreArgs {
     /// `--routes-subset`. `sds watch` writes it from its final report, when it stops.
     #[arg(long, value_name = "FILE")]
     pub rerun_list: Option<PathBuf>,
+    /// Also write the long tables into DIR (spec v1.4 §15): `routes.csv` (one row per route,
+    /// every field of the JSON report's route), `events.csv` (one row per event) and
+    /// `frames.csv` (one row per frame of each route with telemetry, as `sds frames` prints
+    /// it); columns in docs/TABLES-SCHEMA.md.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }
 
 /// Arguments of `sds compare` (spec v1.3 section 11).
@@ -328,6 +334,10 @@ pub struct CompareArgs {
     /// Write here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
+    /// Also write the long tables of every run into DIR (spec v1.4 §15): `routes.csv` and
+    /// `events.csv`, as `sds score --tables` writes them, each row led by its `run` and `model`.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }
 
 /// Subcommands.

@@ -13,6 +13,7 @@ use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
 use crate::aggregate::compare::CompareOptions;
 use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
 use crate::report::grid::Style;
+use crate::report::long_tables::{compare_tables, TABLE_NAMES};
 use crate::report::{compare_table, html};
 use crate::{Inputs, NoProgress, Warning};
 
@@ -235,6 +236,10 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
         return Ok(EXIT_USAGE);
     };
+    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
+        let tables: Vec<_> = TABLE_NAMES[..2].iter().map(|n| dir.join(n)).collect();
+        super::output::refuse_clash(out, &tables, "a table")?;
+    }
     let (compared, problems) = match compare_report(args) {
         Ok(x) => x,
         Err(e) if e.downcast_ref::<CompareUsage>().is_some() => {
@@ -260,7 +265,36 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         .flat_map(|m| &m.runs)
         .flat_map(|r| r.report.files_read.iter().cloned())
         .collect();
-    write_output(args.output.as_deref(), &bytes, &inputs_read)?;
+    let tables = match &args.tables {
+        Some(_) => {
+            let runs: Vec<(&str, &str, &crate::Report)> = compared
+                .models
+                .iter()
+                .flat_map(|m| {
+                    m.runs
+                        .iter()
+                        .map(move |r| (r.name.as_str(), m.name.as_str(), &r.report))
+                })
+                .collect();
+            let t = compare_tables(&runs).map_err(anyhow::Error::msg)?;
+            Some(t.files().map_err(anyhow::Error::msg)?)
+        }
+        None => None,
+    };
+    // The tables, then the report, all or nothing (as `sds score`).
+    let written = (|| -> Result<()> {
+        if let (Some(dir), Some(files)) = (&args.tables, tables) {
+            super::output::place_tables(dir, files, &inputs_read)?;
+        }
+        write_output(args.output.as_deref(), &bytes, &inputs_read)
+    })();
+    match written {
+        Ok(()) => super::output::commit(),
+        Err(e) => {
+            super::output::roll_back();
+            return Err(e);
+        }
+    }
     let failures = c.gate_failures();
     for f in &failures {
         say!("sds: gate: {f} (--fail-if-worse {})", f.metric);

@@ -43,7 +43,7 @@ use clap::Parser;
 use crate::aggregate::groups::GroupBy;
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json};
+use crate::report::{csv, html, json, long_tables};
 use crate::{
     demo, route_frames, score_labelled, Inputs, LabelFiles, Progress, Settings, SettingsError,
     TelemetryState,
@@ -238,43 +238,11 @@ fn run(cli: Cli) -> Result<i32> {
             for w in &run.warnings {
                 say!("sds: warning: {route_id}: {w}");
             }
-            write_output(output.as_deref(), &frame_lines(&run)?, &run.files_read)?;
+            let lines = crate::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
+            write_output(output.as_deref(), &lines, &run.files_read)?;
             Ok(0)
         }
     }
-}
-
-/// `sds frames`' output: per frame, the core's frame (serde-json-core, what the firmware and
-/// `monitor_core::json::decode_frame` read; unknown keys are ignored there) with one more key,
-/// `host`: the step, the lateral reference, and, where the lateral error is known, the distance
-/// to the reference (`lat_err`, m, f64), the slack and the lane width behind the core's value.
-fn frame_lines(run: &crate::RouteFrames) -> Result<Vec<u8>> {
-    let mut out = Vec::new();
-    let mut buf = [0u8; 512];
-    for (k, f) in run.frames.iter().enumerate() {
-        let n = monitor_core::json::encode(f, &mut buf)
-            .map_err(|e| anyhow::anyhow!("cannot encode a frame: {e}"))?;
-        // The core's object without its closing brace, then `,"host":{...}}`.
-        out.extend_from_slice(&buf[..n.saturating_sub(1)]);
-        let mut host = serde_json::json!({
-            "step": run.steps.get(k),
-            "dt": crate::settings::decimal(run.dt),
-            "reference": run.reference.name(),
-        });
-        if let Some(Some(s)) = run.lateral.get(k) {
-            host["lat_err"] = s.lat_err.into();
-            host["slack"] = s.slack.into();
-            host["lane_width"] = s.lane_width.map(|w| w.width).into();
-            host["lane_width_from"] = s
-                .lane_width
-                .map(|w| if w.from_map { "map" } else { "setting" })
-                .into();
-        }
-        out.extend_from_slice(b",\"host\":");
-        serde_json::to_writer(&mut out, &host)?;
-        out.extend_from_slice(b"}\n");
-    }
-    Ok(out)
 }
 
 /// The settings of `sds score`: its options, then `--set` overrides in order.
@@ -400,6 +368,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         traces: None,
         figures: None,
         rerun_list: None,
+        tables: None,
     }
 }
 
@@ -444,6 +413,13 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
         output::refuse_clash(out, &figures, "a figure")?;
     }
+    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
+        let tables: Vec<_> = long_tables::TABLE_NAMES
+            .iter()
+            .map(|n| dir.join(n))
+            .collect();
+        output::refuse_clash(out, &tables, "a table")?;
+    }
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
     bar.finish();
@@ -457,6 +433,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         say!("sds: note: {note}");
     }
     let bytes = render(args, &report)?;
+    let tables = match &args.tables {
+        Some(_) => Some(run_tables(args, &report)?),
+        None => None,
+    };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
     if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
@@ -474,6 +454,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
             Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
             None => None,
         };
+        if let (Some(dir), Some(files)) = (&args.tables, tables) {
+            output::place_tables(dir, files, &inputs_read)?;
+        }
         write_output(args.output.as_deref(), &bytes, &inputs_read)?;
         Ok((traces, figures))
     })();
@@ -560,6 +543,17 @@ fn write_rerun_list(
         file.display()
     );
     Ok(())
+}
+
+/// The long tables of `sds score --tables` (spec v1.4 §15): the report's routes and events, and
+/// the frames of every route with telemetry, read again as `sds frames` reads them.
+fn run_tables(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<(&'static str, Vec<u8>)>> {
+    let frames: Vec<_> = crate::run_frames(&inputs(args), &settings(args)?)?
+        .into_iter()
+        .filter_map(|(source, f)| Some((source, f.ok()?)))
+        .collect();
+    let tables = long_tables::long_tables(report, &frames).map_err(anyhow::Error::msg)?;
+    tables.files().map_err(anyhow::Error::msg)
 }
 
 /// What `--traces` left out: aligned collisions past the first

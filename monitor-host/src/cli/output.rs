@@ -277,6 +277,19 @@ pub fn place_figures(
     Ok(names)
 }
 
+/// Writes the long tables (`--tables DIR`: `routes.csv`, `events.csv`, `frames.csv`) into `dir`
+/// (created if needed), leaving them to the caller's [`commit`] or [`roll_back`], as
+/// [`place_traces`].
+pub fn place_tables(dir: &Path, named: Vec<(&str, Vec<u8>)>, inputs: &[PathBuf]) -> Result<()> {
+    let files: Vec<(PathBuf, Vec<u8>)> = named.into_iter().map(|(n, b)| (dir.join(n), b)).collect();
+    place_all(dir, &files, inputs).map_err(|e| {
+        e.context(format!(
+            "--tables {}: no table written and no report (fix the folder, or leave out --tables)",
+            dir.display()
+        ))
+    })
+}
+
 /// Writes `bytes` at `path`, a name the tool chose (a trace, a figure), through a temporary
 /// file in the same folder renamed over it: never through a symbolic link (one planted there
 /// is refused, and its target stays untouched), never over anything but a regular file that

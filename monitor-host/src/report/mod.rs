@@ -16,6 +16,8 @@
 //! | the decomposition from DS to SDS as a waterfall (SVG) | [`waterfall`] |
 //! | DS and DS_safe per route (SVG) | [`route_chart`] |
 //! | the whole run (or runs side by side) as one HTML page | [`html`] |
+//! | `sds frames`' JSON lines | [`frames`] |
+//! | long tables: routes, events, frames as CSV (v1.4 §15) | [`long_tables`] |
 //!
 //! Strings from the inputs are escaped in one place, [`escape`], for the terminal and for CSV.
 
@@ -24,9 +26,11 @@ pub mod csv;
 pub mod escape;
 pub mod figure;
 pub mod forest;
+pub mod frames;
 pub mod grid;
 pub mod html;
 pub mod json;
+pub mod long_tables;
 pub mod protocol_csv;
 pub mod protocol_table;
 pub mod rerun_list;

@@ -9,4 +9,5 @@ mod hostile;
 mod merge;
 mod score;
 mod seeds;
+mod tables;
 mod watch;

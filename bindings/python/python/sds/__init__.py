@@ -10,6 +10,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   into the report of ``sds score`` over all of them (``sds merge``);
 - :func:`watch` scores an evaluation while it runs: an iterator of partial reports (the
   reports of ``sds watch``), for notebooks and dashboards;
+- :func:`to_pandas` turns a report into DataFrames (``routes``, ``events``: the long tables
+  of ``sds score --tables``; :func:`long_tables` without pandas);
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
 
@@ -38,6 +40,7 @@ from ._compare import compare
 from ._options import PathLike, run_options
 from ._options import paths as _paths
 from ._sds import Watch
+from ._tables import long_tables, to_pandas
 from ._watch import watch
 from .monitor import Event, Monitor, Summary
 
@@ -56,7 +59,9 @@ __all__ = [
     "__version__",
     "compare",
     "merge",
+    "long_tables",
     "score",
+    "to_pandas",
     "watch",
 ]
 

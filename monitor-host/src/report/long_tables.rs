@@ -1,0 +1,560 @@
+//! Long tables (`SDS-SPEC.md` v1.4 §15), for DataFrames, DuckDB and Spark: `routes` (one row
+//! per route row of the report), `events` (one row per entry of a route's `events[]`) and
+//! `frames` (one row per frame of a route with telemetry, the values `sds frames` prints), as
+//! CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
+//!
+//! The columns come from the JSON report's own value tree (the JSON text read back, its key
+//! order kept): every scalar of the per-route object, nested objects joined with `.`
+//! (`comfort.failed.lon_acc`), lists as JSON text. A field added to the report appears here by
+//! itself, and a cell holds the very number the JSON prints: the JSON's shortest round-trip
+//! decimal read back as an f64 is printed by the same formatter as the JSON writer (serde_json's own, through
+//! [`serde_json::Number`]). A column that a row lacks is an empty cell, and so is `null`.
+//! Column order is the JSON's field order (a field only some rows have sits after the field it
+//! follows in those rows). String cells go through [`csv_cell`], as every CSV of the tool.
+
+use std::collections::{HashMap, HashSet};
+use std::fmt;
+
+use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
+
+use crate::aggregate::report::Report;
+use crate::input::duplicates::Source;
+use crate::report::escape::{csv_cell, is_hidden};
+use crate::RouteFrames;
+
+/// The file names `--tables DIR` writes.
+pub const TABLE_NAMES: [&str; 3] = ["routes.csv", "events.csv", "frames.csv"];
+
+/// A JSON value with its object keys in the order of the text (serde_json's own `Value` sorts
+/// them unless its `preserve_order` feature is on, which would change other outputs).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Node {
+    /// `null`.
+    Null,
+    /// `true` / `false`.
+    Bool(bool),
+    /// A number, printed as serde_json prints it.
+    Number(serde_json::Number),
+    /// A string.
+    String(String),
+    /// A list (a table cell holds it as JSON text).
+    Array(Vec<Node>),
+    /// An object, keys in text order.
+    Object(Vec<(String, Node)>),
+}
+
+impl<'de> Deserialize<'de> for Node {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Node, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Node;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a JSON value")
+            }
+            fn visit_unit<E>(self) -> Result<Node, E> {
+                Ok(Node::Null)
+            }
+            fn visit_none<E>(self) -> Result<Node, E> {
+                Ok(Node::Null)
+            }
+            fn visit_bool<E>(self, b: bool) -> Result<Node, E> {
+                Ok(Node::Bool(b))
+            }
+            fn visit_u64<E>(self, n: u64) -> Result<Node, E> {
+                Ok(Node::Number(n.into()))
+            }
+            fn visit_i64<E>(self, n: i64) -> Result<Node, E> {
+                Ok(Node::Number(n.into()))
+            }
+            fn visit_f64<E>(self, x: f64) -> Result<Node, E> {
+                Ok(serde_json::Number::from_f64(x).map_or(Node::Null, Node::Number))
+            }
+            fn visit_str<E>(self, s: &str) -> Result<Node, E> {
+                Ok(Node::String(s.to_string()))
+            }
+            fn visit_string<E>(self, s: String) -> Result<Node, E> {
+                Ok(Node::String(s))
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut a: A) -> Result<Node, A::Error> {
+                let mut v = Vec::new();
+                while let Some(n) = a.next_element()? {
+                    v.push(n);
+                }
+                Ok(Node::Array(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut a: A) -> Result<Node, A::Error> {
+                let mut v = Vec::new();
+                while let Some((k, n)) = a.next_entry()? {
+                    v.push((k, n));
+                }
+                Ok(Node::Object(v))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl Node {
+    /// The value at `key` of an object (`None` for anything else or a missing key).
+    pub fn get(&self, key: &str) -> Option<&Node> {
+        match self {
+            Node::Object(kv) => kv.iter().find(|(k, _)| k == key).map(|(_, v)| v),
+            _ => None,
+        }
+    }
+
+    /// The JSON text of the value, with every character [`is_hidden`] holds written as a
+    /// `\uXXXX` escape, so the text stays valid JSON and [`csv_cell`] leaves it unchanged.
+    pub fn json_text(&self) -> String {
+        let mut out = String::new();
+        self.write_json(&mut out);
+        out
+    }
+
+    fn write_json(&self, out: &mut String) {
+        match self {
+            Node::Null => out.push_str("null"),
+            Node::Bool(b) => out.push_str(if *b { "true" } else { "false" }),
+            Node::Number(n) => out.push_str(&n.to_string()),
+            Node::String(s) => json_string(s, out),
+            Node::Array(v) => {
+                out.push('[');
+                for (i, n) in v.iter().enumerate() {
+                    if i > 0 {
+                        out.push(',');
+                    }
+                    n.write_json(out);
+                }
+                out.push(']');
+            }
+            Node::Object(kv) => {
+                out.push('{');
+                for (i, (k, n)) in kv.iter().enumerate() {
+                    if i > 0 {
+                        out.push(',');
+                    }
+                    json_string(k, out);
+                    out.push(':');
+                    n.write_json(out);
+                }
+                out.push('}');
+            }
+        }
+    }
+
+    /// The CSV cell of a leaf: empty for `null`, numbers as the JSON prints them, strings and
+    /// lists (as JSON text) through [`csv_cell`].
+    pub fn cell(&self) -> String {
+        match self {
+            Node::Null => String::new(),
+            Node::Bool(b) => b.to_string(),
+            Node::Number(n) => n.to_string(),
+            Node::String(s) => csv_cell(s).into_owned(),
+            Node::Array(_) | Node::Object(_) => csv_cell(&self.json_text()).into_owned(),
+        }
+    }
+}
+
+fn json_string(s: &str, out: &mut String) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if is_hidden(c) => out.push_str(&format!("\\u{:04x}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+}
+
+/// The leaves of an object, their names joined with `.`; a list is one leaf.
+fn flatten<'a>(prefix: &str, node: &'a Node, out: &mut Vec<(String, &'a Node)>) {
+    match node {
+        Node::Object(kv) => {
+            for (k, v) in kv {
+                let name = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&name, v, out);
+            }
+        }
+        leaf => out.push((prefix.to_string(), leaf)),
+    }
+}
+
+/// A row's leaf names, each with whether it holds something other than `null`.
+fn shape_of(leaves: &[(String, &Node)]) -> Vec<(String, bool)> {
+    leaves
+        .iter()
+        .map(|(k, v)| (k.clone(), !matches!(v, Node::Null)))
+        .collect()
+}
+
+/// The columns of a table, built from the rows' shapes in two passes ([`Columns::add`] for
+/// every row, then [`Columns::finish`]).
+#[derive(Default)]
+struct Columns {
+    names: Vec<String>,
+    /// Whether a column ever holds something other than `null`.
+    filled: HashMap<String, bool>,
+    shapes: HashSet<Vec<(String, bool)>>,
+}
+
+impl Columns {
+    /// Takes a row's leaf names: a name not seen yet goes right after the name before it in
+    /// this row (the JSON's field order).
+    fn add(&mut self, leaves: &[(String, &Node)]) {
+        self.add_shape(shape_of(leaves));
+    }
+
+    /// [`Columns::add`] for a row's shape ([`shape_of`]).
+    fn add_shape(&mut self, shape: Vec<(String, bool)>) {
+        if self.shapes.contains(&shape) {
+            return;
+        }
+        let mut at = 0;
+        for (k, filled) in &shape {
+            match self.names.iter().position(|n| n == k) {
+                Some(i) => at = i + 1,
+                None => {
+                    self.names.insert(at, k.clone());
+                    at += 1;
+                }
+            }
+            *self.filled.entry(k.clone()).or_default() |= *filled;
+        }
+        self.shapes.insert(shape);
+    }
+
+    /// The columns: a name that is always `null` where other rows have an object under it
+    /// (`decomposition` next to `decomposition.rounding`) is left out: its rows are the empty
+    /// cells of the object's columns.
+    fn finish(self) -> Vec<String> {
+        let names = &self.names;
+        names
+            .iter()
+            .filter(|n| {
+                self.filled.get(*n).copied().unwrap_or(false)
+                    || !names.iter().any(|m| {
+                        m.len() > n.len()
+                            && m.starts_with(n.as_str())
+                            && m.as_bytes()[n.len()] == b'.'
+                    })
+            })
+            .cloned()
+            .collect()
+    }
+}
+
+/// A table: its header and its rows of cells (already CSV cell text).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Table {
+    /// The column names.
+    pub columns: Vec<String>,
+    /// The rows, each as long as `columns`.
+    pub rows: Vec<Vec<String>>,
+    /// More rows, already written as CSV (after `rows`): the frames, written route by route.
+    pub body: Vec<u8>,
+}
+
+impl Table {
+    /// The table as RFC 4180 CSV (the `csv` crate's quoting), a header line first.
+    ///
+    /// # Errors
+    /// Only if the CSV writer fails, which writing to memory rules out.
+    pub fn csv(&self) -> Result<Vec<u8>, String> {
+        let mut w = ::csv::Writer::from_writer(Vec::new());
+        let err = |e: ::csv::Error| e.to_string();
+        w.write_record(&self.columns).map_err(err)?;
+        for r in &self.rows {
+            w.write_record(r).map_err(err)?;
+        }
+        let mut out = w.into_inner().map_err(|e| e.to_string())?;
+        out.extend_from_slice(&self.body);
+        Ok(out)
+    }
+}
+
+/// Builds a table from rows given as key cells (the same names for every row, first) and an
+/// object whose leaves are the rest.
+fn table(keys: &[&str], rows: &[(Vec<String>, &Node)]) -> Table {
+    let mut columns = Columns::default();
+    let mut leaves = Vec::with_capacity(rows.len());
+    for (_, node) in rows {
+        let mut l = Vec::new();
+        flatten("", node, &mut l);
+        columns.add(&l);
+        leaves.push(l);
+    }
+    let names = columns.finish();
+    let position: HashMap<&str, usize> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), i))
+        .collect();
+    let rows = rows
+        .iter()
+        .zip(leaves)
+        .map(|((key, _), l)| {
+            let mut cells = vec![String::new(); names.len()];
+            for (k, v) in l {
+                if let Some(&i) = position.get(k.as_str()) {
+                    cells[i] = v.cell();
+                }
+            }
+            key.iter()
+                .map(|k| csv_cell(k).into_owned())
+                .chain(cells)
+                .collect()
+        })
+        .collect();
+    Table {
+        columns: keys.iter().map(|k| k.to_string()).chain(names).collect(),
+        rows,
+        body: Vec::new(),
+    }
+}
+
+/// The report's value tree: its JSON text read back, key order kept.
+///
+/// # Errors
+/// Only if the report cannot be serialised, which its types rule out.
+pub fn report_tree(report: &Report) -> Result<Node, String> {
+    let json = crate::report::json::json(report).map_err(|e| e.to_string())?;
+    serde_json::from_slice(&json).map_err(|e| e.to_string())
+}
+
+/// The `routes` and `events` tables of a report tree ([`report_tree`]), each row led by
+/// `extra` key cells (`sds compare`'s `run` and `model`; none for `sds score`).
+fn routes_and_events(
+    tree: &Node,
+    extra: &[(&str, &str)],
+    routes: &mut Vec<(Vec<String>, Node)>,
+    events: &mut Vec<(Vec<String>, Node)>,
+) {
+    let Some(Node::Array(rows)) = tree.get("routes") else {
+        return;
+    };
+    for (i, r) in rows.iter().enumerate() {
+        let mut key: Vec<String> = extra.iter().map(|(_, v)| v.to_string()).collect();
+        key.push(i.to_string());
+        routes.push((key.clone(), r.clone()));
+        let id = match r.get("route_id") {
+            Some(Node::String(s)) => s.clone(),
+            _ => String::new(),
+        };
+        if let Some(Node::Array(es)) = r.get("events") {
+            for (j, e) in es.iter().enumerate() {
+                let mut k = key.clone();
+                k.push(id.clone());
+                k.push(j.to_string());
+                events.push((k, e.clone()));
+            }
+        }
+    }
+}
+
+/// The long tables of one scored run (`sds score`) or of the runs of a comparison
+/// (`sds compare`: `run` and `model` columns first, no `frames`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LongTables {
+    /// One row per route row of the report: `route_index` (its position in the report's
+    /// `routes`), then every field.
+    pub routes: Table,
+    /// One row per event: `route_index`, `route_id`, `event_index`, then every field.
+    pub events: Table,
+    /// One row per frame of each route with telemetry: `route_index`, `route_id`, `frame`
+    /// (0-based, the `frame` of the events), then the fields of `sds frames`; `None` for a
+    /// comparison.
+    pub frames: Option<Table>,
+}
+
+impl LongTables {
+    /// The files `--tables DIR` writes: `routes.csv`, `events.csv`, and `frames.csv` when
+    /// there are frames to write (`sds score`).
+    ///
+    /// # Errors
+    /// As [`Table::csv`].
+    pub fn files(&self) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
+        let mut files = vec![
+            (TABLE_NAMES[0], self.routes.csv()?),
+            (TABLE_NAMES[1], self.events.csv()?),
+        ];
+        if let Some(f) = &self.frames {
+            files.push((TABLE_NAMES[2], f.csv()?));
+        }
+        Ok(files)
+    }
+}
+
+/// The `routes` and `events` tables of the runs of a comparison: each run's report (as
+/// `sds score` of that run writes it) under its `run` and `model` names.
+///
+/// # Errors
+/// As [`report_tree`].
+///
+/// ```
+/// use monitor_host::{demo, report::long_tables::compare_tables, score_run, Inputs, Settings};
+/// let dir = std::env::temp_dir().join(format!("sds-ctables-doc-{}", std::process::id()));
+/// let run = demo::write(&dir).unwrap();
+/// let report = score_run(&Inputs::new([run.results.clone()]), &Settings::default()).unwrap();
+/// let t = compare_tables(&[("a", "a", &report), ("b", "b", &report)]).unwrap();
+/// assert_eq!(&t.routes.columns[..3], ["run", "model", "route_index"]);
+/// assert_eq!(t.routes.rows.len(), 2 * report.routes.len());
+/// assert!(t.frames.is_none());
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn compare_tables(runs: &[(&str, &str, &Report)]) -> Result<LongTables, String> {
+    let (mut routes, mut events) = (Vec::new(), Vec::new());
+    for (run, model, report) in runs {
+        let tree = report_tree(report)?;
+        routes_and_events(
+            &tree,
+            &[("run", run), ("model", model)],
+            &mut routes,
+            &mut events,
+        );
+    }
+    Ok(LongTables {
+        routes: table(&["run", "model", "route_index"], &borrow(&routes)),
+        events: table(
+            &["run", "model", "route_index", "route_id", "event_index"],
+            &borrow(&events),
+        ),
+        frames: None,
+    })
+}
+
+/// The long tables of a run: `report` and the frames of its routes ([`crate::run_frames`],
+/// matched to the report's rows by their `source`; a row without frames has no `frames` rows).
+///
+/// # Errors
+/// A frame the core's encoder cannot write, named by route and step.
+///
+/// ```
+/// use monitor_host::{demo, report::long_tables::long_tables, run_frames, score_run, Inputs, Settings};
+/// let dir = std::env::temp_dir().join(format!("sds-tables-doc-{}", std::process::id()));
+/// let run = demo::write(&dir).unwrap();
+/// let inputs = Inputs { telemetry: Some(run.telemetry.clone()), ..Inputs::new([run.results.clone()]) };
+/// let settings = Settings::default();
+/// let report = score_run(&inputs, &settings).unwrap();
+/// let frames: Vec<_> = run_frames(&inputs, &settings).unwrap().into_iter()
+///     .filter_map(|(s, f)| Some((s, f.ok()?))).collect();
+/// let t = long_tables(&report, &frames).unwrap();
+/// assert_eq!(t.routes.rows.len(), report.routes.len());
+/// assert_eq!(&t.routes.columns[..2], ["route_index", "route_id"]);
+/// assert!(t.frames.unwrap().columns.contains(&"host.step".to_string()));
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+pub fn long_tables(
+    report: &Report,
+    frames: &[(Source, RouteFrames)],
+) -> Result<LongTables, String> {
+    let tree = report_tree(report)?;
+    let (mut routes, mut events) = (Vec::new(), Vec::new());
+    routes_and_events(&tree, &[], &mut routes, &mut events);
+    let framed: Vec<(usize, String, &RouteFrames)> = report
+        .routes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let source = r.source.as_ref()?;
+            let (_, f) = frames.iter().find(|(s, _)| s == source)?;
+            Some((i, r.route_id.clone().unwrap_or_default(), f))
+        })
+        .collect();
+    let frames = frames_table(&framed)?;
+    Ok(LongTables {
+        routes: table(&["route_index"], &borrow(&routes)),
+        events: table(
+            &["route_index", "route_id", "event_index"],
+            &borrow(&events),
+        ),
+        frames: Some(frames),
+    })
+}
+
+/// Each frame of `route` (its index, id and frames) as its `sds frames` line read back.
+fn each_frame(
+    (_, id, f): &(usize, String, &RouteFrames),
+    mut each: impl FnMut(usize, &Node) -> Result<(), String>,
+) -> Result<(), String> {
+    let lines = crate::report::frames::frame_lines(f).map_err(|e| format!("{id}: {e}"))?;
+    let lines = lines.split(|&b| b == b'\n').filter(|l| !l.is_empty());
+    for (k, line) in lines.enumerate() {
+        let node: Node = serde_json::from_slice(line).map_err(|e| format!("{id}: {e}"))?;
+        each(k, &node)?;
+    }
+    Ok(())
+}
+
+/// The `frames` table, built route by route in two passes (the columns, then the rows as CSV),
+/// so that a benchmark-sized run never holds its frames' values all at once.
+fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, String> {
+    use rayon::prelude::*;
+    // Pass 1: each route's distinct shapes in order, merged in route order.
+    let shapes: Vec<Vec<Vec<(String, bool)>>> = framed
+        .par_iter()
+        .map(|route| {
+            let (mut seen, mut shapes) = (HashSet::new(), Vec::new());
+            each_frame(route, |_, node| {
+                let mut l = Vec::new();
+                flatten("", node, &mut l);
+                let shape = shape_of(&l);
+                if seen.insert(shape.clone()) {
+                    shapes.push(shape);
+                }
+                Ok(())
+            })?;
+            Ok(shapes)
+        })
+        .collect::<Result<_, String>>()?;
+    let mut columns = Columns::default();
+    for shape in shapes.into_iter().flatten() {
+        columns.add_shape(shape);
+    }
+    let names = columns.finish();
+    let position: HashMap<&str, usize> = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), i))
+        .collect();
+    // Pass 2: each route's rows as CSV, in route order.
+    let bodies: Vec<Vec<u8>> = framed
+        .par_iter()
+        .map(|route| {
+            let mut w = ::csv::Writer::from_writer(Vec::new());
+            let (i, id) = (route.0.to_string(), csv_cell(&route.1).into_owned());
+            each_frame(route, |k, node| {
+                let mut l = Vec::new();
+                flatten("", node, &mut l);
+                let mut cells = vec![String::new(); names.len()];
+                for (c, v) in l {
+                    if let Some(&p) = position.get(c.as_str()) {
+                        cells[p] = v.cell();
+                    }
+                }
+                let key = [i.clone(), id.clone(), k.to_string()];
+                w.write_record(key.iter().chain(&cells))
+                    .map_err(|e| e.to_string())
+            })?;
+            w.into_inner().map_err(|e| e.to_string())
+        })
+        .collect::<Result<_, String>>()?;
+    Ok(Table {
+        columns: ["route_index", "route_id", "frame"]
+            .iter()
+            .map(|k| k.to_string())
+            .chain(names)
+            .collect(),
+        rows: Vec::new(),
+        body: bodies.concat(),
+    })
+}
+
+fn borrow(v: &[(Vec<String>, Node)]) -> Vec<(Vec<String>, &Node)> {
+    v.iter().map(|(k, n)| (k.clone(), n)).collect()
+}

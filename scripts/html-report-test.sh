@@ -6,7 +6,8 @@
 # its status and title after its self-checks, sorting and filtering
 # are driven through the page's test hook (#test:...) and the resulting order compared with the
 # JSON report's, and a PNG screenshot is taken. `sds compare --format html` opens the same way.
-# Then the live page of a running `sds watch` (scripts/html-watch-test.sh).
+# Then the live page of a running `sds watch` (scripts/html-watch-test.sh), and the Markdown
+# tables over hostile names as a browser builds them (scripts/markdown-browser-test.sh).
 # Skips the browser part loudly (exit 0) only when Chromium is not installed and cannot be.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -202,3 +203,4 @@ else
 fi
 
 bash scripts/html-watch-test.sh
+bash scripts/markdown-browser-test.sh

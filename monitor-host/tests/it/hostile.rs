@@ -101,6 +101,7 @@ fn render_markdown(md: &str) -> (String, String) {
 /// and each name in `names` read back as its text.
 fn assert_inert(what: &str, md: &str, names: &[&str]) {
     let (html, text) = render_markdown(md);
+    keep_for_the_browser(what, &html);
     for tag in ["<script", "<a ", "<img", "<em>", "<code>", "<del>"] {
         assert!(!html.contains(tag), "{what}: {tag} in\n{html}");
     }
@@ -115,6 +116,28 @@ fn assert_inert(what: &str, md: &str, names: &[&str]) {
             "{what}: {n:?} does not read as itself in\n{text}"
         );
     }
+}
+
+/// With `SDS_MARKDOWN_HTML_OUT=DIR` (scripts/markdown-browser-test.sh), writes the rendered
+/// HTML of `what` into DIR for headless Chromium, and once a control page: the same names
+/// rendered unescaped, on which the browser check must find live markup (or it checks nothing).
+fn keep_for_the_browser(what: &str, html: &str) {
+    let Some(dir) = std::env::var_os("SDS_MARKDOWN_HTML_OUT") else {
+        return;
+    };
+    let dir = Path::new(&dir);
+    fs::create_dir_all(dir).unwrap();
+    let page = |body: &str| format!("<!DOCTYPE html><html><body>\n{body}</body></html>\n");
+    let name: String = what
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    fs::write(dir.join(format!("{name}.html")), page(html)).unwrap();
+    let mut control = String::new();
+    // Live, but without `alert` (a dialog would hold headless Chromium until its timeout).
+    let raw = MARKUP.join("\n\n").replace("alert(1)", "void 0");
+    pulldown_cmark::html::push_html(&mut control, pulldown_cmark::Parser::new(&raw));
+    fs::write(dir.join("control.html"), page(&control)).unwrap();
 }
 
 /// Finding 1: `--format markdown` of `score` and `compare` wrote scenario names and run names

@@ -3,7 +3,7 @@
 # thumb targets (rustup); cargo-fuzz only beside an already installed nightly toolchain (the fuzz
 # smoke run needs both and skips without them; nightly itself is never installed);
 # qemu-system-arm >= 9 (Debian bookworm-backports), the ARM binutils and gcc, valgrind,
-# pkg-config, gcc/g++ and Chromium (apt); pinned Python tools (maturin, pytest, mypy, numpy) in a
+# pkg-config, gcc/g++ and Chromium (apt); pinned Python tools (maturin, pytest, mypy, numpy, pandas) in a
 # venv inside the build folder.
 #
 # Works from nothing: every probe of a tool that may be absent is safe under `set -e`; each step
@@ -138,7 +138,7 @@ done
 # installs into a fresh venv without the network.
 py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
 py_tools="$py_target/py-tools"
-py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6"
+py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1"
 py_by_hand="python3 -m venv $py_tools && $py_tools/bin/pip install $py_pins && $py_tools/bin/pip download -d $py_tools/wheelhouse $py_pins"
 if ! have python3; then
   lacks "python3 -- apt-get install python3 python3-venv -- the Python package tests and the map cross-check skip"

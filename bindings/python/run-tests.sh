@@ -25,7 +25,7 @@ wheel=$(ls "$target"/py-wheels/sds_monitor-*-abi3-*.whl)
 venv="$target/py-test"
 echo "[python] fresh venv $venv: $(basename "$wheel") and the test requirements (offline)"
 python3 -m venv --clear "$venv"
-"$venv/bin/pip" install -q --no-index --find-links "$tools/wheelhouse" "$wheel" pytest mypy numpy
+"$venv/bin/pip" install -q --no-index --find-links "$tools/wheelhouse" "$wheel" pytest mypy numpy pandas
 
 echo "[python] mypy --strict: package, stubs, examples"
 MYPYPATH=python "$venv/bin/python" -m mypy --strict --cache-dir "$target/py-mypy-cache" python/sds examples
@@ -50,7 +50,7 @@ python3 -m venv --clear "$venv"
 # cargo took a previous run's artifacts for fresh and installed a stale build: measured).
 rm -rf "$target/py-sdist-build"
 CARGO_TARGET_DIR="$target/py-sdist-build" "$venv/bin/pip" install -q --no-cache-dir --no-index \
-  --find-links "$tools/wheelhouse" "$sdist" pytest numpy
+  --find-links "$tools/wheelhouse" "$sdist" pytest numpy pandas
 installed=$("$venv/bin/sds" --version)
 [ "$installed" = "$("$target/release/sds" --version)" ] \
   || { echo "FAILED: the sds command installed from source says '$installed'" >&2; exit 1; }

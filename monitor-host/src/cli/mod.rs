@@ -433,53 +433,11 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         say!("sds: note: {note}");
     }
     let bytes = render(args, &report)?;
-    let tables = match &args.tables {
-        Some(_) => Some(run_tables(args, &report)?),
-        None => None,
-    };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(label_files(args).files().cloned());
-    if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
-        output::refuse_clash(out, &output::trace_paths(dir, &report), "a trace")?;
-    }
-    // The traces, the figures, then the report, all or nothing: a file that cannot be written
-    // (or Ctrl-C) stops the run (exit 1, "no report") with every file this run wrote removed
-    // and every file it replaced put back (`output::roll_back`).
-    let written = (|| -> Result<_> {
-        let traces = match &args.traces {
-            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
-            None => None,
-        };
-        let figures = match &args.figures {
-            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
-            None => None,
-        };
-        if let (Some(dir), Some(files)) = (&args.tables, tables) {
-            output::place_tables(dir, files, &inputs_read)?;
-        }
-        write_output(args.output.as_deref(), &bytes, &inputs_read)?;
-        Ok((traces, figures))
-    })();
-    let (traces, figures) = match written {
-        Ok(w) => {
-            output::commit();
-            w
-        }
-        Err(e) => {
-            output::roll_back();
-            return Err(e);
-        }
-    };
-    if let Some((dir, n)) = traces {
-        say!(
-            "sds: wrote {n} collision trace(s) to {}{}",
-            dir.display(),
-            untraced_note(&report)
-        );
-    }
-    if let Some((dir, names)) = figures {
-        say!("sds: wrote {} to {}", names.join(", "), dir.display());
-    }
+    write_all(args, &report, &inputs_read, || {
+        write_output(args.output.as_deref(), &bytes, &inputs_read)
+    })?;
     if let Some(file) = &args.rerun_list {
         write_rerun_list(file, &report, &inputs_read)?;
     }
@@ -542,6 +500,68 @@ fn write_rerun_list(
         text.lines().count(),
         file.display()
     );
+    Ok(())
+}
+
+/// Writes the traces, the figures, the long tables and then the report (`write_report`) of
+/// `sds score` and of `sds watch`'s final round, all or nothing: a file that cannot be written
+/// (or Ctrl-C) stops the run (exit 1, "no report") with every file this run wrote removed and
+/// every file it replaced put back (`output::roll_back`); then the rerun list.
+fn write_all(
+    args: &ScoreArgs,
+    report: &crate::Report,
+    inputs_read: &[std::path::PathBuf],
+    write_report: impl FnOnce() -> Result<()>,
+) -> Result<()> {
+    if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
+        output::refuse_clash(out, &output::trace_paths(dir, report), "a trace")?;
+    }
+    let tables = match &args.tables {
+        Some(_) => Some(run_tables(args, report)?),
+        None => None,
+    };
+    let written = (|| -> Result<_> {
+        let traces = match &args.traces {
+            Some(dir) => Some((dir, output::place_traces(dir, report, inputs_read)?)),
+            None => None,
+        };
+        let figures = match &args.figures {
+            Some(dir) => Some((dir, output::place_figures(dir, report, inputs_read)?)),
+            None => None,
+        };
+        let tables = match (&args.tables, tables) {
+            (Some(dir), Some(files)) => Some((dir, output::place_tables(dir, files, inputs_read)?)),
+            _ => None,
+        };
+        write_report()?;
+        Ok((traces, figures, tables))
+    })();
+    let (traces, figures, tables) = match written {
+        Ok(w) => {
+            output::commit();
+            w
+        }
+        Err(e) => {
+            output::roll_back();
+            return Err(e);
+        }
+    };
+    if let Some((dir, n)) = traces {
+        say!(
+            "sds: wrote {n} collision trace(s) to {}{}",
+            dir.display(),
+            untraced_note(report)
+        );
+    }
+    if let Some((dir, names)) = figures {
+        say!("sds: wrote {} to {}", names.join(", "), dir.display());
+    }
+    if let Some((dir, ())) = tables {
+        say!("sds: wrote the long tables to {}", dir.display());
+    }
+    if let Some(file) = &args.rerun_list {
+        write_rerun_list(file, report, inputs_read)?;
+    }
     Ok(())
 }
 

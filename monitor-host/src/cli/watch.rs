@@ -168,43 +168,10 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     };
     let mut inputs_read = report.files_read.clone();
     inputs_read.extend(super::label_files(a).files().cloned());
-    // As `sds score`: the traces, the figures, then the report, all or nothing.
-    let written = (|| -> Result<_> {
-        let traces = match &a.traces {
-            Some(dir) => Some((dir, output::place_traces(dir, &report, &inputs_read)?)),
-            None => None,
-        };
-        let figures = match &a.figures {
-            Some(dir) => Some((dir, output::place_figures(dir, &report, &inputs_read)?)),
-            None => None,
-        };
-        write_round(a, &out, &report, None)?;
-        Ok((traces, figures))
-    })();
-    let (traces, figures) = match written {
-        Ok(w) => {
-            output::commit();
-            w
-        }
-        Err(e) => {
-            output::roll_back();
-            return Err(e);
-        }
-    };
-    if let Some((dir, n)) = traces {
-        say!(
-            "sds: wrote {n} collision trace(s) to {}{}",
-            dir.display(),
-            super::untraced_note(&report)
-        );
-    }
-    if let Some((dir, names)) = figures {
-        say!("sds: wrote {} to {}", names.join(", "), dir.display());
-    }
-    // The routes to run again, from the final report (v1.4 §13).
-    if let Some(file) = &a.rerun_list {
-        super::write_rerun_list(file, &report, &inputs_read)?;
-    }
+    // As `sds score`: the traces, the figures, the tables, then the report, all or nothing.
+    super::write_all(a, &report, &inputs_read, || {
+        write_round(a, &out, &report, None)
+    })?;
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }

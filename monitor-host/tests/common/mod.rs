@@ -41,3 +41,43 @@ pub fn score_demo(dir: &Path, results: Option<&Path>, extra: &[&str]) -> Output 
     args.extend_from_slice(extra);
     sds(&args)
 }
+
+/// `../shared/fixtures/b2d` when it holds every file or folder of `needed` (paths inside it), or
+/// `None` with the reason printed: the tests on real Bench2Drive files skip without `../shared`.
+pub fn b2d_fixtures(needed: &[&str]) -> Option<std::path::PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
+    match needed.iter().find(|f| !dir.join(f).exists()) {
+        None if dir.is_dir() => Some(dir),
+        missing => {
+            eprintln!(
+                "skipped: the Bench2Drive fixtures are absent ({} not found)",
+                dir.join(missing.unwrap_or(&"")).display()
+            );
+            None
+        }
+    }
+}
+
+/// The 12 infraction lists of a Bench2Drive record, in the evaluator's order.
+pub const INFRACTION_LISTS: [&str; 12] = [
+    "collisions_layout",
+    "collisions_pedestrian",
+    "collisions_vehicle",
+    "min_speed_infractions",
+    "outside_route_lanes",
+    "red_light",
+    "route_dev",
+    "route_timeout",
+    "scenario_timeouts",
+    "stop_infraction",
+    "vehicle_blocked",
+    "yield_emergency_vehicle_infractions",
+];
+
+/// A record's `infractions` object with every list empty.
+pub fn no_infractions() -> serde_json::Map<String, serde_json::Value> {
+    INFRACTION_LISTS
+        .iter()
+        .map(|l| (l.to_string(), serde_json::json!([])))
+        .collect()
+}

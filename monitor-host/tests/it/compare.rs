@@ -65,26 +65,11 @@ mod bootstrap_and_gate {
     /// A merged results file of these records (no telemetry: compared with
     /// `--allow-missing-telemetry`, so comfort is undefined on every route).
     fn write_run(dir: &Path, name: &str, recs: &[Rec]) -> PathBuf {
-        let lists = [
-            "collisions_layout",
-            "collisions_pedestrian",
-            "collisions_vehicle",
-            "min_speed_infractions",
-            "outside_route_lanes",
-            "red_light",
-            "route_dev",
-            "route_timeout",
-            "scenario_timeouts",
-            "stop_infraction",
-            "vehicle_blocked",
-            "yield_emergency_vehicle_infractions",
-        ];
         let records: Vec<Value> = recs
             .iter()
             .enumerate()
             .map(|(i, (id, ds, ok, town))| {
-                let inf: serde_json::Map<String, Value> =
-                    lists.iter().map(|l| (l.to_string(), json!([]))).collect();
+                let inf = crate::common::no_infractions();
                 json!({
                     "index": i, "route_id": id, "infractions": inf,
                     "meta": {"duration_game": 10.0, "duration_system": 30.0, "route_length": 100.0},
@@ -241,27 +226,17 @@ mod bootstrap_and_gate {
         }
     }
 
-    fn fixtures() -> Option<PathBuf> {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-        if dir.join("routes/bench2drive220.xml").is_file()
-            && dir.join("b2dzoo_TCP-only-traj_merged.json").is_file()
-        {
-            Some(dir)
-        } else {
-            eprintln!(
-                "skipped: {} is absent (the real-run comparison was not run)",
-                dir.display()
-            );
-            None
-        }
-    }
-
     /// On Bench2DriveZoo's UniAD-Base (baseline), VAD and TCP-traj over the 220 routes: every
     /// interval is the same with and without `--protocol` and with a model added in the middle;
     /// the first model's ds keeps its v1.3 interval; TCP's ds interval re-derived by hand.
     #[test]
     fn i33_3_fixture_intervals_do_not_move_with_protocol_or_model() {
-        let Some(fx) = fixtures() else { return };
+        let Some(fx) = crate::common::b2d_fixtures(&[
+            "routes/bench2drive220.xml",
+            "b2dzoo_TCP-only-traj_merged.json",
+        ]) else {
+            return;
+        };
         let xml = fx.join("routes/bench2drive220.xml");
         let uniad = fx.join("b2dzoo_UniAD-Base_merged.json");
         let vad = fx.join("b2dzoo_VAD_merged.json");

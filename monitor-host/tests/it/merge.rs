@@ -7,17 +7,6 @@ use serde_json::Value;
 
 use crate::common::{demo, sds};
 
-/// `../shared/fixtures/b2d`, or `None` (with a printed reason) when it is absent.
-fn b2d_fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    if dir.join("routes/bench2drive220.xml").is_file() && dir.join("tfpp_raw_shards").is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent", dir.display());
-        None
-    }
-}
-
 fn s(p: &Path) -> String {
     p.to_str().unwrap().to_string()
 }
@@ -212,7 +201,10 @@ fn i36_merge_of_demo_parts_equals_score_over_both() {
 
 #[test]
 fn i36_merge_of_tfpp_shards_equals_score_and_merge_of_merges() {
-    let Some(b2d) = b2d_fixtures() else { return };
+    let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml", "tfpp_raw_shards"])
+    else {
+        return;
+    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let xml = s(&b2d.join("routes/bench2drive220.xml"));
@@ -385,7 +377,10 @@ fn i36_merge_refuses_a_part_that_is_not_a_report() {
 
 #[test]
 fn i36_rerun_list_names_crashed_and_missing_routes_of_the_fixtures() {
-    let Some(b2d) = b2d_fixtures() else { return };
+    let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml", "tfpp_raw_shards"])
+    else {
+        return;
+    };
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     let xml = s(&b2d.join("routes/bench2drive220.xml"));

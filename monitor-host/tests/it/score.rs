@@ -9,17 +9,6 @@ mod protocols {
 
     use crate::common::sds;
 
-    /// `../shared/fixtures/b2d`, or `None` (with a printed reason) when it is absent.
-    fn b2d_fixtures() -> Option<PathBuf> {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-        if dir.join("routes/bench2drive220.xml").is_file() {
-            Some(dir)
-        } else {
-            eprintln!("skipped: {} is absent", dir.display());
-            None
-        }
-    }
-
     fn min_speed(ps: &[f64]) -> Vec<String> {
         ps.iter()
             .map(|p| format!("Average speed is {p}% of the surrounding traffic's one"))
@@ -254,7 +243,9 @@ mod protocols {
     /// (every entry an event: TCP lb2.1 19.10, lb2.0 7.26 against DS 59.90) and now.
     #[test]
     fn i33_1_real_bench2drive_files_on_the_twenty_checkpoint_grid() {
-        let Some(b2d) = b2d_fixtures() else { return };
+        let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml"]) else {
+            return;
+        };
         let xml = b2d.join("routes/bench2drive220.xml");
         // (model, DS, lb2.0, lb2.1, records regrouped, records, lb2.0 and lb2.1 under lb-4)
         let cases = [
@@ -362,7 +353,9 @@ mod protocols {
         ]);
         assert!(!rep["warnings"].to_string().contains("Fail2Drive"));
 
-        let Some(b2d) = b2d_fixtures() else { return };
+        let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml"]) else {
+            return;
+        };
         let results = b2d.join("b2dzoo_UniAD-Base_merged.json");
         let xml = b2d.join("routes/bench2drive220.xml");
         let (rep, stderr) = score(&[
@@ -544,7 +537,9 @@ mod protocols {
     /// bracket [decided, decided + undecided]; UniAD-Base's published 14.21 lies inside it.
     #[test]
     fn i33_5_undecided_traffic_sign_bracket_holds_the_published_rate() {
-        let Some(b2d) = b2d_fixtures() else { return };
+        let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml"]) else {
+            return;
+        };
         let maps = b2d.join("../maps");
         let results = b2d.join("b2dzoo_UniAD-Base_merged.json");
         let xml = b2d.join("routes/bench2drive220.xml");
@@ -586,7 +581,9 @@ mod protocols {
     /// TCP-traj's Overtaking 4/45 and its Overtaking 24.29 the Merging 17/70 (docs/TABLES.md).
     #[test]
     fn i33_5_published_table_swaps_merging_and_overtaking_for_tcp() {
-        let Some(b2d) = b2d_fixtures() else { return };
+        let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml"]) else {
+            return;
+        };
         let results = b2d.join("b2dzoo_TCP-only-traj_merged.json");
         let xml = b2d.join("routes/bench2drive220.xml");
         let (rep, _) = score(&[
@@ -618,20 +615,6 @@ mod i33_lateral {
     use std::path::{Path, PathBuf};
 
     use crate::common::sds;
-
-    /// The shared fixtures, or `None` (with the reason printed) when they are absent.
-    pub fn fixtures() -> Option<PathBuf> {
-        let p = PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../shared/fixtures/b2d"
-        ));
-        if p.is_dir() {
-            Some(p)
-        } else {
-            eprintln!("skipped: shared fixtures absent at {}", p.display());
-            None
-        }
-    }
 
     /// The point `s` m along the polyline `w`, moved `offset` m to its right (CARLA's y points
     /// right of x), and the direction of travel there.
@@ -709,24 +692,7 @@ mod i33_lateral {
         )
         .unwrap();
 
-        let lists = [
-            "collisions_layout",
-            "collisions_pedestrian",
-            "collisions_vehicle",
-            "min_speed_infractions",
-            "outside_route_lanes",
-            "red_light",
-            "route_dev",
-            "route_timeout",
-            "scenario_timeouts",
-            "stop_infraction",
-            "vehicle_blocked",
-            "yield_emergency_vehicle_infractions",
-        ];
-        let infractions: serde_json::Map<String, serde_json::Value> = lists
-            .iter()
-            .map(|l| (l.to_string(), serde_json::json!([])))
-            .collect();
+        let infractions = crate::common::no_infractions();
         let results = serde_json::json!({
             "_checkpoint": {"global_record": {}, "progress": [1, 1], "records": [{
                 "index": 0,
@@ -893,7 +859,9 @@ fn i33_7_reacquire_steps_is_a_setting() {
 #[test]
 fn i33_7_late_start_and_gap_reacquire_a_real_route() {
     use i33_lateral::*;
-    let Some(fx) = fixtures() else { return };
+    let Some(fx) = crate::common::b2d_fixtures(&[]) else {
+        return;
+    };
     let set = monitor_host::input::route_xml::read_route_xml(&fx.join("routes/bench2drive220.xml"))
         .unwrap();
     let r = set.get("25300").expect("route 25300 in bench2drive220.xml");
@@ -1000,7 +968,7 @@ fn i33_4_page_says_status_rc_penalty_and_why_not_placed() {
 /// 50.53 × penalty 0.6 = 30.32" on the page, and its collisions "not placed: no telemetry".
 #[test]
 fn i33_4_real_tickruntime_route_explained_on_the_page() {
-    let Some(fx) = i33_lateral::fixtures() else {
+    let Some(fx) = crate::common::b2d_fixtures(&[]) else {
         return;
     };
     let file = fx.join("carla_garage_tfpp_b2d_traj_merged.json");
@@ -1019,24 +987,7 @@ fn i33_4_real_tickruntime_route_explained_on_the_page() {
 
 /// A completed record of route `id` whose `save_name` ends with the time stamp `stamp`.
 fn i33_record(id: u32, stamp: &str, score: f64) -> serde_json::Value {
-    let lists = [
-        "collisions_layout",
-        "collisions_pedestrian",
-        "collisions_vehicle",
-        "min_speed_infractions",
-        "outside_route_lanes",
-        "red_light",
-        "route_dev",
-        "route_timeout",
-        "scenario_timeouts",
-        "stop_infraction",
-        "vehicle_blocked",
-        "yield_emergency_vehicle_infractions",
-    ];
-    let infractions: serde_json::Map<String, serde_json::Value> = lists
-        .iter()
-        .map(|l| (l.to_string(), serde_json::json!([])))
-        .collect();
+    let infractions = crate::common::no_infractions();
     serde_json::json!({
         "route_id": format!("RouteScenario_{id}_rep0"),
         "scenario_name": "Excerpt_1",
@@ -1240,7 +1191,7 @@ fn i33_8_routes_without_a_route_are_refused() {
 /// then scores the 20 routes over N = 20.
 #[test]
 fn i33_8_expected_routes_suggests_route_subset_found() {
-    let Some(fx) = i33_lateral::fixtures() else {
+    let Some(fx) = crate::common::b2d_fixtures(&[]) else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

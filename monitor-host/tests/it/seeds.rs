@@ -7,26 +7,14 @@ use serde_json::{json, Value};
 
 use crate::common::sds;
 
-/// The Bench2Drive fixtures, or `None` (with the reason printed) when `../shared` is absent.
-fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    let files = [
-        "b2dzoo_UniAD-Base_merged.json",
-        "b2dzoo_VAD_merged.json",
-        "b2dzoo_TCP-only-traj_merged.json",
-        "carla_garage_tfpp_b2d_traj_merged.json",
-        "routes/bench2drive220.xml",
-    ];
-    if files.iter().all(|f| dir.join(f).is_file()) {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: the Bench2Drive fixtures in {} are absent",
-            dir.display()
-        );
-        None
-    }
-}
+/// The Bench2Drive files these tests read.
+const FIXTURES: [&str; 5] = [
+    "b2dzoo_UniAD-Base_merged.json",
+    "b2dzoo_VAD_merged.json",
+    "b2dzoo_TCP-only-traj_merged.json",
+    "carla_garage_tfpp_b2d_traj_merged.json",
+    "routes/bench2drive220.xml",
+];
 
 /// `sds compare --format json` with `args` (runs and options): exit code, report, stderr.
 fn compare(args: &[String]) -> (Option<i32>, Value, String) {
@@ -40,26 +28,11 @@ fn compare(args: &[String]) -> (Option<i32>, Value, String) {
 
 /// A merged results file of records `(route_id, score_composed, success)`.
 fn write_run(dir: &Path, name: &str, recs: &[(&str, f64, bool)]) -> PathBuf {
-    let lists = [
-        "collisions_layout",
-        "collisions_pedestrian",
-        "collisions_vehicle",
-        "min_speed_infractions",
-        "outside_route_lanes",
-        "red_light",
-        "route_dev",
-        "route_timeout",
-        "scenario_timeouts",
-        "stop_infraction",
-        "vehicle_blocked",
-        "yield_emergency_vehicle_infractions",
-    ];
     let records: Vec<Value> = recs
         .iter()
         .enumerate()
         .map(|(i, (id, ds, ok))| {
-            let inf: serde_json::Map<String, Value> =
-                lists.iter().map(|l| (l.to_string(), json!([]))).collect();
+            let inf = crate::common::no_infractions();
             json!({
                 "index": i, "route_id": id, "infractions": inf,
                 "meta": {"duration_game": 10.0, "duration_system": 30.0, "route_length": 100.0},
@@ -104,7 +77,9 @@ fn place(c: &Value, name: &str) -> (u64, Value, f64) {
 /// [3, 4]. The ranking is listed by rank, and absent without `--rank`.
 #[test]
 fn i38_bench2drivezoo_models_ranked() {
-    let Some(fx) = fixtures() else { return };
+    let Some(fx) = crate::common::b2d_fixtures(&FIXTURES) else {
+        return;
+    };
     let f = |n: &str| fx.join(n).display().to_string();
     let routes = ["--routes".to_string(), f("routes/bench2drive220.xml")];
     let zoo = [
@@ -250,7 +225,9 @@ fn i38_ranking_matches_a_second_implementation() {
 /// seeds needed follow `--repro-halfwidth`.
 #[test]
 fn i38_seeds_from_real_files() {
-    let Some(fx) = fixtures() else { return };
+    let Some(fx) = crate::common::b2d_fixtures(&FIXTURES) else {
+        return;
+    };
     let f = |n: &str| fx.join(n).display().to_string();
     let xml = f("routes/bench2drive220.xml");
     let (tcp, vad) = (

@@ -735,7 +735,8 @@ fn r3_05_double_sigterm_keeps_the_final_report() {
     }
 }
 
-/// Issue 34 finding 5: `--figures` writes the final report's figures, as `sds score` does.
+/// Issue 34 finding 5: `--figures` (and `--tables`) write the final report's figures and
+/// tables, as `sds score` does.
 #[test]
 fn r3_05_figures_are_written_for_the_final_report() {
     let dir = tempfile::tempdir().unwrap();
@@ -749,11 +750,14 @@ fn r3_05_figures_are_written_for_the_final_report() {
         s(&run.routes),
     ];
     let (fs_score, fs_watch) = (dir.path().join("fs"), dir.path().join("fw"));
+    let (ts_score, ts_watch) = (dir.path().join("ts"), dir.path().join("tw"));
     let mut a: Vec<String> = vec!["score".into()];
     a.extend(common.clone());
     a.extend([
         "--figures".into(),
         s(&fs_score),
+        "--tables".into(),
+        s(&ts_score),
         "-o".into(),
         s(&dir.path().join("s.json")),
     ]);
@@ -767,6 +771,8 @@ fn r3_05_figures_are_written_for_the_final_report() {
     a.extend([
         "--figures".into(),
         s(&fs_watch),
+        "--tables".into(),
+        s(&ts_watch),
         "-o".into(),
         s(&dir.path().join("w.json")),
     ]);
@@ -783,13 +789,16 @@ fn r3_05_figures_are_written_for_the_final_report() {
         v.sort();
         v
     };
-    assert!(!names(&fs_score).is_empty());
-    assert_eq!(names(&fs_watch), names(&fs_score));
-    for n in names(&fs_score) {
-        assert_eq!(
-            fs::read(fs_watch.join(&n)).unwrap(),
-            fs::read(fs_score.join(&n)).unwrap()
-        );
+    // The figures and (since the one write path of score and watch) the long tables.
+    for (from_score, from_watch) in [(&fs_score, &fs_watch), (&ts_score, &ts_watch)] {
+        assert!(!names(from_score).is_empty());
+        assert_eq!(names(from_watch), names(from_score));
+        for n in names(from_score) {
+            assert_eq!(
+                fs::read(from_watch.join(&n)).unwrap(),
+                fs::read(from_score.join(&n)).unwrap()
+            );
+        }
     }
 }
 

@@ -135,8 +135,8 @@ pub enum Warning {
     EarlierAttempt {
         /// The newer, unfinished file.
         newer: PathBuf,
-        /// Its `progress`, `[done, total]`, when it has one.
-        progress: Option<(u64, u64)>,
+        /// Its `progress`, `[done, total]`.
+        progress: (u64, u64),
         /// The file the kept records come from.
         earlier: PathBuf,
         /// The route ids.
@@ -462,12 +462,10 @@ impl std::fmt::Display for Warning {
                 routes.len(),
                 earlier.display(),
                 newer.display(),
-                match progress {
-                    Some((done, total)) => format!(
-                        " (progress {done} of {total}: it crashed or stopped before finishing)"
-                    ),
-                    None => " (it did not finish)".into(),
-                },
+                format_args!(
+                    " (progress {} of {}: it crashed or stopped before finishing)",
+                    progress.0, progress.1
+                ),
                 id_list(routes)
             ),
             Warning::ForeignRoute { route, routes_file } => write!(

@@ -84,6 +84,11 @@ struct Entry {
     outcome: RouteOutcome,
 }
 
+/// How recent a file may be and still be trusted unchanged by its stamp, in `sds watch` and
+/// `sds.watch` ([`RouteCache::new`], [`Watcher::new`]): a file rewritten within the same second
+/// can keep its size and modification time.
+pub const RACY: Duration = Duration::from_secs(1);
+
 /// The routes' replays of earlier rounds, keyed by where the record sits (file, index) and
 /// valid while the record (its whole content) is unchanged and so is every file and folder the
 /// replay depended on: the telemetry files it read, or, when the telemetry was missing, the

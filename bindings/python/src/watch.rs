@@ -19,8 +19,6 @@ use crate::options::RunKwargs;
 use crate::pyser::to_python;
 use crate::score::breakdown;
 
-/// How recent a telemetry file may be and still be trusted unchanged (as `sds watch`).
-const RACY: Duration = Duration::from_secs(1);
 /// How often signals are checked while sleeping or scoring.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 /// Retries of the last round after the timeout when it finds a file half-written (as
@@ -238,7 +236,7 @@ pub fn watch(results: Vec<PathBuf>, options: &Bound<'_, PyDict>) -> PyResult<Wat
         maps: kw.maps,
     };
     Ok(Watch {
-        watcher: Watcher::new(inputs, settings, files, by, RACY),
+        watcher: Watcher::new(inputs, settings, files, by, monitor_host::watch::RACY),
         interval,
         timeout,
         start: None,

@@ -62,9 +62,7 @@ pub fn summarize(all: &[RouteReport], scores: Scores, n: usize) -> Summary {
             .filter(|r| r.state == RouteState::Foreign)
             .count(),
         scores,
-        penalty_mismatches: all
-            .iter()
-            .filter(|r| r.state != RouteState::Foreign)
+        penalty_mismatches: crate::route::row::counted_routes(all)
             .filter(|r| r.penalty_check.as_ref().is_some_and(|p| !p.agrees))
             .filter_map(|r| r.route_id.clone())
             .collect(),

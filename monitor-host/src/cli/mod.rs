@@ -407,19 +407,7 @@ fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
 }
 
 fn score(args: &ScoreArgs) -> Result<i32> {
-    // An `-o` among the figures is a usage error before any work (the traces' names are known
-    // once the run is scored).
-    if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
-        let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
-        output::refuse_clash(out, &figures, "a figure")?;
-    }
-    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
-        let tables: Vec<_> = long_tables::TABLE_NAMES
-            .iter()
-            .map(|n| dir.join(n))
-            .collect();
-        output::refuse_clash(out, &tables, "a table")?;
-    }
+    refuse_output_clashes(args)?;
     let bar = progress::Bar::new();
     let scored = score_report(args, &bar);
     bar.finish();
@@ -438,9 +426,6 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     write_all(args, &report, &inputs_read, || {
         write_output(args.output.as_deref(), &bytes, &inputs_read)
     })?;
-    if let Some(file) = &args.rerun_list {
-        write_rerun_list(file, &report, &inputs_read)?;
-    }
 
     // The exit status comes from the report's data, never from its rendering.
     if !report.has_problems() {
@@ -500,6 +485,23 @@ fn write_rerun_list(
         text.lines().count(),
         file.display()
     );
+    Ok(())
+}
+
+/// An `-o` among the figures or the long tables is a usage error before any work (`sds score`
+/// and `sds watch`; the traces' names are known once the run is scored, see [`write_all`]).
+fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
+    if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
+        let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
+        output::refuse_clash(out, &figures, "a figure")?;
+    }
+    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
+        let tables: Vec<_> = long_tables::TABLE_NAMES
+            .iter()
+            .map(|n| dir.join(n))
+            .collect();
+        output::refuse_clash(out, &tables, "a table")?;
+    }
     Ok(())
 }
 

@@ -11,10 +11,7 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs};
 use super::output::{self, write_output};
-use crate::watch::{RoundOutcome, StatusLine, Watcher};
-
-/// How recent a telemetry file may be and still be trusted unchanged by its stamp.
-const RACY: Duration = Duration::from_secs(1);
+use crate::watch::{RoundOutcome, StatusLine, Watcher, RACY};
 
 /// Arguments of `sds watch`.
 #[derive(Debug, clap::Args)]
@@ -96,6 +93,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         (None, false) => None,
     };
     output::defer_signals();
+    super::refuse_output_clashes(a)?;
     let mut watcher = Watcher::new(super::inputs(a), settings, super::label_files(a), by, RACY);
     let start = Instant::now();
     let mut last = None;

@@ -509,8 +509,8 @@ fn newest_by_file_time(records: &[LoadedRecord], all: &[usize], stamps: &[String
 pub struct EarlierAttempt {
     /// The newer file: its copies were kept over `earlier`'s, and it did not finish.
     pub newer: PathBuf,
-    /// Its `progress` `[done, total]`, when it has one.
-    pub progress: Option<(u64, u64)>,
+    /// Its `progress` `[done, total]` (a file without one is not known to be unfinished).
+    pub progress: (u64, u64),
     /// The file the records come from.
     pub earlier: PathBuf,
     /// The records (sources) kept from `earlier` that `newer` has no copy of, with their ids.
@@ -538,7 +538,6 @@ pub fn earlier_attempts(
         files.iter().find(|f| f.path == path).and_then(|f| {
             f.progress
                 .filter(|&(done, total)| done < total || (f.records as u64) < total)
-                .map(Some)
         })
     };
     let duplicated: std::collections::HashSet<&str> = kept

@@ -44,11 +44,12 @@ struct InfractionsFile {
 /// [`LeadInfractionsError::Io`] if unreadable; [`LeadInfractionsError::Shape`] (with line and column)
 /// if the shape is wrong (e.g. an entry without an integer `step` or a string `message`).
 pub fn read_lead_infractions(path: &Path) -> Result<Vec<StepInfraction>, LeadInfractionsError> {
-    let bytes = crate::input::read::read_input(path, crate::input::read::FileKind::LeadInfractions)
-        .map_err(|source| LeadInfractionsError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+    let bytes =
+        crate::input::read::read_input_held(path, crate::input::read::FileKind::LeadInfractions)
+            .map_err(|source| LeadInfractionsError::Io {
+                path: path.to_path_buf(),
+                source,
+            })?;
     parse_lead_infractions(&bytes)
 }
 

@@ -49,12 +49,10 @@ pub fn crashed_status(status: &str) -> bool {
         || s.trim() == "started"
 }
 
-/// `RouteScenario_<id>_rep<k>` → `<id>`; any other id unchanged.
+/// `RouteScenario_<id>_rep<k>` → `<id>` (the route set's own reading of an id,
+/// [`crate::input::route_set::parse_route_id`]); any other id unchanged.
 pub fn xml_id(route_id: &str) -> &str {
-    route_id
-        .strip_prefix("RouteScenario_")
-        .and_then(|r| r.rsplit_once("_rep"))
-        .map_or(route_id, |(id, _)| id)
+    crate::input::route_set::parse_route_id(route_id).map_or(route_id, |(id, _)| id)
 }
 
 /// The routes of `report` to run again, in report order, one per route XML id (the first

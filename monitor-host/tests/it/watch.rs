@@ -893,3 +893,61 @@ fn i33_2_live_page_says_it_is_live() {
     assert_eq!(o.status.code(), sc.status.code());
     assert_eq!(fs::read(&out).unwrap(), fs::read(&reference).unwrap());
 }
+
+/// `sds score` and `sds watch` share one write path: the rerun list is written (and said)
+/// once, and an `-o` among the figures is refused by both (exit 2), before any work.
+#[test]
+fn score_and_watch_share_the_write_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let common = [
+        "--results".to_string(),
+        s(&run.results),
+        "--telemetry".into(),
+        s(&run.telemetry),
+        "--routes".into(),
+        s(&run.routes),
+    ];
+    let sds = |cmd: &[&str], extra: &[String]| {
+        let mut a: Vec<String> = cmd.iter().map(|c| c.to_string()).collect();
+        a.extend(common.clone());
+        a.extend(extra.iter().cloned());
+        Command::new(env!("CARGO_BIN_EXE_sds"))
+            .args(&a)
+            .output()
+            .unwrap()
+    };
+    let list = dir.path().join("rerun.tsv");
+    let o = sds(
+        &["score"],
+        &[
+            "--rerun-list".into(),
+            s(&list),
+            "-o".into(),
+            s(&dir.path().join("r.json")),
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("to run again to").count(), 1, "{err}");
+    assert!(list.is_file());
+    let figs = dir.path().join("figs");
+    for cmd in [&["score"][..], &["watch", "--once"][..]] {
+        let o = sds(
+            cmd,
+            &[
+                "--figures".into(),
+                s(&figs),
+                "-o".into(),
+                s(&figs.join("routes.svg")),
+            ],
+        );
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{cmd:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(!figs.join("routes.svg").exists(), "{cmd:?}");
+    }
+}

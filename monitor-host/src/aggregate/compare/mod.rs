@@ -567,6 +567,10 @@ pub fn compare_cancellable(
     let (paired_rows, flips) = pair(
         models, base, &keys, &per_model, &metrics, options, cancelled,
     )?;
+    // No bootstrap work starts after a cancel, the ranking's included.
+    if options.rank && cancelled() {
+        return Err(CompareError::Cancelled);
+    }
     let ranking = options.rank.then(|| {
         let names: Vec<&str> = models.iter().map(|m| m.name.as_str()).collect();
         // `ds` is defined on every compared route (a missing route 0).

@@ -719,3 +719,46 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
 fn borrow(v: &[(Vec<Node>, Node)]) -> Vec<(Vec<Node>, &Node)> {
     v.iter().map(|(k, n)| (k.clone(), n)).collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells the fast path cuts out of a line, against the slow path's (the line read back
+    /// through [`Node`] and flattened).
+    fn both(line: &str) -> (Vec<String>, Vec<String>) {
+        let (mut skeleton, mut values) = (Vec::new(), Vec::new());
+        split_line(line.as_bytes(), &mut skeleton, &mut values).unwrap();
+        let fast = values
+            .iter()
+            .map(|&(a, b)| value_cell(&line.as_bytes()[a..b]).unwrap())
+            .collect();
+        let node: Node = serde_json::from_str(line).unwrap();
+        let mut l = Vec::new();
+        flatten("", &node, &mut l);
+        (fast, l.iter().map(|(_, v)| v.cell()).collect())
+    }
+
+    #[test]
+    fn i37_split_line_cells_equal_the_tree_cells() {
+        for line in [
+            r#"{"a_lon":0.49865958,"a_lat":-7.017681e-4,"x":-4.4775767e-5,"n":null,"c":{"p":0,"v":12},"host":{"dt":0.05,"lane_width":null,"reference":"xml","step":1}}"#,
+            r#"{"s":"say \"hi\" \\ there","k":1e21,"m":-0.0,"t":true,"f":false,"e":{}}"#,
+            r#"{"u":"\u00e9\u200b","z":100.0,"w":1E-7}"#,
+        ] {
+            let (fast, slow) = both(line);
+            assert_eq!(fast, slow, "{line}");
+        }
+    }
+
+    #[test]
+    fn i37_split_line_skeleton_keeps_names_and_nulls() {
+        let (mut s1, mut s2, mut v) = (Vec::new(), Vec::new(), Vec::new());
+        split_line(br#"{"a":1.5,"b":null,"c":"x"}"#, &mut s1, &mut v).unwrap();
+        split_line(br#"{"a":-2,"b":null,"c":"x"}"#, &mut s2, &mut v).unwrap();
+        assert_eq!(s1, s2);
+        split_line(br#"{"a":-2,"b":3,"c":"x"}"#, &mut s2, &mut v).unwrap();
+        assert_ne!(s1, s2, "a null and a number are different shapes");
+        assert!(split_line(br#"{"a":[1,2]}"#, &mut s1, &mut v).is_none());
+    }
+}

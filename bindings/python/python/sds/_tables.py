@@ -187,6 +187,34 @@ def to_parquet(source: Union[Source, Mapping[str, Any]], folder: Union[str, "os.
             pq.write_table(table, path)
             written.append(path)
         return written
+    if isinstance(source, (str, os.PathLike)):
+        # A folder: pyarrow reads the CSV itself, each column of the schema's type (880,000
+        # frames: 1.4 s and 0.28 GB, against 10.4 s and 1.7 GB through Python lists).
+        pa_csv = importlib.import_module("pyarrow.csv")
+        found = False
+        for name in TABLES:
+            path = Path(source) / f"{name}.csv"
+            if not path.exists():
+                continue
+            found = True
+            with open(path, newline="", encoding="utf-8") as f:
+                columns = next(csv.reader(f), [])
+            types = {c: _arrow_type(pa, k) for c in columns if (k := column_type(name, c)) is not None}
+            table = pa_csv.read_csv(
+                path,
+                convert_options=pa_csv.ConvertOptions(
+                    column_types=types,
+                    strings_can_be_null=True,
+                    null_values=[""],
+                    true_values=["true"],
+                    false_values=["false"],
+                ),
+            )
+            written.append(out / f"{name}.parquet")
+            pq.write_table(table, written[-1])
+        if not found:
+            read_tables(source)  # raises, naming the folder
+        return written
     for name, (columns, data) in _tables_of(source).items():
         kinds = [_kind(name, c, data[c]) for c in columns]
         arrays = [pa.array(_arrow_values(k, data[c]), type=_arrow_type(pa, k)) for c, k in zip(columns, kinds)]

@@ -4,7 +4,9 @@
 # smoke run needs both and skips without them; nightly itself is never installed);
 # qemu-system-arm >= 9 (Debian bookworm-backports), the ARM binutils and gcc, valgrind,
 # pkg-config, gcc/g++ and Chromium (apt); pinned Python tools (maturin, pytest, mypy, numpy, pandas) in a
-# venv inside the build folder.
+# venv inside the build folder, and the data packages the Python tests use where they install
+# (pyarrow, duckdb, wandb, tensorboard, mlflow-skinny: downloaded into its wheelhouse; without
+# them only the Parquet, DuckDB and tracker tests skip).
 #
 # Works from nothing: every probe of a tool that may be absent is safe under `set -e`; each step
 # prints one line saying what it installs or skips; an install that fails names the package and
@@ -152,6 +154,21 @@ elif [ "$(cat "$py_tools/pins" 2>/dev/null || true)" != "$py_pins" ] || ! ls "$p
     echo "$py_pins" > "$py_tools/pins"
   else
     lacks "Python tools ($py_pins) -- $py_by_hand (needs PyPI and python3-venv) -- the Python package tests skip"
+  fi
+fi
+
+# The data packages (Parquet, DuckDB, the trackers): a group of their own, so that one that does
+# not install skips only its tests. Downloaded into the wheelhouse (run-tests.sh installs them
+# into its fresh venv, offline), resolved with numpy and pandas at their pins.
+py_data_pins="pyarrow==26.0.1 duckdb==2.0.1 wandb==0.31.0 tensorboard==2.21.0 mlflow-skinny==3.17.2"
+if [ -x "$py_tools/bin/pip" ] && [ -f "$py_tools/pins" ] \
+  && [ "$(cat "$py_tools/data-pins" 2>/dev/null || true)" != "$py_data_pins" ]; then
+  log "downloading $py_data_pins into $py_tools/wheelhouse (pip)"
+  # shellcheck disable=SC2086
+  if "$py_tools/bin/pip" download -q -d "$py_tools/wheelhouse" numpy==2.4.6 pandas==3.1.1 $py_data_pins >/dev/null 2>&1; then
+    echo "$py_data_pins" > "$py_tools/data-pins"
+  else
+    lacks "Python data packages ($py_data_pins) -- $py_tools/bin/pip download -d $py_tools/wheelhouse numpy==2.4.6 pandas==3.1.1 $py_data_pins -- the Parquet, DuckDB and tracker tests of the Python package skip"
   fi
 fi
 

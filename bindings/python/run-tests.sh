@@ -26,12 +26,21 @@ venv="$target/py-test"
 echo "[python] fresh venv $venv: $(basename "$wheel") and the test requirements (offline)"
 python3 -m venv --clear "$venv"
 "$venv/bin/pip" install -q --no-index --find-links "$tools/wheelhouse" "$wheel" pytest mypy numpy pandas
+# The data packages (Parquet, DuckDB, trackers), offline, where setup could download them; the
+# tests that need one skip with the reason (pytest -rs prints it).
+if [ -f "$tools/data-pins" ]; then
+  # shellcheck disable=SC2046
+  "$venv/bin/pip" install -q --no-index --find-links "$tools/wheelhouse" $(cat "$tools/data-pins") \
+    || echo "[python] SKIP: the data packages ($(cat "$tools/data-pins")) did not install; their tests skip" >&2
+else
+  echo "[python] SKIP: no data packages in $tools (rerun scripts/setup.sh; is PyPI reachable?): the Parquet, DuckDB and tracker tests skip" >&2
+fi
 
 echo "[python] mypy --strict: package, stubs, examples"
 MYPYPATH=python "$venv/bin/python" -m mypy --strict --cache-dir "$target/py-mypy-cache" python/sds examples
 
 echo "[python] pytest"
-(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -p no:cacheprovider .)
+(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider .)
 
 # Install from source, as `pip install sds_monitor-X.tar.gz` does on a machine without our wheel.
 if ! ls "$tools"/wheelhouse/maturin-*.whl >/dev/null 2>&1; then
@@ -56,4 +65,4 @@ installed=$("$venv/bin/sds" --version)
   || { echo "FAILED: the sds command installed from source says '$installed'" >&2; exit 1; }
 "$venv/bin/python" -c 'import sds, sys; assert sds.__version__ == sys.argv[1].split()[1], sds.__version__; assert issubclass(sds.NeedsLabelsError, sds.SdsError)' "$installed"
 echo "[python] installed from source: $installed; import sds ok; pytest on that install"
-(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -p no:cacheprovider .)
+(cd tests && SDS_BIN="$target/release/sds" "$venv/bin/python" -m pytest -q -rs -p no:cacheprovider .)

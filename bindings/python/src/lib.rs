@@ -13,6 +13,9 @@
 //!   (`pyser.rs`) as `score`, GIL released while sleeping and scoring;
 //! - `merge` (`merge.rs`): the library's `merge::merge` over `sds score` JSON reports, the
 //!   merged report converted by `pyser.rs`, GIL released while merging;
+//! - `long_tables` (`tables.rs`): the library's long-table builder over a report's JSON text,
+//!   typed columns for `sds.to_pandas` and `sds.to_parquet`;
+//! - `render` (`render.rs`): a report file's HTML page and figures, for `sds.log`;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
@@ -30,7 +33,9 @@ mod merge;
 mod monitor;
 mod options;
 mod pyser;
+mod render;
 mod score;
+mod tables;
 mod watch;
 
 use std::ffi::OsString;
@@ -52,6 +57,8 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(watch::watch, m)?)?;
     m.add_function(wrap_pyfunction!(merge::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(tables::long_tables, m)?)?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_class::<watch::Watch>()?;
     m.add_class::<monitor::Monitor>()?;
     m.add(

@@ -37,6 +37,7 @@ struct WatchKwargs {
     labels: Option<PathBuf>,
     interval: f64,
     timeout: Option<f64>,
+    on_round: Option<Py<PyAny>>,
 }
 
 /// The iterator `sds.watch` returns (see the Python `sds.watch`).
@@ -48,6 +49,8 @@ pub struct Watch {
     start: Option<Instant>,
     finished: bool,
     status: Option<Py<PyAny>>,
+    /// Called with `(status, report)` for each report yielded (`sds.watch(on_round=...)`).
+    on_round: Option<Py<PyAny>>,
 }
 
 /// Why a sleep ended early.
@@ -195,8 +198,13 @@ impl Watch {
                 status.stopped = Some("timeout".into());
                 self.finished = true;
             }
-            self.status = Some(to_python(py, &status)?.unbind());
-            return to_python(py, &s.report);
+            let status = to_python(py, &status)?;
+            self.status = Some(status.clone().unbind());
+            let report = to_python(py, &s.report)?;
+            if let Some(f) = &self.on_round {
+                f.call1(py, (status, report.clone()))?;
+            }
+            return Ok(report);
         }
     }
 
@@ -242,5 +250,6 @@ pub fn watch(results: Vec<PathBuf>, options: &Bound<'_, PyDict>) -> PyResult<Wat
         start: None,
         finished: false,
         status: None,
+        on_round: kw.on_round,
     })
 }

@@ -1,16 +1,21 @@
-"""`sds.long_tables` and `sds.to_pandas` (issue 37, spec v1.4 §15): the columns and values of
-`sds score --tables`' routes.csv and events.csv, from the report dict."""
+"""`sds.long_tables`, `sds.to_pandas`, `sds.to_parquet` and the DuckDB query of USAGE.md
+(issue 37, spec v1.4 §15): the columns and values of `sds score --tables`' routes.csv,
+events.csv and frames.csv, from the report dict (through the Rust builder) and from the folder,
+typed as docs/TABLES-SCHEMA.md says."""
 
 from __future__ import annotations
 
 import csv
+import json
+import math
+import re
 from pathlib import Path
-from typing import Any, List
+from typing import Any, Dict, List
 
 import pytest
 
 import sds
-from conftest import Demo, run_cli
+from conftest import REPO, Demo, run_cli
 
 
 def _cell_holds(cell: str, v: Any) -> bool:
@@ -64,3 +69,166 @@ def test_to_pandas_gives_typed_frames(demo: Demo) -> None:
     assert routes["frames"].dtype.kind in "iu"
     assert list(routes["route_id"]) == [r["route_id"] for r in report["routes"]]
     assert len(frames["events"]) == sum(len(r["events"]) for r in report["routes"])
+
+
+def _cli_tables(sds_bin: Path, demo: Demo, out: Path) -> Path:
+    code, _, err = run_cli(
+        sds_bin,
+        ["score", "--results", str(demo.results), "--telemetry", str(demo.telemetry),
+         "--routes", str(demo.routes), "--format", "json", "-o", str(out / "r.json"),
+         "--tables", str(out / "tables")],
+    )
+    assert code == 0, err
+    return out / "tables"
+
+
+def _csv(path: Path) -> List[List[str]]:
+    with open(path, newline="", encoding="utf-8") as f:
+        return list(csv.reader(f))
+
+
+def _same(a: Any, b: Any) -> bool:
+    if isinstance(a, float) and isinstance(b, float) and math.isnan(a) and math.isnan(b):
+        return True
+    return bool(a == b) and type(a) is type(b)
+
+
+def test_schema_types_are_the_schema_files(demo: Demo) -> None:
+    """sds._schema.TYPES is docs/TABLES-SCHEMA.md's type column, table by table."""
+    doc = REPO / "docs" / "TABLES-SCHEMA.md"
+    if not doc.exists():
+        pytest.skip(f"{doc} is absent (the tests run outside the repository)")
+    from sds import _schema
+
+    parsed: Dict[str, Dict[str, str]] = {}
+    table = ""
+    for line in doc.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"## (\w+)\.csv", line)
+        if m:
+            table = m.group(1)
+            parsed[table] = {}
+        m = re.match(r"\| `([^`]+)` \| (\w+) \|", line)
+        if m and table:
+            parsed[table][m.group(1)] = m.group(2)
+    assert parsed == _schema.TYPES
+    assert _schema.column_type("routes", "protocols.lb2.0.penalty") == "float"
+    assert _schema.column_type("routes", "weather_id") == "string"
+
+
+def test_folder_tables_are_typed_as_the_schema(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """read_tables/to_pandas on a --tables folder: every table, the CSV's rows, each column of
+    the schema's type; routes and events equal the report's (through the Rust builder)."""
+    pandas = pytest.importorskip("pandas", reason="pandas is not installed")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    tables = sds.read_tables(folder)
+    assert set(tables) == {"routes", "events", "frames"}
+    for name, (columns, data) in tables.items():
+        rows = _csv(folder / f"{name}.csv")
+        assert columns == rows[0]
+        assert all(len(v) == len(rows) - 1 for v in data.values()), name
+    # weather_id is text though its cells are digits; frames' host.step an int.
+    assert all(isinstance(v, str) for v in tables["routes"][1]["weather_id"])
+    assert all(isinstance(v, int) for v in tables["frames"][1]["host.step"])
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes)
+    from_report = sds.long_tables(report)
+    for name in ("routes", "events"):
+        columns, data = tables[name]
+        rcols, rrows = from_report[name]
+        assert columns == rcols
+        for c in columns:
+            for i, row in enumerate(rrows):
+                v, w = data[c][i], row[c]
+                if isinstance(w, str) and isinstance(v, str) and v.startswith("'"):
+                    v = v[1:]  # the CSV's formula guard
+                assert v == w, (name, c, i, v, w)
+    frames = sds.to_pandas(folder)
+    assert isinstance(frames["frames"], pandas.DataFrame)
+    assert frames["frames"]["a_lon"].dtype.kind == "f"
+    assert str(frames["frames"]["frame"].dtype) == "Int64"
+    assert str(frames["routes"]["success"].dtype) == "boolean"
+    assert len(frames["frames"]) == sum(r["frames"] for r in report["routes"] if r["telemetry"] == "ok")
+
+
+def test_to_parquet_reads_back_equal_to_the_csv_and_the_json(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """to_parquet of a --tables folder and of the report: read back with pyarrow, the values of
+    the CSV files (and of the JSON report for routes and events), the schema's types."""
+    pa = pytest.importorskip("pyarrow", reason="pyarrow is not installed (scripts/setup.sh downloads it)")
+    pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow is not installed")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    written = sds.to_parquet(folder, tmp_path / "pq")
+    assert [p.name for p in written] == ["routes.parquet", "events.parquet", "frames.parquet"]
+    csv_tables = sds.read_tables(folder)
+    for name, (columns, data) in csv_tables.items():
+        t = pq.read_table(tmp_path / "pq" / f"{name}.parquet")
+        assert t.column_names == columns
+        back = t.to_pydict()
+        for c in columns:
+            assert back[c] == data[c], (name, c)
+    routes = pq.read_table(tmp_path / "pq" / "routes.parquet").schema
+    assert routes.field("ds_safe").type == pa.float64()
+    assert routes.field("frames").type == pa.int64()
+    assert routes.field("success").type == pa.bool_()
+    assert routes.field("weather_id").type == pa.string()
+    report = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes)
+    sds.to_parquet(report, tmp_path / "pq-report")
+    r = pq.read_table(tmp_path / "pq-report" / "routes.parquet").to_pydict()
+    assert r["route_id"] == [x["route_id"] for x in report["routes"]]
+    assert r["ds_safe"] == [x["ds_safe"] for x in report["routes"]]
+    assert r["comfort.score"] == [x["comfort"]["score"] for x in report["routes"]]
+    assert r["events"] == [json.dumps(x["events"], separators=(",", ":"), ensure_ascii=False) for x in report["routes"]]
+    # The DataFrames of to_pandas write the same file.
+    sds.to_parquet(sds.to_pandas(report), tmp_path / "pq-pandas")
+    p = pq.read_table(tmp_path / "pq-pandas" / "routes.parquet").to_pydict()
+    assert p["ds_safe"] == r["ds_safe"] and p["route_id"] == r["route_id"]
+
+
+def _usage_query() -> str:
+    usage = REPO / "docs" / "USAGE.md"
+    if not usage.exists():
+        pytest.skip(f"{usage} is absent (the tests run outside the repository)")
+    text = usage.read_text(encoding="utf-8")
+    m = re.search(r"<!-- duckdb-query -->\s*```sql\n(.*?)```", text, re.S)
+    assert m, "docs/USAGE.md has no SQL block after <!-- duckdb-query -->"
+    return m.group(1)
+
+
+def test_duckdb_query_of_usage_runs_over_csv_and_parquet(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """The DuckDB query of docs/USAGE.md over the tables (CSV and Parquet): per route, the
+    frames' peak lateral acceleration next to the route's DS_safe, equal to pandas'."""
+    duckdb = pytest.importorskip("duckdb", reason="duckdb is not installed (scripts/setup.sh downloads it)")
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    sds.to_parquet(folder, tmp_path / "pq")
+    query = _usage_query()
+    results = []
+    for where, ext in ((folder, "csv"), (tmp_path / "pq", "parquet")):
+        q = query.replace("tables/", f"{where}/").replace(".csv", f".{ext}")
+        con = duckdb.connect()
+        results.append(con.execute(q).fetchall())
+    assert results[0] == results[1] and len(results[0]) > 0
+    frames = sds.to_pandas(folder)
+    peak = frames["frames"].assign(a=frames["frames"]["a_lat"].abs()).groupby("route_id")["a"].max()
+    for row in results[0]:
+        route_id, max_a_lat = row[0], row[-1]
+        assert abs(peak[route_id] - max_a_lat) < 1e-12, route_id
+
+
+def test_long_tables_of_a_real_run_equal_the_cli_tables(b2d: Path, sds_bin: Path, tmp_path: Path) -> None:
+    """A real Bench2Drive results file (no telemetry): the Rust builder's rows through the
+    binding equal routes.csv and events.csv of sds score --tables."""
+    results = b2d / "carla_garage_pdm_lite_b2d_traj_merged.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["score", "--results", str(results), "--allow-missing-telemetry", "--format", "json",
+         "-o", str(tmp_path / "r.json"), "--tables", str(tmp_path / "t")],
+    )
+    assert code in (0, 3), err
+    report = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
+    tables = sds.long_tables(report)
+    for name, (columns, rows) in tables.items():
+        cli = _csv(tmp_path / "t" / f"{name}.csv")
+        assert columns == cli[0], name
+        assert len(rows) == len(cli) - 1, name
+        for row, cells in zip(rows, cli[1:]):
+            for c, cell in zip(columns, cells):
+                assert _cell_holds(cell, row[c]), (name, c, row[c], cell)

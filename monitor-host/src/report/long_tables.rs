@@ -278,9 +278,20 @@ impl Table {
     }
 }
 
+/// A table of values (the JSON's leaves; `Node::Null` for an empty cell): its column names and
+/// its rows, each as long as the columns. What [`Table`] writes as CSV cells, for front ends
+/// that want typed columns (the Python binding's DataFrames and Parquet).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NodeTable {
+    /// The column names.
+    pub columns: Vec<String>,
+    /// The rows: key cells first (indices as numbers, ids as strings), then the fields.
+    pub rows: Vec<Vec<Node>>,
+}
+
 /// Builds a table from rows given as key cells (the same names for every row, first) and an
 /// object whose leaves are the rest.
-fn table(keys: &[&str], rows: &[(Vec<String>, &Node)]) -> Table {
+fn node_table(keys: &[&str], rows: &[(Vec<Node>, &Node)]) -> NodeTable {
     let mut columns = Columns::default();
     let mut leaves = Vec::with_capacity(rows.len());
     for (_, node) in rows {
@@ -299,21 +310,31 @@ fn table(keys: &[&str], rows: &[(Vec<String>, &Node)]) -> Table {
         .iter()
         .zip(leaves)
         .map(|((key, _), l)| {
-            let mut cells = vec![String::new(); names.len()];
+            let mut cells = vec![Node::Null; names.len()];
             for (k, v) in l {
                 if let Some(&i) = position.get(k.as_str()) {
-                    cells[i] = v.cell();
+                    cells[i] = v.clone();
                 }
             }
-            key.iter()
-                .map(|k| csv_cell(k).into_owned())
-                .chain(cells)
-                .collect()
+            key.iter().cloned().chain(cells).collect()
         })
         .collect();
-    Table {
+    NodeTable {
         columns: keys.iter().map(|k| k.to_string()).chain(names).collect(),
         rows,
+    }
+}
+
+/// [`node_table`] as CSV cells.
+fn table(keys: &[&str], rows: &[(Vec<Node>, &Node)]) -> Table {
+    let t = node_table(keys, rows);
+    Table {
+        columns: t.columns,
+        rows: t
+            .rows
+            .iter()
+            .map(|r| r.iter().map(Node::cell).collect())
+            .collect(),
         body: Vec::new(),
     }
 }
@@ -332,15 +353,18 @@ pub fn report_tree(report: &Report) -> Result<Node, String> {
 fn routes_and_events(
     tree: &Node,
     extra: &[(&str, &str)],
-    routes: &mut Vec<(Vec<String>, Node)>,
-    events: &mut Vec<(Vec<String>, Node)>,
+    routes: &mut Vec<(Vec<Node>, Node)>,
+    events: &mut Vec<(Vec<Node>, Node)>,
 ) {
     let Some(Node::Array(rows)) = tree.get("routes") else {
         return;
     };
     for (i, r) in rows.iter().enumerate() {
-        let mut key: Vec<String> = extra.iter().map(|(_, v)| v.to_string()).collect();
-        key.push(i.to_string());
+        let mut key: Vec<Node> = extra
+            .iter()
+            .map(|(_, v)| Node::String(v.to_string()))
+            .collect();
+        key.push(Node::Number(i.into()));
         routes.push((key.clone(), r.clone()));
         let id = match r.get("route_id") {
             Some(Node::String(s)) => s.clone(),
@@ -349,12 +373,38 @@ fn routes_and_events(
         if let Some(Node::Array(es)) = r.get("events") {
             for (j, e) in es.iter().enumerate() {
                 let mut k = key.clone();
-                k.push(id.clone());
-                k.push(j.to_string());
+                k.push(Node::String(id.clone()));
+                k.push(Node::Number(j.into()));
                 events.push((k, e.clone()));
             }
         }
     }
+}
+
+/// The `routes` and `events` tables of a report's value tree ([`report_tree`], or the JSON
+/// report of `sds score` read back as a [`Node`]) as values, the very rows and columns of
+/// `routes.csv` and `events.csv` before they become CSV cells.
+///
+/// ```
+/// use monitor_host::report::long_tables::{report_node_tables, Node};
+/// let tree: Node = serde_json::from_str(
+///     r#"{"routes": [{"route_id": "R1", "comfort": {"score": 1.0}, "events": [{"kind": "stationary"}]}]}"#,
+/// ).unwrap();
+/// let (routes, events) = report_node_tables(&tree);
+/// assert_eq!(routes.columns, ["route_index", "route_id", "comfort.score", "events"]);
+/// assert_eq!(events.columns, ["route_index", "route_id", "event_index", "kind"]);
+/// assert_eq!(routes.rows[0][2].cell(), "1.0");
+/// ```
+pub fn report_node_tables(tree: &Node) -> (NodeTable, NodeTable) {
+    let (mut routes, mut events) = (Vec::new(), Vec::new());
+    routes_and_events(tree, &[], &mut routes, &mut events);
+    (
+        node_table(&["route_index"], &borrow(&routes)),
+        node_table(
+            &["route_index", "route_id", "event_index"],
+            &borrow(&events),
+        ),
+    )
 }
 
 /// The long tables of one scored run (`sds score`) or of the runs of a comparison
@@ -477,22 +527,95 @@ pub fn long_tables(
     })
 }
 
-/// Each frame of `route` (its index, id and frames) as its `sds frames` line read back.
-fn each_frame(
+/// A line of `sds frames` split for the frames table: its skeleton (the text with every number
+/// written as `#`: two lines of one skeleton have the same leaves, names and nulls) and its
+/// leaf values' byte ranges in text order (the order of [`flatten`]). `None` for a line with a
+/// list (a list is one leaf; such a line takes the slow path).
+fn split_line(line: &[u8], skeleton: &mut Vec<u8>, values: &mut Vec<(usize, usize)>) -> Option<()> {
+    skeleton.clear();
+    values.clear();
+    let mut i = 0;
+    while i < line.len() {
+        match line[i] {
+            b'[' | b']' => return None,
+            b'"' => {
+                let start = i;
+                i += 1;
+                while i < line.len() && line[i] != b'"' {
+                    i += if line[i] == b'\\' { 2 } else { 1 };
+                }
+                i = (i + 1).min(line.len());
+                skeleton.extend_from_slice(&line[start..i]);
+                let next = line[i..].iter().find(|b| !b.is_ascii_whitespace());
+                if next != Some(&b':') {
+                    values.push((start, i));
+                }
+            }
+            b'-' | b'0'..=b'9' => {
+                let start = i;
+                while i < line.len()
+                    && matches!(line[i], b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9')
+                {
+                    i += 1;
+                }
+                skeleton.push(b'#');
+                values.push((start, i));
+            }
+            b't' | b'f' | b'n' => {
+                let start = i;
+                while i < line.len() && line[i].is_ascii_alphabetic() {
+                    i += 1;
+                }
+                skeleton.extend_from_slice(&line[start..i]);
+                values.push((start, i));
+            }
+            b => {
+                skeleton.push(b);
+                i += 1;
+            }
+        }
+    }
+    Some(())
+}
+
+/// The CSV cell of one leaf's JSON text, as [`Node::cell`] writes that leaf.
+fn value_cell(text: &[u8]) -> Result<String, String> {
+    match text {
+        b"null" => Ok(String::new()),
+        b"true" | b"false" => Ok(String::from_utf8_lossy(text).into_owned()),
+        _ => serde_json::from_slice::<Node>(text)
+            .map(|n| n.cell())
+            .map_err(|e| e.to_string()),
+    }
+}
+
+/// Each frame of `route` (its index, id and frames) as its `sds frames` line: `each` gets the
+/// frame index, the line's skeleton and leaf ranges ([`split_line`]; `None` for a line with a
+/// list) and the line.
+fn each_line(
     (_, id, f): &(usize, String, &RouteFrames),
-    mut each: impl FnMut(usize, &Node) -> Result<(), String>,
+    mut each: impl FnMut(usize, Option<(&[u8], &[(usize, usize)])>, &[u8]) -> Result<(), String>,
 ) -> Result<(), String> {
     let lines = crate::report::frames::frame_lines(f).map_err(|e| format!("{id}: {e}"))?;
+    let (mut skeleton, mut values) = (Vec::new(), Vec::new());
     let lines = lines.split(|&b| b == b'\n').filter(|l| !l.is_empty());
     for (k, line) in lines.enumerate() {
-        let node: Node = serde_json::from_slice(line).map_err(|e| format!("{id}: {e}"))?;
-        each(k, &node)?;
+        let split = split_line(line, &mut skeleton, &mut values);
+        each(k, split.map(|()| (&skeleton[..], &values[..])), line)?;
     }
     Ok(())
 }
 
+/// A line's leaves read back through [`Node`] (the slow path, once per skeleton).
+fn line_leaves(id: &str, line: &[u8]) -> Result<Node, String> {
+    serde_json::from_slice(line).map_err(|e| format!("{id}: {e}"))
+}
+
 /// The `frames` table, built route by route in two passes (the columns, then the rows as CSV),
-/// so that a benchmark-sized run never holds its frames' values all at once.
+/// so that a benchmark-sized run never holds its frames' values all at once. Each line is read
+/// back through [`Node`] once per skeleton ([`split_line`]: the lines of a route share a few);
+/// the other lines' leaves are cut out of the text by position and written by [`value_cell`],
+/// the very cells the slow path writes (880,000 frames: 16.9 s before, see PERFORMANCE.md).
 fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, String> {
     use rayon::prelude::*;
     // Pass 1: each route's distinct shapes in order, merged in route order.
@@ -500,9 +623,17 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         .par_iter()
         .map(|route| {
             let (mut seen, mut shapes) = (HashSet::new(), Vec::new());
-            each_frame(route, |_, node| {
+            let mut skeletons: HashSet<Vec<u8>> = HashSet::new();
+            each_line(route, |_, split, line| {
+                if let Some((skeleton, _)) = split {
+                    if skeletons.contains(skeleton) {
+                        return Ok(());
+                    }
+                    skeletons.insert(skeleton.to_vec());
+                }
+                let node = line_leaves(&route.1, line)?;
                 let mut l = Vec::new();
-                flatten("", node, &mut l);
+                flatten("", &node, &mut l);
                 let shape = shape_of(&l);
                 if seen.insert(shape.clone()) {
                     shapes.push(shape);
@@ -528,13 +659,43 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         .map(|route| {
             let mut w = ::csv::Writer::from_writer(Vec::new());
             let (i, id) = (route.0.to_string(), csv_cell(&route.1).into_owned());
-            each_frame(route, |k, node| {
-                let mut l = Vec::new();
-                flatten("", node, &mut l);
-                let mut cells = vec![String::new(); names.len()];
-                for (c, v) in l {
-                    if let Some(&p) = position.get(c.as_str()) {
-                        cells[p] = v.cell();
+            // Per skeleton, each leaf's column (`None`: a name that is no column).
+            let mut templates: HashMap<Vec<u8>, Vec<Option<usize>>> = HashMap::new();
+            let mut cells = vec![String::new(); names.len()];
+            each_line(route, |k, split, line| {
+                cells.iter_mut().for_each(String::clear);
+                match split {
+                    Some((skeleton, values)) => {
+                        if !templates.contains_key(skeleton) {
+                            let node = line_leaves(&route.1, line)?;
+                            let mut l = Vec::new();
+                            flatten("", &node, &mut l);
+                            let t = l.iter().map(|(c, _)| position.get(c.as_str()).copied());
+                            templates.insert(skeleton.to_vec(), t.collect());
+                        }
+                        let template = &templates[skeleton];
+                        if template.len() != values.len() {
+                            return Err(format!(
+                                "{}: frame {k}: a line the table cannot split",
+                                route.1
+                            ));
+                        }
+                        for (p, &(a, b)) in template.iter().zip(values) {
+                            if let Some(p) = p {
+                                cells[*p] = value_cell(&line[a..b])
+                                    .map_err(|e| format!("{}: {e}", route.1))?;
+                            }
+                        }
+                    }
+                    None => {
+                        let node = line_leaves(&route.1, line)?;
+                        let mut l = Vec::new();
+                        flatten("", &node, &mut l);
+                        for (c, v) in l {
+                            if let Some(&p) = position.get(c.as_str()) {
+                                cells[p] = v.cell();
+                            }
+                        }
                     }
                 }
                 let key = [i.clone(), id.clone(), k.to_string()];
@@ -555,6 +716,49 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
     })
 }
 
-fn borrow(v: &[(Vec<String>, Node)]) -> Vec<(Vec<String>, &Node)> {
+fn borrow(v: &[(Vec<Node>, Node)]) -> Vec<(Vec<Node>, &Node)> {
     v.iter().map(|(k, n)| (k.clone(), n)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cells the fast path cuts out of a line, against the slow path's (the line read back
+    /// through [`Node`] and flattened).
+    fn both(line: &str) -> (Vec<String>, Vec<String>) {
+        let (mut skeleton, mut values) = (Vec::new(), Vec::new());
+        split_line(line.as_bytes(), &mut skeleton, &mut values).unwrap();
+        let fast = values
+            .iter()
+            .map(|&(a, b)| value_cell(&line.as_bytes()[a..b]).unwrap())
+            .collect();
+        let node: Node = serde_json::from_str(line).unwrap();
+        let mut l = Vec::new();
+        flatten("", &node, &mut l);
+        (fast, l.iter().map(|(_, v)| v.cell()).collect())
+    }
+
+    #[test]
+    fn i37_split_line_cells_equal_the_tree_cells() {
+        for line in [
+            r#"{"a_lon":0.49865958,"a_lat":-7.017681e-4,"x":-4.4775767e-5,"n":null,"c":{"p":0,"v":12},"host":{"dt":0.05,"lane_width":null,"reference":"xml","step":1}}"#,
+            r#"{"s":"say \"hi\" \\ there","k":1e21,"m":-0.0,"t":true,"f":false,"e":{}}"#,
+            r#"{"u":"\u00e9\u200b","z":100.0,"w":1E-7}"#,
+        ] {
+            let (fast, slow) = both(line);
+            assert_eq!(fast, slow, "{line}");
+        }
+    }
+
+    #[test]
+    fn i37_split_line_skeleton_keeps_names_and_nulls() {
+        let (mut s1, mut s2, mut v) = (Vec::new(), Vec::new(), Vec::new());
+        split_line(br#"{"a":1.5,"b":null,"c":"x"}"#, &mut s1, &mut v).unwrap();
+        split_line(br#"{"a":-2,"b":null,"c":"x"}"#, &mut s2, &mut v).unwrap();
+        assert_eq!(s1, s2);
+        split_line(br#"{"a":-2,"b":3,"c":"x"}"#, &mut s2, &mut v).unwrap();
+        assert_ne!(s1, s2, "a null and a number are different shapes");
+        assert!(split_line(br#"{"a":[1,2]}"#, &mut s1, &mut v).is_none());
+    }
 }

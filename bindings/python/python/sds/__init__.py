@@ -10,8 +10,11 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   into the report of ``sds score`` over all of them (``sds merge``);
 - :func:`watch` scores an evaluation while it runs: an iterator of partial reports (the
   reports of ``sds watch``), for notebooks and dashboards;
-- :func:`to_pandas` turns a report into DataFrames (``routes``, ``events``: the long tables
-  of ``sds score --tables``; :func:`long_tables` without pandas);
+- :func:`to_pandas` turns a report (or a folder of ``sds score --tables``) into DataFrames
+  (``routes``, ``events``, ``frames``: the long tables, typed; :func:`long_tables` without
+  pandas), :func:`to_parquet` writes them as Parquet;
+- :func:`log` logs a report to Weights & Biases, TensorBoard or MLflow, and a
+  :class:`Tracker`'s ``on_round`` logs each round of :func:`watch`;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
 
@@ -40,7 +43,8 @@ from ._compare import compare
 from ._options import PathLike, run_options
 from ._options import paths as _paths
 from ._sds import Watch
-from ._tables import long_tables, to_pandas
+from ._tables import long_tables, read_tables, to_pandas, to_parquet
+from ._trackers import Tracker, log
 from ._watch import watch
 from .monitor import Event, Monitor, Summary
 
@@ -55,13 +59,17 @@ __all__ = [
     "PathLike",
     "SdsError",
     "Summary",
+    "Tracker",
     "Watch",
     "__version__",
     "compare",
     "merge",
+    "log",
     "long_tables",
+    "read_tables",
     "score",
     "to_pandas",
+    "to_parquet",
     "watch",
 ]
 

@@ -43,6 +43,16 @@ def compare(
 def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
     """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""
 
+def long_tables(
+    report_json: str,
+) -> Dict[str, Tuple[List[str], Dict[str, List[Any]]]]:
+    """The ``routes`` and ``events`` long tables of a JSON report's text, by the library's own
+    builder: ``{name: (columns, {column: values})}`` (see ``sds.long_tables``)."""
+
+def render(file: str, name: str) -> List[Tuple[str, str]]:
+    """The HTML page and the figures of the ``sds score`` JSON report in ``file``:
+    ``[(file name, text), ...]`` (``report.html``, ``decomposition.svg``, ``routes.svg``)."""
+
 def watch(results: Sequence[str], options: Mapping[str, Any]) -> "Watch":
     """A watch of a run through the library's ``Watcher``; ``options`` holds every keyword
     argument of ``sds.watch`` but ``results``, by name. Nothing is read until ``next()``."""

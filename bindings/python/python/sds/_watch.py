@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Dict, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._options import PathLike, run_options
@@ -27,6 +27,7 @@ def watch(
     labels: Optional[PathLike] = None,
     jobs: Optional[int] = None,
     protocols: Optional[Sequence[str]] = None,
+    on_round: Optional[Callable[[Dict[str, Any], Dict[str, Any]], Any]] = None,
 ) -> Watch:
     """Watches an evaluation while it runs; returns an iterator of partial reports.
 
@@ -70,6 +71,10 @@ def watch(
         timeout: Stop after this many seconds (``--timeout``); None: until complete.
         profile, duplicates, expected_routes, allow_missing_telemetry, settings, group_by,
             labels, jobs, protocols: As for :func:`sds.score`.
+        on_round: Called with ``(status, report)`` for each report the iterator yields, before
+            it is yielded (an exception it raises comes out of ``next()``); e.g. a
+            :class:`sds.Tracker`'s ``on_round``, which logs the round to W&B, TensorBoard or
+            MLflow.
 
     Returns:
         The iterator (its ``status`` property: the figures above; ``finished``: True once it
@@ -112,5 +117,6 @@ def watch(
         "timeout": None if timeout is None else float(timeout),
         "group_by": group_by,
         "labels": labels,
+        "on_round": on_round,
     }
     return _sds.watch(_paths(results), options)

@@ -565,3 +565,60 @@ fn i36_merge_says_when_parts_were_scored_by_different_versions() {
     );
     assert_eq!(m["inputs"]["parts"][1]["sds_version"], "0.0.9");
 }
+
+/// `sds merge --tables DIR` writes the routes and events long tables of the merged rows, equal
+/// byte for byte to those of `sds score --tables` over the union of the parts' inputs; no
+/// frames (a merge reads no telemetry), while `score` has them.
+#[test]
+fn i36_merge_tables_equal_score_tables_over_the_union() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let (a, b) = split_demo(dir, 4);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    score_to(&dir.join("ra.json"), &[&a], &extra);
+    score_to(&dir.join("rb.json"), &[&b], &extra);
+    let (st, mt) = (dir.join("score_tables"), dir.join("merge_tables"));
+    let mut with = extra.clone();
+    let st_s = s(&st);
+    with.extend(["--tables", &st_s]);
+    score_to(&dir.join("whole.json"), &[&a, &b], &with);
+    let mt_s = s(&mt);
+    merge_to(
+        &dir.join("m.json"),
+        &[&dir.join("ra.json"), &dir.join("rb.json")],
+        &["--tables", &mt_s],
+    );
+    for name in ["routes.csv", "events.csv"] {
+        let (x, y) = (
+            std::fs::read_to_string(st.join(name)).unwrap(),
+            std::fs::read_to_string(mt.join(name)).unwrap(),
+        );
+        assert!(y.lines().count() > 1, "{name}: no rows\n{y}");
+        assert_eq!(y, x, "{name}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(mt.join("routes.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        1 + read(&dir.join("m.json"))["routes"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+    assert!(st.join("frames.csv").exists());
+    assert!(!mt.join("frames.csv").exists());
+    // -o among the tables is refused before any work.
+    let clash = s(&mt.join("routes.csv"));
+    let (code, err) = run(&[
+        "merge",
+        &s(&dir.join("ra.json")),
+        "--tables",
+        &mt_s,
+        "-o",
+        &clash,
+    ]);
+    assert_eq!(code, 2, "{err}");
+}

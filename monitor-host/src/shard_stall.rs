@@ -167,7 +167,7 @@ mod tests {
         assert_eq!(s.len(), 1);
         assert_eq!((s[0].file.to_str(), s[0].median_s), (Some("b"), 60.0));
         // A single checkpoint is not a set of shards; a bad K judges nothing.
-        assert!(stalled_shards(&[b.clone()], now, 5.0).is_empty());
+        assert!(stalled_shards(std::slice::from_ref(&b), now, 5.0).is_empty());
         assert!(stalled_shards(&[a.clone(), b.clone()], now, f64::NAN).is_empty());
         assert!(stalled_shards(&[a, b], now, 0.0).is_empty());
     }

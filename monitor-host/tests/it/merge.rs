@@ -622,3 +622,84 @@ fn i36_merge_tables_equal_score_tables_over_the_union() {
     ]);
     assert_eq!(code, 2, "{err}");
 }
+
+/// `sds compare` over runs given as `sds` reports (scored elsewhere: a merged sharded
+/// evaluation) reads them back, and says when runs were scored by different `sds` versions or
+/// settings (from `inputs.provenance` and `config`), naming the runs and the first setting that
+/// differs; runs scored alike say nothing, and a report run compares as its results file would.
+#[test]
+fn i36_compare_says_when_runs_were_scored_by_other_versions_or_settings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let results = dir.join("results.json");
+    let r1 = dir.join("r1.json");
+    score_to(&r1, &[&results], &extra);
+    let mut slack = extra.clone();
+    slack.extend(["--set", "slack=0.5"]);
+    let r2 = dir.join("r2.json");
+    score_to(&r2, &[&results], &slack);
+    let mut v = read(&r1);
+    v["inputs"]["provenance"]["sds_version"] = "0.0.9".into();
+    let r3 = dir.join("r3.json");
+    std::fs::write(&r3, serde_json::to_vec_pretty(&v).unwrap()).unwrap();
+    let compare = |runs: &[String]| -> Value {
+        let out = dir.join("c.json");
+        let mut args: Vec<&str> = vec!["compare", "--bootstrap-samples", "1000"];
+        args.extend(runs.iter().map(String::as_str));
+        // `sds compare` takes each run's telemetry with the run (RESULTS:TELEMETRY).
+        args.extend(&extra[2..]);
+        let o = s(&out);
+        args.extend(["--format", "json", "-o", &o]);
+        let (code, err) = run(&args);
+        assert_eq!(code, 0, "{args:?}\n{err}");
+        read(&out)
+    };
+    let about = |c: &Value| -> Vec<String> {
+        c["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(Value::as_str)
+            .filter(|w| w.contains("were scored"))
+            .map(String::from)
+            .collect()
+    };
+    let settings = compare(&[format!("base={}", s(&r1)), format!("other={}", s(&r2))]);
+    let w = about(&settings);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("runs base and other were scored with different settings: slack is ")
+            && w[0].contains(" in base and 0.5 in other"),
+        "{}",
+        w[0]
+    );
+    let version = compare(&[format!("base={}", s(&r1)), format!("old={}", s(&r3))]);
+    let w = about(&version);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("runs base and old were scored by different sds versions")
+            && w[0].contains(&format!("({} and 0.0.9)", env!("CARGO_PKG_VERSION"))),
+        "{}",
+        w[0]
+    );
+    // A report beside its own results file, scored alike: no warning, and the same figures.
+    let alike = compare(&[
+        format!("file={}:{}", s(&results), s(&dir.join("telemetry"))),
+        format!("report={}", s(&r1)),
+    ]);
+    assert!(about(&alike).is_empty(), "{:?}", alike["warnings"]);
+    let ds = alike["paired"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["metric"] == "ds")
+        .unwrap();
+    assert_eq!(ds["delta"], 0.0, "{ds}");
+    assert_eq!(
+        alike["models"][0]["driving_score"],
+        alike["models"][1]["driving_score"]
+    );
+}

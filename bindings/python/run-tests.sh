@@ -35,6 +35,10 @@ if [ -f "$tools/data-pins" ]; then
 else
   echo "[python] SKIP: no data packages in $tools (rerun scripts/setup.sh; is PyPI reachable?): the Parquet, DuckDB and tracker tests skip" >&2
 fi
+# Ray for the scale-out test (pinned apart in scripts/setup.sh); without it that test skips,
+# naming why.
+"$venv/bin/pip" install -q --no-index --find-links "$tools/wheelhouse" ray 2>/dev/null \
+  || echo "[python] ray is not in $tools/wheelhouse (scripts/setup.sh could not download it): the Ray test skips"
 
 echo "[python] mypy --strict: package, stubs, examples"
 MYPYPATH=python "$venv/bin/python" -m mypy --strict --cache-dir "$target/py-mypy-cache" python/sds examples

@@ -8,7 +8,7 @@ use crate::aggregate::compare::{
     check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
 use crate::error::Error;
-use crate::run::{score_run_with, Inputs, Progress};
+use crate::run::{Inputs, Progress};
 use crate::settings::Settings;
 
 /// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
@@ -144,6 +144,7 @@ pub fn compare_runs(
 ) -> Result<Compared, Error> {
     check_options(options)?;
     let mut scored = Vec::new();
+    let mut scored_by = Vec::new();
     for r in runs {
         if progress.cancelled() {
             return Err(Error::Cancelled);
@@ -154,7 +155,8 @@ pub fn compare_runs(
                 name: r.name.clone(),
             }));
         }
-        let report = score_run_with(&r.inputs, settings, progress).map_err(|e| match e {
+        let scored_here = crate::scored_by::score_or_read(&r.inputs, settings, progress);
+        let (report, by) = scored_here.map_err(|e| match e {
             Error::Cancelled => e,
             // `sds compare` has no `--telemetry`: name the way a run's folder is given.
             Error::TelemetryRoot { path, reason, .. } => Error::InRun {
@@ -170,6 +172,7 @@ pub fn compare_runs(
                 error: Box::new(e),
             },
         })?;
+        scored_by.push(by);
         scored.push(NamedRun {
             name: r.name.clone(),
             report,
@@ -181,6 +184,15 @@ pub fn compare_runs(
             CompareError::Cancelled => Error::Cancelled,
             e => Error::Compare(e),
         })?;
+    // Runs scored by another sds version or other settings (reports given as runs).
+    let by: Vec<(&str, &crate::scored_by::ScoredBy)> = runs
+        .iter()
+        .map(|r| r.name.as_str())
+        .zip(&scored_by)
+        .collect();
+    comparison
+        .warnings
+        .extend(crate::scored_by::differences(&by));
     // One results file given as two runs: as seeds their spread is 0 and says nothing.
     let real = |r: &RunInputs| -> Vec<PathBuf> {
         r.inputs

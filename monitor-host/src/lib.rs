@@ -83,7 +83,9 @@ pub mod report;
 pub mod route;
 pub mod run;
 pub mod scored;
+pub mod scored_by;
 pub mod settings;
+pub mod shard_stall;
 pub mod warning;
 pub mod watch;
 

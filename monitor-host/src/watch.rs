@@ -181,6 +181,15 @@ impl RouteCache {
     pub fn durations(&self) -> Vec<f64> {
         lock(&self.durations).values().copied().collect()
     }
+
+    /// The durations of [`RouteCache::durations`], by results file.
+    pub fn durations_by_file(&self) -> HashMap<PathBuf, Vec<f64>> {
+        let mut by: HashMap<PathBuf, Vec<f64>> = HashMap::new();
+        for ((file, _), d) in lock(&self.durations).iter() {
+            by.entry(file.clone()).or_default().push(*d);
+        }
+        by
+    }
 }
 
 impl ReplayCache for RouteCache {
@@ -332,6 +341,9 @@ pub struct StatusLine {
     /// A retried round only: why, naming the file.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub retry: Option<String>,
+    /// Shard checkpoints with no new record for longer than K times their median route time
+    /// ([`crate::shard_stall`], v1.4 §13); empty when none is.
+    pub stalled: Vec<crate::shard_stall::Stalled>,
 }
 
 impl StatusLine {
@@ -472,6 +484,8 @@ pub struct Watcher {
     last: StatusLine,
     /// Each results file's `progress` by its stamp: read again only when the file changed.
     progress: Mutex<HashMap<PathBuf, Progress>>,
+    /// K of [`crate::shard_stall`].
+    stall_factor: f64,
 }
 
 impl Watcher {
@@ -499,7 +513,32 @@ impl Watcher {
             round: 0,
             last: StatusLine::default(),
             progress: Mutex::new(HashMap::new()),
+            stall_factor: crate::shard_stall::DEFAULT_FACTOR,
         }
+    }
+
+    /// K of [`crate::shard_stall`]: a shard is stalled after K times its median route time
+    /// without a new record (default [`crate::shard_stall::DEFAULT_FACTOR`]).
+    pub fn set_stall_factor(&mut self, k: f64) {
+        self.stall_factor = k;
+    }
+
+    /// The shard checkpoints that stopped progressing, as of the last round's files.
+    fn stalled(&self) -> Vec<crate::shard_stall::Stalled> {
+        let durations = self.cache.durations_by_file();
+        let shards: Vec<crate::shard_stall::Shard> = self
+            .last_stamps
+            .iter()
+            .zip(self.file_progress())
+            .map(|((file, stamp), (done, total))| crate::shard_stall::Shard {
+                file: file.clone(),
+                done,
+                total,
+                last_record: stamp.and_then(|s| s.modified),
+                durations: durations.get(file).cloned().unwrap_or_default(),
+            })
+            .collect();
+        crate::shard_stall::stalled_shards(&shards, SystemTime::now(), self.stall_factor)
     }
 
     /// One round: the results read again (a half-written, shrunk or absent file is a retry),
@@ -601,7 +640,8 @@ impl Watcher {
         let changed = cache.rescored > 0 || stamps != self.last_stamps;
         self.last_stamps = stamps;
         let p = self.progress(&scored.report);
-        let status = self.status_line(&p, &scored.report, &cache, changed, began);
+        let mut status = self.status_line(&p, &scored.report, &cache, changed, began);
+        status.stalled = self.stalled();
         self.failures = 0;
         self.last = status.clone();
         Ok(RoundOutcome::Scored {
@@ -691,6 +731,7 @@ impl Watcher {
             round_ms: began.elapsed().as_secs_f64() * 1e3,
             stopped: None,
             retry: None,
+            stalled: Vec::new(),
         }
     }
 

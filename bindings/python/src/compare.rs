@@ -31,6 +31,10 @@ struct CompareKwargs<'py> {
     /// Any int: one beyond a machine word is out of range, said as the library says it.
     bootstrap_samples: Bound<'py, PyInt>,
     bootstrap_seed: u64,
+    /// `--rank`: the bootstrap ranking of every model (v1.4 §14).
+    rank: bool,
+    /// `--repro-halfwidth`: h of `seeds_needed` (v1.4 §14).
+    repro_halfwidth: f64,
 }
 
 /// B as the library takes it, or the library's out-of-range error (any int that is not a
@@ -91,7 +95,8 @@ pub fn compare<'py>(
             .iter()
             .map(|m| m.trim().to_string())
             .collect(),
-        ..CompareOptions::default()
+        rank: kw.rank,
+        repro_halfwidth: kw.repro_halfwidth,
     };
     let compared = py
         .detach(|| {

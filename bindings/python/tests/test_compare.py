@@ -151,3 +151,35 @@ def test_ctrl_c_stops_compare_between_routes(sds_bin: Path, tmp_path: Path) -> N
     interrupted = time.monotonic() - t0
     assert "KeyboardInterrupt" in err and "done" not in out, (out, err)
     assert interrupted < whole * 0.7, f"stopped after {interrupted:.2f} s of a {whole:.2f} s comparison"
+
+
+def test_rank_and_seeds_are_the_cli_report(sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 38: ``rank=True`` and ``repro_halfwidth`` give the report ``sds compare --rank
+    --repro-halfwidth`` writes: the ranking listed by rank, each model's seed figures."""
+    demo = _demo(sds_bin, tmp_path)
+    res, tel = demo / "results.json", demo / "telemetry"
+    runs = {"base": (res, tel), "s1": (res, tel), "s2": (res, tel)}
+    c = sds.compare(
+        runs, seeds={"m": ["s1", "s2"]}, rank=True, repro_halfwidth=2.5, bootstrap_samples=1000
+    )
+    out = tmp_path / "cli.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["compare", f"base={res}:{tel}", f"s1={res}:{tel}", f"s2={res}:{tel}",
+         "--seeds", "m=s1,s2", "--rank", "--repro-halfwidth", "2.5",
+         "--bootstrap-samples", "1000", "--format", "json", "-o", str(out)],
+    )
+    assert code == 0, err
+    assert c == json.loads(out.read_text())
+    ranking = c["ranking"]
+    # The same run everywhere: every model ties at rank 1 in every resample; listed by name.
+    assert [r["model"] for r in ranking] == ["base", "m"]
+    assert all(r["rank"] == 1 and r["rank_ci95"] == [1, 1] and r["p_best"] == 1.0
+               for r in ranking)
+    m = c["models"][1]
+    assert m["seed_std"] == 0.0 and m["seeds_needed"] == 0 and m["flaky_routes"] == []
+    assert c["config"]["repro.halfwidth"] == 2.5
+    # Without rank there is no ranking; a half-width that sizes nothing is refused.
+    assert sds.compare(runs, bootstrap_samples=1000).get("ranking") is None
+    with pytest.raises(sds.ConfigError, match="repro.halfwidth"):
+        sds.compare(runs, repro_halfwidth=0.0)

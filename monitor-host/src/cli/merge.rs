@@ -11,7 +11,7 @@ use super::{style, write_rerun_list};
 use crate::aggregate::groups::GroupBy;
 use crate::input::duplicates::DuplicatePolicy;
 use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json};
+use crate::report::{csv, html, json, long_tables};
 
 /// Arguments of `sds merge`.
 #[derive(Debug, clap::Args)]
@@ -38,6 +38,10 @@ pub struct MergeArgs {
     /// after a tab).
     #[arg(long, value_name = "FILE")]
     pub rerun_list: Option<PathBuf>,
+    /// Also write the long tables into DIR (`routes.csv`, `events.csv`, from the merged rows;
+    /// no `frames.csv`: a merge reads no telemetry); columns in docs/TABLES-SCHEMA.md.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }
 
 /// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
@@ -55,6 +59,13 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
                  parts' (score every part with the same --set)"
             ),
         }
+    }
+    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
+        let tables: Vec<_> = long_tables::TABLE_NAMES
+            .iter()
+            .map(|n| dir.join(n))
+            .collect();
+        super::output::refuse_clash(out, &tables, "a table")?;
     }
     let policy = args
         .duplicates
@@ -88,7 +99,35 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         }
         (_, None) => anyhow::bail!("no renderer for {:?}", args.format),
     };
-    write_output(args.output.as_deref(), &bytes, &report.files_read)?;
+    // The long tables, then the report, all or nothing (as `sds score`). The merge reads no
+    // telemetry, so there are no frames (the parts' `sds score --tables` wrote theirs).
+    let tables = match &args.tables {
+        Some(dir) => {
+            let mut t = long_tables::long_tables(&report, &[]).map_err(anyhow::Error::msg)?;
+            t.frames = None;
+            Some((dir, t.files().map_err(anyhow::Error::msg)?))
+        }
+        None => None,
+    };
+    let written = (|| -> Result<()> {
+        if let Some((dir, files)) = tables.clone() {
+            super::output::place_tables(dir, files, &report.files_read)?;
+        }
+        write_output(args.output.as_deref(), &bytes, &report.files_read)
+    })();
+    match written {
+        Ok(()) => super::output::commit(),
+        Err(e) => {
+            super::output::roll_back();
+            return Err(e);
+        }
+    }
+    if let Some((dir, _)) = &tables {
+        say!(
+            "sds: wrote the long tables to {} (routes, events; no frames: a merge reads no telemetry)",
+            dir.display()
+        );
+    }
     if let Some(file) = &args.rerun_list {
         write_rerun_list(file, &report, &report.files_read)?;
     }

@@ -31,6 +31,10 @@ pub struct WatchArgs {
     /// Print each round's status as one JSON object per line (standard error) instead of text.
     #[arg(long)]
     pub status_json: bool,
+    /// With several shard checkpoints: warn when a shard has written no record for longer than
+    /// K times its median route time (its worker may have died).
+    #[arg(long, value_name = "K", default_value_t = crate::shard_stall::DEFAULT_FACTOR)]
+    pub stall_factor: f64,
 }
 
 /// Why the watch stopped.
@@ -78,6 +82,14 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
             return Ok(super::EXIT_USAGE);
         }
     };
+    if !(args.stall_factor.is_finite() && args.stall_factor > 0.0) {
+        say!(
+            "sds: error: --stall-factor {}: expected a number above 0 (default {})",
+            args.stall_factor,
+            crate::shard_stall::DEFAULT_FACTOR
+        );
+        return Ok(super::EXIT_USAGE);
+    }
     let settings = super::settings(a)?;
     if let Some(bad) = a
         .infractions
@@ -95,6 +107,8 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     output::defer_signals();
     super::refuse_output_clashes(a)?;
     let mut watcher = Watcher::new(super::inputs(a), settings, super::label_files(a), by, RACY);
+    watcher.set_stall_factor(args.stall_factor);
+    let mut stalled_seen = std::collections::HashSet::new();
     let start = Instant::now();
     let mut last = None;
     let stop = loop {
@@ -116,6 +130,9 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                 ..
             } => {
                 status_line(args, &status);
+                for s in crate::shard_stall::newly_stalled(&mut stalled_seen, &status.stalled) {
+                    say!("sds: warning: {}", s.message(args.stall_factor));
+                }
                 // A live round that cannot be written is retried next round; only the final
                 // write is fatal.
                 if let Err(e) = write_round(a, &out, &scored.report, Some((args.interval, &status)))

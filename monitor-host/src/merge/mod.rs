@@ -355,8 +355,13 @@ fn text(v: &Value) -> String {
     }
 }
 
-/// The first key (in the report's order) whose value differs, with both values.
-fn first_difference(a: &Value, b: &Value, prefix: &str) -> Option<(String, String, String)> {
+/// The first key (in the report's order) whose value differs, with both values (also
+/// [`crate::scored_by`]'s).
+pub(crate) fn first_difference(
+    a: &Value,
+    b: &Value,
+    prefix: &str,
+) -> Option<(String, String, String)> {
     let name = |k: &str| {
         if prefix.is_empty() {
             k.to_string()

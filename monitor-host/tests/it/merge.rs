@@ -565,3 +565,141 @@ fn i36_merge_says_when_parts_were_scored_by_different_versions() {
     );
     assert_eq!(m["inputs"]["parts"][1]["sds_version"], "0.0.9");
 }
+
+/// `sds merge --tables DIR` writes the routes and events long tables of the merged rows, equal
+/// byte for byte to those of `sds score --tables` over the union of the parts' inputs; no
+/// frames (a merge reads no telemetry), while `score` has them.
+#[test]
+fn i36_merge_tables_equal_score_tables_over_the_union() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let (a, b) = split_demo(dir, 4);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    score_to(&dir.join("ra.json"), &[&a], &extra);
+    score_to(&dir.join("rb.json"), &[&b], &extra);
+    let (st, mt) = (dir.join("score_tables"), dir.join("merge_tables"));
+    let mut with = extra.clone();
+    let st_s = s(&st);
+    with.extend(["--tables", &st_s]);
+    score_to(&dir.join("whole.json"), &[&a, &b], &with);
+    let mt_s = s(&mt);
+    merge_to(
+        &dir.join("m.json"),
+        &[&dir.join("ra.json"), &dir.join("rb.json")],
+        &["--tables", &mt_s],
+    );
+    for name in ["routes.csv", "events.csv"] {
+        let (x, y) = (
+            std::fs::read_to_string(st.join(name)).unwrap(),
+            std::fs::read_to_string(mt.join(name)).unwrap(),
+        );
+        assert!(y.lines().count() > 1, "{name}: no rows\n{y}");
+        assert_eq!(y, x, "{name}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(mt.join("routes.csv"))
+            .unwrap()
+            .lines()
+            .count(),
+        1 + read(&dir.join("m.json"))["routes"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+    assert!(st.join("frames.csv").exists());
+    assert!(!mt.join("frames.csv").exists());
+    // -o among the tables is refused before any work.
+    let clash = s(&mt.join("routes.csv"));
+    let (code, err) = run(&[
+        "merge",
+        &s(&dir.join("ra.json")),
+        "--tables",
+        &mt_s,
+        "-o",
+        &clash,
+    ]);
+    assert_eq!(code, 2, "{err}");
+}
+
+/// `sds compare` over runs given as `sds` reports (scored elsewhere: a merged sharded
+/// evaluation) reads them back, and says when runs were scored by different `sds` versions or
+/// settings (from `inputs.provenance` and `config`), naming the runs and the first setting that
+/// differs; runs scored alike say nothing, and a report run compares as its results file would.
+#[test]
+fn i36_compare_says_when_runs_were_scored_by_other_versions_or_settings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let results = dir.join("results.json");
+    let r1 = dir.join("r1.json");
+    score_to(&r1, &[&results], &extra);
+    let mut slack = extra.clone();
+    slack.extend(["--set", "slack=0.5"]);
+    let r2 = dir.join("r2.json");
+    score_to(&r2, &[&results], &slack);
+    let mut v = read(&r1);
+    v["inputs"]["provenance"]["sds_version"] = "0.0.9".into();
+    let r3 = dir.join("r3.json");
+    std::fs::write(&r3, serde_json::to_vec_pretty(&v).unwrap()).unwrap();
+    let compare = |runs: &[String]| -> Value {
+        let out = dir.join("c.json");
+        let mut args: Vec<&str> = vec!["compare", "--bootstrap-samples", "1000"];
+        args.extend(runs.iter().map(String::as_str));
+        // `sds compare` takes each run's telemetry with the run (RESULTS:TELEMETRY).
+        args.extend(&extra[2..]);
+        let o = s(&out);
+        args.extend(["--format", "json", "-o", &o]);
+        let (code, err) = run(&args);
+        assert_eq!(code, 0, "{args:?}\n{err}");
+        read(&out)
+    };
+    let about = |c: &Value| -> Vec<String> {
+        c["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(Value::as_str)
+            .filter(|w| w.contains("were scored"))
+            .map(String::from)
+            .collect()
+    };
+    let settings = compare(&[format!("base={}", s(&r1)), format!("other={}", s(&r2))]);
+    let w = about(&settings);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].starts_with("runs base and other were scored with different settings: slack is ")
+            && w[0].contains(" in base and 0.5 in other"),
+        "{}",
+        w[0]
+    );
+    let version = compare(&[format!("base={}", s(&r1)), format!("old={}", s(&r3))]);
+    let w = about(&version);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("runs base and old were scored by different sds versions")
+            && w[0].contains(&format!("({} and 0.0.9)", env!("CARGO_PKG_VERSION"))),
+        "{}",
+        w[0]
+    );
+    // A report beside its own results file, scored alike: no warning, and the same figures.
+    let alike = compare(&[
+        format!("file={}:{}", s(&results), s(&dir.join("telemetry"))),
+        format!("report={}", s(&r1)),
+    ]);
+    assert!(about(&alike).is_empty(), "{:?}", alike["warnings"]);
+    let ds = alike["paired"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["metric"] == "ds")
+        .unwrap();
+    assert_eq!(ds["delta"], 0.0, "{ds}");
+    assert_eq!(
+        alike["models"][0]["driving_score"],
+        alike["models"][1]["driving_score"]
+    );
+}

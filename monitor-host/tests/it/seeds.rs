@@ -407,3 +407,95 @@ fn i38_repetitions_of_one_key_and_one_seed() {
         .unwrap_or_else(|| panic!("no flaky row: {text}"));
     assert!(line.contains("reps: 100.0 pass; reps: 40.0 fail"), "{line}");
 }
+
+/// The HTML page of a ranked comparison of three checkpoints (ep30 the best, given last):
+/// the ranking figure draws the models in the order given with each one's mean DS and its rank
+/// interval, and the flaky route gets a strip of its outcomes across the seeds (one square per
+/// sample, in the order of the model's runs).
+#[test]
+fn i38_page_draws_the_ranking_in_order_and_the_flaky_strips() {
+    let dir = tempfile::tempdir().unwrap();
+    let ids = ["RouteScenario_1", "RouteScenario_2", "RouteScenario_3"];
+    let run = |name: &str, ds: [f64; 3], ok: [bool; 3]| {
+        let recs: Vec<(&str, f64, bool)> = (0..3).map(|i| (ids[i], ds[i], ok[i])).collect();
+        write_run(dir.path(), name, &recs)
+    };
+    let ep10 = run("ep10", [10.0, 20.0, 30.0], [false, false, false]);
+    let ep20a = run("ep20a", [60.0, 100.0, 40.0], [false, true, false]);
+    let ep20b = run("ep20b", [50.0, 30.0, 40.0], [false, false, false]);
+    let ep30 = run("ep30", [90.0, 100.0, 95.0], [false, true, false]);
+    let page = dir.path().join("c.html");
+    let arg = |n: &str, p: &Path| format!("{n}={}", p.display());
+    let args = [
+        "compare".to_string(),
+        "--allow-missing-telemetry".into(),
+        arg("ep10", &ep10),
+        arg("ep20a", &ep20a),
+        arg("ep20b", &ep20b),
+        arg("ep30", &ep30),
+        "--seeds".into(),
+        "ep20=ep20a,ep20b".into(),
+        "--rank".into(),
+        "--bootstrap-samples".into(),
+        "1000".into(),
+        "--format".into(),
+        "html".into(),
+        "-o".into(),
+        page.display().to_string(),
+    ];
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = sds(&argv);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(&page).unwrap();
+    let at = |needle: &str| {
+        html.find(needle)
+            .unwrap_or_else(|| panic!("no {needle:?} in the page"))
+    };
+    // The ranking figure: the models in the order given (not by rank), each with its mean DS.
+    let fig = at("id=\"ranking\"");
+    let (a, b, c) = (at(">ep10</text>"), at(">ep20</text>"), at(">ep30</text>"));
+    assert!(fig < a && a < b && b < c, "{fig} {a} {b} {c}");
+    assert!(html.contains("ep10: mean DS 20.00"), "ep10's mean DS");
+    assert!(html.contains("ep30: mean DS 95.00"), "ep30's mean DS");
+    assert!(
+        html.contains("ep30: rank 1 [1, 1]"),
+        "ep30's rank and interval"
+    );
+    assert!(
+        html.contains("ep10: rank 3 [3, 3]"),
+        "ep10's rank and interval"
+    );
+    // The flaky strip: route 2 passed in ep20a and failed in ep20b.
+    let flaky = at("id=\"flaky\"");
+    let row = &html[flaky..];
+    let row = &row[row.find("<td>RouteScenario_2</td>").unwrap_or_else(|| panic!("route 2 in the strips: {}", &html[flaky..]))..];
+    let row = &row[..row.find("</tr>").unwrap()];
+    let pass = row
+        .find("ep20a: DS 100.0, success")
+        .expect("ep20a's square");
+    let fail = row.find("ep20b: DS 30.0, failure").expect("ep20b's square");
+    assert!(pass < fail, "{row}");
+    assert_eq!(row.matches("<rect").count(), 2, "{row}");
+    // Without --rank and without flaky routes: neither section.
+    let plain = dir.path().join("p.html");
+    let out = sds(&[
+        "compare",
+        "--allow-missing-telemetry",
+        &arg("ep10", &ep10),
+        &arg("ep30", &ep30),
+        "--bootstrap-samples",
+        "1000",
+        "--format",
+        "html",
+        "-o",
+        plain.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let plain = std::fs::read_to_string(&plain).unwrap();
+    assert!(!plain.contains("id=\"ranking\"") && !plain.contains("id=\"flaky\""));
+}

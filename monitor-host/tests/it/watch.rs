@@ -951,3 +951,111 @@ fn score_and_watch_share_the_write_path() {
         assert!(!figs.join("routes.svg").exists(), "{cmd:?}");
     }
 }
+
+/// Sets `file`'s modification time `ago` in the past (a shard whose last record is that old).
+fn age(file: &Path, ago: Duration) {
+    fs::File::options()
+        .write(true)
+        .open(file)
+        .unwrap()
+        .set_modified(std::time::SystemTime::now() - ago)
+        .unwrap();
+}
+
+/// Issue 36: a watch over two shard checkpoints where one shard stops: its checkpoint has had
+/// no new record for longer than K times its median route time, so the status names it (and
+/// `sds watch` warns once); the shard that keeps writing never is, and the stalled one leaves
+/// the list when it writes again.
+#[test]
+fn i36_watch_says_when_a_shard_stalls() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, records) = checkpoint(&run);
+    let shards = dir.path().join("shards");
+    fs::create_dir_all(&shards).unwrap();
+    let (a, b) = (shards.join("eval_0.json"), shards.join("eval_1.json"));
+    rewrite(&a, &checkpoint_bytes(&c, &records[..2], 5));
+    rewrite(&b, &checkpoint_bytes(&c, &records[5..7], 4));
+    // Shard 1's worker died an hour ago; its routes take seconds.
+    let median = {
+        let mut d: Vec<f64> = records[5..7]
+            .iter()
+            .map(|r| r["meta"]["duration_system"].as_f64().unwrap())
+            .collect();
+        d.sort_by(f64::total_cmp);
+        (d[0] + d[1]) / 2.0
+    };
+    assert!(median > 0.0 && 5.0 * median < 3600.0, "{median}");
+    age(&b, Duration::from_secs(3600));
+    let inputs = Inputs {
+        results: vec![shards.clone()],
+        ..demo_inputs(&run)
+    };
+    let mut w = watcher(inputs.clone());
+    let (_, first) = scored(&mut w);
+    let files: Vec<&Path> = first.stalled.iter().map(|s| s.file.as_path()).collect();
+    assert_eq!(files, [b.as_path()], "{:?}", first.stalled);
+    let st = &first.stalled[0];
+    assert!((st.median_s - median).abs() < 1e-9, "{st:?}");
+    assert!(
+        st.idle_s >= 3600.0 && (st.done, st.total) == (2, 4),
+        "{st:?}"
+    );
+    let line: Value = serde_json::from_str(&first.json()).unwrap();
+    assert!(line["stalled"][0]["file"]
+        .as_str()
+        .unwrap()
+        .ends_with("eval_1.json"));
+    // Shard 0 goes on writing; shard 1 is still silent.
+    rewrite(&a, &checkpoint_bytes(&c, &records[..3], 5));
+    let (_, second) = scored(&mut w);
+    assert_eq!(second.stalled.len(), 1);
+    // A K above the silence judges it live.
+    w.set_stall_factor(3601.0 / median + 1.0);
+    assert!(scored(&mut w).1.stalled.is_empty());
+    w.set_stall_factor(5.0);
+    // Shard 1 writes again: no stall.
+    rewrite(&b, &checkpoint_bytes(&c, &records[5..8], 4));
+    let (_, third) = scored(&mut w);
+    assert!(third.stalled.is_empty(), "{:?}", third.stalled);
+    assert_eq!(third.done, 6);
+    // The command line warns, naming the shard; every status line has the field.
+    age(&b, Duration::from_secs(3600));
+    let out = dir.path().join("live.json");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&shards),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "-o",
+        &s(&out),
+        "--once",
+    ]
+    .map(String::from)
+    .to_vec();
+    let o = wait(&mut spawn(&args, &[]), Duration::from_secs(60));
+    let err = String::from_utf8_lossy(&o.stderr);
+    let warn: Vec<&str> = err
+        .lines()
+        .filter(|l| l.contains("has written no record"))
+        .collect();
+    assert_eq!(warn.len(), 1, "{err}");
+    assert!(
+        warn[0].starts_with("sds: warning: shard ")
+            && warn[0].contains("eval_1.json")
+            && warn[0].contains("3/4 routes done"),
+        "{}",
+        warn[0]
+    );
+    let mut quiet = args.clone();
+    quiet.extend(["--stall-factor".to_string(), "1e9".into()]);
+    let o = wait(&mut spawn(&quiet, &[]), Duration::from_secs(60));
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("has written no record"));
+    let mut bad = args;
+    bad.extend(["--stall-factor".to_string(), "0".into()]);
+    let o = wait(&mut spawn(&bad, &[]), Duration::from_secs(60));
+    assert_eq!(o.status.code(), Some(2));
+}

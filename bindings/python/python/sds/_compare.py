@@ -30,6 +30,8 @@ def compare(
     settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
     jobs: Optional[int] = None,
     protocols: Optional[Sequence[str]] = None,
+    rank: bool = False,
+    repro_halfwidth: float = 1.0,
 ) -> Dict[str, Any]:
     """Compares runs route by route; returns the ``sds-compare/1`` report as a dict.
 
@@ -62,18 +64,27 @@ def compare(
         protocols: Also score every run's routes under these scoring protocols, as for
             :func:`sds.score` (``--protocol``; ids, or ``["all"]``); the paired comparison
             stays on ``ds``, ``success``, ``ds_safe``, ``comfort``.
+        rank: Rank every model by its mean DS over the compared routes (``--rank``): the
+            report's ``ranking`` lists, by rank (ties by name), each model's ``mean_ds``,
+            ``rank``, ``rank_ci95`` (95 % bootstrap interval of its rank, one generator seeded
+            with ``bootstrap_seed``) and ``p_best`` (share of resamples where it ranks first).
+        repro_halfwidth: h of each model's ``seeds_needed`` (``--repro-halfwidth``): the seeds
+            for a 95 % interval of its mean DS no wider than +-h DS points (above 0).
 
     Returns:
         ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,
         ``metric``, ``n``, ``delta``, ``ci95``, ``p_better``, ``verdict``), ``flips``,
         ``scope``, ``routes`` (per route key, each model's values), ``config``, ``notes``,
-        ``warnings``.
+        ``warnings``; each model also has its seeds' figures (``routes`` with ``ds_mean``,
+        ``ds_std``, ``ds_min``, ``ds_max``, ``success_share`` per route, ``flaky_routes``,
+        ``seed_ds``, ``seed_std``, ``seeds_needed``), and with ``rank`` the report has
+        ``ranking``.
 
     Raises:
         ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
             unknown metric, route sets that differ without ``common_routes``,
-            ``bootstrap_samples`` out of range; an invalid ``profile``, ``settings`` or
-            ``protocols``.
+            ``bootstrap_samples`` out of range, a ``repro_halfwidth`` not above 0; an invalid
+            ``profile``, ``settings`` or ``protocols``.
         InputError, IoError: A run's inputs, as for :func:`sds.score` (the message names the run).
         KeyboardInterrupt: Ctrl-C, which stops the comparison between routes, runs and
             bootstrap blocks.
@@ -81,6 +92,8 @@ def compare(
     Example:
         >>> c = sds.compare({"base": "base/", "new": "new/"}, routes="bench2drive220.xml")
         >>> [p["verdict"] for p in c["paired"] if p["metric"] == "ds"]  # doctest: +SKIP
+        >>> c = sds.compare({"ep10": "ep10/", "ep20": "ep20/", "ep30": "ep30/"}, rank=True)
+        >>> [(r["model"], r["rank"], r["rank_ci95"]) for r in c["ranking"]]  # doctest: +SKIP
     """
     if isinstance(fail_if_worse, str):
         raise ConfigError(
@@ -114,6 +127,8 @@ def compare(
         "fail_if_worse": list(fail_if_worse or []),
         "bootstrap_samples": int(bootstrap_samples),
         "bootstrap_seed": int(bootstrap_seed),
+        "rank": bool(rank),
+        "repro_halfwidth": float(repro_halfwidth),
     }
     report: Dict[str, Any] = _sds.compare(pairs, options)
     return report

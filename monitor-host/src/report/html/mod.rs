@@ -13,6 +13,7 @@ mod compare;
 mod page;
 mod pictures;
 mod routes;
+pub mod seeds;
 mod timeline;
 
 use crate::report::table::{self, TableOptions};

@@ -67,27 +67,28 @@
 #![deny(unsafe_code)]
 
 pub mod aggregate;
+pub mod app;
 #[cfg(feature = "cli")]
 pub mod cli;
-pub mod compare_runs;
 pub mod demo;
 pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod merge;
+pub mod model;
 pub mod pipeline;
 pub mod provenance;
 pub use route::protocol;
 pub mod reference;
 pub mod report;
 pub mod route;
-pub mod run;
-pub mod scored;
 pub mod settings;
+pub mod stats;
 pub mod warning;
-pub mod watch;
 
-pub use aggregate::report::Report;
+// The run-level doors, also at their earlier paths (`monitor_host::run::...`).
+pub use app::{compare_runs, run, scored, watch};
+pub use model::Report;
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;

@@ -1,5 +1,5 @@
 //! `sds compare` (spec v1.4 section 11): the command line over
-//! [`crate::compare_runs::compare_runs`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
+//! [`crate::app::compare_runs::compare_runs`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
 //! `--seeds` groups; the output is the `sds-compare/1` report or its tables; `--fail-if-worse`
 //! exits 5 after writing it.
 
@@ -10,8 +10,8 @@ use anyhow::Result;
 use super::args::{CompareArgs, Format};
 use super::output::write_output;
 use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
-use crate::aggregate::compare::CompareOptions;
-use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
+use crate::stats::CompareOptions;
+use crate::app::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
 use crate::report::grid::Style;
 use crate::report::long_tables::{compare_tables, TABLE_NAMES};
 use crate::report::{compare_table, html};

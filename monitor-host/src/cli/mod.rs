@@ -51,7 +51,7 @@ use crate::{
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
 
-pub use crate::scored::Scored;
+pub use crate::app::scored::Scored;
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.

@@ -1,5 +1,5 @@
 //! `sds watch`: the report of an evaluation kept current while it runs (spec §12), over the
-//! library's [`crate::watch::Watcher`]. Rounds every `--interval` seconds; after each scored
+//! library's [`crate::app::watch::Watcher`]. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
 //! watch runs) and one status line is printed; the last round's report, written when the route
 //! set is complete, on `--timeout`, or on Ctrl-C / SIGTERM, is `sds score`'s, byte for byte.
@@ -11,7 +11,7 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs};
 use super::output::{self, write_output};
-use crate::watch::{RoundOutcome, StatusLine, Watcher, RACY};
+use crate::app::watch::{RoundOutcome, StatusLine, Watcher, RACY};
 
 /// Arguments of `sds watch`.
 #[derive(Debug, clap::Args)]
@@ -61,14 +61,14 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
         return Ok(super::EXIT_USAGE);
     };
-    let interval = match crate::watch::interval(args.interval) {
+    let interval = match crate::app::watch::interval(args.interval) {
         Ok(d) => d,
         Err(bound) => {
             say!("sds: error: --interval {}: {bound}", args.interval);
             return Ok(super::EXIT_USAGE);
         }
     };
-    let timeout = match args.timeout.map(crate::watch::timeout).transpose() {
+    let timeout = match args.timeout.map(crate::app::watch::timeout).transpose() {
         Ok(t) => t,
         Err(bound) => {
             say!(
@@ -174,7 +174,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: warning: {w}");
     }
     if args.status_json {
-        let end = crate::watch::StatusLine {
+        let end = crate::app::watch::StatusLine {
             stopped: Some(stop.name().into()),
             ..watcher.last_status().clone()
         };
@@ -274,7 +274,7 @@ fn status_line(args: &WatchArgs, s: &StatusLine) {
         pct(s.ds_n),
         pct(s.sds_done),
         pct(s.sds_n),
-        s.seconds_left.map_or_else(|| "?".into(), crate::watch::duration_text),
+        s.seconds_left.map_or_else(|| "?".into(), crate::app::watch::duration_text),
         s.rescored
     );
 }

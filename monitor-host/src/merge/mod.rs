@@ -1,7 +1,7 @@
 //! Merging reports scored where the files are (`SDS-SPEC.md` v1.4 §13): each node scores its
 //! shard with `sds score`; [`merge`] reads the parts' JSON reports back into the rows `sds
 //! score` aggregated ([`row::row_from_json`]) and builds the report with the same code
-//! ([`crate::aggregate::report::assemble_rows`]), so the merge equals `sds score` over the union
+//! ([`crate::model::report::assemble_rows`]), so the merge equals `sds score` over the union
 //! of the parts' inputs (every field but `inputs` and `warnings`), and a merge of merges equals
 //! the merge of all parts.
 //!
@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use crate::aggregate::groups::GroupBy;
-use crate::aggregate::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
+use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
 use crate::input::duplicates::{Dropped, DuplicatePolicy, Kept, Source};
 use crate::pipeline::outcome::RouteState;
 use crate::provenance::{sha256_hex, FileDigest, Provenance};

@@ -17,7 +17,7 @@ use std::fmt;
 
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::input::duplicates::Source;
 use crate::report::escape::{csv_cell, is_hidden};
 use crate::RouteFrames;

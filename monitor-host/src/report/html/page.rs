@@ -120,10 +120,10 @@ pub(super) fn grid(out: &mut String, g: &Grid) {
 /// assert!(page.contains("DS 80.00 over the routes done, 35.56 of N"));
 /// assert!(page.contains("about 10m left") && page.contains("2026-11-27T17:45:33Z"));
 /// ```
-pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) -> String {
+pub fn live_page(page: &str, status: &crate::app::watch::StatusLine, refresh: f64) -> String {
     let tag = format!(
         "<meta http-equiv=\"refresh\" content=\"{}\">",
-        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+        refresh.ceil().clamp(1.0, crate::app::watch::MAX_INTERVAL)
     );
     let s = status;
     let banner = format!(
@@ -139,9 +139,9 @@ pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) ->
         num(s.ds_n, 2),
         s.seconds_left.map_or_else(
             || "time left unknown".to_string(),
-            |t| format!("about {} left", crate::watch::duration_text(t))
+            |t| format!("about {} left", crate::app::watch::duration_text(t))
         ),
-        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+        refresh.ceil().clamp(1.0, crate::app::watch::MAX_INTERVAL)
     );
     let mut out = page.to_string();
     if let Some(i) = out.find("<body>") {

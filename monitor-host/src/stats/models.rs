@@ -3,7 +3,7 @@
 //! and sample standard deviation over the model's seeds.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::models::Stat;
+//! use monitor_host::stats::models::Stat;
 //! let s = Stat::of(&[Some(1.0), Some(2.0), Some(6.0)]);
 //! assert_eq!((s.mean, s.std), (Some(3.0), Some(7.0f64.sqrt())));
 //! assert_eq!(Stat::of(&[Some(4.0)]).std, None); // one seed: no spread
@@ -12,7 +12,7 @@
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::aggregate::compare::seeds::SeedStats;
+use crate::stats::seeds::SeedStats;
 
 /// A mean and sample standard deviation over seeds (std null for one seed; both null when some
 /// seed has no value).

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::aggregate::report::{assemble, Report, RunFacts};
+use crate::model::report::{assemble, Report, RunFacts};
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{
@@ -67,7 +67,7 @@ pub trait Progress: Sync {
     }
 }
 
-/// Keeps routes' replays between runs (`sds watch`'s [`crate::watch::RouteCache`]): given a
+/// Keeps routes' replays between runs (`sds watch`'s [`crate::app::watch::RouteCache`]): given a
 /// record, returns its earlier replay when nothing it was made from changed, else calls
 /// `replay`.
 pub trait ReplayCache: Sync {

@@ -23,8 +23,8 @@ use crate::error::Error;
 use crate::input::record::LoadedRecord;
 use crate::input::results_file::{read_results, ResultsError};
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
-use crate::run::{Inputs, NoProgress, ReplayCache};
-use crate::scored::{score_labelled_cached, LabelFiles, Scored};
+use crate::app::run::{Inputs, NoProgress, ReplayCache};
+use crate::app::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::settings::Settings;
 
 /// A results file's `progress` `[done, total]`, and the stamp of the file it was read from.

@@ -1,14 +1,14 @@
 //! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.4 §11): score each run with
 //! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
-//! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
+//! compare them ([`crate::stats::compare`]). Every front end calls this.
 
 use std::path::{Path, PathBuf};
 
-use crate::aggregate::compare::{
+use crate::stats::{
     check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
 use crate::error::Error;
-use crate::run::{score_run_with, Inputs, Progress};
+use crate::app::run::{score_run_with, Inputs, Progress};
 use crate::settings::Settings;
 
 /// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
@@ -120,7 +120,7 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
 ///
 /// ```
 /// use monitor_host::compare_runs::{compare_runs, RunInputs};
-/// use monitor_host::aggregate::compare::CompareOptions;
+/// use monitor_host::stats::CompareOptions;
 /// use monitor_host::{demo, Inputs, NoProgress, Settings};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;

@@ -88,7 +88,6 @@ pub mod warning;
 
 // The run-level doors, also at their earlier paths (`monitor_host::run::...`).
 pub use app::{compare_runs, run, scored, watch};
-pub use model::Report;
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;
@@ -97,6 +96,7 @@ pub use input::lead_infractions::LeadInfractionsError;
 pub use input::results_file::ResultsError;
 pub use input::route_xml::RouteError;
 pub use input::telemetry::TelemetryError;
+pub use model::Report;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{
@@ -106,4 +106,4 @@ pub use run::{
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;
-pub use watch::{RoundOutcome, RouteCache, StatusLine, Watcher};
+pub use watch::{RoundOutcome, RoundStatus, RouteCache, Watcher};

@@ -6,9 +6,9 @@
 
 use std::path::PathBuf;
 
-use monitor_host::stats::{CompareError, CompareOptions};
 use monitor_host::compare_runs::{compare_runs, telemetry_beside, RunInputs, Seeds};
 use monitor_host::error::message;
+use monitor_host::stats::{CompareError, CompareOptions};
 use monitor_host::{Error, Inputs, NoProgress, Settings};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt};

@@ -4,12 +4,12 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::app::run::{score_run_with, Inputs, Progress};
+use crate::error::Error;
+use crate::settings::Settings;
 use crate::stats::{
     check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
-use crate::error::Error;
-use crate::app::run::{score_run_with, Inputs, Progress};
-use crate::settings::Settings;
 
 /// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -10,11 +10,11 @@ use anyhow::Result;
 use super::args::{CompareArgs, Format};
 use super::output::write_output;
 use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
-use crate::stats::CompareOptions;
 use crate::app::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
 use crate::report::grid::Style;
 use crate::report::long_tables::{compare_tables, TABLE_NAMES};
 use crate::report::{compare_table, html};
+use crate::stats::CompareOptions;
 use crate::{Inputs, NoProgress, Warning};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or

@@ -11,7 +11,7 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs};
 use super::output::{self, write_output};
-use crate::app::watch::{RoundOutcome, StatusLine, Watcher, RACY};
+use crate::app::watch::{RoundOutcome, RoundStatus, Watcher, RACY};
 
 /// Arguments of `sds watch`.
 #[derive(Debug, clap::Args)]
@@ -174,7 +174,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: warning: {w}");
     }
     if args.status_json {
-        let end = crate::app::watch::StatusLine {
+        let end = crate::app::watch::RoundStatus {
             stopped: Some(stop.name().into()),
             ..watcher.last_status().clone()
         };
@@ -227,7 +227,7 @@ fn write_round(
     a: &ScoreArgs,
     out: &std::path::Path,
     report: &crate::Report,
-    live: Option<(f64, &StatusLine)>,
+    live: Option<(f64, &RoundStatus)>,
 ) -> Result<()> {
     let mut bytes = super::render(a, report)?;
     if let (Format::Html, Some((secs, status))) = (a.format, live) {
@@ -250,7 +250,7 @@ fn print_line(line: &str) {
 }
 
 /// One status line (spec §12): JSON (serde_json, valid whatever the route ids hold) or text.
-fn status_line(args: &WatchArgs, s: &StatusLine) {
+fn status_line(args: &WatchArgs, s: &RoundStatus) {
     if args.status_json {
         print_line(&s.json());
         return;
@@ -274,12 +274,12 @@ fn status_line(args: &WatchArgs, s: &StatusLine) {
         pct(s.ds_n),
         pct(s.sds_done),
         pct(s.sds_n),
-        s.seconds_left.map_or_else(|| "?".into(), crate::app::watch::duration_text),
+        s.seconds_left.map_or_else(|| "?".into(), crate::report::status::duration_text),
         s.rescored
     );
 }
 
-fn status_retry(args: &WatchArgs, s: &StatusLine, reason: &str, failures: usize) {
+fn status_retry(args: &WatchArgs, s: &RoundStatus, reason: &str, failures: usize) {
     let round = s.round;
     if args.status_json {
         print_line(&s.json());

@@ -3,10 +3,10 @@
 //! paired table (per model and metric: delta, 95 % interval, `p_better`, verdict), and the flips.
 //! Rendered as text, Markdown or LaTeX by [`crate::report::grid`].
 
-use crate::stats::models::Stat;
-use crate::stats::Comparison;
 use crate::report::grid::Grid;
 use crate::report::table::{BENCH2DRIVE_COLUMNS, TABLE1_COLUMNS};
+use crate::stats::models::Stat;
+use crate::stats::Comparison;
 
 /// `mean ± std` (std only when there are seeds), scaled, or `-`.
 fn stat(s: &Stat, digits: usize, scale: f64) -> String {

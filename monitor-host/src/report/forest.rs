@@ -10,9 +10,9 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::report::escape::printable;
 use crate::stats::bootstrap::Verdict;
 use crate::stats::Comparison;
-use crate::report::escape::printable;
 
 const FONT: &str = "sans-serif";
 const BETTER: RGBColor = RGBColor(42, 160, 90);

@@ -36,6 +36,7 @@ pub mod protocol_table;
 pub mod rerun_list;
 pub mod route_chart;
 pub mod seeds_table;
+pub mod status;
 pub mod table;
 pub mod trace_csv;
 pub mod waterfall;

@@ -3,9 +3,9 @@
 //! std and the seeds a ±h interval needs), and the flaky routes (route, scenario, town, each
 //! sample's outcome). Every cell goes through [`crate::report::grid`]'s escaping.
 
+use crate::report::grid::Grid;
 use crate::stats::rank::RankRow;
 use crate::stats::Comparison;
-use crate::report::grid::Grid;
 
 fn num(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"))

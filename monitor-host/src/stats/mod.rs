@@ -36,6 +36,7 @@ pub mod rank;
 pub mod route_values;
 pub mod seeds;
 pub mod splitmix;
+pub mod stat;
 
 use std::collections::HashSet;
 

@@ -11,8 +11,8 @@
 
 use std::collections::HashMap;
 
-use crate::model::report::Report;
 use crate::input::route_set::parse_route_id;
+use crate::model::report::Report;
 use crate::route::row::{counted_routes, RouteReport};
 use crate::settings::Protocol;
 

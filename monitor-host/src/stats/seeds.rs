@@ -17,10 +17,10 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
-use crate::stats::models::Stat;
-use crate::stats::route_values::route_key;
 use crate::model::report::Report;
 use crate::route::row::counted_routes;
+use crate::stats::route_values::route_key;
+use crate::stats::stat::Stat;
 
 /// One compared route of one model: its `ds` over the model's samples (seeds × repetitions).
 #[derive(Clone, Debug, PartialEq, Serialize)]

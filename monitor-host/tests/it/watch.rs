@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use monitor_host::report::json::json;
 use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
-use monitor_host::{Report, StatusLine, Watcher};
+use monitor_host::{Report, RoundStatus, Watcher};
 use serde_json::Value;
 
 use crate::common::sds;
@@ -119,7 +119,7 @@ fn fresh(inputs: &Inputs) -> Report {
     .report
 }
 
-fn scored(w: &mut Watcher) -> (Report, StatusLine) {
+fn scored(w: &mut Watcher) -> (Report, RoundStatus) {
     match w.round().unwrap() {
         RoundOutcome::Scored { scored, status, .. } => (scored.report, status),
         RoundOutcome::Retry { reason, .. } => panic!("round retried: {reason}"),

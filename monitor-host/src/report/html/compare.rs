@@ -3,9 +3,9 @@
 //! links to its row in each run), then each run's own tables and route rows.
 
 use super::page::{self, escape, grid};
-use crate::stats::{Comparison, Model};
 use crate::report::{compare_table, forest, table};
 use crate::route::row::counted_routes;
+use crate::stats::{Comparison, Model};
 
 /// The anchor of a run's row of a route.
 fn anchor(run: &str, route_id: &str) -> String {

@@ -4,6 +4,9 @@
 //! spelling and calls one of these; the orchestration is here, once.
 
 pub mod compare_runs;
+pub mod merged;
+pub mod request;
 pub mod run;
 pub mod scored;
+pub mod session;
 pub mod watch;

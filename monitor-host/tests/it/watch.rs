@@ -996,8 +996,8 @@ fn i35_session_stops_when_complete_and_nothing_new() {
     assert!(end.reread.is_none() && end.stale.is_none());
     assert_eq!(end.status.stopped.as_deref(), Some("complete"));
     assert_eq!(end.status.round, 2);
-    assert!(!waits.is_empty() && waits.iter().all(|d| *d <= Duration::from_millis(10)));
     assert!(matches!(session.next(&mut wait).unwrap(), Step::Aborted));
+    assert!(!waits.is_empty() && waits.iter().all(|d| *d <= Duration::from_millis(10)));
 }
 
 /// Issue 35: after the timeout the session reads the inputs once more (no wait asked), and a

@@ -960,6 +960,8 @@ fn i35_session_stops_when_complete_and_nothing_new() {
     use monitor_host::app::session::{Step, Stop, Wake};
     let dir = tempfile::tempdir().unwrap();
     let run = demo::write(dir.path()).unwrap();
+    // Files older than the racy second: the second round can trust them unchanged.
+    std::thread::sleep(Duration::from_millis(1100));
     let request = WatchRequest {
         score: ScoreRequest::new(demo_inputs(&run)),
         interval: 0.01,
@@ -1007,6 +1009,7 @@ fn i35_session_timeout_reads_once_more_and_abort_gives_up() {
     use monitor_host::app::session::{Step, Stop, Wake};
     let dir = tempfile::tempdir().unwrap();
     let run = demo::write(dir.path()).unwrap();
+    std::thread::sleep(Duration::from_millis(1100)); // past the racy second
     let inputs = Inputs {
         telemetry: Some(run.telemetry.clone()),
         ..Inputs::new([run.results.clone()])

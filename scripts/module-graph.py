@@ -26,15 +26,16 @@ from collections import defaultdict
 # Lower stages first. Rooms in one tuple share a stage (imports between them are not upward).
 STAGES = [
     ("input", "warning"),  # warnings are made of input facts (collision lists, duplicates, XML)
-    ("settings",),  # names input policies (the duplicates policy)
+    ("settings", "provenance"),  # settings name input policies; provenance digests settings
     ("geometry",),
     ("reference",),  # the batch reference the replay checks itself against (spec section 9)
     ("pipeline",),
     ("route",),
-    ("aggregate",),
-    ("report",),
-    ("run", "error", "scored", "compare_runs", "watch"),  # scored: a run and its label files, for every front end;
-    # watch: the same run kept current while an evaluation writes it
+    ("aggregate",),  # one run's aggregates
+    ("model",),  # what the renderings read: the Report, a route's frames, a watch round's status
+    ("stats", "merge"),  # several reports: compared (stats) or merged into one (merge)
+    ("report",),  # renderings
+    ("app", "error"),  # the run-level doors every front end calls, and the errors they return
     ("cli", "demo"),
 ]
 

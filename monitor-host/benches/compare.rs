@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 use monitor_host::{demo, score_run, Inputs, Settings};
 
 fn main() {

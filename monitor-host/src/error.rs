@@ -124,7 +124,7 @@ pub enum Error {
     Threads(#[from] rayon::ThreadPoolBuildError),
     /// The runs cannot be compared (`sds compare`, spec v1.3 section 11).
     #[error(transparent)]
-    Compare(#[from] crate::aggregate::compare::CompareError),
+    Compare(#[from] crate::stats::CompareError),
     /// One run of a comparison could not be scored.
     #[error("run {run}: {error}")]
     InRun {

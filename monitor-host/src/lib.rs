@@ -5,8 +5,9 @@
 //! [`monitor_core::Monitor`], checks every route against a batch reference, and reports per-route
 //! and benchmark scores as `SDS-SPEC.md` v1.2 defines them.
 //!
-//! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress).
-//! The `sds` binary, the tests and the bindings all call it; none of them holds scoring logic.
+//! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress);
+//! the front ends call the typed requests of [`app`] around it. The `sds` binary, the tests and
+//! the bindings hold no scoring logic.
 //! The command line itself is [`cli`] (feature `cli`, on by default), a library module so that
 //! the `sds` binary and the Python package's `sds` command run the same code.
 //!
@@ -28,13 +29,20 @@
 //! route/     row per route: penalty re-check (§8), efficiency, abilities (§8.2), traces
 //!            (+ protocol/: the records rescored under other evaluators' rules, §8.4)
 //!               v
-//! aggregate/ aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3),
-//!            compare; report (the Report that holds rows and aggregates)
+//! aggregate/ one run's aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3)
 //!               v
-//! report/    renderings: json, csv, table, html, figure, trace_csv
+//! model/     what renderings read: Report (rows + aggregates), RouteFrames, RoundStatus
 //!               v
-//! run, compare_runs   score_run (one run); compare_runs (several: score each, then
-//!                     aggregate::compare, spec v1.3 §11)
+//! stats/     several reports compared (spec v1.3 §11)  │  merge/  reports merged (v1.4 §13)
+//!               v
+//! report/    renderings: json, csv, table, html, figure, trace_csv, status
+//!               v
+//! app/       the doors every front end calls: typed requests (ScoreRequest, CompareRequest,
+//!            WatchRequest, MergeRequest), run (score_run), scored, compare_runs, watch, and the
+//!            one watch Session
+//!               v
+//! cli/       the `sds` command line (and the Python binding, outside this crate): requests
+//!            built from their own spelling
 //! ```
 //!
 //! A file imports only from its own stage or those above it in this picture (and `settings`,
@@ -67,29 +75,31 @@
 #![deny(unsafe_code)]
 
 pub mod aggregate;
+pub mod app;
 #[cfg(feature = "cli")]
 pub mod cli;
-pub mod compare_runs;
 pub mod demo;
 pub mod error;
 pub mod geometry;
 pub mod input;
 pub mod merge;
+pub mod model;
 pub mod pipeline;
 pub mod provenance;
 pub use route::protocol;
 pub mod reference;
 pub mod report;
 pub mod route;
-pub mod run;
-pub mod scored;
-pub mod scored_by;
 pub mod settings;
-pub mod shard_stall;
+pub mod stats;
 pub mod warning;
-pub mod watch;
 
-pub use aggregate::report::Report;
+// The run-level doors, also at their earlier paths (`monitor_host::run::...`).
+pub use app::compare_runs::CompareRequest;
+pub use app::merged::MergeRequest;
+pub use app::request::{RequestError, RunSettings, ScoreRequest};
+pub use app::session::{Session, WatchRequest};
+pub use app::{compare_runs, run, scored, watch};
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;
@@ -98,6 +108,7 @@ pub use input::lead_infractions::LeadInfractionsError;
 pub use input::results_file::ResultsError;
 pub use input::route_xml::RouteError;
 pub use input::telemetry::TelemetryError;
+pub use model::Report;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
 pub use run::{
@@ -107,4 +118,4 @@ pub use run::{
 pub use scored::{score_labelled, LabelFiles, Scored};
 pub use settings::{RunOptions, Settings, SettingsError};
 pub use warning::Warning;
-pub use watch::{RoundOutcome, RouteCache, StatusLine, Watcher};
+pub use watch::{RoundOutcome, RoundStatus, RouteCache, Watcher};

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use crate::input::collision::CollisionList;
-use crate::input::duplicates::Duplicate;
 use crate::input::route_xml::RouteError;
+use crate::input::source::Duplicate;
 
 /// One warning. Run-level warnings sit in [`crate::Report::warnings`], route-level ones in
 /// each route's `warnings`.
@@ -673,7 +673,7 @@ impl std::fmt::Display for Warning {
     }
 }
 
-pub use crate::input::duplicates::IDS_SHOWN;
+pub use crate::input::source::IDS_SHOWN;
 
 /// A list of route ids (or keys) as a warning prints it: the first [`IDS_SHOWN`], then how many
 /// more.

@@ -1,19 +1,19 @@
-//! `sds.compare` (spec v1.4 section 11): the library's [`compare_runs`] called with the runs,
-//! [`Settings`] and [`CompareOptions`] built from the keyword arguments (the shared ones through
-//! [`RunKwargs`], as `sds.score`), the `sds-compare/1` report converted to Python objects
+//! `sds.compare` (spec v1.4 section 11): the library's [`CompareRequest`] built from the keyword
+//! arguments (the shared ones through [`RunKwargs`], as `sds.score`), the `sds-compare/1` report converted to Python objects
 //! directly ([`crate::pyser`]). No command line in between. Ctrl-C stops it between routes,
 //! runs and bootstrap blocks, as `sds.score` (`interrupt.rs`).
 
 use std::path::PathBuf;
 
-use monitor_host::aggregate::compare::{CompareError, CompareOptions};
-use monitor_host::compare_runs::{compare_runs, telemetry_beside, RunInputs, Seeds};
+use monitor_host::app::compare_runs::{CompareRequest, RunSpec, Seeds};
+use monitor_host::app::request::ScoreError;
 use monitor_host::error::message;
-use monitor_host::{Error, Inputs, NoProgress, Settings};
+use monitor_host::stats::{CompareError, CompareOptions};
+use monitor_host::{Error, NoProgress};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt};
 
-use crate::errors::{run_error, ConfigError};
+use crate::errors::{run_error, score_error, ConfigError};
 use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
@@ -46,64 +46,61 @@ fn samples(b: &Bound<'_, PyInt>) -> PyResult<usize> {
     })
 }
 
-/// The exception for an error of [`compare_runs`]: how the runs are compared is the caller's
+/// The exception for an error of the comparison: how the runs are compared is the caller's
 /// ([`ConfigError`]); a run's own error keeps its class, its message naming the run.
-fn compare_error(py: Python<'_>, e: &Error) -> PyErr {
+fn compare_error(py: Python<'_>, e: &ScoreError) -> PyErr {
     match e {
-        Error::Compare(_) => ConfigError::new_err(message(e)),
-        Error::InRun { .. } => PyErr::from_type(run_error(e.inner()).get_type(py), message(e)),
-        _ => run_error(e),
+        ScoreError::Run(e @ Error::Compare(_)) => ConfigError::new_err(message(e)),
+        ScoreError::Run(e @ Error::InRun { .. }) => {
+            PyErr::from_type(run_error(e.inner()).get_type(py), message(e))
+        }
+        e => score_error(e),
     }
 }
 
 /// Compares runs (see the Python `sds.compare`, which passes each run as `(name, results,
-/// telemetry or None)` and its keyword arguments as the dict `options`); returns the report
-/// `sds compare --format json` writes, as Python objects. The GIL is released while scoring.
+/// telemetry or None)` and its keyword arguments as the dict `options`): the library's
+/// [`CompareRequest`]; returns the report `sds compare --format json` writes, as Python
+/// objects. The GIL is released while scoring.
 #[pyfunction]
 pub fn compare<'py>(
     py: Python<'py>,
     runs: Vec<(String, PathBuf, Option<PathBuf>)>,
     options: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
+    let settings = options.extract::<RunKwargs<'_>>()?.request()?;
     let kw: CompareKwargs<'_> = options.extract()?;
-    let bootstrap_samples = samples(&kw.bootstrap_samples)?;
-    let runs: Vec<RunInputs> = runs
-        .into_iter()
-        .map(|(name, results, telemetry)| RunInputs {
-            name,
-            inputs: Inputs {
-                telemetry: Some(telemetry.unwrap_or_else(|| telemetry_beside(&results))),
-                results: vec![results],
-                route_xml: kw.routes.clone(),
-                maps: kw.maps.clone(),
-            },
-        })
-        .collect();
-    let seeds: Vec<Seeds> = kw
-        .seeds
-        .into_iter()
-        .map(|(model, runs)| Seeds { model, runs })
-        .collect();
-    let options = CompareOptions {
-        baseline: kw.baseline,
-        common_routes: kw.common_routes,
-        bootstrap_samples,
-        bootstrap_seed: kw.bootstrap_seed,
-        fail_if_worse: kw
-            .fail_if_worse
-            .iter()
-            .map(|m| m.trim().to_string())
-            .collect(),
-        rank: kw.rank,
-        repro_halfwidth: kw.repro_halfwidth,
-    };
-    let compared = py
-        .detach(|| {
-            with_signals(&NoProgress, |p| {
-                compare_runs(&runs, &seeds, &settings, &options, p)
+    let request = CompareRequest {
+        runs: runs
+            .into_iter()
+            .map(|(name, results, telemetry)| RunSpec {
+                name,
+                results,
+                telemetry,
             })
-        })?
+            .collect(),
+        seeds: kw
+            .seeds
+            .into_iter()
+            .map(|(model, runs)| Seeds { model, runs })
+            .collect(),
+        routes: kw.routes,
+        maps: kw.maps,
+        settings,
+        options: CompareOptions {
+            baseline: kw.baseline,
+            common_routes: kw.common_routes,
+            bootstrap_samples: samples(&kw.bootstrap_samples)?,
+            bootstrap_seed: kw.bootstrap_seed,
+            fail_if_worse: kw.fail_if_worse,
+            rank: kw.rank,
+            repro_halfwidth: kw.repro_halfwidth,
+        },
+    };
+    // Settings refused before any run is scored.
+    request.validate().map_err(|e| compare_error(py, &e))?;
+    let compared = py
+        .detach(|| with_signals(&NoProgress, |p| request.compare(p)))?
         .map_err(|e| compare_error(py, &e))?;
     to_python(py, &compared.comparison)
 }

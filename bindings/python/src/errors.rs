@@ -1,6 +1,7 @@
 //! The exception classes, and the host's typed errors mapped onto them. Every message is the
 //! text the `sds` command prints after `sds: error: `.
 
+use monitor_host::app::request::{RequestError, ScoreError};
 use monitor_host::error::message;
 use monitor_host::geometry::map::MapError;
 use monitor_host::pipeline::live::LiveError;
@@ -81,5 +82,29 @@ pub fn live_error(e: &LiveError) -> PyErr {
         LiveError::Map(MapError::Io { .. }) | LiveError::NoMap(_) => IoError::new_err(msg),
         LiveError::NeedsTown { .. } | LiveError::LaneWithoutMap => ConfigError::new_err(msg),
         _ => InputError::new_err(msg),
+    }
+}
+
+/// A request refused before any work: always the caller's ([`ConfigError`]), the option named as
+/// Python spells it.
+pub fn request_error(e: &RequestError) -> PyErr {
+    match e {
+        RequestError::Settings(s) => settings_error(s),
+        RequestError::Interval { given, bound } => {
+            ConfigError::new_err(format!("interval={given}: {bound}"))
+        }
+        RequestError::Timeout { given, bound } => {
+            ConfigError::new_err(format!("timeout={given}: {bound}"))
+        }
+        _ => ConfigError::new_err(message(e)),
+    }
+}
+
+/// A request's error: refused ([`request_error`]), the run's ([`run_error`]), or a table.
+pub fn score_error(e: &ScoreError) -> PyErr {
+    match e {
+        ScoreError::Request(r) => request_error(r),
+        ScoreError::Run(r) => run_error(r),
+        ScoreError::Tables(m) => SdsError::new_err(m.clone()),
     }
 }

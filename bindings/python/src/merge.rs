@@ -1,8 +1,8 @@
-//! `sds.merge` (spec v1.4 §13): the library's [`monitor_host::merge::merge`] over the parts'
-//! files, the merged report converted to Python objects directly ([`crate::pyser`]).
+//! `sds.merge` (spec v1.4 §13): the library's [`MergeRequest`] over the parts' files, the merged report converted to Python objects directly ([`crate::pyser`]).
 
 use std::path::PathBuf;
 
+use monitor_host::app::merged::MergeRequest;
 use monitor_host::error::message;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::merge::MergeError;
@@ -37,8 +37,11 @@ pub fn merge<'py>(
             "duplicates={duplicates:?}: expected \"error\", \"first\", \"last\" or \"all\""
         ))
     })?;
-    let report = py
-        .detach(|| monitor_host::merge::merge(&parts, policy, host))
-        .map_err(|e| merge_error(&e))?;
+    let request = MergeRequest {
+        duplicates: policy,
+        host,
+        ..MergeRequest::new(parts)
+    };
+    let report = py.detach(|| request.merge()).map_err(|e| merge_error(&e))?;
     to_python(py, &report)
 }

@@ -1,12 +1,11 @@
-//! Python keyword arguments → the library's [`RunOptions`] and [`Settings`]: the options every
-//! scored-run function of the package takes (`sds.score`, `sds.compare`), mapped
-//! once, as the command line maps its shared options ([`RunOptions::settings`]).
+//! Python keyword arguments → the library's [`RunSettings`]: the options every scored-run
+//! function of the package takes (`sds.score`, `sds.compare`, `sds.watch`), spelled as Python
+//! spells them; the library maps them to settings ([`RunSettings::settings`]).
 
 use monitor_core::Profile;
+use monitor_host::app::request::RunSettings;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
-use monitor_host::settings::RunOptions;
-use monitor_host::Settings;
 use pyo3::prelude::*;
 use pyo3::types::PyBool;
 
@@ -73,12 +72,13 @@ pub struct RunKwargs<'py> {
 }
 
 impl RunKwargs<'_> {
-    /// The library's options.
+    /// The library's [`RunSettings`] (mapped to settings by the library, as the command line's
+    /// options are).
     ///
     /// # Errors
-    /// [`ConfigError`]: an unknown profile, duplicate policy or route subset; a settings mapping whose items
-    /// are not `(str, value)` pairs.
-    pub fn options(&self) -> PyResult<RunOptions> {
+    /// [`ConfigError`]: an unknown profile, duplicate policy or route subset; a settings mapping
+    /// whose items are not `(str, value)` pairs.
+    pub fn request(&self) -> PyResult<RunSettings> {
         let profile = choice(
             "profile",
             &self.profile,
@@ -98,12 +98,7 @@ impl RunKwargs<'_> {
         .map(|p| (p.name(), p))
         .collect();
         let subsets = [RouteSubset::All, RouteSubset::Found].map(|r| (r.name(), r));
-        let route_subset = self
-            .route_subset
-            .as_deref()
-            .map(|r| choice("route_subset", r, &subsets))
-            .transpose()?;
-        Ok(RunOptions {
+        Ok(RunSettings {
             profile,
             expected_routes: self.expected_routes,
             duplicates: self
@@ -112,31 +107,15 @@ impl RunKwargs<'_> {
                 .map(|d| choice("duplicates", d, &named))
                 .transpose()?,
             allow_missing_telemetry: self.allow_missing_telemetry,
-            threads: self.jobs,
-            // `route_subset` and `protocols` first, as the settings of those names (as the
-            // command line's options): `settings` can override them.
-            overrides: route_subset
-                .map(|r| ("route_subset".to_string(), r.name().to_string()))
-                .into_iter()
-                .chain(
-                    self.protocols
-                        .iter()
-                        .map(|p| ("protocols".to_string(), p.join(","))),
-                )
-                .chain(setting_pairs(self.settings.as_ref())?)
-                .collect(),
+            jobs: self.jobs,
+            route_subset: self
+                .route_subset
+                .as_deref()
+                .map(|r| choice("route_subset", r, &subsets))
+                .transpose()?,
+            protocols: self.protocols.clone(),
+            ability_rule: None,
+            overrides: setting_pairs(self.settings.as_ref())?,
         })
-    }
-
-    /// The settings: [`RunKwargs::options`], then [`RunOptions::settings`] (the mapping the
-    /// command line's shared options go through too).
-    ///
-    /// # Errors
-    /// As [`RunKwargs::options`], and a setting the library refuses ([`ConfigError`], the
-    /// command's message for the same `--set`).
-    pub fn settings(&self) -> PyResult<Settings> {
-        self.options()?
-            .settings()
-            .map_err(|e| crate::errors::settings_error(&e))
     }
 }

@@ -1,16 +1,17 @@
-//! `sds.score`: the library's [`score_labelled`] called with [`Inputs`], [`Settings`] and
-//! [`LabelFiles`] built from the keyword arguments, the report converted to Python objects
+//! `sds.score`: the library's [`ScoreRequest`] built from the keyword arguments ([`Inputs`],
+//! options, [`LabelFiles`]), the report converted to Python objects
 //! directly ([`crate::pyser`]). No command line in between.
 
 use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::{score_labelled, Inputs, LabelFiles, NoProgress, Progress, Settings};
+use monitor_host::app::request::ScoreRequest;
+use monitor_host::{Inputs, LabelFiles, NoProgress, Progress};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::errors::{run_error, ConfigError};
+use crate::errors::{request_error, score_error, ConfigError};
 use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
@@ -78,36 +79,34 @@ pub(crate) fn breakdown(
     Ok((by, files))
 }
 
-/// The keyword arguments of `sds.score` beyond the shared ones ([`RunKwargs`]).
+/// The keyword arguments of `sds.score` (and `sds.watch`) beyond the shared ones
+/// ([`RunKwargs`]).
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
-struct ScoreKwargs {
+pub(crate) struct ScoreKwargs {
     telemetry: Option<PathBuf>,
     routes: Option<PathBuf>,
     maps: Option<PathBuf>,
     group_by: Option<String>,
     labels: Option<PathBuf>,
+    /// `sds.score` only (`sds.watch` draws no bar).
+    #[pyo3(default)]
     progress: bool,
 }
 
 /// Scores a run (see the Python `sds.score`, which passes its keyword arguments as the dict
-/// `options`); returns the report as Python objects, keys in the JSON report's order. The GIL
-/// is released while scoring.
+/// `options`): the library's [`ScoreRequest`]; returns the report as Python objects, keys in
+/// the JSON report's order. The GIL is released while scoring.
 #[pyfunction]
 pub fn score<'py>(
     py: Python<'py>,
     results: Vec<PathBuf>,
     options: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let settings: Settings = options.extract::<RunKwargs<'_>>()?.settings()?;
     let kw: ScoreKwargs = options.extract()?;
-    let (by, files) = breakdown(kw.group_by.as_deref(), kw.labels)?;
-    let inputs = Inputs {
-        results,
-        telemetry: kw.telemetry,
-        route_xml: kw.routes,
-        maps: kw.maps,
-    };
+    let request = score_request(results, options, &kw)?;
+    // Settings refused before the run starts, as before any work.
+    request.validate().map_err(|e| request_error(&e))?;
     let progress = kw.progress;
     // Ctrl-C stops the run between routes and raises `KeyboardInterrupt` (`interrupt.rs`).
     let scored = py.detach(|| {
@@ -116,12 +115,34 @@ pub fn score<'py>(
             Some(b) => b,
             None => &NoProgress,
         };
-        let r = with_signals(inner, |p| score_labelled(&inputs, &settings, &files, by, p));
+        let r = with_signals(inner, |p| request.score(p));
         if let Some(b) = bar {
             b.0.finish_and_clear();
         }
         r
     })?;
-    let scored = scored.map_err(|e| run_error(&e))?;
+    let scored = scored.map_err(|e| score_error(&e))?;
     to_python(py, &scored.report)
+}
+
+/// The request of `sds.score`'s (or `sds.watch`'s) keyword arguments.
+pub(crate) fn score_request(
+    results: Vec<PathBuf>,
+    options: &Bound<'_, PyDict>,
+    kw: &ScoreKwargs,
+) -> PyResult<ScoreRequest> {
+    let settings = options.extract::<RunKwargs<'_>>()?.request()?;
+    let (group_by, labels) = breakdown(kw.group_by.as_deref(), kw.labels.clone())?;
+    Ok(ScoreRequest {
+        inputs: Inputs {
+            results,
+            telemetry: kw.telemetry.clone(),
+            route_xml: kw.routes.clone(),
+            maps: kw.maps.clone(),
+        },
+        settings,
+        labels,
+        group_by,
+        infractions: Vec::new(),
+    })
 }

@@ -31,7 +31,7 @@ pub struct Summary {
     pub invalid_records: usize,
     /// Routes where streaming and batch disagreed (must be empty).
     pub batch_disagreements: Vec<String>,
-    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::aggregate::report::assemble`], which
+    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::model::report::assemble`], which
     /// knows the route set.
     pub bench2drive: Option<Bench2Drive>,
     /// Every asked scoring protocol's aggregates (§8.4, §10.3); absent when none is asked.

@@ -4,7 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::settings::{RunOptions, Settings, SettingsError};
+use crate::app::request::RunSettings;
+use crate::settings::SettingsError;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]
@@ -127,8 +128,8 @@ pub enum GroupArg {
     Route,
 }
 
-/// The options `sds score` and `sds compare` share, defined once; [`RunArgs::settings`] maps
-/// them to the library's [`Settings`] through [`RunOptions`], as the Python `sds.score` does.
+/// The options `sds score` and `sds compare` share, defined once; [`RunArgs::request`] maps
+/// them to the library's [`RunSettings`], as the Python `sds.score` does.
 #[derive(Debug, clap::Args)]
 pub struct RunArgs {
     /// Bench2Drive route XML: the lateral reference, the route set (its routes without a
@@ -168,45 +169,40 @@ pub struct RunArgs {
 }
 
 impl RunArgs {
-    /// The library's options: these, the duplicate policy (`sds score` only), and `--set`
-    /// split into names and values.
+    /// The library's [`RunSettings`]: these options, the duplicate policy and route subset
+    /// (`sds score` and `sds watch` only), and `--set` split into names and values.
     ///
     /// # Errors
     /// [`SettingsError::Syntax`]: a `--set` without `=`.
-    pub fn options(&self, duplicates: Option<DuplicatesArg>) -> Result<RunOptions, SettingsError> {
-        // Option flags first, as settings by name: `--set` after them overrides them.
-        let flags = self
-            .protocol
+    pub fn request(
+        &self,
+        duplicates: Option<DuplicatesArg>,
+        route_subset: Option<RouteSubsetArg>,
+    ) -> Result<RunSettings, SettingsError> {
+        let overrides = self
+            .set
             .iter()
-            .map(|list| Ok(("protocols".to_string(), list.clone())))
-            .chain(
-                self.ability_rule
-                    .iter()
-                    .map(|rule| Ok(("ability_rule".to_string(), rule.clone()))),
-            );
-        let overrides = flags
-            .chain(self.set.iter().map(|s| {
+            .map(|s| {
                 s.split_once('=')
                     .map(|(n, v)| (n.to_string(), v.to_string()))
                     .ok_or_else(|| SettingsError::Syntax(s.clone()))
-            }))
+            })
             .collect::<Result<_, _>>()?;
-        Ok(RunOptions {
+        Ok(RunSettings {
             profile: self.profile.profile(),
             expected_routes: self.expected_routes,
             duplicates: duplicates.map(DuplicatesArg::policy),
             allow_missing_telemetry: self.allow_missing_telemetry,
-            threads: self.jobs,
+            jobs: self.jobs,
+            route_subset: route_subset.map(RouteSubsetArg::subset),
+            // One list, as Python passes it (joined again with commas: the text given).
+            protocols: self
+                .protocol
+                .as_ref()
+                .map(|l| l.split(',').map(str::to_string).collect()),
+            ability_rule: self.ability_rule.clone(),
             overrides,
         })
-    }
-
-    /// The settings: [`RunArgs::options`], then [`RunOptions::settings`].
-    ///
-    /// # Errors
-    /// An invalid `--set`.
-    pub fn settings(&self, duplicates: Option<DuplicatesArg>) -> Result<Settings, SettingsError> {
-        self.options(duplicates)?.settings()
     }
 }
 

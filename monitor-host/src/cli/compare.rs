@@ -1,5 +1,5 @@
-//! `sds compare` (spec v1.4 section 11): the command line over
-//! [`crate::compare_runs::compare_runs`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
+//! `sds compare` (spec v1.4 section 11): the command line over the library's
+//! [`CompareRequest`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
 //! `--seeds` groups; the output is the `sds-compare/1` report or its tables; `--fail-if-worse`
 //! exits 5 after writing it.
 
@@ -10,12 +10,12 @@ use anyhow::Result;
 use super::args::{CompareArgs, Format};
 use super::output::write_output;
 use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
-use crate::aggregate::compare::CompareOptions;
-use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
+use crate::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
 use crate::report::grid::Style;
 use crate::report::long_tables::{compare_tables, TABLE_NAMES};
 use crate::report::{compare_table, html};
-use crate::{Inputs, NoProgress, Warning};
+use crate::stats::CompareOptions;
+use crate::{NoProgress, Warning};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
@@ -63,60 +63,61 @@ pub fn parse_run(arg: &str) -> (String, PathBuf, Option<PathBuf>) {
 #[error("{0}")]
 pub struct CompareUsage(pub String);
 
-/// The runs, seeds and options of the arguments.
+/// The request of the arguments.
 ///
 /// # Errors
-/// [`CompareUsage`] for a malformed `--seeds` or `--telemetry-of`, or one naming no run.
-pub fn plan(
-    args: &CompareArgs,
-) -> Result<(Vec<RunInputs>, Vec<Seeds>, CompareOptions), CompareUsage> {
+/// [`CompareUsage`] for a malformed `--seeds` or `--telemetry-of`, or one naming no run;
+/// [`crate::settings::SettingsError`] for a `--set` without `=`.
+pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
     let usage = |m: String| CompareUsage(m);
-    let mut runs = Vec::new();
-    for arg in &args.runs {
-        let (name, results, telemetry) = parse_run(arg);
-        runs.push(RunInputs {
-            name,
-            inputs: Inputs {
-                telemetry: Some(telemetry.unwrap_or_else(|| telemetry_beside(&results))),
-                results: vec![results],
-                route_xml: args.run.routes.clone(),
-                maps: args.run.maps.clone(),
-            },
-        });
-    }
+    let settings = args.run.request(None, None)?;
+    let mut runs: Vec<RunSpec> = args
+        .runs
+        .iter()
+        .map(|arg| {
+            let (name, results, telemetry) = parse_run(arg);
+            RunSpec {
+                name,
+                results,
+                telemetry,
+            }
+        })
+        .collect();
     for t in &args.telemetry_of {
         let Some((name, dir)) = t.split_once('=') else {
-            return Err(usage(format!("--telemetry-of {t}: expected NAME=DIR")));
+            return Err(usage(format!("--telemetry-of {t}: expected NAME=DIR")).into());
         };
         let Some(run) = runs.iter_mut().find(|r| r.name == name) else {
-            return Err(usage(format!("--telemetry-of {t}: {name} is not a run")));
+            return Err(usage(format!("--telemetry-of {t}: {name} is not a run")).into());
         };
-        run.inputs.telemetry = Some(PathBuf::from(dir));
+        run.telemetry = Some(PathBuf::from(dir));
     }
     let mut seeds = Vec::new();
     for s in &args.seeds {
         let Some((model, list)) = s.split_once('=') else {
-            return Err(usage(format!("--seeds {s}: expected MODEL=RUN,RUN,...")));
+            return Err(usage(format!("--seeds {s}: expected MODEL=RUN,RUN,...")).into());
         };
         seeds.push(Seeds {
             model: model.to_string(),
             runs: list.split(',').map(|r| r.trim().to_string()).collect(),
         });
     }
-    let options = CompareOptions {
-        baseline: args.baseline.clone(),
-        common_routes: args.common_routes,
-        bootstrap_samples: args.bootstrap_samples,
-        bootstrap_seed: args.bootstrap_seed,
-        fail_if_worse: args
-            .fail_if_worse
-            .iter()
-            .map(|m| m.trim().to_string())
-            .collect(),
-        rank: args.rank,
-        repro_halfwidth: args.repro_halfwidth,
-    };
-    Ok((runs, seeds, options))
+    Ok(CompareRequest {
+        runs,
+        seeds,
+        routes: args.run.routes.clone(),
+        maps: args.run.maps.clone(),
+        settings,
+        options: CompareOptions {
+            baseline: args.baseline.clone(),
+            common_routes: args.common_routes,
+            bootstrap_samples: args.bootstrap_samples,
+            bootstrap_seed: args.bootstrap_seed,
+            fail_if_worse: args.fail_if_worse.clone(),
+            rank: args.rank,
+            repro_halfwidth: args.repro_halfwidth,
+        },
+    })
 }
 
 /// The runs' missing-map warnings ([`Warning::NoMap`], [`Warning::NoMaps`]) said once for the
@@ -195,9 +196,7 @@ pub fn maps_warning(runs: &[(&str, &Warning)], maps: Option<&Path>) -> Option<St
 /// # Errors
 /// A usage error, a run's error, or a comparison error.
 pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
-    let settings = args.run.settings(None)?;
-    let (runs, seeds, options) = plan(args)?;
-    let compared = compare_runs(&runs, &seeds, &settings, &options, &NoProgress)?;
+    let compared = request(args)?.compare(&NoProgress).map_err(super::failed)?;
     let mut problems = false;
     let mut no_maps: Vec<(&str, &Warning)> = Vec::new();
     for m in &compared.models {

@@ -1,4 +1,4 @@
-//! `sds merge PART...` (spec v1.4 §13): the library's [`crate::merge::merge`], rendered as
+//! `sds merge PART...` (spec v1.4 §13): the library's [`MergeRequest`], rendered as
 //! `sds score` renders its report.
 
 use std::path::PathBuf;
@@ -8,7 +8,7 @@ use anyhow::Result;
 use super::args::{DuplicatesArg, Format};
 use super::output::write_output;
 use super::{style, write_rerun_list};
-use crate::aggregate::groups::GroupBy;
+use crate::app::merged::MergeRequest;
 use crate::input::duplicates::DuplicatePolicy;
 use crate::report::table::{self, TableOptions};
 use crate::report::{csv, html, json, long_tables};
@@ -67,14 +67,16 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
             .collect();
         super::output::refuse_clash(out, &tables, "a table")?;
     }
-    let policy = args
-        .duplicates
-        .map_or(DuplicatePolicy::Error, DuplicatesArg::policy);
-    let mut report = crate::merge::merge(&args.parts, policy, host)?;
-    if report.groups.is_none() && style(args.format).is_some() {
+    let report = MergeRequest {
+        parts: args.parts.clone(),
+        duplicates: args
+            .duplicates
+            .map_or(DuplicatePolicy::Error, DuplicatesArg::policy),
+        host,
         // The table formats break down by scenario, as `sds score` does.
-        report.group(GroupBy::Scenario, None)?;
+        by_scenario: style(args.format).is_some(),
     }
+    .merge()?;
     for w in &report.warnings {
         say!("sds: warning: {w}");
     }

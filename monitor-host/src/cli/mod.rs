@@ -41,17 +41,17 @@ use anyhow::Result;
 use clap::Parser;
 
 use crate::aggregate::groups::GroupBy;
+use crate::app::request::{RequestError, ScoreError, ScoreRequest};
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
 use crate::report::{csv, html, json, long_tables};
 use crate::{
-    demo, route_frames, score_labelled, Inputs, LabelFiles, Progress, Settings, SettingsError,
-    TelemetryState,
+    demo, route_frames, Inputs, LabelFiles, Progress, Settings, SettingsError, TelemetryState,
 };
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
 
-pub use crate::scored::Scored;
+pub use crate::app::scored::Scored;
 use output::write_output;
 
 /// Exit code: the report was written, but some route has a problem.
@@ -120,7 +120,7 @@ fn exit_code(e: &anyhow::Error) -> i32 {
         };
     }
     if e.downcast_ref::<SettingsError>().is_some()
-        || e.downcast_ref::<UnknownInfraction>().is_some()
+        || e.downcast_ref::<RequestError>().is_some()
         || e.downcast_ref::<output::OutputClash>().is_some()
     {
         return EXIT_USAGE;
@@ -245,18 +245,22 @@ fn run(cli: Cli) -> Result<i32> {
     }
 }
 
-/// The settings of `sds score`: its options, then `--set` overrides in order.
+/// The request of `sds score` (and of `sds watch`'s run): the files, the options (`--set`
+/// last), the label files, the breakdown (`--group-by`, or by scenario for the table formats).
 ///
 /// # Errors
-/// An invalid `--set`.
-pub fn settings(args: &ScoreArgs) -> Result<Settings, SettingsError> {
-    let mut options = args.run.options(args.duplicates)?;
-    if let Some(r) = args.route_subset {
-        options
-            .overrides
-            .insert(0, ("route_subset".into(), r.subset().name().into()));
-    }
-    options.settings()
+/// A `--set` without `=`.
+pub fn request(args: &ScoreArgs) -> Result<ScoreRequest, SettingsError> {
+    Ok(ScoreRequest {
+        inputs: inputs(args),
+        settings: args.run.request(args.duplicates, args.route_subset)?,
+        labels: label_files(args),
+        group_by: args
+            .group_by
+            .map(group_by)
+            .or(style(args.format).map(|_| GroupBy::Scenario)),
+        infractions: args.infractions.clone(),
+    })
 }
 
 /// The files `sds score` reads.
@@ -269,14 +273,14 @@ pub fn inputs(args: &ScoreArgs) -> Inputs {
     }
 }
 
-/// `--infraction NAME` naming no infraction list of a record: a mistyped name would add a
-/// column of zeros.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error(
-    "--infraction {0}: no such infraction list; the lists are {known}",
-    known = crate::input::record::KNOWN_LISTS.join(", ")
-)]
-pub struct UnknownInfraction(pub String);
+/// A request's error as the command line reports it (its exit code from the error inside).
+fn failed(e: ScoreError) -> anyhow::Error {
+    match e {
+        ScoreError::Request(e) => e.into(),
+        ScoreError::Run(e) => e.into(),
+        ScoreError::Tables(m) => anyhow::Error::msg(m),
+    }
+}
 
 /// The label files `sds score` reads.
 fn label_files(args: &ScoreArgs) -> LabelFiles {
@@ -298,37 +302,13 @@ fn group_by(g: GroupArg) -> GroupBy {
     }
 }
 
-/// Everything `sds score` does before rendering: the settings, then the library's
-/// [`score_labelled`] (the run scored, telling `progress`, the label files read and checked, the
-/// breakdown: `--group-by`, or by scenario for the table formats).
+/// Everything `sds score` does before rendering: its [`request`], scored (telling `progress`).
 ///
 /// # Errors
-/// A typed error inside (a [`crate::Error`] or [`SettingsError`]; `downcast_ref` tells which).
+/// A typed error inside (a [`crate::Error`], [`RequestError`] or [`SettingsError`];
+/// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
-    let settings = settings(args)?;
-    if let Some(bad) = args
-        .infractions
-        .iter()
-        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
-    {
-        return Err(UnknownInfraction(bad.clone()).into());
-    }
-    let tables = matches!(
-        args.format,
-        Format::Table | Format::Markdown | Format::Latex
-    );
-    let by = match (args.group_by, tables) {
-        (Some(g), _) => Some(group_by(g)),
-        (None, true) => Some(GroupBy::Scenario),
-        (None, false) => None,
-    };
-    Ok(score_labelled(
-        &inputs(args),
-        &settings,
-        &label_files(args),
-        by,
-        progress,
-    )?)
+    request(args)?.score(progress).map_err(failed)
 }
 
 fn style(format: Format) -> Option<Style> {
@@ -421,8 +401,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         say!("sds: note: {note}");
     }
     let bytes = render(args, &report)?;
-    let mut inputs_read = report.files_read.clone();
-    inputs_read.extend(label_files(args).files().cloned());
+    let inputs_read = request(args)?.inputs_read(&report);
     write_all(args, &report, &inputs_read, || {
         write_output(args.output.as_deref(), &bytes, &inputs_read)
     })?;
@@ -519,7 +498,7 @@ fn write_all(
         output::refuse_clash(out, &output::trace_paths(dir, report), "a trace")?;
     }
     let tables = match &args.tables {
-        Some(_) => Some(run_tables(args, report)?),
+        Some(_) => Some(request(args)?.long_tables(report).map_err(failed)?),
         None => None,
     };
     let written = (|| -> Result<_> {
@@ -565,17 +544,6 @@ fn write_all(
         write_rerun_list(file, report, inputs_read)?;
     }
     Ok(())
-}
-
-/// The long tables of `sds score --tables` (spec v1.4 §15): the report's routes and events, and
-/// the frames of every route with telemetry, read again as `sds frames` reads them.
-fn run_tables(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<(&'static str, Vec<u8>)>> {
-    let frames: Vec<_> = crate::run_frames(&inputs(args), &settings(args)?)?
-        .into_iter()
-        .filter_map(|(source, f)| Some((source, f.ok()?)))
-        .collect();
-    let tables = long_tables::long_tables(report, &frames).map_err(anyhow::Error::msg)?;
-    tables.files().map_err(anyhow::Error::msg)
 }
 
 /// What `--traces` left out: aligned collisions past the first

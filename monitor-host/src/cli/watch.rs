@@ -1,17 +1,19 @@
 //! `sds watch`: the report of an evaluation kept current while it runs (spec §12), over the
-//! library's [`crate::watch::Watcher`]. Rounds every `--interval` seconds; after each scored
+//! library's [`crate::app::session::Session`] (the rounds, the stop rule, the final reading);
+//! this file is the command's spelling, its wait (signals) and its output. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
 //! watch runs) and one status line is printed; the last round's report, written when the route
 //! set is complete, on `--timeout`, or on Ctrl-C / SIGTERM, is `sds score`'s, byte for byte.
 
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
 use super::args::{Format, ScoreArgs};
 use super::output::{self, write_output};
-use crate::watch::{RoundOutcome, StatusLine, Watcher, RACY};
+use crate::app::request::RequestError;
+use crate::app::session::{Step, Stop, Wake, WatchRequest};
+use crate::app::watch::{RoundOutcome, RoundStatus};
 
 /// Arguments of `sds watch`.
 #[derive(Debug, clap::Args)]
@@ -33,29 +35,8 @@ pub struct WatchArgs {
     pub status_json: bool,
     /// With several shard checkpoints: warn when a shard has written no record for longer than
     /// K times its median route time (its worker may have died).
-    #[arg(long, value_name = "K", default_value_t = crate::shard_stall::DEFAULT_FACTOR)]
+    #[arg(long, value_name = "K", default_value_t = crate::model::shard_stall::DEFAULT_FACTOR)]
     pub stall_factor: f64,
-}
-
-/// Why the watch stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Stop {
-    Complete,
-    Once,
-    Timeout,
-    Signal,
-}
-
-impl Stop {
-    /// The status line's `stopped`.
-    fn name(self) -> &'static str {
-        match self {
-            Stop::Complete => "complete",
-            Stop::Once => "once",
-            Stop::Timeout => "timeout",
-            Stop::Signal => "interrupted",
-        }
-    }
 }
 
 /// Runs `sds watch`; returns the exit code (as `sds score`'s for the final report).
@@ -65,72 +46,57 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
         return Ok(super::EXIT_USAGE);
     };
-    let interval = match crate::watch::interval(args.interval) {
-        Ok(d) => d,
-        Err(bound) => {
-            say!("sds: error: --interval {}: {bound}", args.interval);
+    let request = WatchRequest {
+        score: super::request(a)?,
+        interval: args.interval,
+        timeout: args.timeout,
+        once: args.once,
+        stall_factor: args.stall_factor,
+    };
+    let mut session = match request.session() {
+        Ok(s) => s,
+        Err(RequestError::Interval { given, bound }) => {
+            say!("sds: error: --interval {given}: {bound}");
             return Ok(super::EXIT_USAGE);
         }
-    };
-    let timeout = match args.timeout.map(crate::watch::timeout).transpose() {
-        Ok(t) => t,
-        Err(bound) => {
+        Err(RequestError::Timeout { given, bound }) => {
+            say!("sds: error: --timeout {given}: {bound}");
+            return Ok(super::EXIT_USAGE);
+        }
+        Err(RequestError::StallFactor { given }) => {
             say!(
-                "sds: error: --timeout {}: {bound}",
-                args.timeout.unwrap_or_default()
+                "sds: error: --stall-factor {given}: expected a number above 0 (default {})",
+                crate::model::shard_stall::DEFAULT_FACTOR
             );
             return Ok(super::EXIT_USAGE);
         }
-    };
-    if !(args.stall_factor.is_finite() && args.stall_factor > 0.0) {
-        say!(
-            "sds: error: --stall-factor {}: expected a number above 0 (default {})",
-            args.stall_factor,
-            crate::shard_stall::DEFAULT_FACTOR
-        );
-        return Ok(super::EXIT_USAGE);
-    }
-    let settings = super::settings(a)?;
-    if let Some(bad) = a
-        .infractions
-        .iter()
-        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
-    {
-        return Err(super::UnknownInfraction(bad.clone()).into());
-    }
-    let tables = super::style(a.format).is_some();
-    let by = match (a.group_by, tables) {
-        (Some(g), _) => Some(super::group_by(g)),
-        (None, true) => Some(crate::aggregate::groups::GroupBy::Scenario),
-        (None, false) => None,
+        Err(e) => return Err(e.into()),
     };
     output::defer_signals();
     super::refuse_output_clashes(a)?;
-    let mut watcher = Watcher::new(super::inputs(a), settings, super::label_files(a), by, RACY);
-    watcher.set_stall_factor(args.stall_factor);
     let mut stalled_seen = std::collections::HashSet::new();
-    let start = Instant::now();
     let mut last = None;
-    let stop = loop {
+    let end = loop {
         // An error no later round can mend (a mistyped --routes, duplicate ids...) stops here,
         // as `sds score` would.
-        let complete = match watcher.round()? {
-            RoundOutcome::Retry {
-                reason,
-                failures,
-                status,
-            } => {
-                status_retry(args, &status, &reason, failures);
-                false
-            }
-            RoundOutcome::Scored {
-                scored,
-                changed,
-                status,
+        match session.next(&mut wait)? {
+            Step::Round {
+                outcome:
+                    RoundOutcome::Retry {
+                        reason,
+                        failures,
+                        status,
+                    },
+                ..
+            } => status_retry(args, &status, &reason, failures),
+            Step::Round {
+                outcome: RoundOutcome::Scored { scored, status, .. },
                 ..
             } => {
                 status_line(args, &status);
-                for s in crate::shard_stall::newly_stalled(&mut stalled_seen, &status.stalled) {
+                for s in
+                    crate::model::shard_stall::newly_stalled(&mut stalled_seen, &status.stalled)
+                {
                     say!("sds: warning: {}", s.message(args.stall_factor));
                 }
                 // A live round that cannot be written is retried next round; only the final
@@ -144,45 +110,20 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                     );
                 }
                 last = Some((scored.report, status.round));
-                // Complete, and one more round that found nothing new: the files are final.
-                status.complete && !changed
             }
-        };
-        if complete {
-            break Stop::Complete;
-        }
-        if args.once {
-            break Stop::Once;
-        }
-        match sleep(interval, start, timeout) {
-            Some(stop) => break stop,
-            None => continue,
+            Step::Stopped(end) => break end,
+            // The command's wait never aborts.
+            Step::Aborted => return Ok(1),
         }
     };
-    // After a signal or a timeout the inputs are read once more (they may have changed since
-    // the last round), retried a few times on a half-written file.
-    let mut stale = None;
-    if matches!(stop, Stop::Timeout | Stop::Signal) {
-        for _ in 0..5 {
-            match watcher.round()? {
-                RoundOutcome::Scored { scored, status, .. } => {
-                    last = Some((scored.report, status.round));
-                    stale = None;
-                    break;
-                }
-                RoundOutcome::Retry { reason, .. } => {
-                    stale = Some(reason);
-                    std::thread::sleep(Duration::from_millis(200));
-                }
-            }
-        }
+    if let Some((scored, status)) = end.reread {
+        last = Some((scored.report, status.round));
     }
     let Some((report, round)) = last else {
         say!("sds: watch: no round could be scored; no report written");
         return Ok(1);
     };
-    let mut inputs_read = report.files_read.clone();
-    inputs_read.extend(super::label_files(a).files().cloned());
+    let inputs_read = request.score.inputs_read(&report);
     // As `sds score`: the traces, the figures, the tables, then the report, all or nothing.
     super::write_all(a, &report, &inputs_read, || {
         write_round(a, &out, &report, None)
@@ -191,13 +132,9 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: warning: {w}");
     }
     if args.status_json {
-        let end = crate::watch::StatusLine {
-            stopped: Some(stop.name().into()),
-            ..watcher.last_status().clone()
-        };
-        print_line(&end.json());
+        print_line(&end.status.json());
     }
-    if let Some(reason) = stale {
+    if let Some(reason) = end.stale {
         say!(
             "sds: error: {reason}: a results file was still half-written when the watch stopped; \
              {} holds the report of round {round}, not of the final files (run `sds score` once \
@@ -206,11 +143,11 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         );
         return Ok(1);
     }
-    let why = match stop {
+    let why = match end.stop {
         Stop::Complete => "the route set is complete",
         Stop::Once => "--once",
         Stop::Timeout => "--timeout",
-        Stop::Signal => "interrupted",
+        Stop::Interrupted => "interrupted",
     };
     say!("sds: watch stopped ({why}); final report {}", out.display());
     Ok(if report.has_problems() {
@@ -220,19 +157,17 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     })
 }
 
-/// Sleeps one interval in short steps; `Some` when the watch must stop.
-fn sleep(interval: Duration, start: Instant, timeout: Option<Duration>) -> Option<Stop> {
-    let until = Instant::now() + interval;
+/// The command's wait between rounds: sleeps in short steps, [`Wake::Stop`] on Ctrl-C or
+/// SIGTERM.
+fn wait(d: Duration) -> Wake {
+    let until = Instant::now() + d;
     loop {
         if output::stop_requested() {
-            return Some(Stop::Signal);
-        }
-        if timeout.is_some_and(|t| start.elapsed() >= t) {
-            return Some(Stop::Timeout);
+            return Wake::Stop;
         }
         let now = Instant::now();
         if now >= until {
-            return None;
+            return Wake::Elapsed;
         }
         std::thread::sleep((until - now).min(Duration::from_millis(50)));
     }
@@ -244,16 +179,14 @@ fn write_round(
     a: &ScoreArgs,
     out: &std::path::Path,
     report: &crate::Report,
-    live: Option<(f64, &StatusLine)>,
+    live: Option<(f64, &RoundStatus)>,
 ) -> Result<()> {
     let mut bytes = super::render(a, report)?;
     if let (Format::Html, Some((secs, status))) = (a.format, live) {
         bytes = crate::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
             .into_bytes();
     }
-    let mut inputs: Vec<PathBuf> = report.files_read.clone();
-    inputs.extend(super::label_files(a).files().cloned());
-    write_output(Some(out), &bytes, &inputs)
+    write_output(Some(out), &bytes, &super::request(a)?.inputs_read(report))
 }
 
 fn pct(x: Option<f64>) -> String {
@@ -267,7 +200,7 @@ fn print_line(line: &str) {
 }
 
 /// One status line (spec §12): JSON (serde_json, valid whatever the route ids hold) or text.
-fn status_line(args: &WatchArgs, s: &StatusLine) {
+fn status_line(args: &WatchArgs, s: &RoundStatus) {
     if args.status_json {
         print_line(&s.json());
         return;
@@ -291,12 +224,12 @@ fn status_line(args: &WatchArgs, s: &StatusLine) {
         pct(s.ds_n),
         pct(s.sds_done),
         pct(s.sds_n),
-        s.seconds_left.map_or_else(|| "?".into(), crate::watch::duration_text),
+        s.seconds_left.map_or_else(|| "?".into(), crate::report::status::duration_text),
         s.rescored
     );
 }
 
-fn status_retry(args: &WatchArgs, s: &StatusLine, reason: &str, failures: usize) {
+fn status_retry(args: &WatchArgs, s: &RoundStatus, reason: &str, failures: usize) {
     let round = s.round;
     if args.status_json {
         print_line(&s.json());

@@ -13,8 +13,7 @@ use std::path::{Path, PathBuf};
 
 use crate::input::record::LoadedRecord;
 
-/// How many ids a list in a warning or a note names before it says how many more there are.
-pub const IDS_SHOWN: usize = 10;
+pub use crate::input::source::{Duplicate, Source, IDS_SHOWN};
 
 /// What to do when two records share a `route_id` **\[decision\]**.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -58,32 +57,6 @@ impl DuplicatePolicy {
     /// The policy of this name.
     pub fn from_name(name: &str) -> Option<Self> {
         Self::ALL.into_iter().find(|p| p.name() == name)
-    }
-}
-
-/// Where a record came from: the file as it was found (the input argument, or the argument
-/// joined with the path inside a directory) and its index in that file.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
-pub struct Source {
-    /// The results file.
-    pub file: PathBuf,
-    /// The record's index in it (0-based).
-    pub index: usize,
-}
-
-impl Source {
-    /// The source of a loaded record.
-    pub fn of(r: &LoadedRecord) -> Self {
-        Source {
-            file: r.source.clone(),
-            index: r.index,
-        }
-    }
-}
-
-impl std::fmt::Display for Source {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} record {}", self.file.display(), self.index)
     }
 }
 
@@ -182,26 +155,6 @@ pub struct Dropped {
     pub source: Source,
     /// The copy scored.
     pub kept: Source,
-}
-
-/// One duplicated route id and every copy of it, in input order.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Duplicate {
-    /// The route id.
-    pub route_id: String,
-    /// Every copy's source.
-    pub copies: Vec<Source>,
-}
-
-impl std::fmt::Display for Duplicate {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}:", self.route_id)?;
-        for (i, c) in self.copies.iter().enumerate() {
-            let sep = if i == 0 { " " } else { ", " };
-            write!(f, "{sep}{c}")?;
-        }
-        Ok(())
-    }
 }
 
 /// A results file that holds (nearly) every route id of the run: with another such file, the

@@ -32,5 +32,6 @@ pub mod record;
 pub mod results_file;
 pub mod route_set;
 pub mod route_xml;
+pub mod source;
 pub mod stored;
 pub mod telemetry;

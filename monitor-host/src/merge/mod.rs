@@ -1,7 +1,7 @@
 //! Merging reports scored where the files are (`SDS-SPEC.md` v1.4 §13): each node scores its
 //! shard with `sds score`; [`merge`] reads the parts' JSON reports back into the rows `sds
 //! score` aggregated ([`row::row_from_json`]) and builds the report with the same code
-//! ([`crate::aggregate::report::assemble_rows`]), so the merge equals `sds score` over the union
+//! ([`crate::model::report::assemble_rows`]), so the merge equals `sds score` over the union
 //! of the parts' inputs (every field but `inputs` and `warnings`), and a merge of merges equals
 //! the merge of all parts.
 //!
@@ -27,12 +27,11 @@ pub mod row;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
 use crate::aggregate::groups::GroupBy;
-use crate::aggregate::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
 use crate::input::duplicates::{Dropped, DuplicatePolicy, Kept, Source};
+use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
 use crate::pipeline::outcome::RouteState;
 use crate::provenance::{sha256_hex, FileDigest, Provenance};
 use crate::route::row::{InfractionCounts, RouteReport};
@@ -41,18 +40,7 @@ use crate::warning::Warning;
 
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
 
-/// One part of a merged report, as its `inputs.parts` lists it.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PartInputs {
-    /// The part's file, as given.
-    pub file: PathBuf,
-    /// sha256 of the part's bytes.
-    pub sha256: String,
-    /// The `sds` version that scored the part (null for a report without provenance).
-    pub sds_version: Option<String>,
-    /// The part's own `inputs`, as it wrote them.
-    pub inputs: Value,
-}
+pub use crate::model::parts::PartInputs;
 
 /// Why parts cannot be merged. Every message names the part(s) and the field or setting.
 #[derive(Debug, thiserror::Error)]
@@ -356,7 +344,7 @@ fn text(v: &Value) -> String {
 }
 
 /// The first key (in the report's order) whose value differs, with both values (also
-/// [`crate::scored_by`]'s).
+/// [`crate::app::scored_by`]'s).
 pub(crate) fn first_difference(
     a: &Value,
     b: &Value,

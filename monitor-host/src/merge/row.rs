@@ -1,5 +1,5 @@
 //! A report's per-route row read back from its JSON (`SDS-SPEC.md` v1.4 §13): the very
-//! [`RouteReport`] `sds score` aggregated, so that [`crate::aggregate::report::assemble_rows`]
+//! [`RouteReport`] `sds score` aggregated, so that [`crate::model::report::assemble_rows`]
 //! computes a merged report with the code that computed each part. Every field the report
 //! writes is read; what it does not write (collision traces, chunk verdicts) stays empty: the
 //! parts' traces are referenced, not re-read.

@@ -3,10 +3,10 @@
 //! paired table (per model and metric: delta, 95 % interval, `p_better`, verdict), and the flips.
 //! Rendered as text, Markdown or LaTeX by [`crate::report::grid`].
 
-use crate::aggregate::compare::models::Stat;
-use crate::aggregate::compare::Comparison;
 use crate::report::grid::Grid;
 use crate::report::table::{BENCH2DRIVE_COLUMNS, TABLE1_COLUMNS};
+use crate::stats::models::Stat;
+use crate::stats::Comparison;
 
 /// `mean ± std` (std only when there are seeds), scaled, or `-`.
 fn stat(s: &Stat, digits: usize, scale: f64) -> String {
@@ -33,7 +33,7 @@ fn digits(metric: &str) -> usize {
 /// The per-model tables, the paired table and the flips.
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+/// use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 /// use monitor_host::report::{compare_table::compare_tables, grid::Style, table::render};
 /// use monitor_host::{demo, score_run, Inputs, Settings};
 /// let dir = tempfile::tempdir()?;

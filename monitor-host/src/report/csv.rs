@@ -3,7 +3,7 @@
 //! `file#index`. String cells from the inputs are neutralised against formula injection
 //! ([`crate::report::escape::csv_cell`]); numbers are written as numbers.
 
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::report::escape::csv_cell;
 use crate::report::protocol_csv;
 use crate::route::row::RouteReport;

@@ -10,9 +10,9 @@
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::aggregate::compare::bootstrap::Verdict;
-use crate::aggregate::compare::Comparison;
 use crate::report::escape::printable;
+use crate::stats::bootstrap::Verdict;
+use crate::stats::Comparison;
 
 const FONT: &str = "sans-serif";
 const BETTER: RGBColor = RGBColor(42, 160, 90);
@@ -26,7 +26,7 @@ const PANEL: u32 = 300;
 /// The forest plot as an SVG document (`no data` in the rows where nothing could be compared).
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+/// use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 /// use monitor_host::{demo, score_run, Inputs, Settings};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;

@@ -1,7 +1,7 @@
 //! The JSON rendering of the report (`SDS-SPEC.md` v1.2 §10): pretty-printed, keys in the
 //! model's field order, one trailing newline.
 
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 
 /// The report as pretty-printed JSON with a trailing newline.
 ///

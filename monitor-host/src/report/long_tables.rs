@@ -17,8 +17,8 @@ use std::fmt;
 
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
-use crate::aggregate::report::Report;
 use crate::input::duplicates::Source;
+use crate::model::report::Report;
 use crate::report::escape::{csv_cell, is_hidden};
 use crate::RouteFrames;
 

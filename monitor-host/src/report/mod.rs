@@ -1,5 +1,5 @@
 //! The renderings of the report (`SDS-SPEC.md` v1.2 §10): the model a run produces
-//! ([`Report`], built in [`crate::aggregate::report`] from the rows of [`crate::route::row`])
+//! ([`Report`], built in [`crate::model::report`] from the rows of [`crate::route::row`])
 //! turned into text. Nothing here computes a score.
 //!
 //! | rendering | module |
@@ -36,9 +36,10 @@ pub mod protocol_table;
 pub mod rerun_list;
 pub mod route_chart;
 pub mod seeds_table;
+pub mod status;
 pub mod table;
 pub mod trace_csv;
 pub mod waterfall;
 
-pub use crate::aggregate::report::Report;
+pub use crate::model::report::Report;
 pub use crate::route::row::RouteReport;

@@ -2,7 +2,7 @@
 //! IS, SR, and HM for `f2d` — in text, Markdown, LaTeX and HTML. `docs/PROTOCOLS.md` explains
 //! every protocol.
 
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::report::grid::Grid;
 use crate::route::protocol::aggregate::ProtocolScores;
 use crate::route::protocol::Protocol;

@@ -12,7 +12,7 @@
 //! assert_eq!(xml_id("my_route"), "my_route");
 //! ```
 
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::pipeline::outcome::RouteState;
 
 /// Why a route is run again.

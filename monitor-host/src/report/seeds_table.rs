@@ -3,9 +3,9 @@
 //! std and the seeds a ±h interval needs), and the flaky routes (route, scenario, town, each
 //! sample's outcome). Every cell goes through [`crate::report::grid`]'s escaping.
 
-use crate::aggregate::compare::rank::RankRow;
-use crate::aggregate::compare::Comparison;
 use crate::report::grid::Grid;
+use crate::stats::rank::RankRow;
+use crate::stats::Comparison;
 
 fn num(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"))
@@ -23,7 +23,7 @@ pub fn rank_cell(r: &RankRow) -> String {
 /// a route: seeds or repetitions), and the flaky routes (when there are any).
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+/// use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 /// use monitor_host::report::{grid::Style, seeds_table::seed_tables, table::render};
 /// use monitor_host::{demo, score_run, Inputs, Settings};
 /// let dir = tempfile::tempdir()?;

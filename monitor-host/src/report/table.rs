@@ -5,7 +5,7 @@
 
 use crate::aggregate::aggregates::Aggregates;
 use crate::aggregate::groups::{GroupBy, Groups};
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::report::grid::{Grid, Style};
 
 /// The infraction lists of the Table 3-style breakdown, with their headings (the paper's four).

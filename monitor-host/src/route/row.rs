@@ -230,20 +230,88 @@ pub struct RouteReport {
     pub driven_km: Option<f64>,
 }
 
-/// Turns one outcome into its report entry, with the penalty re-check of its record (§8) under
-/// `settings.penalty_flavour`.
-pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
+/// What a row holds beyond its outcome, known before the row is built: its collision traces,
+/// its abilities (with the route XML), its scores under the asked protocols and what they warned.
+#[derive(Debug, Default)]
+pub struct RowFacts {
+    /// The collision traces (§10.2).
+    pub traces: Vec<CollisionTrace>,
+    /// The abilities (§8.2).
+    pub ability: Option<RouteAbility>,
+    /// The min-speed grid the protocols read the record on.
+    pub min_speed_grid: Option<MinSpeedGrid>,
+    /// The route under each asked protocol.
+    pub protocols: Option<RouteProtocols>,
+    /// The protocols' warnings (after the outcome's).
+    pub warnings: Vec<Warning>,
+}
+
+/// The route id of an outcome's row: its record's, else the one an invalid record named.
+fn row_id(o: &RouteOutcome) -> Option<String> {
+    o.record().map(|r| r.route_id.clone()).or_else(|| {
+        o.loaded
+            .entry
+            .as_ref()
+            .err()
+            .and_then(|e| e.route_id.clone())
+    })
+}
+
+/// The [`RowFacts`] of one outcome: its traces, its abilities with the route XML (the towns'
+/// maps give the junction credit), its protocols when some are asked.
+fn row_facts(
+    o: &RouteOutcome,
+    settings: &Settings,
+    xml: Option<&RouteSet>,
+    maps: &TownMaps,
+) -> RowFacts {
+    let mut facts = RowFacts::default();
+    if let (Some(t), Some(id)) = (&o.timeline, row_id(o)) {
+        facts.traces = collision_traces(
+            &id,
+            t,
+            &o.events,
+            settings.core.decel_window,
+            settings.core.decel_threshold,
+        );
+    }
+    let counted = o.record().filter(|_| o.counted());
+    if let (Some(set), Some(rec)) = (xml, counted) {
+        if let Some(xml) = rec.xml_id().and_then(|id| set.get(id)) {
+            let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
+            let town = rec.town_name.as_deref().unwrap_or(&xml.town);
+            let samples = || junction_samples(maps, xml, town, settings.gap_max);
+            let a = route_ability(rec, scenario, samples);
+            facts.ability = Some(apply_rule(settings.ability_rule, a, rec, samples));
+        }
+    }
+    if !settings.protocols.is_empty() {
+        // Protocols read records only (§8.4); invalid records score 0.
+        let asked = &settings.protocols;
+        facts.protocols = Some(match o.record() {
+            Some(rec) => {
+                let (p, w) = score_record(rec, asked, settings.min_speed_grid);
+                facts.warnings = w;
+                facts.min_speed_grid = Some(min_speed_grid(
+                    rec.infractions.list(MIN_SPEED_LIST),
+                    settings.min_speed_grid,
+                ));
+                p
+            }
+            None => RouteProtocols::without_record(asked),
+        });
+    }
+    facts
+}
+
+/// Turns one outcome and what is known of it ([`RowFacts`]) into its report entry, with the
+/// penalty re-check of its record (§8) under `settings.penalty_flavour`.
+pub fn route_report(o: &RouteOutcome, settings: &Settings, facts: RowFacts) -> RouteReport {
     let rec = o.record();
     let count = |name: &str| rec.map_or(0, |r| r.infractions.list(name).len() as u32);
     let s = o.summary;
     RouteReport {
-        route_id: rec.map(|r| r.route_id.clone()).or_else(|| {
-            o.loaded
-                .entry
-                .as_ref()
-                .err()
-                .and_then(|e| e.route_id.clone())
-        }),
+        route_id: row_id(o),
         scenario_type: rec.map(|r| r.scenario_type().to_string()),
         town: rec.and_then(|r| r.town_name.clone()),
         weather_id: rec.and_then(|r| r.weather_id.clone()),
@@ -294,7 +362,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
             .legacy_comfort
             .and_then(|c| (c.chunks > 0).then(|| f64::from(c.comfortable) / f64::from(c.chunks))),
         efficiency: rec.and_then(|r| route_efficiency(r.infractions.list(MIN_SPEED_LIST))),
-        ability: None,
+        ability: facts.ability,
         p_safe: o.safe.map(|x| x.p_safe),
         ds_safe: o.safe.map(|x| x.ds_safe),
         decomposition: o.safe.zip(rec).zip(s).map(|((safe, r), s)| {
@@ -313,8 +381,8 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
                 &settings.core.factors,
             )
         }),
-        min_speed_grid: None,
-        protocols: None,
+        min_speed_grid: facts.min_speed_grid,
+        protocols: facts.protocols,
         telemetry: o.telemetry.clone(),
         reason: o
             .state()
@@ -340,8 +408,8 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings) -> RouteReport {
             }
         }),
         batch_agrees: o.batch_agrees,
-        warnings: o.warnings.clone(),
-        traces: Vec::new(),
+        warnings: o.warnings.iter().cloned().chain(facts.warnings).collect(),
+        traces: facts.traces,
         chunks: o.timeline.as_ref().map(|t| t.chunks.clone()),
         stationary: o
             .motion
@@ -405,9 +473,8 @@ pub fn counted_routes(routes: &[RouteReport]) -> impl Iterator<Item = &RouteRepo
     routes.iter().filter(|r| r.state != RouteState::Foreign)
 }
 
-/// Every row of a run: the outcomes' rows (in input order) with their collision traces and, with
-/// the route XML, their abilities (§8.2; the towns' maps give the junction credit), then the
-/// missing routes' rows (in XML order).
+/// Every row of a run: the outcomes' rows (in input order), each built once with its
+/// [`RowFacts`], then the missing routes' rows (in XML order; under protocols they score 0).
 pub fn route_rows(
     outcomes: &[RouteOutcome],
     missing: &[MissingRoute],
@@ -415,52 +482,15 @@ pub fn route_rows(
     xml: Option<&RouteSet>,
     maps: &TownMaps,
 ) -> Vec<RouteReport> {
-    let mut routes: Vec<RouteReport> = outcomes.iter().map(|o| route_report(o, settings)).collect();
-    for (r, o) in routes.iter_mut().zip(outcomes) {
-        if let (Some(t), Some(id)) = (&o.timeline, &r.route_id) {
-            r.traces = collision_traces(
-                id,
-                t,
-                &o.events,
-                settings.core.decel_window,
-                settings.core.decel_threshold,
-            );
-        }
-    }
-    if let Some(set) = xml {
-        for (r, o) in routes.iter_mut().zip(outcomes) {
-            let Some(rec) = o.record().filter(|_| o.counted()) else {
-                continue;
-            };
-            let Some(xml) = rec.xml_id().and_then(|id| set.get(id)) else {
-                continue;
-            };
-            let scenario = xml.scenario_type.as_deref().unwrap_or(rec.scenario_type());
-            let town = rec.town_name.as_deref().unwrap_or(&xml.town);
-            let samples = || junction_samples(maps, xml, town, settings.gap_max);
-            let a = route_ability(rec, scenario, samples);
-            r.ability = Some(apply_rule(settings.ability_rule, a, rec, samples));
-        }
-    }
-    routes.extend(missing.iter().map(missing_report));
-    if !settings.protocols.is_empty() {
-        // Protocols read records only (§8.4); missing routes and invalid records score 0.
-        let asked = &settings.protocols;
-        for (i, r) in routes.iter_mut().enumerate() {
-            r.protocols = Some(match outcomes.get(i).and_then(|o| o.record()) {
-                Some(rec) => {
-                    let (p, w) = score_record(rec, asked, settings.min_speed_grid);
-                    r.warnings.extend(w);
-                    r.min_speed_grid = Some(min_speed_grid(
-                        rec.infractions.list(MIN_SPEED_LIST),
-                        settings.min_speed_grid,
-                    ));
-                    p
-                }
-                None => RouteProtocols::without_record(asked),
-            });
-        }
-    }
+    let mut routes: Vec<RouteReport> = outcomes
+        .iter()
+        .map(|o| route_report(o, settings, row_facts(o, settings, xml, maps)))
+        .collect();
+    let asked = &settings.protocols;
+    routes.extend(missing.iter().map(|m| RouteReport {
+        protocols: (!asked.is_empty()).then(|| RouteProtocols::without_record(asked)),
+        ..missing_report(m)
+    }));
     routes
 }
 

@@ -473,7 +473,9 @@ fn i38_page_draws_the_ranking_in_order_and_the_flaky_strips() {
     // The flaky strip: route 2 passed in ep20a and failed in ep20b.
     let flaky = at("id=\"flaky\"");
     let row = &html[flaky..];
-    let row = &row[row.find("<td>RouteScenario_2</td>").unwrap_or_else(|| panic!("route 2 in the strips: {}", &html[flaky..]))..];
+    let row = &row[row
+        .find("<td>RouteScenario_2</td>")
+        .unwrap_or_else(|| panic!("route 2 in the strips: {}", &html[flaky..]))..];
     let row = &row[..row.find("</tr>").unwrap()];
     let pass = row
         .find("ep20a: DS 100.0, success")

@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 
 use monitor_host::report::json::json;
 use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
-use monitor_host::{Report, StatusLine, Watcher};
+use monitor_host::{Report, RoundStatus, ScoreRequest, WatchRequest, Watcher};
 use serde_json::Value;
 
 use crate::common::sds;
@@ -119,7 +119,7 @@ fn fresh(inputs: &Inputs) -> Report {
     .report
 }
 
-fn scored(w: &mut Watcher) -> (Report, StatusLine) {
+fn scored(w: &mut Watcher) -> (Report, RoundStatus) {
     match w.round().unwrap() {
         RoundOutcome::Scored { scored, status, .. } => (scored.report, status),
         RoundOutcome::Retry { reason, .. } => panic!("round retried: {reason}"),
@@ -1058,4 +1058,136 @@ fn i36_watch_says_when_a_shard_stalls() {
     bad.extend(["--stall-factor".to_string(), "0".into()]);
     let o = wait(&mut spawn(&bad, &[]), Duration::from_secs(60));
     assert_eq!(o.status.code(), Some(2));
+}
+
+/// Issue 35: the one watch `Session` (the CLI and Python drive it with their own wait): a
+/// complete run stops after a round that found nothing new, with `stopped` on the last status;
+/// the wait is the front end's, asked for at most the interval.
+#[test]
+fn i35_session_stops_when_complete_and_nothing_new() {
+    use monitor_host::app::session::{Step, Stop, Wake};
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    // Files older than the racy second: the second round can trust them unchanged.
+    std::thread::sleep(Duration::from_millis(1100));
+    let request = WatchRequest {
+        score: ScoreRequest::new(demo_inputs(&run)),
+        interval: 0.01,
+        timeout: None,
+        once: false,
+        stall_factor: 5.0,
+    };
+    let mut session = request.session().unwrap();
+    let mut waits = Vec::new();
+    let mut wait = |d: Duration| {
+        waits.push(d);
+        std::thread::sleep(d);
+        Wake::Elapsed
+    };
+    let Step::Round { outcome, stops } = session.next(&mut wait).unwrap() else {
+        panic!("a round first")
+    };
+    assert!(matches!(
+        outcome,
+        RoundOutcome::Scored { changed: true, .. }
+    ));
+    assert_eq!(stops, None);
+    let Step::Round { outcome, stops } = session.next(&mut wait).unwrap() else {
+        panic!("a second round")
+    };
+    assert!(matches!(
+        outcome,
+        RoundOutcome::Scored { changed: false, .. }
+    ));
+    assert_eq!(stops, Some(Stop::Complete));
+    let Step::Stopped(end) = session.next(&mut wait).unwrap() else {
+        panic!("stopped")
+    };
+    assert_eq!(end.stop, Stop::Complete);
+    assert!(end.reread.is_none() && end.stale.is_none());
+    assert_eq!(end.status.stopped.as_deref(), Some("complete"));
+    assert_eq!(end.status.round, 2);
+    assert!(matches!(session.next(&mut wait).unwrap(), Step::Aborted));
+    assert!(!waits.is_empty() && waits.iter().all(|d| *d <= Duration::from_millis(10)));
+}
+
+/// Issue 35: after the timeout the session reads the inputs once more (no wait asked), and a
+/// front end's `Wake::Abort` (Python's Ctrl-C) gives up at once, with no final reading.
+#[test]
+fn i35_session_timeout_reads_once_more_and_abort_gives_up() {
+    use monitor_host::app::session::{Step, Stop, Wake};
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    std::thread::sleep(Duration::from_millis(1100)); // past the racy second
+    let inputs = Inputs {
+        telemetry: Some(run.telemetry.clone()),
+        ..Inputs::new([run.results.clone()])
+    };
+    let request = |timeout| WatchRequest {
+        score: ScoreRequest::new(inputs.clone()),
+        interval: 60.0,
+        timeout,
+        once: false,
+        stall_factor: 5.0,
+    };
+    let mut never = |_: Duration| -> Wake { panic!("no wait after the timeout") };
+    let mut session = request(Some(0.0)).session().unwrap();
+    assert!(matches!(
+        session.next(&mut never).unwrap(),
+        Step::Round { stops: None, .. }
+    ));
+    let Step::Stopped(end) = session.next(&mut never).unwrap() else {
+        panic!("stopped")
+    };
+    assert_eq!(end.stop, Stop::Timeout);
+    let (scored, status) = end.reread.expect("the final reading scored");
+    assert!(!end.changed);
+    assert_eq!(status.round, 2);
+    assert_eq!(j(&scored.report), j(&fresh(&inputs)));
+    assert_eq!(end.status.stopped.as_deref(), Some("timeout"));
+
+    let mut session = request(None).session().unwrap();
+    let mut abort = |_: Duration| Wake::Abort;
+    assert!(matches!(
+        session.next(&mut abort).unwrap(),
+        Step::Round { .. }
+    ));
+    assert!(matches!(session.next(&mut abort).unwrap(), Step::Aborted));
+}
+
+/// Issue 35: the requests check what both front ends used to check apart: the watch's bounds
+/// (each front end names its option), an unknown infraction list, and the options mapped to
+/// settings in one order (named options first, overrides after them).
+#[test]
+fn i35_requests_validate_once_for_every_front_end() {
+    use monitor_host::{RequestError, RunSettings};
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let watch = |interval| WatchRequest {
+        score: ScoreRequest::new(demo_inputs(&run)),
+        interval,
+        timeout: None,
+        once: false,
+        stall_factor: 5.0,
+    };
+    assert!(matches!(
+        watch(0.0).validate(),
+        Err(RequestError::Interval { given, .. }) if given == 0.0
+    ));
+    let bad = ScoreRequest {
+        infractions: vec!["collisions_vehicel".into()],
+        ..ScoreRequest::new(demo_inputs(&run))
+    };
+    let e = bad.validate().unwrap_err();
+    assert!(e
+        .to_string()
+        .starts_with("--infraction collisions_vehicel: no such infraction list"));
+    let s = RunSettings {
+        protocols: Some(vec!["lb2.1".into(), "b2d".into()]),
+        overrides: vec![("protocols".into(), "f2d".into())],
+        ..RunSettings::default()
+    }
+    .settings()
+    .unwrap();
+    assert_eq!(s.get("protocols").as_deref(), Some("f2d"));
 }

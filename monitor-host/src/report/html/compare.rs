@@ -3,9 +3,9 @@
 //! links to its row in each run), then each run's own tables and route rows.
 
 use super::page::{self, escape, grid};
-use crate::aggregate::compare::{Comparison, Model};
 use crate::report::{compare_table, forest, table};
 use crate::route::row::counted_routes;
+use crate::stats::{Comparison, Model};
 
 /// The anchor of a run's row of a route.
 fn anchor(run: &str, route_id: &str) -> String {
@@ -23,7 +23,7 @@ fn cell(v: Option<f64>, digits: usize, signed: bool) -> String {
 /// The page (see the module docs).
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+/// use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 /// use monitor_host::{demo, score_run, Inputs, Settings};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;

@@ -110,8 +110,8 @@ pub(super) fn grid(out: &mut String, g: &Grid) {
 /// DS of N, the estimate of the time left. The final page of the watch has neither.
 ///
 /// ```
-/// use monitor_host::{report::html::live_page, StatusLine};
-/// let s = StatusLine { round: 3, time: "2026-11-27T17:45:33Z".into(), done: 4, n: 9,
+/// use monitor_host::{report::html::live_page, RoundStatus};
+/// let s = RoundStatus { round: 3, time: "2026-11-27T17:45:33Z".into(), done: 4, n: 9,
 ///                      ds_done: Some(80.0), ds_n: Some(35.56), seconds_left: Some(600.0),
 ///                      ..Default::default() };
 /// let page = live_page("<html><head></head><body>\n<h1>x</h1></body></html>", &s, 10.0);
@@ -120,10 +120,12 @@ pub(super) fn grid(out: &mut String, g: &Grid) {
 /// assert!(page.contains("DS 80.00 over the routes done, 35.56 of N"));
 /// assert!(page.contains("about 10m left") && page.contains("2026-11-27T17:45:33Z"));
 /// ```
-pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) -> String {
+pub fn live_page(page: &str, status: &crate::model::status::RoundStatus, refresh: f64) -> String {
     let tag = format!(
         "<meta http-equiv=\"refresh\" content=\"{}\">",
-        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+        refresh
+            .ceil()
+            .clamp(1.0, crate::model::status::MAX_INTERVAL)
     );
     let s = status;
     let banner = format!(
@@ -139,9 +141,11 @@ pub fn live_page(page: &str, status: &crate::watch::StatusLine, refresh: f64) ->
         num(s.ds_n, 2),
         s.seconds_left.map_or_else(
             || "time left unknown".to_string(),
-            |t| format!("about {} left", crate::watch::duration_text(t))
+            |t| format!("about {} left", crate::report::status::duration_text(t))
         ),
-        refresh.ceil().clamp(1.0, crate::watch::MAX_INTERVAL)
+        refresh
+            .ceil()
+            .clamp(1.0, crate::model::status::MAX_INTERVAL)
     );
     let mut out = page.to_string();
     if let Some(i) = out.find("<body>") {

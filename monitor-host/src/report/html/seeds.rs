@@ -8,7 +8,7 @@
 //! goes through [`escape`].
 
 use super::page::escape;
-use crate::aggregate::compare::Comparison;
+use crate::stats::Comparison;
 
 /// Width of one model's column in the ranking figure, px.
 const COL: f64 = 64.0;
@@ -25,7 +25,7 @@ fn num(x: Option<f64>) -> String {
 /// model has any); empty when there is neither.
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+/// use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 /// use monitor_host::{demo, score_run, Inputs, Settings};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;

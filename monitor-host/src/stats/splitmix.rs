@@ -4,7 +4,7 @@
 //! comparison makes one per model and metric, each seeded with `bootstrap_seed`.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::splitmix::SplitMix64;
+//! use monitor_host::stats::splitmix::SplitMix64;
 //! let mut g = SplitMix64::new(0);
 //! assert_eq!(g.next_u64(), 0xe220a8397b1dcdaf);
 //! assert_eq!(g.index(10), 4); // (0x6e789e6aa1b965f4 >> 11) * 2^-53 * 10 = 4.31...

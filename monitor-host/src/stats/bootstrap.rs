@@ -4,8 +4,8 @@
 //! bounds on B ([`SAMPLES`], [`DRAW_BUDGET`]) that keep one comparison's time and memory in check.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::bootstrap::{paired, Verdict};
-//! use monitor_host::aggregate::compare::splitmix::SplitMix64;
+//! use monitor_host::stats::bootstrap::{paired, Verdict};
+//! use monitor_host::stats::splitmix::SplitMix64;
 //! let mut rng = SplitMix64::new(0);
 //! let p = paired(&[2.0, 3.0, 4.0, 3.0], 1000, &mut rng);
 //! assert_eq!(p.delta, Some(3.0));
@@ -15,7 +15,7 @@
 
 use serde::Serialize;
 
-use crate::aggregate::compare::splitmix::SplitMix64;
+use crate::stats::splitmix::SplitMix64;
 
 /// The verdict on one metric: is the model better than the baseline, beyond the spread over
 /// routes?

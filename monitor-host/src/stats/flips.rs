@@ -2,7 +2,7 @@
 //! baseline, and the routes whose DS moved most.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::flips::largest;
+//! use monitor_host::stats::flips::largest;
 //! let keys = ["a", "b", "c"].map(String::from);
 //! let top = largest(&keys, &[Some(1.0), Some(-3.0), Some(3.0)], &[Some(0.0); 3], 2);
 //! assert_eq!(top.iter().map(|m| m.key.as_str()).collect::<Vec<_>>(), ["b", "c"]); // tie: by key

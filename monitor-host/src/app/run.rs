@@ -5,7 +5,6 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::aggregate::report::{assemble, Report, RunFacts};
 use crate::error::Error;
 use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{
@@ -16,13 +15,15 @@ use crate::input::results_file::{read_results, InputFile, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
+use crate::model::report::{assemble, Report, RunFacts};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
 use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::Settings;
+
+pub use crate::model::frames::RouteFrames;
 use crate::warning::Warning;
-use monitor_core::Frame;
 
 /// The files of a run.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -67,7 +68,7 @@ pub trait Progress: Sync {
     }
 }
 
-/// Keeps routes' replays between runs (`sds watch`'s [`crate::watch::RouteCache`]): given a
+/// Keeps routes' replays between runs (`sds watch`'s [`crate::app::watch::RouteCache`]): given a
 /// record, returns its earlier replay when nothing it was made from changed, else calls
 /// `replay`.
 pub trait ReplayCache: Sync {
@@ -475,27 +476,6 @@ fn kept_ids(records: &[LoadedRecord]) -> usize {
         .iter()
         .filter(|r| route_id_of(r).is_none_or(|id| ids.insert(id)))
         .count()
-}
-
-/// The monitor's input frames of one route, as [`score_run`] would stream them, and the warnings
-/// met while reading its telemetry.
-#[derive(Clone, Debug, PartialEq)]
-pub struct RouteFrames {
-    /// One frame per telemetry step, in step order.
-    pub frames: Vec<Frame>,
-    /// The telemetry step of each frame.
-    pub steps: Vec<u64>,
-    /// Per frame, the host-side lateral values behind `lat_err` (`None` where it is unknown).
-    pub lateral: Vec<Option<crate::geometry::corridor::LateralSample>>,
-    /// What the lateral error was measured against.
-    pub reference: crate::geometry::corridor::ReferenceKind,
-    /// The route's step period, s.
-    pub dt: f32,
-    /// Problems that did not stop the frames from being made.
-    pub warnings: Vec<Warning>,
-    /// Every input file read (results files, route XML, telemetry files), for front ends that
-    /// must never write over an input.
-    pub files_read: Vec<PathBuf>,
 }
 
 /// The frames of the route `route_id` (`RouteScenario_<id>_rep<k>`): the first valid record

@@ -4,7 +4,7 @@
 //! seeds a 95 % interval of the mean DS no wider than ±`repro.halfwidth` needs.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::seeds::{seeds_needed, spread};
+//! use monitor_host::stats::seeds::{seeds_needed, spread};
 //! let s = spread("24785", &[(100.0, true), (40.0, false)]);
 //! assert_eq!((s.ds_mean, s.ds_min, s.ds_max, s.success_share), (Some(70.0), Some(40.0), Some(100.0), Some(0.5)));
 //! assert!(s.is_flaky());
@@ -17,10 +17,10 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
-use crate::aggregate::compare::models::Stat;
-use crate::aggregate::compare::route_values::route_key;
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::route::row::counted_routes;
+use crate::stats::route_values::route_key;
+use crate::stats::stat::Stat;
 
 /// One compared route of one model: its `ds` over the model's samples (seeds × repetitions).
 #[derive(Clone, Debug, PartialEq, Serialize)]

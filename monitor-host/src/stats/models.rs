@@ -3,7 +3,7 @@
 //! and sample standard deviation over the model's seeds.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::models::Stat;
+//! use monitor_host::stats::models::Stat;
 //! let s = Stat::of(&[Some(1.0), Some(2.0), Some(6.0)]);
 //! assert_eq!((s.mean, s.std), (Some(3.0), Some(7.0f64.sqrt())));
 //! assert_eq!(Stat::of(&[Some(4.0)]).std, None); // one seed: no spread
@@ -12,39 +12,8 @@
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::aggregate::compare::seeds::SeedStats;
-
-/// A mean and sample standard deviation over seeds (std null for one seed; both null when some
-/// seed has no value).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct Stat {
-    /// Mean.
-    pub mean: Option<f64>,
-    /// Sample standard deviation (n - 1).
-    pub std: Option<f64>,
-}
-
-impl Stat {
-    /// The statistic of `values`, summed in order.
-    pub fn of(values: &[Option<f64>]) -> Stat {
-        let Some(xs) = values.iter().copied().collect::<Option<Vec<f64>>>() else {
-            return Stat::default();
-        };
-        let n = xs.len();
-        if n == 0 {
-            return Stat::default();
-        }
-        let mean = xs.iter().fold(0.0, |a, x| a + x) / n as f64;
-        let std = (n > 1).then(|| {
-            let ss = xs.iter().fold(0.0, |a, x| a + (x - mean) * (x - mean));
-            (ss / (n - 1) as f64).sqrt()
-        });
-        Stat {
-            mean: Some(mean),
-            std,
-        }
-    }
-}
+use crate::stats::seeds::SeedStats;
+pub use crate::stats::stat::Stat;
 
 /// One model's row.
 #[derive(Clone, Debug, PartialEq, Serialize)]

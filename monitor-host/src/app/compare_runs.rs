@@ -1,15 +1,16 @@
 //! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.4 §11): score each run with
 //! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
-//! compare them ([`crate::aggregate::compare::compare`]). Every front end calls this.
+//! compare them ([`crate::stats::compare`]). Every front end calls this.
 
 use std::path::{Path, PathBuf};
 
-use crate::aggregate::compare::{
+use crate::app::request::{RequestError, ScoreError};
+use crate::app::run::{Inputs, Progress};
+use crate::error::Error;
+use crate::settings::Settings;
+use crate::stats::{
     check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
-use crate::error::Error;
-use crate::run::{Inputs, Progress};
-use crate::settings::Settings;
 
 /// One run to compare: its name and its inputs (results, telemetry, route XML, maps).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -120,7 +121,7 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
 ///
 /// ```
 /// use monitor_host::compare_runs::{compare_runs, RunInputs};
-/// use monitor_host::aggregate::compare::CompareOptions;
+/// use monitor_host::stats::CompareOptions;
 /// use monitor_host::{demo, Inputs, NoProgress, Settings};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;
@@ -155,7 +156,7 @@ pub fn compare_runs(
                 name: r.name.clone(),
             }));
         }
-        let scored_here = crate::scored_by::score_or_read(&r.inputs, settings, progress);
+        let scored_here = crate::app::scored_by::score_or_read(&r.inputs, settings, progress);
         let (report, by) = scored_here.map_err(|e| match e {
             Error::Cancelled => e,
             // `sds compare` has no `--telemetry`: name the way a run's folder is given.
@@ -185,14 +186,14 @@ pub fn compare_runs(
             e => Error::Compare(e),
         })?;
     // Runs scored by another sds version or other settings (reports given as runs).
-    let by: Vec<(&str, &crate::scored_by::ScoredBy)> = runs
+    let by: Vec<(&str, &crate::app::scored_by::ScoredBy)> = runs
         .iter()
         .map(|r| r.name.as_str())
         .zip(&scored_by)
         .collect();
     comparison
         .warnings
-        .extend(crate::scored_by::differences(&by));
+        .extend(crate::app::scored_by::differences(&by));
     // One results file given as two runs: as seeds their spread is 0 and says nothing.
     let real = |r: &RunInputs| -> Vec<PathBuf> {
         r.inputs
@@ -218,4 +219,110 @@ pub fn compare_runs(
         }
     }
     Ok(Compared { comparison, models })
+}
+
+/// One run of a [`CompareRequest`]: its name, its results and its telemetry root (`None`: the
+/// folder of its results, [`telemetry_beside`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RunSpec {
+    /// The run's name (unique).
+    pub name: String,
+    /// Its results file or folder.
+    pub results: PathBuf,
+    /// Its telemetry root.
+    pub telemetry: Option<PathBuf>,
+}
+
+/// Runs to compare (`sds compare`, `sds.compare`): the runs, their seed groups, the files every
+/// run shares, the options each run is scored with and those of the comparison.
+///
+/// ```
+/// use monitor_host::app::compare_runs::{CompareRequest, RunSpec};
+/// use monitor_host::{demo, NoProgress};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let spec = |name: &str| RunSpec { name: name.into(), results: run.results.clone(),
+///                                   telemetry: Some(run.telemetry.clone()) };
+/// let request = CompareRequest { runs: vec![spec("base"), spec("new")],
+///                                ..CompareRequest::default() };
+/// let c = request.compare(&NoProgress)?;
+/// assert_eq!(c.comparison.paired.len(), 4);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CompareRequest {
+    /// The runs, in order (the first model is the baseline unless `options.baseline` names one).
+    pub runs: Vec<RunSpec>,
+    /// The seed groups.
+    pub seeds: Vec<Seeds>,
+    /// The route XML every run is scored against.
+    pub routes: Option<PathBuf>,
+    /// The maps folder every run is scored with.
+    pub maps: Option<PathBuf>,
+    /// The options each run is scored with.
+    pub settings: crate::app::request::RunSettings,
+    /// The comparison's options (`fail_if_worse` names are trimmed).
+    pub options: CompareOptions,
+}
+
+impl CompareRequest {
+    /// Checks the request before any run is scored; returns the runs' settings.
+    ///
+    /// # Errors
+    /// [`ScoreError::Request`] for the settings, [`ScoreError::Run`] ([`Error::Compare`]) for
+    /// the comparison's options.
+    pub fn validate(&self) -> Result<Settings, ScoreError> {
+        let settings = self.settings.settings().map_err(RequestError::from)?;
+        check_options(&self.options()).map_err(Error::Compare)?;
+        Ok(settings)
+    }
+
+    /// The runs' inputs: each run's results and telemetry (by default beside its results), the
+    /// shared route XML and maps.
+    pub fn run_inputs(&self) -> Vec<RunInputs> {
+        self.runs
+            .iter()
+            .map(|r| RunInputs {
+                name: r.name.clone(),
+                inputs: Inputs {
+                    telemetry: Some(
+                        r.telemetry
+                            .clone()
+                            .unwrap_or_else(|| telemetry_beside(&r.results)),
+                    ),
+                    results: vec![r.results.clone()],
+                    route_xml: self.routes.clone(),
+                    maps: self.maps.clone(),
+                },
+            })
+            .collect()
+    }
+
+    /// The comparison's options, `fail_if_worse` trimmed.
+    fn options(&self) -> CompareOptions {
+        CompareOptions {
+            fail_if_worse: self
+                .options
+                .fail_if_worse
+                .iter()
+                .map(|m| m.trim().to_string())
+                .collect(),
+            ..self.options.clone()
+        }
+    }
+
+    /// Scores and compares the runs ([`compare_runs`]).
+    ///
+    /// # Errors
+    /// As [`CompareRequest::validate`], then [`compare_runs`]'s.
+    pub fn compare(&self, progress: &dyn Progress) -> Result<Compared, ScoreError> {
+        let settings = self.validate()?;
+        Ok(compare_runs(
+            &self.run_inputs(),
+            &self.seeds,
+            &settings,
+            &self.options(),
+            progress,
+        )?)
+    }
 }

@@ -70,7 +70,7 @@ pub struct ReportInputs {
     /// A merged report's parts (v1.4 §13): each part's file, sha256, `sds` version and inputs;
     /// absent for `sds score`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub parts: Option<Vec<crate::merge::PartInputs>>,
+    pub parts: Option<Vec<crate::model::parts::PartInputs>>,
 }
 
 /// The route set of `route_subset: found`, as the report states it.

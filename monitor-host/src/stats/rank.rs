@@ -6,7 +6,7 @@
 //! rank, ties by name.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::rank::ranking;
+//! use monitor_host::stats::rank::ranking;
 //! // Three models over four routes (their ds, route by route).
 //! let ds = vec![vec![50.0, 60.0, 70.0, 80.0], vec![90.0, 95.0, 100.0, 85.0], vec![50.0, 60.0, 70.0, 80.0]];
 //! let r = ranking(&["a", "b", "c"], &ds, 1000, 0);
@@ -18,8 +18,8 @@
 
 use serde::Serialize;
 
-use crate::aggregate::compare::bootstrap::interval_indices;
-use crate::aggregate::compare::splitmix::SplitMix64;
+use crate::stats::bootstrap::interval_indices;
+use crate::stats::splitmix::SplitMix64;
 
 /// One model's place (`ranking[]` of the report).
 #[derive(Clone, Debug, PartialEq, Serialize)]

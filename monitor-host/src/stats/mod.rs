@@ -6,12 +6,12 @@
 //! same n gives the same resamples of route positions (common random numbers), so adding a model,
 //! a metric or a protocol changes no other figure.
 //!
-//! [`compare`] works on reports already made; [`crate::compare_runs::compare_runs`] scores the
+//! [`compare`] works on reports already made; [`crate::app::compare_runs::compare_runs`] scores the
 //! runs and calls it. The pieces: [`route_values`] (keys, repetitions, seeds), [`splitmix`] (the
 //! generator), [`bootstrap`] (one model and metric), [`flips`], [`models`] (mean ± std rows).
 //!
 //! ```
-//! use monitor_host::aggregate::compare::{compare, CompareOptions, Model, NamedRun};
+//! use monitor_host::stats::{compare, CompareOptions, Model, NamedRun};
 //! use monitor_host::{demo, score_run, Inputs, Settings};
 //! let dir = tempfile::tempdir()?;
 //! let run = demo::write(dir.path())?;
@@ -36,6 +36,7 @@ pub mod rank;
 pub mod route_values;
 pub mod seeds;
 pub mod splitmix;
+pub mod stat;
 
 use std::collections::HashSet;
 
@@ -43,7 +44,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::aggregate::aggregates::Aggregates;
-use crate::aggregate::report::Report;
+use crate::model::report::Report;
 use crate::route::row::{counted_routes, RouteReport};
 use bootstrap::{paired, Paired, Verdict, DRAW_BUDGET, SAMPLES};
 use flips::{flipped, largest, Flips};
@@ -320,7 +321,7 @@ impl Comparison {
     /// `no data` (v1.4).
     ///
     /// ```
-    /// use monitor_host::aggregate::compare::{compare, CompareOptions, GateReason, Model, NamedRun};
+    /// use monitor_host::stats::{compare, CompareOptions, GateReason, Model, NamedRun};
     /// use monitor_host::{demo, score_run, Inputs, Settings};
     /// let dir = tempfile::tempdir()?;
     /// let run = demo::write(dir.path())?;
@@ -377,7 +378,7 @@ impl Comparison {
 /// Checks a metric name: one of [`METRICS`] or `ds@<protocol id>`.
 ///
 /// ```
-/// use monitor_host::aggregate::compare::check_metric;
+/// use monitor_host::stats::check_metric;
 /// assert!(check_metric("ds_safe").is_ok() && check_metric("ds@lb2.1").is_ok());
 /// assert!(check_metric("ds@lb9").is_err() && check_metric("sds").is_err());
 /// ```
@@ -637,7 +638,7 @@ pub fn compare_cancellable(
 /// names. Front ends call it before scoring, so that a typo costs no scoring.
 ///
 /// ```
-/// use monitor_host::aggregate::compare::{check_options, CompareOptions};
+/// use monitor_host::stats::{check_options, CompareOptions};
 /// assert!(check_options(&CompareOptions::default()).is_ok());
 /// let one = CompareOptions { bootstrap_samples: 1, ..CompareOptions::default() };
 /// assert!(check_options(&one).unwrap_err().to_string().contains("between 1000 and 1000000"));

@@ -4,15 +4,15 @@
 //! its seeds.
 //!
 //! ```
-//! use monitor_host::aggregate::compare::route_values::route_key;
+//! use monitor_host::stats::route_values::route_key;
 //! assert_eq!(route_key("RouteScenario_24785_rep1"), "24785");
 //! assert_eq!(route_key("my_route"), "my_route");
 //! ```
 
 use std::collections::HashMap;
 
-use crate::aggregate::report::Report;
 use crate::input::route_set::parse_route_id;
+use crate::model::report::Report;
 use crate::route::row::{counted_routes, RouteReport};
 use crate::settings::Protocol;
 
@@ -24,7 +24,7 @@ pub const METRICS: [&str; 4] = ["ds", "success", "ds_safe", "comfort"];
 /// in the report's order.
 ///
 /// ```
-/// use monitor_host::aggregate::compare::route_values::metric_names;
+/// use monitor_host::stats::route_values::metric_names;
 /// use monitor_host::settings::Protocol;
 /// assert_eq!(metric_names(&[Protocol::Lb21]), ["ds", "success", "ds_safe", "comfort", "ds@lb2.1"]);
 /// ```

@@ -6,11 +6,11 @@
 use std::path::{Path, PathBuf};
 
 use crate::aggregate::groups::{route_label_key, GroupBy};
-use crate::aggregate::report::Report;
+use crate::app::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::error::Error;
 use crate::input::labels::{check_coverage, read_labels, Labels, LabelsError};
+use crate::model::report::Report;
 use crate::route::row::counted_routes;
-use crate::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::settings::Settings;
 use crate::warning::Warning;
 

@@ -23,12 +23,12 @@ use std::path::Path;
 
 use serde_json::Value;
 
-use crate::aggregate::report::{Report, SCHEMA};
+use crate::app::run::{Inputs, Progress};
 use crate::error::Error;
 use crate::input::duplicates::DuplicatePolicy;
 use crate::input::results_file::ResultsError;
 use crate::merge::{self, first_difference, MergeError};
-use crate::run::{Inputs, Progress};
+use crate::model::report::{Report, SCHEMA};
 use crate::settings::Settings;
 
 /// The version and settings that scored one run.
@@ -119,10 +119,10 @@ pub fn read_report(file: &Path, host: bool) -> Result<(Report, ScoredBy), Result
 }
 
 /// A run of `sds compare`: read back when it is one `sds` report ([`read_report`]), else
-/// scored here ([`crate::run::score_run_with`]); with the version and settings that scored it.
+/// scored here ([`crate::app::run::score_run_with`]); with the version and settings that scored it.
 ///
 /// # Errors
-/// As [`read_report`] ([`Error::Results`]) or [`crate::run::score_run_with`].
+/// As [`read_report`] ([`Error::Results`]) or [`crate::app::run::score_run_with`].
 pub fn score_or_read(
     inputs: &Inputs,
     settings: &Settings,
@@ -130,7 +130,7 @@ pub fn score_or_read(
 ) -> Result<(Report, ScoredBy), Error> {
     match inputs.results.as_slice() {
         [f] if is_report(f) => read_report(f, settings.provenance_host).map_err(Error::Results),
-        _ => crate::run::score_run_with(inputs, settings, progress).map(|report| {
+        _ => crate::app::run::score_run_with(inputs, settings, progress).map(|report| {
             let by = ScoredBy::of(&report);
             (report, by)
         }),

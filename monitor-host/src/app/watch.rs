@@ -19,13 +19,16 @@ use std::time::{Duration, SystemTime};
 
 use crate::aggregate::aggregates::Scores;
 use crate::aggregate::groups::GroupBy;
+use crate::app::run::{Inputs, NoProgress, ReplayCache};
+use crate::app::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::error::Error;
 use crate::input::record::LoadedRecord;
 use crate::input::results_file::{read_results, ResultsError};
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
-use crate::run::{Inputs, NoProgress, ReplayCache};
-use crate::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::settings::Settings;
+
+pub use crate::model::status::{RoundStatus, MAX_INTERVAL, MAX_TIMEOUT};
+pub use crate::report::status::duration_text;
 
 /// A results file's `progress` `[done, total]`, and the stamp of the file it was read from.
 type Progress = (Option<Stamp>, (u64, u64));
@@ -278,7 +281,7 @@ pub enum RoundOutcome {
         /// Some results file or telemetry changed since the previous scored round.
         changed: bool,
         /// The round's status line.
-        status: StatusLine,
+        status: RoundStatus,
     },
     /// A results file was caught half-written (ends early, shrank, not there yet): retried next
     /// round, the last good reading kept.
@@ -288,93 +291,8 @@ pub enum RoundOutcome {
         /// Rounds in a row that failed so (a front end warns from 3 on).
         failures: usize,
         /// The round's status line: the figures of the last good reading, and `retry`.
-        status: StatusLine,
+        status: RoundStatus,
     },
-}
-
-/// One round's status (spec §12): the same fields for every round, `sds watch --status-json`'s
-/// line and `sds.watch`'s `status` dict alike. A retried round keeps the figures of the last good
-/// reading and adds `retry`.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
-pub struct StatusLine {
-    /// The round's number, from 1 (retried rounds count).
-    pub round: usize,
-    /// When the round ran, UTC (`2026-11-27T17:45:33Z`).
-    pub time: String,
-    /// Routes with a record.
-    pub done: usize,
-    /// The benchmark's size N.
-    pub n: usize,
-    /// DS over the routes done.
-    pub ds_done: Option<f64>,
-    /// DS over N, the routes not done counting 0.
-    pub ds_n: Option<f64>,
-    /// SDS over the routes done.
-    pub sds_done: Option<f64>,
-    /// SDS over N.
-    pub sds_n: Option<f64>,
-    /// The last route: the last replayed in report order, else the last with a record.
-    pub last_route: Option<String>,
-    /// Its state (`scored`, `invalid: ...`).
-    pub last_state: Option<String>,
-    /// Its DS.
-    pub last_ds: Option<f64>,
-    /// Estimated seconds left ([`WatchStatus::seconds_left`]).
-    pub seconds_left: Option<f64>,
-    /// Routes replayed this round.
-    pub rescored: usize,
-    /// Routes taken from the cache this round.
-    pub reused: usize,
-    /// The ids of the routes replayed, sorted.
-    pub rescored_routes: Vec<String>,
-    /// Something changed since the previous scored round.
-    pub changed: bool,
-    /// The route set is complete ([`WatchStatus::complete`]).
-    pub complete: bool,
-    /// Rounds retried (a results file caught half-written) since the previous good reading; a
-    /// retried round counts itself.
-    pub retries: usize,
-    /// The round's time, ms.
-    pub round_ms: f64,
-    /// Why the watch stopped (`complete`, `once`, `timeout`, `interrupted`), on the last line.
-    pub stopped: Option<String>,
-    /// A retried round only: why, naming the file.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub retry: Option<String>,
-    /// Shard checkpoints with no new record for longer than K times their median route time
-    /// ([`crate::shard_stall`], v1.4 §13); empty when none is.
-    pub stalled: Vec<crate::shard_stall::Stalled>,
-}
-
-impl StatusLine {
-    /// The line as one JSON object (serde_json), with every control, bidirectional and invisible
-    /// format character written as a JSON `\uXXXX` escape: valid JSON that cannot rewrite the
-    /// terminal it is printed on.
-    ///
-    /// ```
-    /// let s = monitor_host::watch::StatusLine { last_route: Some("R\u{202e}1".into()),
-    ///                                            ..Default::default() };
-    /// let line = s.json();
-    /// assert!(line.contains(r#""last_route":"R\u202e1""#));
-    /// let back: serde_json::Value = serde_json::from_str(&line)?;
-    /// assert_eq!(back["last_route"], "R\u{202e}1");
-    /// # Ok::<(), serde_json::Error>(())
-    /// ```
-    pub fn json(&self) -> String {
-        let raw = serde_json::to_string(self).unwrap_or_default();
-        let mut out = String::with_capacity(raw.len());
-        for c in raw.chars() {
-            if crate::report::escape::is_hidden(c) {
-                let mut units = [0u16; 2];
-                for u in c.encode_utf16(&mut units) {
-                    out.push_str(&format!("\\u{u:04x}"));
-                }
-            } else {
-                out.push(c);
-            }
-        }
-        out
-    }
 }
 
 /// The figures of a partial report (spec §12's status line).
@@ -397,25 +315,6 @@ pub struct WatchStatus {
     /// the routes left of the shard with the most to do (None without durations).
     pub seconds_left: Option<f64>,
 }
-
-/// Seconds as a short duration: `42m`, `3h05m` (rounded to the minute).
-///
-/// ```
-/// assert_eq!(monitor_host::watch::duration_text(3900.0), "1h05m");
-/// assert_eq!(monitor_host::watch::duration_text(150.0), "2m");
-/// ```
-pub fn duration_text(secs: f64) -> String {
-    let s = secs.clamp(0.0, 1e12).round() as u64;
-    match (s / 3600, (s % 3600) / 60) {
-        (0, m) => format!("{m}m"),
-        (h, m) => format!("{h}h{m:02}m"),
-    }
-}
-
-/// The longest `interval` between rounds: one day, s.
-pub const MAX_INTERVAL: f64 = 86_400.0;
-/// The longest `timeout`: 365 days, s.
-pub const MAX_TIMEOUT: f64 = 31_536_000.0;
 
 /// The interval between rounds, checked: above 0 and at most [`MAX_INTERVAL`] s. The error
 /// says the bound; the front end names its option.
@@ -481,10 +380,10 @@ pub struct Watcher {
     failures: usize,
     round: usize,
     /// The last good reading's status.
-    last: StatusLine,
+    last: RoundStatus,
     /// Each results file's `progress` by its stamp: read again only when the file changed.
     progress: Mutex<HashMap<PathBuf, Progress>>,
-    /// K of [`crate::shard_stall`].
+    /// K of [`crate::model::shard_stall`].
     stall_factor: f64,
 }
 
@@ -511,34 +410,36 @@ impl Watcher {
             shared: None,
             failures: 0,
             round: 0,
-            last: StatusLine::default(),
+            last: RoundStatus::default(),
             progress: Mutex::new(HashMap::new()),
-            stall_factor: crate::shard_stall::DEFAULT_FACTOR,
+            stall_factor: crate::model::shard_stall::DEFAULT_FACTOR,
         }
     }
 
-    /// K of [`crate::shard_stall`]: a shard is stalled after K times its median route time
-    /// without a new record (default [`crate::shard_stall::DEFAULT_FACTOR`]).
+    /// K of [`crate::model::shard_stall`]: a shard is stalled after K times its median route time
+    /// without a new record (default [`crate::model::shard_stall::DEFAULT_FACTOR`]).
     pub fn set_stall_factor(&mut self, k: f64) {
         self.stall_factor = k;
     }
 
     /// The shard checkpoints that stopped progressing, as of the last round's files.
-    fn stalled(&self) -> Vec<crate::shard_stall::Stalled> {
+    fn stalled(&self) -> Vec<crate::model::shard_stall::Stalled> {
         let durations = self.cache.durations_by_file();
-        let shards: Vec<crate::shard_stall::Shard> = self
+        let shards: Vec<crate::model::shard_stall::Shard> = self
             .last_stamps
             .iter()
             .zip(self.file_progress())
-            .map(|((file, stamp), (done, total))| crate::shard_stall::Shard {
-                file: file.clone(),
-                done,
-                total,
-                last_record: stamp.and_then(|s| s.modified),
-                durations: durations.get(file).cloned().unwrap_or_default(),
-            })
+            .map(
+                |((file, stamp), (done, total))| crate::model::shard_stall::Shard {
+                    file: file.clone(),
+                    done,
+                    total,
+                    last_record: stamp.and_then(|s| s.modified),
+                    durations: durations.get(file).cloned().unwrap_or_default(),
+                },
+            )
             .collect();
-        crate::shard_stall::stalled_shards(&shards, SystemTime::now(), self.stall_factor)
+        crate::model::shard_stall::stalled_shards(&shards, SystemTime::now(), self.stall_factor)
     }
 
     /// One round: the results read again (a half-written, shrunk or absent file is a retry),
@@ -655,7 +556,7 @@ impl Watcher {
     fn retry(&mut self, reason: String, began: std::time::Instant) -> RoundOutcome {
         self.failures += 1;
         self.cache.abandon_round();
-        let status = StatusLine {
+        let status = RoundStatus {
             round: self.round,
             time: utc(SystemTime::now()),
             rescored: 0,
@@ -677,7 +578,7 @@ impl Watcher {
 
     /// The status line of the last round (scored or retried): the figures of the last good
     /// reading. A front end sets its `stopped` on the line it prints last.
-    pub fn last_status(&self) -> &StatusLine {
+    pub fn last_status(&self) -> &RoundStatus {
         &self.last
     }
 
@@ -689,7 +590,7 @@ impl Watcher {
         cache: &CacheRound,
         changed: bool,
         began: std::time::Instant,
-    ) -> StatusLine {
+    ) -> RoundStatus {
         // The last route: the last changed one in report order, else the last with a record.
         let last = report
             .routes
@@ -709,7 +610,7 @@ impl Watcher {
             });
         let mut ids = cache.changed.clone();
         ids.sort();
-        StatusLine {
+        RoundStatus {
             round: self.round,
             time: utc(SystemTime::now()),
             done: p.done,

@@ -1,0 +1,248 @@
+//! What a front end asks of a scored run, typed: [`RunSettings`] (the options every scored run
+//! takes) and [`ScoreRequest`] (`sds score`, `sds.score`; `sds watch` and `sds.watch` through
+//! [`crate::app::session::WatchRequest`]). Each front end fills a request from its own spelling
+//! (clap's arguments, Python's keyword arguments) and calls it; the mapping to [`Settings`], the
+//! checks and the calls into the library are here, once.
+
+use std::path::PathBuf;
+
+use monitor_core::Profile;
+
+use crate::aggregate::groups::GroupBy;
+use crate::app::run::{run_frames, Inputs, Progress};
+use crate::app::scored::{score_labelled, LabelFiles, Scored};
+use crate::error::Error;
+use crate::input::duplicates::DuplicatePolicy;
+use crate::input::record::KNOWN_LISTS;
+use crate::input::route_set::RouteSubset;
+use crate::model::Report;
+use crate::settings::{RunOptions, Settings, SettingsError};
+
+/// Why a request is refused before any work: a usage error of the front end (the `sds` command
+/// exits 2; Python raises `ConfigError`). Each front end may name its own option.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum RequestError {
+    /// A setting that names no setting, or whose value does not parse or validate.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// An extra infraction list of the per-weather table that no record has: a mistyped name
+    /// would add a column of zeros.
+    #[error(
+        "--infraction {0}: no such infraction list; the lists are {known}",
+        known = KNOWN_LISTS.join(", ")
+    )]
+    UnknownInfraction(String),
+    /// The interval between a watch's rounds out of its bounds (the value given, the bounds).
+    #[error("interval {given}: {bound}")]
+    Interval {
+        /// The value given, s.
+        given: f64,
+        /// The bounds, said.
+        bound: String,
+    },
+    /// A watch's stalled-shard factor K that is not a number above 0.
+    #[error("stall factor {given}: expected a number above 0 (default {default})", default = crate::model::shard_stall::DEFAULT_FACTOR)]
+    StallFactor {
+        /// The value given.
+        given: f64,
+    },
+    /// A watch's timeout out of its bounds.
+    #[error("timeout {given}: {bound}")]
+    Timeout {
+        /// The value given, s.
+        given: f64,
+        /// The bounds, said.
+        bound: String,
+    },
+}
+
+/// The options every scored run takes (`sds score`, `sds compare`, `sds watch` and their Python
+/// functions), mapped to [`Settings`] once ([`RunSettings::settings`]). The named options come
+/// first, as settings of their names, then `overrides` in order (which can override them).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSettings {
+    /// The comfort profile.
+    pub profile: Profile,
+    /// Benchmark size N.
+    pub expected_routes: Option<usize>,
+    /// The duplicate policy (`None`: the setting's default, or an override's).
+    pub duplicates: Option<DuplicatePolicy>,
+    /// Score routes without telemetry without telemetry terms.
+    pub allow_missing_telemetry: bool,
+    /// Worker threads (`None`: all cores).
+    pub jobs: Option<usize>,
+    /// Which routes of the route XML make the route set (setting `route_subset`).
+    pub route_subset: Option<RouteSubset>,
+    /// Scoring protocols to add, ids or `all` (setting `protocols`).
+    pub protocols: Option<Vec<String>>,
+    /// Bench2Drive's Traffic_Signs counting rule (setting `ability_rule`).
+    pub ability_rule: Option<String>,
+    /// Settings by name, applied in order after the options above.
+    pub overrides: Vec<(String, String)>,
+}
+
+impl Default for RunSettings {
+    /// The physical profile, no option given, no override.
+    fn default() -> Self {
+        RunSettings {
+            profile: Profile::Physical,
+            expected_routes: None,
+            duplicates: None,
+            allow_missing_telemetry: false,
+            jobs: None,
+            route_subset: None,
+            protocols: None,
+            ability_rule: None,
+            overrides: Vec::new(),
+        }
+    }
+}
+
+impl RunSettings {
+    /// The settings: the defaults, the options, then the overrides in order, validated.
+    ///
+    /// ```
+    /// use monitor_host::app::request::RunSettings;
+    /// let s = RunSettings { protocols: Some(vec!["lb2.1".into()]),
+    ///                       overrides: vec![("slack".into(), "0.9".into())],
+    ///                       ..Default::default() }.settings()?;
+    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
+    /// # Ok::<(), monitor_host::SettingsError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A setting that names no setting, or whose value does not parse or validate.
+    pub fn settings(&self) -> Result<Settings, SettingsError> {
+        let named = self
+            .route_subset
+            .map(|r| ("route_subset".to_string(), r.name().to_string()))
+            .into_iter()
+            .chain(
+                self.protocols
+                    .iter()
+                    .map(|p| ("protocols".to_string(), p.join(","))),
+            )
+            .chain(
+                self.ability_rule
+                    .iter()
+                    .map(|r| ("ability_rule".to_string(), r.clone())),
+            );
+        RunOptions {
+            profile: self.profile,
+            expected_routes: self.expected_routes,
+            duplicates: self.duplicates,
+            allow_missing_telemetry: self.allow_missing_telemetry,
+            threads: self.jobs,
+            overrides: named.chain(self.overrides.iter().cloned()).collect(),
+        }
+        .settings()
+    }
+}
+
+/// One run to score (`sds score`, `sds.score`): its files, settings, label files and breakdown.
+///
+/// ```
+/// use monitor_host::app::request::ScoreRequest;
+/// use monitor_host::{demo, Inputs, NoProgress};
+///
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let request = ScoreRequest::new(Inputs { telemetry: Some(run.telemetry),
+///                                          ..Inputs::new([run.results]) });
+/// let scored = request.score(&NoProgress)?;
+/// assert_eq!(scored.report.routes.len(), run.route_ids.len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ScoreRequest {
+    /// The files.
+    pub inputs: Inputs,
+    /// The options.
+    pub settings: RunSettings,
+    /// The label files.
+    pub labels: LabelFiles,
+    /// The breakdown (the report's `groups`), if any.
+    pub group_by: Option<GroupBy>,
+    /// Extra infraction lists of the per-weather table (checked against the lists a record has).
+    pub infractions: Vec<String>,
+}
+
+impl ScoreRequest {
+    /// A request for `inputs` with the default options.
+    pub fn new(inputs: Inputs) -> Self {
+        ScoreRequest {
+            inputs,
+            ..ScoreRequest::default()
+        }
+    }
+
+    /// Checks the request before any work; returns its settings.
+    ///
+    /// # Errors
+    /// [`RequestError::Settings`], [`RequestError::UnknownInfraction`].
+    pub fn validate(&self) -> Result<Settings, RequestError> {
+        let settings = self.settings.settings()?;
+        if let Some(bad) = self
+            .infractions
+            .iter()
+            .find(|l| !KNOWN_LISTS.contains(&l.as_str()))
+        {
+            return Err(RequestError::UnknownInfraction(bad.clone()));
+        }
+        Ok(settings)
+    }
+
+    /// Scores the run ([`score_labelled`]), telling `progress`.
+    ///
+    /// # Errors
+    /// [`ScoreError::Request`] before any work, else the run's [`Error`].
+    pub fn score(&self, progress: &dyn Progress) -> Result<Scored, ScoreError> {
+        let settings = self.validate()?;
+        Ok(score_labelled(
+            &self.inputs,
+            &settings,
+            &self.labels,
+            self.group_by,
+            progress,
+        )?)
+    }
+
+    /// The long tables of the scored run (spec v1.4 §15): `report`'s routes and events, and the
+    /// frames of every route with telemetry, read again as `sds frames` reads them; each table
+    /// as a file name and its bytes.
+    ///
+    /// # Errors
+    /// As [`ScoreRequest::score`]; a table that cannot be made (its message).
+    pub fn long_tables(&self, report: &Report) -> Result<Vec<(&'static str, Vec<u8>)>, ScoreError> {
+        let frames: Vec<_> = run_frames(&self.inputs, &self.validate()?)?
+            .into_iter()
+            .filter_map(|(source, f)| Some((source, f.ok()?)))
+            .collect();
+        let tables =
+            crate::report::long_tables::long_tables(report, &frames).map_err(ScoreError::Tables)?;
+        tables.files().map_err(ScoreError::Tables)
+    }
+
+    /// Every file the run read or will read that a front end must never write over (the
+    /// report's files and the label files).
+    pub fn inputs_read(&self, report: &Report) -> Vec<PathBuf> {
+        let mut files = report.files_read.clone();
+        files.extend(self.labels.files().cloned());
+        files
+    }
+}
+
+/// Why a request could not be carried out.
+#[derive(Debug, thiserror::Error)]
+pub enum ScoreError {
+    /// Refused before any work.
+    #[error(transparent)]
+    Request(#[from] RequestError),
+    /// The run's error.
+    #[error(transparent)]
+    Run(#[from] Error),
+    /// A long table could not be made.
+    #[error("{0}")]
+    Tables(String),
+}

@@ -4,6 +4,7 @@
 //! multi-run statistics ([`crate::stats`], which compare reports) and the renderings
 //! ([`crate::report`], which read reports and comparisons).
 
+pub mod duration;
 pub mod frames;
 pub mod parts;
 pub mod report;

@@ -77,8 +77,8 @@ impl Stalled {
              routes done): its worker may have died; check the node, or rerun its routes \
              (--rerun-list)",
             self.file.display(),
-            crate::model::status::duration_text(self.idle_s),
-            crate::model::status::duration_text(self.median_s),
+            crate::model::duration::duration_text(self.idle_s),
+            crate::model::duration::duration_text(self.median_s),
             self.done,
             self.total
         )

@@ -34,4 +34,4 @@ impl RoundStatus {
     }
 }
 
-pub use crate::model::status::duration_text;
+pub use crate::model::duration::duration_text;

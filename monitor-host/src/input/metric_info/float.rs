@@ -29,34 +29,82 @@ pub(super) fn exact_div(w: u64, k: u32, neg: bool) -> Option<f64> {
         0.0
     } else {
         let d = *POW10.get(k as usize)?;
-        // n = w * 2^s with the quotient below 2^64 when 10^k fits a u64 (one hardware division
-        // in the u128 routine), else w at the top of the u128; either way q has >= 57 bits.
-        // (With bit lengths a of w and b of 10^k, n has 63 + b bits and 2^62 < q < 2^64.)
-        let s = if d >> 64 == 0 {
-            63 + (128 - d.leading_zeros()) - (64 - w.leading_zeros())
-        } else {
-            w.leading_zeros() + 64
-        };
-        let n = u128::from(w) << s;
-        let q = n / d;
-        let r = n - q * d;
-        let bits = 128 - q.leading_zeros();
-        let shift = bits - 53;
-        let mut m = (q >> shift) as u64;
-        let rem = q & ((1u128 << shift) - 1);
-        let half = 1u128 << (shift - 1);
-        let mut p = shift as i32 - s as i32;
-        if rem > half || (rem == half && (r != 0 || m & 1 == 1)) {
-            m += 1;
-            if m == 1 << 53 {
-                m >>= 1;
-                p += 1;
-            }
+        match u64::try_from(d) {
+            Ok(d) => small(w, d),
+            Err(_) => large(w, d),
         }
-        // m < 2^53 and -127 <= p <= 75: both exact, the product normal and exact.
-        m as f64 * f64::from_bits(((1023 + p) as u64) << 52)
     };
-    Some(if neg { -x } else { x })
+    // The sign without a branch (it is as likely as not).
+    Some(f64::from_bits(x.to_bits() | u64::from(neg) << 63))
+}
+
+/// `w / d` correctly rounded, for `d = 10^k < 2^64`: `n = w * 2^s` with bit lengths chosen so
+/// that `2^62 < q = n / d < 2^64` (n has 63 + bit length of d bits), one 128-by-64-bit division.
+#[inline]
+fn small(w: u64, d: u64) -> f64 {
+    let s = 63 + (64 - d.leading_zeros()) - (64 - w.leading_zeros());
+    let n = u128::from(w) << s;
+    let (q, r) = div_wide(n, d);
+    round(q, r != 0, s)
+}
+
+/// `w / d` correctly rounded, for `d = 10^20` or `10^21`: `w` at the top of a u128, the quotient
+/// (at least 57 bits) cut to 64 bits with what is cut off as sticky.
+#[inline]
+fn large(w: u64, d: u128) -> f64 {
+    let s = w.leading_zeros() + 64;
+    let n = u128::from(w) << s;
+    let q = n / d;
+    let r = n - q * d;
+    let cut = 64u32.saturating_sub(q.leading_zeros());
+    let sticky = r != 0 || q & ((1u128 << cut) - 1) != 0;
+    round((q >> cut) as u64, sticky, s - cut)
+}
+
+/// `q * 2^-s` rounded to 53 bits, half to even; `sticky`: the exact value is above `q * 2^-s`.
+/// `q` has at least 55 bits.
+#[inline]
+fn round(q: u64, sticky: bool, s: u32) -> f64 {
+    let shift = 11 - q.leading_zeros();
+    let mut m = q >> shift;
+    let rem = q & ((1u64 << shift) - 1);
+    let half = 1u64 << (shift - 1);
+    let mut p = shift as i32 - s as i32;
+    // Up when above half, or at half with something below or an odd m: no branch (as likely as
+    // not).
+    let up = (rem > half) | ((rem == half) & (sticky | (m & 1 == 1)));
+    m += u64::from(up);
+    if m == 1 << 53 {
+        m >>= 1;
+        p += 1;
+    }
+    // m < 2^53 and -127 <= p <= 11: both exact, the product normal and exact.
+    m as f64 * f64::from_bits(((1023 + p) as u64) << 52)
+}
+
+/// `(n / d, n % d)` for a quotient below 2^64 (`n >> 64 < d`).
+#[inline]
+fn div_wide(n: u128, d: u64) -> (u64, u64) {
+    #[cfg(target_arch = "x86_64")]
+    if ((n >> 64) as u64) < d {
+        let (q, r): (u64, u64);
+        #[allow(unsafe_code)]
+        // SAFETY: `div` divides rdx:rax by d; it faults only when the quotient does not fit 64
+        // bits, which the check above rules out (n >> 64 < d). It touches no memory.
+        // (The u128 division routine costs about twice as much here.)
+        unsafe {
+            std::arch::asm!(
+                "div {d}",
+                d = in(reg) d,
+                inout("rax") n as u64 => q,
+                inout("rdx") (n >> 64) as u64 => r,
+                options(pure, nomem, nostack),
+            );
+        }
+        return (q, r);
+    }
+    let q = n / u128::from(d);
+    (q as u64, (n - q * u128::from(d)) as u64)
 }
 
 #[cfg(test)]

@@ -36,37 +36,49 @@ fn eight_digits(x: u64) -> u64 {
         >> 32
 }
 
-/// The mantissa of a number token as an integer, from its integer digits `int` and its fraction
-/// digits `digits`, with its count of significant digits (from the first non-zero one); the
-/// integer is exact when that count is at most 19. Eight fraction digits at a time. `None` when
-/// the count cannot be known cheaply (eight or more leading zeros after `0.`): the caller then
-/// takes the general path.
+/// The mantissa of a number token as an integer, from its integer digits `int` and its `frac`
+/// fraction digits at `b[at..]`, with its count of significant digits (from the first non-zero
+/// one); the integer is exact when that count is at most 19. Eight fraction digits at a time,
+/// the last few too (padded with leading '0's), without a branch per digit. `None` when the
+/// count cannot be known cheaply (eight or more leading zeros after `0.`, or the token at the
+/// very end of the bytes): the caller then takes the general path.
 #[inline]
-fn mantissa(int: &[u8], digits: &[u8]) -> Option<(u64, usize)> {
+fn mantissa(int: &[u8], b: &[u8], at: usize, frac: usize) -> Option<(u64, usize)> {
+    let word =
+        |i: usize| -> Option<u64> { Some(u64::from_le_bytes(b.get(i..i + 8)?.try_into().ok()?)) };
     let mut w: u64 = 0;
     for &c in int {
         w = w.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
     }
     let sig = if w != 0 || int.len() > 1 {
-        int.len() + digits.len()
+        int.len() + frac
     } else {
-        // "0.": the fraction's leading zeros do not count.
-        let zeros = digits.iter().take(8).take_while(|&&c| c == b'0').count();
-        if zeros == 8 {
+        // "0.": the fraction's leading zeros do not count (bytes after the digits are not '0').
+        let zeros = (word(at)? ^ splat(b'0')).trailing_zeros() as usize / 8;
+        if zeros >= frac.min(8) {
             return None;
         }
-        digits.len() - zeros
+        frac - zeros
     };
-    let mut chunks = digits.chunks_exact(8);
-    for chunk in &mut chunks {
-        let x = u64::from_le_bytes(chunk.try_into().ok()?);
-        w = w.wrapping_mul(100_000_000).wrapping_add(eight_digits(x));
+    let mut i = at;
+    let end = at + frac;
+    while i + 8 <= end {
+        w = w
+            .wrapping_mul(100_000_000)
+            .wrapping_add(eight_digits(word(i)?));
+        i += 8;
     }
-    for &c in chunks.remainder() {
-        w = w.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+    let r = end - i;
+    if r > 0 {
+        // The r digits moved to the top of the word, '0's below them.
+        let x = (word(i)? << (8 * (8 - r))) | (splat(b'0') >> (8 * r));
+        w = w.wrapping_mul(POW10[r]).wrapping_add(eight_digits(x));
     }
     Some((w, sig))
 }
+
+/// `10^r` for r = 0..8.
+const POW10: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
 
 /// A position in the bytes.
 struct Cursor<'a> {
@@ -130,21 +142,39 @@ impl<'a> Cursor<'a> {
         (self.peek()? == c).then(|| self.i += 1)
     }
 
-    /// A key without escapes or non-ASCII bytes.
+    /// A key without escapes or non-ASCII bytes: eight bytes at a time, up to the first that is
+    /// a quote, a backslash, a control character or not ASCII, which must be the closing quote.
     #[inline]
     fn key(&mut self) -> Option<&'a [u8]> {
         self.eat(b'"')?;
         let start = self.i;
-        let len = self.b.get(start..)?.iter().position(|&c| c == b'"')?;
-        let text = &self.b[start..start + len];
-        if text
-            .iter()
-            .any(|&c| c == b'\\' || !(0x20..0x80).contains(&c))
-        {
+        let mut i = start;
+        let end = loop {
+            let Some(x) = self.word(i) else {
+                // Near the end of the bytes: one at a time.
+                let rest = self.b.get(i..)?;
+                let k = rest
+                    .iter()
+                    .position(|&c| c == b'"' || c == b'\\' || !(0x20..0x80).contains(&c))?;
+                break i + k;
+            };
+            // High bit per byte: a quote or backslash (zero after the xor), a control byte
+            // (< 0x20) or a non-ASCII byte (high bit set already).
+            let zero = |y: u64| y.wrapping_sub(splat(1)) & !y;
+            let hit =
+                (zero(x ^ splat(b'"')) | zero(x ^ splat(b'\\')) | x.wrapping_sub(splat(0x20)) | x)
+                    & splat(0x80);
+            if hit == 0 {
+                i += 8;
+                continue;
+            }
+            break i + (hit.trailing_zeros() / 8) as usize;
+        };
+        if self.b[end] != b'"' {
             return None;
         }
-        self.i = start + len + 1;
-        Some(text)
+        self.i = end + 1;
+        Some(&self.b[start..end])
     }
 
     /// Skips a run of ASCII digits, eight at a time; returns its length.
@@ -175,9 +205,8 @@ impl<'a> Cursor<'a> {
     #[inline]
     fn number(&mut self) -> Option<Token> {
         let start = self.i;
-        if self.peek() == Some(b'-') {
-            self.i += 1;
-        }
+        // Branch-free: the sign is as likely as not.
+        self.i += usize::from(self.peek() == Some(b'-'));
         let int = match self.peek()? {
             b'0' => {
                 self.i += 1;
@@ -253,11 +282,7 @@ impl<'a> Cursor<'a> {
         let neg = self.b[t.start] == b'-';
         let int_at = t.start + usize::from(neg);
         let int = &self.b[int_at..int_at + t.int];
-        let frac: &[u8] = match t.frac {
-            0 => &[],
-            n => &self.b[int_at + t.int + 1..int_at + t.int + 1 + n],
-        };
-        let Some((w, sig)) = mantissa(int, frac) else {
+        let Some((w, sig)) = mantissa(int, self.b, int_at + t.int + 1, t.frac) else {
             return self.parse(t.start);
         };
         let e = match t.exp {

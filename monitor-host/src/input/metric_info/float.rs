@@ -202,7 +202,7 @@ mod tests {
             }
             check(&s, &mut hits);
             // Exact ties and their neighbours: (2^53 + odd) * 5^j / 10^j, j <= 4.
-            let odd = (1u64 << 53) + (rng.next() % (1u64 << 53)) | 1;
+            let odd = ((1u64 << 53) + (rng.next() % (1u64 << 53))) | 1;
             let j = (rng.next() % 5) as u32;
             let w = odd * 5u64.pow(j);
             for w in [w - 1, w, w + 1] {

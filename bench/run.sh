@@ -251,8 +251,14 @@ scale_row() { # label dir
     b=$(tel_bytes "$dir")
     f=$(($(cat "$dir/.size" | cut -d' ' -f1) * $(cat "$dir/.size" | cut -d' ' -f3)))
     read -r w c r <<<"$(score "$dir" 1)"
+    # (time counts in 10 ms: a run that took less shows 0.00 and no rate)
+    local nspf=- mbs=-
+    if awk "BEGIN { exit !($c > 0) }"; then
+        nspf=$(calc "$c * 1e9 / $f" %.0f)
+        mbs=$(calc "$b / 1e6 / $c" %.0f)
+    fi
     printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$1" "$(calc "$b / 1e6" %.0f)" "$w" "$c" \
-        "$(calc "$c * 1e9 / $f" %.0f)" "$(calc "$b / 1e6 / $c" %.0f)" "$(calc "$r / 1024" %.1f)"
+        "$nspf" "$mbs" "$(calc "$r / 1024" %.1f)"
 }
 ROWS_R=()
 for n in "${SR[@]}"; do

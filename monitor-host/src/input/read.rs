@@ -166,43 +166,6 @@ impl std::ops::Deref for HeldBytes {
 impl Drop for HeldBytes {
     fn drop(&mut self) {
         BUDGET.give_back(self.held);
-        spare::put(std::mem::take(&mut self.bytes));
-    }
-}
-
-/// One emptied buffer per thread, kept for the next file the thread reads: a worker reads one
-/// route's `metric_info.json` after another, and a fresh 3 MB allocation per route cost its page
-/// faults each time (~3 % of a replay). Buffers over [`spare::KEEP`] are freed, so what a
-/// thread keeps is bounded.
-mod spare {
-    use std::cell::RefCell;
-
-    /// The largest buffer kept (64 MiB: a 60,000-frame route).
-    pub(super) const KEEP: usize = 64 << 20;
-
-    thread_local! {
-        static SPARE: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
-    }
-
-    /// The thread's spare buffer (empty), or a new one.
-    pub(super) fn take() -> Vec<u8> {
-        SPARE
-            .try_with(|s| std::mem::take(&mut *s.borrow_mut()))
-            .unwrap_or_default()
-    }
-
-    /// Keeps `bytes`' allocation for the thread's next read, if it is not too large.
-    pub(super) fn put(mut bytes: Vec<u8>) {
-        if bytes.capacity() <= KEEP {
-            bytes.clear();
-            let _ = SPARE.try_with(|s| {
-                if let Ok(mut s) = s.try_borrow_mut() {
-                    if s.capacity() < bytes.capacity() {
-                        *s = bytes;
-                    }
-                }
-            });
-        }
     }
 }
 
@@ -232,7 +195,7 @@ pub fn read_input_held(path: &Path, kind: FileKind) -> io::Result<HeldBytes> {
         bytes: Vec::new(),
         held,
     };
-    out.bytes = read_bounded_into(spare::take(), file, size, kind)?;
+    out.bytes = read_bounded(file, size, kind)?;
     let len = out.bytes.len() as u64;
     if len > out.held {
         BUDGET.add(len - out.held);
@@ -271,16 +234,6 @@ pub fn read_input(path: &Path, kind: FileKind) -> io::Result<Vec<u8>> {
 
 /// Reads `file` (of `size` bytes when opened) whole, refusing more than the kind's limit.
 fn read_bounded(file: File, size: u64, kind: FileKind) -> io::Result<Vec<u8>> {
-    read_bounded_into(Vec::new(), file, size, kind)
-}
-
-/// [`read_bounded`] into `bytes` (empty; its allocation is reused).
-fn read_bounded_into(
-    mut bytes: Vec<u8>,
-    file: File,
-    size: u64,
-    kind: FileKind,
-) -> io::Result<Vec<u8>> {
     let limit = kind.max_bytes();
     let too_large = |size: u64| {
         io::Error::new(
@@ -295,8 +248,7 @@ fn read_bounded_into(
     if size > limit {
         return Err(too_large(size));
     }
-    bytes.clear();
-    bytes.reserve(size as usize);
+    let mut bytes = Vec::with_capacity(size as usize);
     // The file may grow after the check: never read more than the limit + 1.
     file.take(limit + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {

@@ -3,7 +3,6 @@
 use monitor_host::input::metric_info::{
     parse_metric_info, parse_metric_info_fast, parse_metric_info_serde,
 };
-use monitor_host::input::read::{read_input_held, FileKind};
 use monitor_host::input::route_xml::parse_route_xml;
 
 /// One frame in `json.dump(indent=4)` layout with the given six vectors' texts.
@@ -89,29 +88,6 @@ fn i40_unconverted_components_are_still_checked_finite() {
             assert_eq!(serde.is_ok(), finite, "{text} at {f}.{k}");
         }
     }
-}
-
-/// Each worker thread reuses its read buffer from one route to the next: a shorter file read
-/// after a longer one must come back alone, with nothing of the longer one behind it.
-#[test]
-fn i40_reused_read_buffer_keeps_nothing_of_the_previous_file() {
-    let dir = tempfile::tempdir().unwrap();
-    let long = dir.path().join("long.json");
-    let short = dir.path().join("short.json");
-    std::fs::write(&long, vec![b'7'; 100_000]).unwrap();
-    std::fs::write(&short, b"{}").unwrap();
-    let a = read_input_held(&long, FileKind::MetricInfo).unwrap();
-    assert_eq!(a.len(), 100_000);
-    drop(a);
-    let b = read_input_held(&short, FileKind::MetricInfo).unwrap();
-    assert_eq!(&*b, b"{}");
-    // And a byte order mark is still skipped in a reused buffer.
-    std::fs::write(&short, b"\xEF\xBB\xBF{}").unwrap();
-    drop(b);
-    assert_eq!(
-        &*read_input_held(&short, FileKind::MetricInfo).unwrap(),
-        b"{}"
-    );
 }
 
 /// The route XML is held for the whole run: its waypoints without the slack of growing.

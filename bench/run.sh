@@ -11,6 +11,17 @@
 #   LARGE_ROUTES, LARGE_FRAMES  size of the large run (default 220 x 4000), in Bench2Drive's
 #                     6-key frame layout (`sds demo --large`); a 13-key (`--layout wide`) run of
 #                     WIDE_ROUTES (default 44) x LARGE_FRAMES is measured beside it
+#   MID_ROUTES        routes of the mid-size run (default 128: 424 MB), whose peak RSS with
+#                     --jobs 1 has a goal (<= 20 MB)
+#   REPS              runs of each `sds score` measurement; the smallest CPU time (user + sys)
+#                     and wall time are reported (default 5): other processes on a shared
+#                     machine only ever add to them
+#   B2D_SCRIPT        Bench2Drive's `tools/efficiency_smoothness_benchmark.py` (from a checkout of
+#                     Bench2Drive; never copied into this repository: CC BY-NC-ND). When set, it
+#                     runs once on a B2D_ROUTES-route run (default 44) through
+#                     bench/b2d_smoothness.py, with numpy and scipy from a venv in
+#                     $CARGO_TARGET_DIR/b2d-venv (made if missing), and the CPU ratio is reported;
+#                     unset: that row says n/a
 set -euo pipefail
 
 cd "$(dirname "$0")/.."
@@ -23,6 +34,9 @@ QUICK=0
 LARGE_ROUTES=${LARGE_ROUTES:-$([[ $QUICK == 1 ]] && echo 44 || echo 220)}
 LARGE_FRAMES=${LARGE_FRAMES:-4000}
 WIDE_ROUTES=${WIDE_ROUTES:-44}
+MID_ROUTES=${MID_ROUTES:-$([[ $QUICK == 1 ]] && echo 22 || echo 128)}
+REPS=${REPS:-5}
+B2D_ROUTES=${B2D_ROUTES:-$([[ $QUICK == 1 ]] && echo 11 || echo 44)}
 NPROC=$(nproc)
 mkdir -p "$OUT"
 LOG=$OUT/run.log
@@ -108,10 +122,11 @@ gen_run() { # dir routes frames [layout]
 }
 tel_bytes() { find "$1/telemetry" -name metric_info.json -printf '%s\n' | awk '{s += $1} END {print s}'; }
 warm() { find "$1/telemetry" -name metric_info.json -exec cat {} + >/dev/null; }
-# score DIR JOBS -> "wall user sys maxrss_kb" (best wall of 2 runs)
+# score DIR JOBS -> "wall cpu maxrss_kb": the smallest wall and the smallest CPU (user + sys) of
+# REPS runs, and the largest peak RSS.
 score() {
-    local dir=$1 jobs=$2 best="" line
-    for _ in 1 2; do
+    local dir=$1 jobs=$2 w="" c="" r=0 line lw lu ls lr
+    for _ in $(seq "$REPS"); do
         if [[ $HAVE_TIME == 1 ]]; then
             line=$(/usr/bin/time -f '%e %U %S %M' "$SDS" score --results "$dir/results.json" \
                 --telemetry "$dir/telemetry" --routes "$dir/routes.xml" -o "$dir/report.json" \
@@ -124,11 +139,14 @@ score() {
             t1=$(date +%s.%N)
             line="$(calc "$t1 - $t0" %.2f) 0 0 0"
         fi
-        if [[ -z $best ]] || awk "BEGIN { exit !(${line%% *} < ${best%% *}) }"; then
-            best=$line
-        fi
+        read -r lw lu ls lr <<<"$line"
+        local lc
+        lc=$(calc "$lu + $ls" %.2f)
+        if [[ -z $w ]] || awk "BEGIN { exit !($lw < $w) }"; then w=$lw; fi
+        if [[ -z $c ]] || awk "BEGIN { exit !($lc < $c) }"; then c=$lc; fi
+        ((lr > r)) && r=$lr
     done
-    echo "$best"
+    echo "$w $c $r"
 }
 
 LARGE=$OUT/large
@@ -140,10 +158,9 @@ FRAMES=$((LARGE_ROUTES * LARGE_FRAMES))
 MB=$(calc "$BYTES / 1e6")
 BPF=$(calc "$BYTES / $FRAMES" %.0f)
 
-say "host: sds score --jobs 1 and --jobs $NPROC"
-read -r W1 U1 S1 R1 <<<"$(score "$LARGE" 1)"
-read -r WN UN SN RN <<<"$(score "$LARGE" "$NPROC")"
-C1=$(calc "$U1 + $S1" %.2f); CN=$(calc "$UN + $SN" %.2f)
+say "host: sds score --jobs 1 and --jobs $NPROC (each the best of $REPS runs)"
+read -r W1 C1 R1 <<<"$(score "$LARGE" 1)"
+read -r WN CN RN <<<"$(score "$LARGE" "$NPROC")"
 MBS_CPU1=$(calc "$MB / $C1" %.0f)
 MBS_W1=$(calc "$MB / $W1" %.0f)
 MBS_WN=$(calc "$MB / $WN" %.0f)
@@ -162,14 +179,58 @@ gen_run "$WIDE" "$WIDE_ROUTES" "$LARGE_FRAMES" wide
 warm "$WIDE"
 WMB=$(calc "$(tel_bytes "$WIDE") / 1e6")
 WBPF=$(calc "$(tel_bytes "$WIDE") / ($WIDE_ROUTES * $LARGE_FRAMES)" %.0f)
-read -r _ WU WS _ <<<"$(score "$WIDE" 1)"
-MBS_WIDE=$(calc "$WMB / ($WU + $WS)" %.0f)
+read -r _ WC _ <<<"$(score "$WIDE" 1)"
+MBS_WIDE=$(calc "$WMB / $WC" %.0f)
 
-say "host: stages (single thread)"
-"$STAGES" "$LARGE" >"$OUT/stages.txt"
-"$STAGES" "$WIDE" >"$OUT/stages-wide.txt"
-stage() { # name field [file]
-    sed -n "s/^stage=$1 .*$2=\([0-9.]*\).*/\1/p" "${3:-$OUT/stages.txt}"
+MID=$OUT/mid
+say "host: mid-size run ${MID_ROUTES} x ${LARGE_FRAMES} in $MID"
+gen_run "$MID" "$MID_ROUTES" "$LARGE_FRAMES"
+warm "$MID"
+MMB=$(calc "$(tel_bytes "$MID") / 1e6")
+read -r _ MC MR <<<"$(score "$MID" 1)"
+MBS_MID=$(calc "$MMB / $MC" %.0f)
+RSS_MID=$(calc "$MR / 1024" %.1f)
+
+# Bench2Drive's comfort script beside sds on the same run, CPU time of one invocation each (its
+# one run takes half a minute; sds's figure is its best of REPS).
+B2D_RATIO=n/a; B2D_CPU=n/a; B2D_RSS=n/a; B2D_SM=n/a; SDS_SM=n/a; B2C=n/a; BMB=n/a
+if [[ -n ${B2D_SCRIPT:-} && -f ${B2D_SCRIPT:-} ]]; then
+    B2D_PY=$TARGET/b2d-venv/bin/python
+    if [[ ! -x $B2D_PY ]] || ! "$B2D_PY" -c 'import numpy, scipy' 2>/dev/null; then
+        say "making $TARGET/b2d-venv (numpy, scipy) for Bench2Drive's script"
+        { python3 -m venv "$TARGET/b2d-venv" && "$B2D_PY" -m pip install -q numpy scipy; } \
+            >>"$LOG" 2>&1 || say "could not install numpy/scipy: Bench2Drive's row is n/a"
+    fi
+    if "$B2D_PY" -c 'import numpy, scipy' 2>/dev/null; then
+        BRUN=$OUT/b2d
+        gen_run "$BRUN" "$B2D_ROUTES" "$LARGE_FRAMES"
+        warm "$BRUN"
+        BMB=$(calc "$(tel_bytes "$BRUN") / 1e6")
+        say "Bench2Drive's script on $B2D_ROUTES routes (one run, ~$((B2D_ROUTES * 3 / 4)) s)"
+        line=$(/usr/bin/time -f '%U %S %M' "$B2D_PY" bench/b2d_smoothness.py "$B2D_SCRIPT" \
+            "$BRUN/results.json" "$BRUN/telemetry" 2>"$OUT/b2d.time" | tail -n1)
+        B2D_SM=${line#Driving Smoothness=}
+        read -r bu bs br <<<"$(tail -n1 "$OUT/b2d.time")"
+        B2D_CPU=$(calc "$bu + $bs" %.1f)
+        B2D_RSS=$(calc "$br / 1024" %.0f)
+        read -r _ B2C _ <<<"$(score "$BRUN" 1)"
+        SDS_SM=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["summary"]["bench2drive"]["smoothness"])' "$BRUN/report.json")
+        B2D_RATIO=$(calc "$B2D_CPU / $B2C" %.0f)
+    fi
+else
+    say "B2D_SCRIPT not set: the ratio to Bench2Drive's script is n/a (see the header)"
+fi
+
+say "host: stages (single thread, 3 runs: the smallest CPU time of each stage)"
+: >"$OUT/stages.txt"; : >"$OUT/stages-wide.txt"
+for _ in 1 2 3; do
+    "$STAGES" "$LARGE" >>"$OUT/stages.txt"
+    "$STAGES" "$WIDE" >>"$OUT/stages-wide.txt"
+done
+stage() { # name field [file]: the line of the run with the smallest cpu_s
+    grep "^stage=$1 " "${3:-$OUT/stages.txt}" |
+        awk '{ for (i = 1; i <= NF; i++) if ($i ~ /^cpu_s=/) { split($i, a, "="); print a[2], $0 } }' |
+        sort -g | head -n1 | sed -n "s/.* $2=\([0-9.]*\).*/\1/p"
 }
 stage_mbs() { calc "$(stage "$1" bytes "${2:-}") / 1e6 / $(stage "$1" cpu_s "${2:-}")" %.0f; }
 stage_nspf() { calc "$(stage "$1" cpu_s) * 1e9 / $(stage "$1" frames)" %.0f; }
@@ -177,22 +238,27 @@ stage_share() { calc "100 * $(stage "$1" cpu_s) / $(stage replay cpu_s)" %.1f; }
 
 # ---------------------------------------------------------------------------------------------
 if [[ $QUICK == 1 ]]; then
-    SR=(11 22 44); SF=(1000 2000 4000); FR=11
+    SR=(1 11 22 44); SF=(1000 2000 4000); FR=11
 else
-    SR=(27 55 110 220); SF=(1000 2000 4000 8000); FR=27
+    SR=(1 4 22 55 110 220); SF=(1000 2000 4000 8000); FR=27
 fi
 say "scaling: routes ${SR[*]} x 4000 frames; frames ${SF[*]} x $FR routes (--jobs 1)"
 SCALE=$OUT/scale
 mkdir -p "$SCALE"
 scale_row() { # label dir
-    local dir=$2 b f w u s r c
+    local dir=$2 b f w r c
     warm "$dir"
     b=$(tel_bytes "$dir")
     f=$(($(cat "$dir/.size" | cut -d' ' -f1) * $(cat "$dir/.size" | cut -d' ' -f3)))
-    read -r w u s r <<<"$(score "$dir" 1)"
-    c=$(calc "$u + $s" %.2f)
+    read -r w c r <<<"$(score "$dir" 1)"
+    # (time counts in 10 ms: a run that took less shows 0.00 and no rate)
+    local nspf=- mbs=-
+    if awk "BEGIN { exit !($c > 0) }"; then
+        nspf=$(calc "$c * 1e9 / $f" %.0f)
+        mbs=$(calc "$b / 1e6 / $c" %.0f)
+    fi
     printf '| %s | %s | %s | %s | %s | %s | %s |\n' "$1" "$(calc "$b / 1e6" %.0f)" "$w" "$c" \
-        "$(calc "$c * 1e9 / $f" %.0f)" "$(calc "$b / 1e6 / $c" %.0f)" "$(calc "$r / 1024" %.1f)"
+        "$nspf" "$mbs" "$(calc "$r / 1024" %.1f)"
 }
 ROWS_R=()
 for n in "${SR[@]}"; do
@@ -220,7 +286,7 @@ cat <<EOF
 ## SDS performance ($(date -u +%Y-%m-%dT%H:%MZ), commit $(git rev-parse --short HEAD 2>/dev/null || echo '?'))
 machine: $CPU_MODEL, $NPROC cores, $MEM; load average at start $LOAD_START, at end $LOAD_END
 rustc: $(rustc --version); large run: $LARGE_ROUTES routes x $LARGE_FRAMES frames, Bench2Drive's 6-key layout, $MB MB of metric_info.json ($BPF B/frame); wide run: $WIDE_ROUTES x $LARGE_FRAMES, 13 keys, $WMB MB ($WBPF B/frame)
-MB/s per core = bytes / (user + sys CPU seconds): unaffected by other processes; wall figures are.
+MB/s per core = bytes / (user + sys CPU seconds): unaffected by other processes; wall figures are. Every sds score figure is the smallest of $REPS runs (CPU and wall each), peak RSS the largest; stages the smallest of 3.
 
 | figure | measured | goal | status |
 |---|---|---|---|
@@ -231,7 +297,11 @@ MB/s per core = bytes / (user + sys CPU seconds): unaffected by other processes;
 | core: instructions per frame, amortised (callgrind) | $IR_AMORT | <= 300 | $([[ $IR_AMORT == n/a ]] && echo n/a || status "$IR_AMORT <= 300") |
 | core: instructions of the chunk-end frame | $IR_END | (report) | - |
 | core: instructions of an ordinary frame | $IR_MID | (report) | - |
-| host: MB/s per core, end to end (--jobs 1, CPU time) | $MBS_CPU1 MB/s | >= 800 MB/s | $(status "$MBS_CPU1 >= 800") |
+| host: MB/s per core, end to end (--jobs 1, CPU time), $LARGE_ROUTES-route run ($MB MB) | $MBS_CPU1 MB/s | >= 1,300 MB/s | $(status "$MBS_CPU1 >= 1300") |
+| host: the same on the $MID_ROUTES-route run ($MMB MB) | $MBS_MID MB/s | >= 1,300 MB/s | $(status "$MBS_MID >= 1300") |
+| host: peak RSS, --jobs 1, $MID_ROUTES-route run ($MMB MB) | $RSS_MID MB | <= 20 MB | $(status "$RSS_MID <= 20") |
+| Bench2Drive's comfort script / sds score --jobs 1, CPU, $B2D_ROUTES-route run ($BMB MB) | ${B2D_RATIO}x ($B2D_CPU s / $B2C s; smoothness $B2D_SM / $SDS_SM; its peak RSS $B2D_RSS MB) | >= 150x | $([[ $B2D_RATIO == n/a ]] && echo n/a || status "$B2D_RATIO >= 150") |
+| parser: ours against the floor (serde_json IgnoredAny MB/s / ours, same bytes) | $(calc "100 * $(stage skip cpu_s) / $(stage parse cpu_s)" %.0f)% | >= 90% | $(status "$(stage skip cpu_s) / $(stage parse cpu_s) >= 0.9") |
 | host: the same on the 13-key wide run | $MBS_WIDE MB/s | (report) | - |
 | host: MB/s wall, --jobs 1 | $MBS_W1 MB/s ($W1 s) | (report) | - |
 | host: MB/s wall, --jobs $NPROC | $MBS_WN MB/s ($WN s) | (report) | - |

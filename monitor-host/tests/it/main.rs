@@ -7,6 +7,7 @@ mod common;
 mod compare;
 mod hostile;
 mod merge;
+mod perf;
 mod score;
 mod seeds;
 mod tables;

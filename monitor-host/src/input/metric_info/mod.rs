@@ -38,6 +38,7 @@ use std::path::Path;
 
 use serde::de::{Deserializer, IgnoredAny};
 
+mod float;
 mod scan;
 mod visitor;
 

@@ -20,22 +20,110 @@
 use super::visitor::{field_index, step_number};
 use super::TelemetryFrame;
 
+/// Which components of each required vector (`TelemetryFrame::FIELDS` order) a frame keeps:
+/// acceleration x, y; angular velocity z; forward and right x, y; location x, y, z. The other
+/// five are checked to be finite, as `TelemetryFrame::from_raw` requires, without converting.
+const KEPT: [u8; 5] = [0b011, 0b100, 0b011, 0b011, 0b111];
+
+/// The value of eight ASCII digits (the first in the lowest byte), in a few multiplications.
+#[inline]
+fn eight_digits(x: u64) -> u64 {
+    let x = x.wrapping_sub(splat(b'0'));
+    let x = x.wrapping_mul(10).wrapping_add(x >> 8);
+    (x & 0x0000_00FF_0000_00FF)
+        .wrapping_mul(100 + (1_000_000 << 32))
+        .wrapping_add(((x >> 16) & 0x0000_00FF_0000_00FF).wrapping_mul(1 + (10_000 << 32)))
+        >> 32
+}
+
+/// The mantissa of a number token as an integer, from its integer digits `int` and its `frac`
+/// fraction digits at `b[at..]`, with its count of significant digits (from the first non-zero
+/// one); the integer is exact when that count is at most 19. Eight fraction digits at a time,
+/// the last few too (padded with leading '0's), without a branch per digit. `None` when the
+/// count cannot be known cheaply (eight or more leading zeros after `0.`, or the token at the
+/// very end of the bytes): the caller then takes the general path.
+#[inline]
+fn mantissa(int: &[u8], b: &[u8], at: usize, frac: usize) -> Option<(u64, usize)> {
+    let word =
+        |i: usize| -> Option<u64> { Some(u64::from_le_bytes(b.get(i..i + 8)?.try_into().ok()?)) };
+    let mut w: u64 = 0;
+    for &c in int {
+        w = w.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+    }
+    let sig = if w != 0 || int.len() > 1 {
+        int.len() + frac
+    } else {
+        // "0.": the fraction's leading zeros do not count (bytes after the digits are not '0').
+        let zeros = (word(at)? ^ splat(b'0')).trailing_zeros() as usize / 8;
+        if zeros >= frac.min(8) {
+            return None;
+        }
+        frac - zeros
+    };
+    let mut i = at;
+    let end = at + frac;
+    while i + 8 <= end {
+        w = w
+            .wrapping_mul(100_000_000)
+            .wrapping_add(eight_digits(word(i)?));
+        i += 8;
+    }
+    let r = end - i;
+    if r > 0 {
+        // The r digits moved to the top of the word, '0's below them.
+        let x = (word(i)? << (8 * (8 - r))) | (splat(b'0') >> (8 * r));
+        w = w.wrapping_mul(POW10[r]).wrapping_add(eight_digits(x));
+    }
+    Some((w, sig))
+}
+
+/// `10^r` for r = 0..8.
+const POW10: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
+
 /// A position in the bytes.
 struct Cursor<'a> {
     b: &'a [u8],
     i: usize,
 }
 
+/// Eight copies of a byte, for comparing eight bytes at once.
+const fn splat(c: u8) -> u64 {
+    u64::from_ne_bytes([c; 8])
+}
+
+/// What the scanner saw of one number token.
+struct Token {
+    /// Where it starts.
+    start: usize,
+    /// Digits of the integer part.
+    int: usize,
+    /// Digits after the point.
+    frac: usize,
+    /// The explicit exponent, if written and short (`None` if absent, `Some(None)` if too long
+    /// to read here).
+    exp: Option<Option<i32>>,
+}
+
 impl<'a> Cursor<'a> {
-    /// Skips JSON whitespace (eight spaces at a time: `json.dump(indent=4)` indents a lot).
+    /// Eight bytes from `i` as one little-endian word, if there are eight.
+    #[inline]
+    fn word(&self, i: usize) -> Option<u64> {
+        let chunk = self.b.get(i..i + 8)?;
+        Some(u64::from_le_bytes(chunk.try_into().ok()?))
+    }
+
+    /// Skips JSON whitespace; runs of spaces (`json.dump(indent=4)` indents a lot) eight bytes
+    /// at a time.
     #[inline]
     fn ws(&mut self) {
         loop {
-            if let Some(chunk) = self.b.get(self.i..self.i + 8) {
-                if chunk == b"        " {
+            if let Some(x) = self.word(self.i) {
+                let y = x ^ splat(b' ');
+                if y == 0 {
                     self.i += 8;
                     continue;
                 }
+                self.i += (y.trailing_zeros() / 8) as usize;
             }
             match self.b.get(self.i) {
                 Some(b' ' | b'\n' | b'\r' | b'\t') => self.i += 1,
@@ -54,70 +142,129 @@ impl<'a> Cursor<'a> {
         (self.peek()? == c).then(|| self.i += 1)
     }
 
-    /// A key without escapes or non-ASCII bytes.
+    /// A key without escapes or non-ASCII bytes: eight bytes at a time, up to the first that is
+    /// a quote, a backslash, a control character or not ASCII, which must be the closing quote.
     #[inline]
     fn key(&mut self) -> Option<&'a [u8]> {
         self.eat(b'"')?;
         let start = self.i;
-        let len = self.b.get(start..)?.iter().position(|&c| c == b'"')?;
-        let text = &self.b[start..start + len];
-        if text
-            .iter()
-            .any(|&c| c == b'\\' || !(0x20..0x80).contains(&c))
-        {
+        let mut i = start;
+        let end = loop {
+            let Some(x) = self.word(i) else {
+                // Near the end of the bytes: one at a time.
+                let rest = self.b.get(i..)?;
+                let k = rest
+                    .iter()
+                    .position(|&c| c == b'"' || c == b'\\' || !(0x20..0x80).contains(&c))?;
+                break i + k;
+            };
+            // High bit per byte: a quote or backslash (zero after the xor), a control byte
+            // (< 0x20) or a non-ASCII byte (high bit set already).
+            let zero = |y: u64| y.wrapping_sub(splat(1)) & !y;
+            let hit =
+                (zero(x ^ splat(b'"')) | zero(x ^ splat(b'\\')) | x.wrapping_sub(splat(0x20)) | x)
+                    & splat(0x80);
+            if hit == 0 {
+                i += 8;
+                continue;
+            }
+            break i + (hit.trailing_zeros() / 8) as usize;
+        };
+        if self.b[end] != b'"' {
             return None;
         }
-        self.i = start + len + 1;
-        Some(text)
+        self.i = end + 1;
+        Some(&self.b[start..end])
     }
 
+    /// Skips a run of ASCII digits, eight at a time; returns its length.
     #[inline]
     fn digits(&mut self) -> usize {
         let start = self.i;
-        while self.b.get(self.i).is_some_and(u8::is_ascii_digit) {
-            self.i += 1;
+        loop {
+            let Some(x) = self.word(self.i) else {
+                while self.b.get(self.i).is_some_and(u8::is_ascii_digit) {
+                    self.i += 1;
+                }
+                return self.i - start;
+            };
+            // Per byte, without carries between bytes: a = c ^ '0' is 0..=9 for a digit; the
+            // high bit of ((a & 0x7f) + 0x76) | a is set exactly for the other bytes.
+            let a = x ^ splat(b'0');
+            let other = (((a & splat(0x7f)) + splat(0x76)) | a) & splat(0x80);
+            if other == 0 {
+                self.i += 8;
+                continue;
+            }
+            self.i += (other.trailing_zeros() / 8) as usize;
+            return self.i - start;
         }
-        self.i - start
     }
 
-    /// A number token in JSON's grammar, `-? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?`;
-    /// returns the index where it starts.
+    /// A number token in JSON's grammar, `-? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?`.
     #[inline]
-    fn number(&mut self) -> Option<usize> {
+    fn number(&mut self) -> Option<Token> {
         let start = self.i;
-        if self.peek() == Some(b'-') {
-            self.i += 1;
-        }
-        match self.peek()? {
-            b'0' => self.i += 1,
-            b'1'..=b'9' => {
-                self.digits();
+        // Branch-free: the sign is as likely as not.
+        self.i += usize::from(self.peek() == Some(b'-'));
+        let int = match self.peek()? {
+            b'0' => {
+                self.i += 1;
+                1
             }
+            b'1'..=b'9' => self.digits(),
             _ => return None,
-        }
+        };
+        let mut frac = 0;
         if self.peek() == Some(b'.') {
             self.i += 1;
-            if self.digits() == 0 {
+            frac = self.digits();
+            if frac == 0 {
                 return None;
             }
         }
+        let mut exp = None;
         if matches!(self.peek(), Some(b'e' | b'E')) {
             self.i += 1;
-            if matches!(self.peek(), Some(b'+' | b'-')) {
-                self.i += 1;
-            }
-            if self.digits() == 0 {
+            let neg = match self.peek() {
+                Some(b'-') => {
+                    self.i += 1;
+                    true
+                }
+                Some(b'+') => {
+                    self.i += 1;
+                    false
+                }
+                _ => false,
+            };
+            let at = self.i;
+            let n = self.digits();
+            if n == 0 {
                 return None;
             }
+            exp = Some((n <= 4).then(|| {
+                let e = self.b[at..at + n]
+                    .iter()
+                    .fold(0i32, |e, &c| e * 10 + i32::from(c - b'0'));
+                if neg {
+                    -e
+                } else {
+                    e
+                }
+            }));
         }
-        Some(start)
+        Some(Token {
+            start,
+            int,
+            frac,
+            exp,
+        })
     }
 
-    /// A number token's value, correctly rounded (`None` if not finite).
+    /// The token just read, parsed by `str::parse` (`None` if not finite).
     #[inline]
     #[allow(unsafe_code)]
-    fn value(&mut self) -> Option<f64> {
-        let start = self.number()?;
+    fn parse(&self, start: usize) -> Option<f64> {
         let token = &self.b[start..self.i];
         debug_assert!(token.is_ascii());
         // SAFETY: `number` admitted only the ASCII bytes `-+.eE0-9`, which are valid UTF-8.
@@ -127,8 +274,48 @@ impl<'a> Cursor<'a> {
         x.is_finite().then_some(x)
     }
 
-    /// A required vector: exactly three finite numbers.
-    fn vec3(&mut self) -> Option<[f64; 3]> {
+    /// A number token's value, correctly rounded (`None` if not finite): the digits Python
+    /// writes go through `float::exact_div`, the rest through `str::parse`; the same bits.
+    #[inline]
+    fn value(&mut self) -> Option<f64> {
+        let t = self.number()?;
+        let neg = self.b[t.start] == b'-';
+        let int_at = t.start + usize::from(neg);
+        let int = &self.b[int_at..int_at + t.int];
+        let Some((w, sig)) = mantissa(int, self.b, int_at + t.int + 1, t.frac) else {
+            return self.parse(t.start);
+        };
+        let e = match t.exp {
+            None => 0,
+            Some(Some(e)) => e,
+            Some(None) => return self.parse(t.start),
+        };
+        let k = t.frac as i64 - i64::from(e);
+        if sig <= 19 && (0..=21).contains(&k) {
+            return super::float::exact_div(w, k as u32, neg);
+        }
+        self.parse(t.start)
+    }
+
+    /// A number that is checked and known to be finite but not converted (`None` if it is not
+    /// finite): a required vector's component the frame does not keep.
+    #[inline]
+    fn finite(&mut self) -> Option<()> {
+        let t = self.number()?;
+        // Below 10^(int + exp) <= 10^308 < f64::MAX: finite without converting.
+        let magnitude = match t.exp {
+            None => Some(0),
+            Some(e) => e.map(|e| e.max(0)),
+        };
+        if magnitude.is_some_and(|m| t.int as i64 + i64::from(m) <= 308) {
+            return Some(());
+        }
+        self.parse(t.start).map(|_| ())
+    }
+
+    /// A required vector: exactly three finite numbers, those of `keep` (bit k for component
+    /// k) converted, the others left 0.0 (`TelemetryFrame::from_raw` reads only the kept ones).
+    fn vec3(&mut self, keep: u8) -> Option<[f64; 3]> {
         self.eat(b'[')?;
         let mut v = [0.0f64; 3];
         for (k, slot) in v.iter_mut().enumerate() {
@@ -137,7 +324,11 @@ impl<'a> Cursor<'a> {
                 self.eat(b',')?;
             }
             self.ws();
-            *slot = self.value()?;
+            if keep & (1 << k) != 0 {
+                *slot = self.value()?;
+            } else {
+                self.finite()?;
+            }
         }
         self.ws();
         self.eat(b']')?;
@@ -187,7 +378,7 @@ impl<'a> Cursor<'a> {
                         return None;
                     }
                     seen |= 1 << idx;
-                    vals[idx] = self.vec3()?;
+                    vals[idx] = self.vec3(KEPT[idx])?;
                 }
                 None => self.other()?,
             }

@@ -138,7 +138,7 @@ done
 # installs into a fresh venv without the network.
 py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
 py_tools="$py_target/py-tools"
-py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1"
+py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1 mcap==1.6.0 mcap-ros2-support==0.6.0"
 py_by_hand="python3 -m venv $py_tools && $py_tools/bin/pip install $py_pins && $py_tools/bin/pip download -d $py_tools/wheelhouse $py_pins"
 if ! have python3; then
   lacks "python3 -- apt-get install python3 python3-venv -- the Python package tests and the map cross-check skip"

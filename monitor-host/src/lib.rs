@@ -84,6 +84,7 @@ pub mod route;
 pub mod run;
 pub mod scored;
 pub mod settings;
+pub mod vehicle_logs;
 pub mod warning;
 pub mod watch;
 

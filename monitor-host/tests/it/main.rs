@@ -6,6 +6,7 @@ mod common;
 
 mod compare;
 mod hostile;
+mod mcap;
 mod merge;
 mod score;
 mod seeds;

@@ -95,7 +95,7 @@ pub fn stream(
     let mut magic = [0u8; 8];
     let got = read_up_to(&mut source, &mut magic)?;
     if &magic[..got] != MAGIC.as_slice() {
-        let hint = if magic[..got].starts_with(b"SQLite format") {
+        let hint = if magic[..got].starts_with(b"SQLite f") {
             ": a rosbag2 sqlite3 log; convert it with `ros2 bag convert` to MCAP"
         } else {
             ""

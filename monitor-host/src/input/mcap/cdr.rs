@@ -17,8 +17,13 @@
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum CdrError {
     /// Fewer than 4 bytes, or an encapsulation other than CDR_BE / CDR_LE (`00 00` / `00 01`).
-    #[error("not CDR: encapsulation header {0:02x?} (expected 00 00 or 00 01)")]
-    Header(Vec<u8>),
+    #[error("not CDR: encapsulation header {:02x?} (expected 00 00 or 00 01)", &first[..(*len).min(4)])]
+    Header {
+        /// The first bytes of the message.
+        first: [u8; 4],
+        /// The message's length.
+        len: usize,
+    },
     /// The message ends before the value at this offset.
     #[error("message ends at byte {len}, inside a value at byte {at}")]
     Short {
@@ -49,13 +54,21 @@ impl<'a> Cdr<'a> {
     /// # Errors
     /// [`CdrError::Header`] when the header is missing or not plain CDR.
     pub fn new(bytes: &'a [u8]) -> Result<Self, CdrError> {
+        let mut first = [0u8; 4];
+        for (f, b) in first.iter_mut().zip(bytes) {
+            *f = *b;
+        }
+        let bad = CdrError::Header {
+            first,
+            len: bytes.len(),
+        };
         let little = match bytes.get(..2) {
             Some([0, 1]) => true,
             Some([0, 0]) => false,
-            _ => return Err(CdrError::Header(bytes.iter().take(4).copied().collect())),
+            _ => return Err(bad),
         };
         if bytes.len() < HEADER {
-            return Err(CdrError::Header(bytes.to_vec()));
+            return Err(bad);
         }
         Ok(Cdr {
             bytes,

@@ -164,8 +164,8 @@ pub enum McapError {
         available: String,
     },
     /// A topic whose type is not the signal's.
-    #[error("{}: topic {topic} ({signal}) is {found} (encoding {encoding:?}), expected {expected} \
-             in cdr; name the right topic with --topic {signal}=TOPIC", file.display())]
+    #[error("{}: topic {topic} ({signal}) is {found}, expected {expected} in cdr; name the right \
+             topic with --topic {signal}=TOPIC", file.display())]
     WrongType {
         /// The file.
         file: PathBuf,
@@ -173,12 +173,10 @@ pub enum McapError {
         signal: &'static str,
         /// The topic.
         topic: String,
-        /// The schema name found.
+        /// The schema name and message encoding found.
         found: String,
-        /// The message encoding found.
-        encoding: String,
         /// The types accepted.
-        expected: String,
+        expected: &'static str,
     },
     /// A schema whose embedded definition differs from the one the reader decodes.
     #[error("{}: topic {topic} is {type_name}, but {detail}: the log was recorded with another \
@@ -389,12 +387,17 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
                 entry.encoding = encoding.to_string();
             }
             let index = entry.messages - 1;
-            let signal: Option<(&'static str, &[RosType])> = if ch.topic == topics.pose {
-                Some(("pose", &[RosType::Odometry, RosType::PoseStamped]))
+            type Signal = (&'static str, &'static [RosType], &'static str);
+            let signal: Option<Signal> = if ch.topic == topics.pose {
+                Some((
+                    "pose",
+                    &[RosType::Odometry, RosType::PoseStamped],
+                    "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
+                ))
             } else if ch.topic == topics.imu {
-                Some(("imu", &[RosType::Imu]))
+                Some(("imu", &[RosType::Imu], "sensor_msgs/msg/Imu"))
             } else if Some(&ch.topic) == topics.path.as_ref() {
-                Some(("path", &[RosType::Path]))
+                Some(("path", &[RosType::Path], "nav_msgs/msg/Path"))
             } else {
                 None
             };
@@ -402,7 +405,7 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
                 events.push((m.log_time, type_name.to_string()));
                 return Ok(());
             }
-            let Some((signal, accepted)) = signal else {
+            let Some((signal, accepted, expected)) = signal else {
                 return Ok(());
             };
             let t = match checked.get(&ch.id) {
@@ -415,16 +418,11 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
                             signal,
                             topic: ch.topic.clone(),
                             found: if type_name.is_empty() {
-                                "without a schema".into()
+                                format!("without a schema, in {encoding:?}")
                             } else {
-                                type_name.into()
+                                format!("{type_name} in {encoding:?}")
                             },
-                            encoding: encoding.into(),
-                            expected: accepted
-                                .iter()
-                                .map(|t| t.name())
-                                .collect::<Vec<_>>()
-                                .join(" or "),
+                            expected,
                         });
                         return Err(String::new());
                     };

@@ -14,6 +14,7 @@ Usage: telemetry_to_mcap.py METRIC_INFO OUT.mcap --dt 0.05 [--path X,Y,Z;...] [-
   --path    the route's waypoints (CARLA x, y, z), written once as nav_msgs/msg/Path on /path
   --events  telemetry steps at which to write a std_msgs/msg/Empty on /events
   --chunk   MCAP chunk size in bytes (default 1 MiB)
+  --compression  chunk compression: zstd (default, as the mcap package writes), lz4 or none
 """
 
 import argparse
@@ -76,6 +77,7 @@ def main():
     ap.add_argument("--path", default="")
     ap.add_argument("--events", default="")
     ap.add_argument("--chunk", type=int, default=1 << 20)
+    ap.add_argument("--compression", choices=["zstd", "lz4", "none"], default="zstd")
     ap.add_argument("--base-ns", type=int, default=1_700_000_000 * 10**9)
     a = ap.parse_args()
 
@@ -89,7 +91,11 @@ def main():
         return a.base_ns + (step - first) * dt_ns
 
     with open(a.out, "wb") as f:
-        w = Writer(f, chunk_size=a.chunk)
+        from mcap.writer import CompressionType
+
+        kind = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4,
+                "none": CompressionType.NONE}[a.compression]
+        w = Writer(f, chunk_size=a.chunk, compression=kind)
         odom = w.register_msgdef("nav_msgs/msg/Odometry", ODOMETRY)
         imu = w.register_msgdef("sensor_msgs/msg/Imu", IMU)
         zeros9, zeros36 = [0.0] * 9, [0.0] * 36

@@ -5,8 +5,8 @@
 //!
 //! ```
 //! use monitor_host::input::mcap::cdr::Cdr;
-//! // header (CDR_LE), u32 7, then an f64 at offset 8 (aligned).
-//! let mut b = vec![0u8, 1, 0, 0, 7, 0, 0, 0];
+//! // header (CDR_LE), u32 7, 4 bytes of padding, then an f64 aligned to 8 after the header.
+//! let mut b = vec![0u8, 1, 0, 0, 7, 0, 0, 0, 0, 0, 0, 0];
 //! b.extend_from_slice(&2.5f64.to_le_bytes());
 //! let mut c = Cdr::new(&b)?;
 //! assert_eq!((c.u32()?, c.f64()?), (7, 2.5));

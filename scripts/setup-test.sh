@@ -119,7 +119,7 @@ check "from bookworm-backports" grep -q -- '-t bookworm-backports' <<<"$(apt_ins
 check "bookworm-backports enabled inside the sandbox" grep -q bookworm-backports "$s/etc/apt/sources.list.d/bookworm-backports.sources"
 for want in "rustup component add rustfmt" "rustup component add clippy" \
             "rustup target add thumbv7m-none-eabi" "rustup target add thumbv7em-none-eabihf" \
-            "python3 -m venv $s/target/py-tools" "pip install -q maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1" \
+            "python3 -m venv $s/target/py-tools" "pip install -q maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1 mcap==1.6.0 mcap-ros2-support==0.6.0" \
             "pip download -q -d $s/target/py-tools/wheelhouse numpy==2.4.6 pandas==3.1.1 pyarrow==26.0.1 duckdb==2.0.1 wandb==0.31.0 tensorboard==2.21.0 mlflow-skinny==3.17.2"; do
   check "asked: $want" grep -qxF "$want" <<<"$(calls "$s")"
 done

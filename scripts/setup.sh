@@ -140,7 +140,7 @@ done
 # installs into a fresh venv without the network.
 py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
 py_tools="$py_target/py-tools"
-py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1"
+py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1 mcap==1.6.0 mcap-ros2-support==0.6.0"
 # Ray drives the scale-out test (one task per shard, spec v1.4 §13); it has no wheel for some
 # platforms and Pythons, so it is pinned apart: without it only that test skips, loudly.
 py_ray_pin="ray==2.60.0"

@@ -9,6 +9,8 @@
 #      (test_api.cpp, g++ -std=c++17 -Wall -Wextra -Werror) byte-identical to `monitor_replay`'s;
 #      the two tests also check every error code (NULLs, small buffer, bad configs, NaN frames,
 #      frame after finish);
+#   4b. every demo route written as an MCAP log by an independent writer and replayed by sds_replay
+#      from `sds frames --mcap`: the same verdicts as its telemetry (mcap-replay-test.sh);
 #   5. the C and C++ tests run clean under valgrind (--error-exitcode=1 --leak-check=full); four
 #      threads with a monitor each agree with a single-threaded run, with no race under helgrind;
 #   6. Cortex-M4F: libsds_monitor.a for thumbv7em-none-eabihf linked into a C firmware
@@ -132,6 +134,8 @@ diff -u "$OUT/host.txt" "$OUT/c-test.txt" >&2 || fail "the C test's lines differ
 diff -u "$OUT/host.txt" "$OUT/cpp-test.txt" >&2 || fail "the C++ test's lines differ from monitor_replay's"
 say "ok: $(tail -1 "$OUT/c-test.log"); $(tail -1 "$OUT/cpp-test.log")"
 say "ok: host == C example == C test == C++ test: ${#ROUTES[@]} routes, $nev events, summaries and pins byte-identical"
+# 4b. The same routes as vehicle logs (MCAP, spec v1.4 §16) through the C example.
+bash "$HERE/mcap-replay-test.sh" "$SDS" "$OUT/sds_replay" "$OUT/demo" "$OUT/mcap"
 
 # 5. valgrind --------------------------------------------------------------------------------------
 for t in test_api test_api_cpp; do

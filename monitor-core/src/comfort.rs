@@ -112,7 +112,7 @@ impl<const N: usize> ChunkBuffer<N> {
         let mut yaw = [0.0f32; N];
         let mut tmp = [0.0f32; N];
         let h = match config.profile {
-            Profile::Physical => config.dt,
+            Profile::Physical | Profile::Autoware => config.dt,
             Profile::B2dLegacy => config.legacy_jerk_spacing,
         };
         let mut f = Failures::default();
@@ -135,7 +135,7 @@ impl<const N: usize> ChunkBuffer<N> {
         f.mag_jerk = !inside(tmp.get(..n)?, -b.mag_jerk, b.mag_jerk);
 
         match config.profile {
-            Profile::Physical => {
+            Profile::Physical | Profile::Autoware => {
                 sg::filter(&self.yaw, &VALUE, None, &mut yaw);
                 let yaw = yaw.get(..n)?;
                 f.yaw_rate = !inside(yaw, -b.yaw_rate, b.yaw_rate);

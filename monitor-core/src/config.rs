@@ -17,10 +17,15 @@ pub enum Profile {
     /// phase-unwrapped per chunk, yaw acceleration not differentiated, jerks over 0.1 s spacing.
     #[cfg_attr(feature = "serde", serde(rename = "b2d-legacy"))]
     B2dLegacy,
+    /// Computed as [`Profile::Physical`], judged against Autoware's planning envelope
+    /// ([`Bounds::AUTOWARE`], spec v1.4 §16): passenger comfort on a vehicle rather than
+    /// physical plausibility.
+    #[cfg_attr(feature = "serde", serde(rename = "autoware"))]
+    Autoware,
 }
 
 impl Profile {
-    /// The name used on the command line and in reports (`physical`, `b2d-legacy`).
+    /// The name used on the command line and in reports (`physical`, `b2d-legacy`, `autoware`).
     ///
     /// ```
     /// assert_eq!(monitor_core::Profile::B2dLegacy.name(), "b2d-legacy");
@@ -29,6 +34,7 @@ impl Profile {
         match self {
             Profile::Physical => "physical",
             Profile::B2dLegacy => "b2d-legacy",
+            Profile::Autoware => "autoware",
         }
     }
 
@@ -44,7 +50,7 @@ impl Profile {
     #[inline]
     pub fn comfort_yaw_rate(self, yaw_rate_deg: f32) -> f32 {
         match self {
-            Profile::Physical => yaw_rate_deg * crate::signal::DEG_TO_RAD,
+            Profile::Physical | Profile::Autoware => yaw_rate_deg * crate::signal::DEG_TO_RAD,
             Profile::B2dLegacy => yaw_rate_deg,
         }
     }
@@ -85,6 +91,33 @@ impl Bounds {
         yaw_acc: 1.93,
         yaw_rate: 0.95,
     };
+
+    /// Autoware's planning envelope (spec v1.4 §16) **\[decision\]**: longitudinal acceleration
+    /// -1.0..1.0 m/s², lateral acceleration 1.0 m/s², jerk magnitude and longitudinal jerk
+    /// 1.0 m/s³; yaw rate and yaw acceleration as [`Bounds::DEFAULT`].
+    ///
+    /// ```
+    /// use monitor_core::Bounds;
+    /// assert_eq!((Bounds::AUTOWARE.lon_acc_min, Bounds::AUTOWARE.yaw_rate), (-1.0, 0.95));
+    /// ```
+    pub const AUTOWARE: Bounds = Bounds {
+        lon_acc_min: -1.0,
+        lon_acc_max: 1.0,
+        lat_acc: 1.0,
+        mag_jerk: 1.0,
+        lon_jerk: 1.0,
+        yaw_acc: Bounds::DEFAULT.yaw_acc,
+        yaw_rate: Bounds::DEFAULT.yaw_rate,
+    };
+
+    /// The bounds a profile judges against by default: [`Bounds::AUTOWARE`] for
+    /// [`Profile::Autoware`], else [`Bounds::DEFAULT`].
+    pub const fn of(profile: Profile) -> Bounds {
+        match profile {
+            Profile::Autoware => Bounds::AUTOWARE,
+            Profile::Physical | Profile::B2dLegacy => Bounds::DEFAULT,
+        }
+    }
 }
 
 /// Penalty factors of DS_safe (spec sections 7 and 8). Scores are f64: they combine with the

@@ -428,14 +428,20 @@ impl Settings {
                     })?
             }
             "profile" => {
-                c.profile = [Profile::Physical, Profile::B2dLegacy]
+                let profile = [Profile::Physical, Profile::B2dLegacy, Profile::Autoware]
                     .into_iter()
                     .find(|p| p.name() == v.trim())
                     .ok_or(SettingsError::Value {
                         name: key,
-                        expected: "physical or b2d-legacy",
+                        expected: "physical, b2d-legacy or autoware",
                         value: v.into(),
-                    })?
+                    })?;
+                // The profile brings its own bounds (autoware: spec v1.4 §16), unless they
+                // were set one by one.
+                if c.bounds == monitor_core::Bounds::of(c.profile) {
+                    c.bounds = monitor_core::Bounds::of(profile);
+                }
+                c.profile = profile;
             }
             "anomalous_excess" => c.anomalous_excess = f32_of(key, v)?,
             "critical_excess" => c.critical_excess = f32_of(key, v)?,
@@ -1113,6 +1119,7 @@ impl RunOptions {
     pub fn settings(&self) -> Result<Settings, SettingsError> {
         let mut s = Settings::default();
         s.core.profile = self.profile;
+        s.core.bounds = monitor_core::Bounds::of(self.profile);
         s.expected_routes = self.expected_routes;
         if let Some(d) = self.duplicates {
             s.duplicates = d;

@@ -321,6 +321,14 @@ pub enum Warning {
     /// A route's warning as a report wrote it (a part of `sds merge` read back, v1.4 §13):
     /// printed unchanged.
     Recorded(String),
+    /// A vehicle log's note (spec v1.4 §16): messages lost to a cut, sorted out of order,
+    /// clock gaps, the IMU replaced by the odometry twist, no Leaderboard record.
+    VehicleLog {
+        /// The MCAP file (or rosbag2 folder).
+        file: PathBuf,
+        /// What happened and what it means.
+        text: String,
+    },
     /// A warning of a part of `sds merge` (v1.4 §13), naming the part.
     Part {
         /// The part's file.
@@ -661,6 +669,7 @@ impl std::fmt::Display for Warning {
             ),
             Warning::Recorded(text) => f.write_str(text),
             Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
+            Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
             Warning::F2dUnfinished { routes } => write!(
                 f,
                 "protocols: f2d: {} route(s) count as Fail2Drive successes though they did not \

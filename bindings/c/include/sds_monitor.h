@@ -392,6 +392,10 @@ typedef struct sds_monitor_storage {
 // Bench2Drive's published "Driving Smoothness", bugs included.
 #define SDS_PROFILE_B2D_LEGACY 1
 
+// Computed as physical, judged against Autoware's planning envelope (set the bounds with
+// bounds: lon -1.0..1.0, lat 1.0, jerks 1.0; spec v1.4 §16).
+#define SDS_PROFILE_AUTOWARE 2
+
 // Not an event (an unused slot).
 #define SDS_EVENT_NONE 0
 

@@ -15,6 +15,9 @@ pub type sds_profile = u32;
 pub const SDS_PROFILE_PHYSICAL: sds_profile = 0;
 /// Bench2Drive's published "Driving Smoothness", bugs included.
 pub const SDS_PROFILE_B2D_LEGACY: sds_profile = 1;
+/// Computed as physical, judged against Autoware's planning envelope (set the bounds with
+/// bounds: lon -1.0..1.0, lat 1.0, jerks 1.0; spec v1.4 §16).
+pub const SDS_PROFILE_AUTOWARE: sds_profile = 2;
 
 /// The six strict comfort bounds (m/s², m/s³, rad/s², rad/s).
 #[repr(C)]
@@ -119,6 +122,7 @@ impl From<Config> for sds_config {
             profile: match c.profile {
                 Profile::Physical => SDS_PROFILE_PHYSICAL,
                 Profile::B2dLegacy => SDS_PROFILE_B2D_LEGACY,
+                Profile::Autoware => SDS_PROFILE_AUTOWARE,
             },
             dt: c.dt,
             legacy_jerk_spacing: c.legacy_jerk_spacing,
@@ -150,6 +154,7 @@ impl sds_config {
         let profile = match self.profile {
             SDS_PROFILE_PHYSICAL => Profile::Physical,
             SDS_PROFILE_B2D_LEGACY => Profile::B2dLegacy,
+            SDS_PROFILE_AUTOWARE => Profile::Autoware,
             _ => return Err(sds_result::ConfigProfile),
         };
         let b = self.bounds;

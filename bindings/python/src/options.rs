@@ -85,6 +85,7 @@ impl RunKwargs<'_> {
             &[
                 (Profile::Physical.name(), Profile::Physical),
                 (Profile::B2dLegacy.name(), Profile::B2dLegacy),
+                (Profile::Autoware.name(), Profile::Autoware),
             ],
         )?;
         let named: Vec<(&str, DuplicatePolicy)> = [

@@ -180,3 +180,12 @@ def test_settings_and_profile_reach_the_monitor() -> None:
     assert cfg["profile"] in ("b2d-legacy", "B2dLegacy") and cfg["chunk_len"] == 10
     assert struct.pack("<f", cfg["slack"]) == struct.pack("<f", 0.9)
     assert struct.pack("<f", cfg["dt"]) == struct.pack("<f", 0.1)
+
+
+def test_autoware_profile_brings_its_bounds() -> None:
+    # Issue 39 (spec v1.4 §16): the autoware profile judges against Autoware's planning envelope.
+    cfg = sds.Monitor(profile="autoware").config
+    assert cfg["profile"] == "autoware"
+    b = cfg["bounds"]
+    assert (b["lon_acc_min"], b["lon_acc_max"], b["lat_acc"], b["mag_jerk"], b["lon_jerk"]) == (
+        -1.0, 1.0, 1.0, 1.0, 1.0)

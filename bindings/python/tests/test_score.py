@@ -61,6 +61,8 @@ def test_no_command_line_in_between() -> None:
             ["--set", "slack=0.9", "--set", "bounds.yaw_rate=1.0", "--set", "gap_max=6"],
         ),
         ({"expected_routes": 10, "jobs": 1}, ["--expected-routes", "10", "--jobs", "1"]),
+        # Issue 39: Autoware's planning envelope as the comfort bounds.
+        ({"profile": "autoware"}, ["--profile", "autoware"]),
         ({"protocols": ["lb2.1", "f2d"]}, ["--protocol", "lb2.1,f2d"]),
         ({"protocols": ["all"], "settings": {"ability_rule": "b2d-0.0.3"}},
          ["--protocol", "all", "--set", "ability_rule=b2d-0.0.3"]),

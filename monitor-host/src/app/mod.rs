@@ -10,4 +10,5 @@ pub mod run;
 pub mod scored;
 pub mod scored_by;
 pub mod session;
+pub mod vehicle_logs;
 pub mod watch;

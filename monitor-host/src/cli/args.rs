@@ -52,6 +52,8 @@ pub enum ProfileArg {
     /// Bench2Drive's published smoothness, bugs included.
     #[value(name = "b2d-legacy")]
     B2dLegacy,
+    /// Autoware's planning envelope: passenger comfort on a vehicle (spec v1.4 §16).
+    Autoware,
 }
 
 impl ProfileArg {
@@ -60,6 +62,7 @@ impl ProfileArg {
         match self {
             ProfileArg::Physical => monitor_core::Profile::Physical,
             ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
+            ProfileArg::Autoware => monitor_core::Profile::Autoware,
         }
     }
 }
@@ -212,11 +215,20 @@ pub struct ScoreArgs {
     /// Results: a raw evaluator file, a merged file, or a directory of per-route files.
     /// Repeat to read several: inputs in the order given, a directory's files in byte-wise
     /// path order, a file's records in order.
-    #[arg(long, required = true)]
+    #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     #[arg(long)]
     pub telemetry: Option<PathBuf>,
+    /// A vehicle log instead of results (spec v1.4 §16): an MCAP file of ROS 2 messages, or a
+    /// rosbag2 folder of them; each log is one route named by its file stem. Repeatable.
+    #[arg(long, value_name = "FILE")]
+    pub mcap: Vec<PathBuf>,
+    /// The topic of a vehicle log's signal: `pose=/odom` (Odometry or PoseStamped),
+    /// `imu=/imu` (Imu), `event=TOPIC` (any message: a collision or emergency event),
+    /// `path=TOPIC` (Path: the lateral reference). Repeatable; defaults `pose=/odom`, `imu=/imu`.
+    #[arg(long = "topic", value_name = "NAME=TOPIC", requires = "mcap")]
+    pub topics: Vec<String>,
     /// The options `sds compare` shares.
     #[command(flatten)]
     pub run: RunArgs,
@@ -382,8 +394,14 @@ pub enum Command {
     /// lane width). Takes every option of `score` that changes a frame.
     Frames {
         /// Results file or directory (repeatable, as for `score`).
-        #[arg(long, required = true)]
+        #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
         results: Vec<PathBuf>,
+        /// A vehicle log (MCAP file or rosbag2 folder) instead of results (spec v1.4 §16).
+        #[arg(long, value_name = "FILE")]
+        mcap: Option<PathBuf>,
+        /// A vehicle log's topic, `NAME=TOPIC` (as for `score`).
+        #[arg(long = "topic", value_name = "NAME=TOPIC", requires = "mcap")]
+        topics: Vec<String>,
         /// Telemetry root.
         #[arg(long)]
         telemetry: Option<PathBuf>,
@@ -403,8 +421,8 @@ pub enum Command {
         #[arg(long = "set", value_name = "NAME=VALUE")]
         set: Vec<String>,
         /// The route id (`RouteScenario_<id>_rep<k>`).
-        #[arg(long)]
-        route_id: String,
+        #[arg(long, required_unless_present = "mcap")]
+        route_id: Option<String>,
         /// Write here instead of standard output.
         #[arg(short = 'o', long)]
         output: Option<PathBuf>,

@@ -213,6 +213,8 @@ fn run(cli: Cli) -> Result<i32> {
         }
         Command::Frames {
             results,
+            mcap,
+            topics,
             telemetry,
             routes,
             maps,
@@ -230,11 +232,21 @@ fn run(cli: Cli) -> Result<i32> {
             };
             let mut settings = Settings::default();
             settings.core.profile = profile.profile();
+            settings.core.bounds = monitor_core::Bounds::of(profile.profile());
             if let Some(d) = duplicates {
                 settings.duplicates = d.policy();
             }
             settings.apply(&set)?;
-            let run = route_frames(&inputs, &route_id, &settings)?;
+            let (run, route_id) = match mcap {
+                Some(log) => (
+                    crate::app::vehicle_logs::log_frames(&log, &log_topics(&topics)?, &settings)?,
+                    crate::input::mcap::log_name(&log),
+                ),
+                None => {
+                    let id = route_id.unwrap_or_default();
+                    (route_frames(&inputs, &id, &settings)?, id)
+                }
+            };
             for w in &run.warnings {
                 say!("sds: warning: {route_id}: {w}");
             }
@@ -308,7 +320,35 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// A typed error inside (a [`crate::Error`], [`RequestError`] or [`SettingsError`];
 /// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
-    request(args)?.score(progress).map_err(failed)
+    let request = request(args)?;
+    if !args.mcap.is_empty() {
+        let settings = request.validate()?;
+        let report = crate::app::vehicle_logs::score_logs(
+            &args.mcap,
+            &log_topics(&args.topics)?,
+            &settings,
+        )?;
+        return Ok(Scored {
+            report,
+            families: None,
+            weathers: None,
+            labels: None,
+        });
+    }
+    request.score(progress).map_err(failed)
+}
+
+/// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16).
+fn log_topics(specs: &[String]) -> Result<crate::input::mcap::Topics> {
+    let mut topics = crate::input::mcap::Topics::default();
+    for s in specs {
+        topics.set(s).map_err(|_| SettingsError::Value {
+            name: "--topic",
+            expected: "NAME=TOPIC with NAME one of pose, imu, event, path",
+            value: s.clone(),
+        })?;
+    }
+    Ok(topics)
 }
 
 fn style(format: Format) -> Option<Style> {
@@ -325,6 +365,8 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
     ScoreArgs {
         results: vec![run.results.clone()],
         telemetry: Some(run.telemetry.clone()),
+        mcap: vec![],
+        topics: vec![],
         run: RunArgs {
             routes: Some(run.routes.clone()),
             maps: Some(run.maps.clone()),

@@ -11,6 +11,7 @@
 //! | a route's telemetry, whatever its format; the reader for a file (§1.2) | [`telemetry`] |
 //! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
 //! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
+//! | vehicle logs: MCAP with ROS 2 messages (v1.4 §16) | [`mcap`](mod@mcap) |
 //! | route XML: the lateral reference (§1.3) | [`route_xml`] |
 //! | collision strings (§5, §7) | [`collision`] |
 //! | what infraction messages carry: a position, a percentage | [`message`] |
@@ -25,6 +26,7 @@ pub mod duplicates;
 pub mod json_keys;
 pub mod labels;
 pub mod lead_infractions;
+pub mod mcap;
 pub mod message;
 pub mod metric_info;
 pub mod read;

@@ -498,7 +498,8 @@ fn collision_of(v: &Value, path: &str) -> R<CollisionEvent> {
             _ => Some(match f("aligned_by").str()? {
                 "nearest" => AlignedBy::Nearest,
                 "infractions.json" => AlignedBy::InfractionsJson,
-                _ => return f("aligned_by").err("nearest, infractions.json or null"),
+                "log time" => AlignedBy::LogTime,
+                _ => return f("aligned_by").err("nearest, infractions.json, log time or null"),
             }),
         },
         time_s: f("time_s").opt_f64()?,

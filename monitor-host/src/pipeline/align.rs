@@ -36,6 +36,9 @@ pub enum AlignedBy {
     /// By the step of a matching `infractions.json` entry (`"infractions.json"`).
     #[serde(rename = "infractions.json")]
     InfractionsJson,
+    /// By the log time of a vehicle log's event message (`"log time"`, v1.4 §16).
+    #[serde(rename = "log time")]
+    LogTime,
 }
 
 impl AlignedBy {
@@ -44,6 +47,7 @@ impl AlignedBy {
         match self {
             AlignedBy::Nearest => "nearest",
             AlignedBy::InfractionsJson => "infractions.json",
+            AlignedBy::LogTime => "log time",
         }
     }
 }

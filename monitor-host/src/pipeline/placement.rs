@@ -228,7 +228,7 @@ pub fn place(
             e.step = k.map(|k| steps[k]);
             e.time_s = k.map(|k| (steps[k] - steps[0]) as f64 * dt);
             e.placed_by = a.by.filter(|_| k.is_some()).map(|by| match (by, reach) {
-                (AlignedBy::InfractionsJson, _) => PlacedBy::InfractionsJson,
+                (AlignedBy::InfractionsJson | AlignedBy::LogTime, _) => PlacedBy::InfractionsJson,
                 (_, Reach::Signal) => PlacedBy::ClosestApproach,
                 _ => PlacedBy::Nearest,
             });

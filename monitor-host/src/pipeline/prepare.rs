@@ -11,7 +11,7 @@ use crate::geometry::map::Map;
 use crate::input::collision::{self, CollisionList};
 use crate::input::lead_infractions::StepInfraction;
 use crate::input::record::Record;
-use crate::input::route_xml::RouteSet;
+use crate::input::route_xml::{RouteRef, RouteSet};
 use crate::input::telemetry::Telemetry;
 use crate::pipeline::align::{self, EventRef};
 use crate::pipeline::live::LiveFrames;
@@ -97,11 +97,33 @@ pub fn prepare_with(
     settings: &Settings,
     keep_lateral: bool,
 ) -> PreparedRoute {
+    let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
+    prepare_on(
+        record,
+        tel,
+        reference,
+        map,
+        infractions,
+        settings,
+        keep_lateral,
+    )
+}
+
+/// [`prepare_with`] against a reference given directly (a vehicle log's path, v1.4 §16)
+/// rather than looked up in a route XML by the record's id.
+pub fn prepare_on(
+    record: &Record,
+    tel: &Telemetry,
+    reference: Option<&RouteRef>,
+    map: Option<&Map>,
+    infractions: Option<&[StepInfraction]>,
+    settings: &Settings,
+    keep_lateral: bool,
+) -> PreparedRoute {
     let n = tel.frames.len();
     let steps = tel.steps();
     let locations = tel.locations();
 
-    let reference = routes.and_then(|r| record.xml_id().and_then(|id| r.get(id)));
     let corridor = Corridor::new(reference, map, settings);
 
     let parsed = collision_events(record);

@@ -369,39 +369,13 @@ pub fn replay(
     telemetry_root: Option<&Path>,
     settings: &Settings,
 ) -> RouteOutcome {
-    let mut out = RouteOutcome {
-        loaded: loaded.clone(),
-        telemetry: TelemetryState::Missing(String::new()),
-        period: None,
-        foreign: false,
-        frames: 0,
-        gaps: 0,
-        summary: None,
-        safe: None,
-        legacy_comfort: None,
-        timeline: None,
-        events: Vec::new(),
-        placed: Vec::new(),
-        workzone: 0,
-        batch_agrees: None,
-        motion: None,
-        moving: None,
-        reference: None,
-        warnings: Vec::new(),
-        files_read: Vec::new(),
-        looked_in: Vec::new(),
-    };
+    let out = unreplayed(loaded);
     let Ok(record) = &loaded.entry else {
         return out;
     };
     let has_route = routes
         .zip(record.xml_id())
         .is_some_and(|(set, id)| set.get(id).is_some());
-    out.reference = Some(ReferenceKind::of(
-        has_route,
-        map.is_some(),
-        settings.lateral_reference,
-    ));
     let context = RouteContext {
         routes,
         map,
@@ -409,13 +383,42 @@ pub fn replay(
         settings,
         keep_lateral: false,
     };
-    let summary = match read_telemetry(
-        loaded,
+    let mut out = replay_read(
+        out,
         record,
-        context,
-        &mut out.warnings,
-        &mut out.files_read,
-    ) {
+        has_route,
+        map.is_some(),
+        settings,
+        |warnings, files| read_telemetry(loaded, record, context, warnings, files),
+    );
+    if matches!(out.telemetry, TelemetryState::Missing(_)) {
+        out.looked_in = discovery::looked_in(
+            telemetry_root,
+            record.save_name.as_deref(),
+            &loaded.source,
+            loaded.records_in_file == 1,
+        );
+    }
+    out
+}
+
+/// The part of [`replay`] after the telemetry is located: `read` gives the route's telemetry
+/// (or why there is none), which is streamed, scored and checked. A vehicle log (v1.4 §16)
+/// comes in here with telemetry made from its messages.
+pub fn replay_read(
+    mut out: RouteOutcome,
+    record: &Record,
+    has_route: bool,
+    has_map: bool,
+    settings: &Settings,
+    read: impl FnOnce(&mut Vec<Warning>, &mut Vec<PathBuf>) -> Result<RouteTelemetry, TelemetryState>,
+) -> RouteOutcome {
+    out.reference = Some(ReferenceKind::of(
+        has_route,
+        has_map,
+        settings.lateral_reference,
+    ));
+    let summary = match read(&mut out.warnings, &mut out.files_read) {
         Ok(RouteTelemetry {
             mut prepared,
             period,
@@ -485,14 +488,6 @@ pub fn replay(
             }
         }
         Err(state) => {
-            if matches!(state, TelemetryState::Missing(_)) {
-                out.looked_in = discovery::looked_in(
-                    telemetry_root,
-                    record.save_name.as_deref(),
-                    &loaded.source,
-                    loaded.records_in_file == 1,
-                );
-            }
             out.telemetry = state;
             None
         }
@@ -527,4 +522,30 @@ pub fn replay(
         out.summary = Some(s);
     }
     out
+}
+
+/// A route's outcome before its replay: no telemetry yet, nothing scored.
+pub fn unreplayed(loaded: &LoadedRecord) -> RouteOutcome {
+    RouteOutcome {
+        loaded: loaded.clone(),
+        telemetry: TelemetryState::Missing(String::new()),
+        period: None,
+        foreign: false,
+        frames: 0,
+        gaps: 0,
+        summary: None,
+        safe: None,
+        legacy_comfort: None,
+        timeline: None,
+        events: Vec::new(),
+        placed: Vec::new(),
+        workzone: 0,
+        batch_agrees: None,
+        motion: None,
+        moving: None,
+        reference: None,
+        warnings: Vec::new(),
+        files_read: Vec::new(),
+        looked_in: Vec::new(),
+    }
 }

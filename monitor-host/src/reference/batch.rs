@@ -201,7 +201,7 @@ fn comfort_chunk(
     let lat = smooth(a_lat)?;
     let mag = smooth(a_mag)?;
     let (lon_jerk, mag_jerk, yaw_rate, yaw_acc) = match config.profile {
-        Profile::Physical => {
+        Profile::Physical | Profile::Autoware => {
             let yaw_rate = smooth(omega)?;
             let yaw_acc = derivative(&yaw_rate, config.dt)?;
             (

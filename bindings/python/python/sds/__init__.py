@@ -105,7 +105,7 @@ def score(
         telemetry: The folder holding ``<save_name>/metric_info.json`` (``--telemetry``).
         routes: Bench2Drive's route XML, the lateral reference (``--routes``).
         maps: A folder of CARLA OpenDRIVE maps (``--maps``).
-        profile: ``"physical"`` or ``"b2d-legacy"`` (``--profile``).
+        profile: ``"physical"``, ``"b2d-legacy"`` or ``"autoware"`` (``--profile``).
         duplicates: Routes recorded more than once: ``"error"`` (score nothing, name them),
             keep the ``"first"`` or ``"last"`` copy or the ``"newest"`` run, or score ``"all"``
             (``--duplicates``).

@@ -48,7 +48,7 @@ def compare(
         baseline: The baseline model (``--baseline``; default the first).
         routes: The route XML every run is scored against (``--routes``).
         maps: A folder of OpenDRIVE maps (``--maps``).
-        profile: ``"physical"`` or ``"b2d-legacy"``.
+        profile: ``"physical"``, ``"b2d-legacy"`` or ``"autoware"``.
         expected_routes: The benchmark's size N (``--expected-routes``).
         allow_missing_telemetry: Score routes without telemetry without telemetry terms.
         common_routes: Compare over the routes every run holds instead of refusing runs whose

@@ -68,7 +68,7 @@ class Monitor(_sds.Monitor):
     through the same monitor as the firmware: the same events and summary, to the bit.
 
     Args:
-        profile: ``"physical"`` or ``"b2d-legacy"``.
+        profile: ``"physical"``, ``"b2d-legacy"`` or ``"autoware"``.
         dt: The simulator step in seconds (Bench2Drive: 0.05).
         settings: Overrides by the report's ``config`` names, e.g. ``{"slack": 0.9}``.
         route: The route's reference waypoints, ``(x, y)`` or ``(x, y, z)`` tuples or

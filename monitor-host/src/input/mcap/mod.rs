@@ -1,0 +1,625 @@
+//! Vehicle logs in MCAP with ROS 2 messages (spec v1.4 §16): one log (an `.mcap` file, or a
+//! rosbag2 folder of them) is one route's telemetry, named by its file stem.
+//!
+//! | what | module |
+//! |---|---|
+//! | the file, streamed in bounded memory; cuts recovered | [`stream`] |
+//! | CDR, the messages' encoding | [`cdr`] |
+//! | the ROS 2 types: names, definitions checked, decoding | [`messages`] |
+//! | ticks at a fixed period, zero-order hold | [`frames`](mod@frames) |
+//!
+//! ```no_run
+//! use monitor_host::input::mcap::{read_log, Topics};
+//! let log = read_log("drive.mcap".as_ref(), &Topics::default(), 0.05)?;
+//! println!("{}: {} frames, {} events", log.name, log.telemetry.frames.len(), log.events.len());
+//! # Ok::<(), monitor_host::input::mcap::McapError>(())
+//! ```
+
+pub mod cdr;
+pub mod frames;
+pub mod messages;
+pub mod stream;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use self::frames::{MotionSample, PoseSample};
+use self::messages::RosType;
+use crate::input::telemetry::{Telemetry, TelemetryError};
+
+/// The topics a log's signals are read from (`--topic NAME=TOPIC`; spec v1.4 §16 defaults).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Topics {
+    /// Pose: `nav_msgs/msg/Odometry` or `geometry_msgs/msg/PoseStamped` (default `/odom`).
+    pub pose: String,
+    /// Acceleration and yaw rate: `sensor_msgs/msg/Imu` (default `/imu`).
+    pub imu: String,
+    /// Events: any message is a collision or emergency event at its time (default none).
+    pub event: Option<String>,
+    /// The reference path: `nav_msgs/msg/Path` (default none).
+    pub path: Option<String>,
+}
+
+impl Default for Topics {
+    fn default() -> Self {
+        Topics {
+            pose: "/odom".into(),
+            imu: "/imu".into(),
+            event: None,
+            path: None,
+        }
+    }
+}
+
+impl Topics {
+    /// Sets one topic from `NAME=TOPIC` (`pose`, `imu`, `event`, `path`).
+    ///
+    /// ```
+    /// let mut t = monitor_host::input::mcap::Topics::default();
+    /// t.set("pose=/localization/kinematic_state")?;
+    /// t.set("event=/vehicle/collision")?;
+    /// assert_eq!((t.pose.as_str(), t.event.as_deref()),
+    ///            ("/localization/kinematic_state", Some("/vehicle/collision")));
+    /// assert!(t.set("speed=/v").is_err());
+    /// # Ok::<(), String>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A sentence naming the accepted names, for a name that is none of them or an empty topic.
+    pub fn set(&mut self, spec: &str) -> Result<(), String> {
+        let (name, topic) = spec
+            .split_once('=')
+            .filter(|(_, t)| !t.trim().is_empty())
+            .ok_or_else(|| format!("--topic {spec:?}: expected NAME=TOPIC, e.g. pose=/odom"))?;
+        let topic = topic.trim().to_string();
+        match name.trim() {
+            "pose" => self.pose = topic,
+            "imu" => self.imu = topic,
+            "event" => self.event = Some(topic),
+            "path" => self.path = Some(topic),
+            other => {
+                return Err(format!(
+                    "--topic {other}=...: unknown signal {other:?}; the signals are pose, imu, \
+                     event and path"
+                ))
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One event of the event topic: its log time and the frame it falls on (the first frame at
+/// or after it), if any.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LogEvent {
+    /// Log time, ns.
+    pub t: u64,
+    /// Index of the frame (into the telemetry's frames), `None` when no frame follows within
+    /// [`frames::STALE_NS`].
+    pub frame: Option<usize>,
+    /// The message's schema name (`std_msgs/msg/Empty`, ...).
+    pub kind: String,
+}
+
+/// A vehicle log, read and framed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct VehicleLog {
+    /// The route's name: the file stem (`drive_2024_05_01.mcap` → `drive_2024_05_01`), or the
+    /// rosbag2 folder's name.
+    pub name: String,
+    /// The file (or folder) given.
+    pub path: PathBuf,
+    /// The MCAP files read, in order.
+    pub files: Vec<PathBuf>,
+    /// The frames: step = tick index.
+    pub telemetry: Telemetry,
+    /// Tick time (ns) of each frame.
+    pub times: Vec<u64>,
+    /// The period, s.
+    pub dt: f64,
+    /// The events of the event topic.
+    pub events: Vec<LogEvent>,
+    /// The reference path (x, y, z), from the last message of the path topic.
+    pub path_points: Option<Vec<[f64; 3]>>,
+    /// Messages read (all topics) and bytes of the files.
+    pub messages: u64,
+    /// Bytes of the files.
+    pub bytes: u64,
+    /// What the reader noted: cuts, messages out of order, clock gaps, the IMU fallback.
+    pub notes: Vec<String>,
+}
+
+/// Why a log cannot be scored. Every message names the file and says what to do.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum McapError {
+    /// The file cannot be streamed: unreadable, not MCAP, corrupt.
+    #[error("{}: {source}", file.display())]
+    Stream {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: stream::StreamError,
+    },
+    /// A folder without MCAP files.
+    #[error("{}: no .mcap files in this folder{hint}", folder.display())]
+    EmptyFolder {
+        /// The folder.
+        folder: PathBuf,
+        /// What is there instead.
+        hint: String,
+    },
+    /// A signal's topic has no messages.
+    #[error("{}: no messages on topic {topic} ({signal}); the log's topics: {available}; \
+             name the right one with --topic {signal}=TOPIC", file.display())]
+    MissingTopic {
+        /// The file.
+        file: PathBuf,
+        /// `pose`, `imu`, ...
+        signal: &'static str,
+        /// The topic looked for.
+        topic: String,
+        /// The topics the log holds, with their types.
+        available: String,
+    },
+    /// A topic whose type is not the signal's.
+    #[error("{}: topic {topic} ({signal}) is {found}, expected {expected} in cdr; name the right \
+             topic with --topic {signal}=TOPIC", file.display())]
+    WrongType {
+        /// The file.
+        file: PathBuf,
+        /// The signal.
+        signal: &'static str,
+        /// The topic.
+        topic: String,
+        /// The schema name and message encoding found.
+        found: String,
+        /// The types accepted.
+        expected: &'static str,
+    },
+    /// A schema whose embedded definition differs from the one the reader decodes.
+    #[error("{}: topic {topic} is {type_name}, but {detail}: the log was recorded with another \
+             definition of the type; convert it, or report the definition", file.display())]
+    Definition {
+        /// The file.
+        file: PathBuf,
+        /// The topic.
+        topic: String,
+        /// The schema name.
+        type_name: String,
+        /// What differs.
+        detail: String,
+    },
+    /// A message that does not decode as its type.
+    #[error("{}: topic {topic} ({type_name}), message {index} at log time {t} ns: {source}",
+            file.display())]
+    Decode {
+        /// The file.
+        file: PathBuf,
+        /// The topic.
+        topic: String,
+        /// The schema name.
+        type_name: String,
+        /// Index of the message on its topic (0-based).
+        index: u64,
+        /// Log time, ns.
+        t: u64,
+        /// What is wrong.
+        #[source]
+        source: cdr::CdrError,
+    },
+    /// The log's clock jumps back: two time bases in one log.
+    #[error("{}: topic {topic}: the log time jumps back by {back_s:.3} s at message {index} \
+             (log time {t} ns): the log mixes two clocks (a clock reset?); split it at that time \
+             (e.g. `mcap filter --end`) and score the parts", file.display())]
+    ClockBack {
+        /// The file.
+        file: PathBuf,
+        /// The topic.
+        topic: String,
+        /// Index of the message on its topic.
+        index: u64,
+        /// Its log time, ns.
+        t: u64,
+        /// How far back, s.
+        back_s: f64,
+    },
+    /// No IMU and a pose type without twist.
+    #[error("{}: no messages on topic {imu} (imu) and the pose topic {pose} is \
+             geometry_msgs/msg/PoseStamped, which has no twist to take the acceleration from; \
+             the log's topics: {available}; name the IMU with --topic imu=TOPIC", file.display())]
+    NoMotion {
+        /// The file.
+        file: PathBuf,
+        /// The IMU topic looked for.
+        imu: String,
+        /// The pose topic.
+        pose: String,
+        /// The topics the log holds.
+        available: String,
+    },
+    /// The frames are invalid (a value that is not finite).
+    #[error("{}: {source}", file.display())]
+    Frames {
+        /// The file.
+        file: PathBuf,
+        /// Which tick and field.
+        #[source]
+        source: TelemetryError,
+    },
+    /// A frame period outside the monitor's range.
+    #[error("frame period {dt} s is outside 0.001..1 s (--set dt=...)")]
+    Period {
+        /// The period asked.
+        dt: f64,
+    },
+}
+
+/// Whether a log time goes back by more than this (in one topic, in file order) is a clock
+/// jump rather than recording jitter (chunks written out of order) **\[decision\]**.
+pub const CLOCK_BACK_NS: u64 = 1_000_000_000;
+
+/// One topic's messages as read: the channel's type, then the samples.
+#[derive(Default)]
+struct TopicSeen {
+    type_name: String,
+    encoding: String,
+    messages: u64,
+}
+
+/// The MCAP files of `path`: the file itself, or a rosbag2 folder's `*.mcap` files in name order.
+fn files_of(path: &Path) -> Result<Vec<PathBuf>, McapError> {
+    if !path.is_dir() {
+        return Ok(vec![path.to_path_buf()]);
+    }
+    let io = |e: std::io::Error| McapError::Stream {
+        file: path.to_path_buf(),
+        source: e.into(),
+    };
+    let mut all: Vec<PathBuf> = std::fs::read_dir(path)
+        .map_err(io)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .collect();
+    all.sort();
+    let mcaps: Vec<PathBuf> = all
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
+        .cloned()
+        .collect();
+    if mcaps.is_empty() {
+        let hint = if all
+            .iter()
+            .any(|p| p.extension().is_some_and(|e| e == "db3"))
+        {
+            ": it holds sqlite3 (.db3) storage; convert it with `ros2 bag convert` to MCAP"
+        } else {
+            ""
+        };
+        return Err(McapError::EmptyFolder {
+            folder: path.to_path_buf(),
+            hint: hint.into(),
+        });
+    }
+    Ok(mcaps)
+}
+
+/// The route name of a log: the file stem, or the folder's name.
+pub fn log_name(path: &Path) -> String {
+    let name = if path.is_dir() {
+        path.file_name()
+    } else {
+        path.file_stem()
+    };
+    name.map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
+}
+
+/// Sorts samples by time (stable), after checking that no topic's clock goes back by more
+/// than [`CLOCK_BACK_NS`]; returns how many came out of order.
+fn order<T>(
+    samples: &mut [T],
+    time: impl Fn(&T) -> u64,
+    file: &Path,
+    topic: &str,
+) -> Result<u64, McapError> {
+    let mut max = 0u64;
+    let mut late = 0u64;
+    for (i, s) in samples.iter().enumerate() {
+        let t = time(s);
+        if t < max {
+            if max - t > CLOCK_BACK_NS {
+                return Err(McapError::ClockBack {
+                    file: file.to_path_buf(),
+                    topic: topic.to_string(),
+                    index: i as u64,
+                    t,
+                    back_s: (max - t) as f64 * 1e-9,
+                });
+            }
+            late += 1;
+        }
+        max = max.max(t);
+    }
+    if late > 0 {
+        samples.sort_by_key(|s| time(s));
+    }
+    Ok(late)
+}
+
+/// Reads the log at `path` (an `.mcap` file or a rosbag2 folder) and makes its frames at the
+/// period `dt` (s), as spec v1.4 §16 defines them.
+///
+/// # Errors
+/// [`McapError`] naming the file, the topic and the fix.
+pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, McapError> {
+    if !(1e-3..=1.0).contains(&dt) {
+        return Err(McapError::Period { dt });
+    }
+    let dt_ns = (dt * 1e9).round() as u64;
+    let files = files_of(path)?;
+    let mut seen: BTreeMap<String, TopicSeen> = BTreeMap::new();
+    let mut poses: Vec<PoseSample> = Vec::new();
+    let mut imu: Vec<MotionSample> = Vec::new();
+    let mut events: Vec<(u64, String)> = Vec::new();
+    let mut path_msgs: (u64, Option<Vec<[f64; 3]>>) = (0, None);
+    let mut notes = Vec::new();
+    let (mut messages, mut bytes) = (0u64, 0u64);
+    // Checked once per channel: (channel id, file index) → type.
+    for file in &files {
+        let mut checked: BTreeMap<u16, RosType> = BTreeMap::new();
+        let mut failure: Option<McapError> = None;
+        let streamed = stream::stream(file, |m| {
+            let ch = &m.channel;
+            let (type_name, encoding, schema_enc, schema_data) = match &ch.schema {
+                Some(s) => (
+                    s.name.as_str(),
+                    ch.message_encoding.as_str(),
+                    s.encoding.as_str(),
+                    &s.data[..],
+                ),
+                None => ("", ch.message_encoding.as_str(), "", &[][..]),
+            };
+            let entry = seen.entry(ch.topic.clone()).or_default();
+            entry.messages += 1;
+            if entry.type_name.is_empty() {
+                entry.type_name = type_name.to_string();
+                entry.encoding = encoding.to_string();
+            }
+            let index = entry.messages - 1;
+            type Signal = (&'static str, &'static [RosType], &'static str);
+            let signal: Option<Signal> = if ch.topic == topics.pose {
+                Some((
+                    "pose",
+                    &[RosType::Odometry, RosType::PoseStamped],
+                    "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
+                ))
+            } else if ch.topic == topics.imu {
+                Some(("imu", &[RosType::Imu], "sensor_msgs/msg/Imu"))
+            } else if Some(&ch.topic) == topics.path.as_ref() {
+                Some(("path", &[RosType::Path], "nav_msgs/msg/Path"))
+            } else {
+                None
+            };
+            if Some(&ch.topic) == topics.event.as_ref() {
+                events.push((m.log_time, type_name.to_string()));
+                return Ok(());
+            }
+            let Some((signal, accepted, expected)) = signal else {
+                return Ok(());
+            };
+            let t = match checked.get(&ch.id) {
+                Some(t) => *t,
+                None => {
+                    let found = RosType::of(type_name).filter(|t| accepted.contains(t));
+                    let Some(t) = found.filter(|_| encoding == "cdr") else {
+                        failure = Some(McapError::WrongType {
+                            file: file.clone(),
+                            signal,
+                            topic: ch.topic.clone(),
+                            found: if type_name.is_empty() {
+                                format!("without a schema, in {encoding:?}")
+                            } else {
+                                format!("{type_name} in {encoding:?}")
+                            },
+                            expected,
+                        });
+                        return Err(String::new());
+                    };
+                    let text = String::from_utf8_lossy(schema_data);
+                    if let Err(detail) = messages::check_definition(t, schema_enc, &text) {
+                        failure = Some(McapError::Definition {
+                            file: file.clone(),
+                            topic: ch.topic.clone(),
+                            type_name: type_name.into(),
+                            detail,
+                        });
+                        return Err(String::new());
+                    }
+                    checked.insert(ch.id, t);
+                    t
+                }
+            };
+            let decode_err = |source| McapError::Decode {
+                file: file.clone(),
+                topic: ch.topic.clone(),
+                type_name: type_name.into(),
+                index,
+                t: m.log_time,
+                source,
+            };
+            match t {
+                RosType::Odometry | RosType::PoseStamped => {
+                    match messages::decode_pose(t, &m.data) {
+                        Ok(p) => poses.push(PoseSample {
+                            t: m.log_time,
+                            position: p.position,
+                            yaw: messages::yaw(p.orientation),
+                            twist: p.twist,
+                        }),
+                        Err(e) => {
+                            failure = Some(decode_err(e));
+                            return Err(String::new());
+                        }
+                    }
+                }
+                RosType::Imu => match messages::decode_imu(&m.data) {
+                    Ok(i) => imu.push(MotionSample {
+                        t: m.log_time,
+                        acc: i.acc,
+                        world: false,
+                        yaw_rate: i.yaw_rate,
+                    }),
+                    Err(e) => {
+                        failure = Some(decode_err(e));
+                        return Err(String::new());
+                    }
+                },
+                RosType::Path => match messages::decode_path(&m.data) {
+                    Ok(p) => path_msgs = (path_msgs.0 + 1, Some(p)),
+                    Err(e) => {
+                        failure = Some(decode_err(e));
+                        return Err(String::new());
+                    }
+                },
+            }
+            Ok(())
+        });
+        let streamed = match (streamed, failure) {
+            (_, Some(f)) => return Err(f),
+            (Err(e), None) => {
+                return Err(McapError::Stream {
+                    file: file.clone(),
+                    source: e,
+                })
+            }
+            (Ok(s), None) => s,
+        };
+        messages += streamed.messages;
+        bytes += streamed.bytes;
+        if let Some(cut) = streamed.truncated {
+            notes.push(format!(
+                "{}: {}: {} messages recovered; the last {} bytes are lost (about {} messages, \
+                 estimated from the mean message size: the index that would count them was in \
+                 the lost end of the file)",
+                file.display(),
+                cut.reason,
+                streamed.messages,
+                cut.lost_bytes,
+                cut.lost_messages_estimate
+            ));
+        }
+    }
+    let first = files.first().cloned().unwrap_or_default();
+    let available = || {
+        if seen.is_empty() {
+            return "none (no messages)".to_string();
+        }
+        seen.iter()
+            .map(|(t, s)| format!("{t} ({}, {} messages)", s.type_name, s.messages))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if poses.is_empty() {
+        return Err(McapError::MissingTopic {
+            file: first,
+            signal: "pose",
+            topic: topics.pose.clone(),
+            available: available(),
+        });
+    }
+    for (what, late) in [
+        ("pose", order(&mut poses, |p| p.t, &first, &topics.pose)?),
+        ("imu", order(&mut imu, |p| p.t, &first, &topics.imu)?),
+    ] {
+        if late > 0 {
+            let topic = if what == "pose" {
+                &topics.pose
+            } else {
+                &topics.imu
+            };
+            notes.push(format!(
+                "topic {topic} ({what}): {late} messages came out of log-time order (chunks \
+                 written out of order); they were put in time order"
+            ));
+        }
+    }
+    events.sort_by_key(|e| e.0);
+    let motion = if imu.is_empty() {
+        if poses.iter().all(|p| p.twist.is_none()) {
+            return Err(McapError::NoMotion {
+                file: first,
+                imu: topics.imu.clone(),
+                pose: topics.pose.clone(),
+                available: available(),
+            });
+        }
+        notes.push(format!(
+            "no messages on topic {} (imu): acceleration and yaw rate come from differences of \
+             the odometry twist on {} (name an IMU with --topic imu=TOPIC)",
+            topics.imu, topics.pose
+        ));
+        frames::twist_motion(&poses)
+    } else {
+        imu
+    };
+    let (telemetry, times) =
+        frames::frames(&poses, &motion, dt_ns).map_err(|source| McapError::Frames {
+            file: first.clone(),
+            source,
+        })?;
+    if telemetry.gaps > 0 {
+        notes.push(format!(
+            "{} of {} ticks at {dt} s have no frame: a signal's newest message was more than \
+             {} s old (the recorder paused or a topic stopped); they count as gaps",
+            telemetry.gaps,
+            telemetry.gaps + telemetry.frames.len() as u64,
+            frames::STALE_NS as f64 * 1e-9
+        ));
+    }
+    if path_msgs.0 > 1 {
+        notes.push(format!(
+            "{} messages on the path topic: the last one is the lateral reference",
+            path_msgs.0
+        ));
+    }
+    if let (Some(p), Some(t)) = (&topics.path, &path_msgs.1) {
+        if t.len() < 2 {
+            notes.push(format!(
+                "the path on {p} has {} poses: no lateral reference",
+                t.len()
+            ));
+        }
+    } else if let Some(p) = &topics.path {
+        return Err(McapError::MissingTopic {
+            file: first,
+            signal: "path",
+            topic: p.clone(),
+            available: available(),
+        });
+    }
+    let events = events
+        .into_iter()
+        .map(|(t, kind)| {
+            let k = times.partition_point(|&x| x < t);
+            let frame = times
+                .get(k)
+                .filter(|&&x| x - t <= frames::STALE_NS)
+                .map(|_| k);
+            LogEvent { t, frame, kind }
+        })
+        .collect();
+    Ok(VehicleLog {
+        name: log_name(path),
+        path: path.to_path_buf(),
+        files,
+        telemetry,
+        times,
+        dt,
+        events,
+        path_points: path_msgs.1.filter(|p| p.len() >= 2),
+        messages,
+        bytes,
+        notes,
+    })
+}

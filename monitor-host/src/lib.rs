@@ -66,12 +66,15 @@
 // check before the runtime starts (cli/output.rs).
 #![deny(unsafe_code)]
 
+#[macro_use]
+pub mod named;
 pub mod aggregate;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod compare_runs;
 pub mod demo;
 pub mod error;
+pub mod error_kind;
 pub mod geometry;
 pub mod input;
 pub mod merge;
@@ -91,6 +94,7 @@ pub use aggregate::report::Report;
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;
+pub use error_kind::ErrorKind;
 pub use input::labels::LabelsError;
 pub use input::lead_infractions::LeadInfractionsError;
 pub use input::results_file::ResultsError;

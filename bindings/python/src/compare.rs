@@ -9,7 +9,7 @@ use std::path::PathBuf;
 use monitor_host::aggregate::compare::{CompareError, CompareOptions};
 use monitor_host::compare_runs::{compare_runs, telemetry_beside, RunInputs, Seeds};
 use monitor_host::error::message;
-use monitor_host::{Error, Inputs, NoProgress, Settings};
+use monitor_host::{Inputs, NoProgress, Settings};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt};
 
@@ -40,16 +40,6 @@ fn samples(b: &Bound<'_, PyInt>) -> PyResult<usize> {
         let shown = b.str().map_or_else(|_| "?".into(), |s| s.to_string());
         ConfigError::new_err(message(&CompareError::SamplesOutOfRange(shown)))
     })
-}
-
-/// The exception for an error of [`compare_runs`]: how the runs are compared is the caller's
-/// ([`ConfigError`]); a run's own error keeps its class, its message naming the run.
-fn compare_error(py: Python<'_>, e: &Error) -> PyErr {
-    match e {
-        Error::Compare(_) => ConfigError::new_err(message(e)),
-        Error::InRun { .. } => PyErr::from_type(run_error(e.inner()).get_type(py), message(e)),
-        _ => run_error(e),
-    }
 }
 
 /// Compares runs (see the Python `sds.compare`, which passes each run as `(name, results,
@@ -99,6 +89,6 @@ pub fn compare<'py>(
                 compare_runs(&runs, &seeds, &settings, &options, p)
             })
         })?
-        .map_err(|e| compare_error(py, &e))?;
+        .map_err(|e| run_error(&e))?;
     to_python(py, &compared.comparison)
 }

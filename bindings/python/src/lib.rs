@@ -66,6 +66,8 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
         py.get_type::<errors::NeedsLabelsError>(),
     )?;
     m.add("IoError", py.get_type::<errors::IoError>())?;
+    m.add("RefusedError", errors::refused_error(py)?)?;
+    m.add_function(wrap_pyfunction!(errors::error_table, m)?)?;
     m.add(
         "FeatureUnavailableError",
         py.get_type::<errors::FeatureUnavailableError>(),

@@ -8,8 +8,11 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::args::{CompareArgs, Format};
+use super::exit::{
+    ROUTE_PROBLEMS as EXIT_ROUTE_PROBLEMS, USAGE as EXIT_USAGE, WORSE as EXIT_WORSE,
+};
 use super::output::write_output;
-use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
+use super::style;
 use crate::aggregate::compare::CompareOptions;
 use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
 use crate::report::grid::Style;

@@ -2,15 +2,12 @@
 //! Everything else is the library's [`crate::score_run`]. The `sds` binary and the Python
 //! package's `sds` command both call [`main`] with their argument list, so they are one program.
 //!
-//! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
-//! 2 usage error (bad option, a `--telemetry` folder that does not exist, duplicated route ids
-//! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
-//! route, parts `sds merge` refuses: different settings or route sets, a route in two parts, a
-//! file that is not a report); 3 the report was written but some route has a problem (missing or invalid telemetry
-//! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
-//! every such route is in the report with its state; 4 the inputs hold no record at all;
-//! 5 (`sds compare --fail-if-worse`) the report was written and a model is worse than the
-//! baseline on a gated metric.
+//! Exit codes ([`exit`]): 0 success; 1 no report (an input could not be read, the output not
+//! written); 2 a usage error (an option, or inputs that do not fit the options); 3 the report
+//! was written but some route has a problem (every such route is in the report with its state);
+//! 4 the inputs hold no record at all; 5 (`sds compare --fail-if-worse`) a model is worse than
+//! the baseline on a gated metric. An error's code is [`exit::code`] of its
+//! [`crate::ErrorKind`].
 
 pub mod args;
 pub mod output;
@@ -32,6 +29,7 @@ macro_rules! say {
 }
 
 pub mod compare;
+pub mod exit;
 pub mod merge;
 pub mod watch;
 
@@ -53,15 +51,6 @@ use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, Score
 
 pub use crate::scored::Scored;
 use output::write_output;
-
-/// Exit code: the report was written, but some route has a problem.
-const EXIT_ROUTE_PROBLEMS: i32 = 3;
-/// Exit code: a usage error (clap's own code too).
-const EXIT_USAGE: i32 = 2;
-/// Exit code: the inputs hold no record at all.
-const EXIT_EMPTY_RUN: i32 = 4;
-/// Exit code: `sds compare --fail-if-worse` found a model worse than the baseline.
-const EXIT_WORSE: i32 = 5;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
 /// `std::env::args_os()`) and returns the exit code. Never exits the process: usage errors,
@@ -87,45 +76,9 @@ where
         Ok(code) => code,
         Err(e) => {
             say!("sds: error: {}", error_message(&*e));
-            exit_code(&e)
+            exit::of(&e)
         }
     }
-}
-
-/// The exit code of an error: usage errors 2, an empty run 4, anything else 1.
-fn exit_code(e: &anyhow::Error) -> i32 {
-    use crate::Error;
-    if let Some(e) = e.downcast_ref::<Error>() {
-        return match e.inner() {
-            Error::Duplicates(_)
-            | Error::Compare(_)
-            | Error::TooFewRoutes { .. }
-            | Error::TelemetryRoot { .. }
-            | Error::Settings(_)
-            | Error::MapsFolder { .. }
-            | Error::NeedsLabels(_)
-            | Error::UnusedLabels
-            | Error::Labels(crate::LabelsError::NoMatch { .. })
-            | Error::Labels(crate::LabelsError::Safe2DriveFamilies { .. })
-            | Error::RouteXml(crate::input::route_xml::RouteError::NoRoutes { .. }) => EXIT_USAGE,
-            Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
-            _ => 1,
-        };
-    }
-    if let Some(e) = e.downcast_ref::<crate::merge::MergeError>() {
-        // A part that cannot be read is an input error; every refusal a usage error.
-        return match e {
-            crate::merge::MergeError::Read { .. } => 1,
-            _ => EXIT_USAGE,
-        };
-    }
-    if e.downcast_ref::<SettingsError>().is_some()
-        || e.downcast_ref::<UnknownInfraction>().is_some()
-        || e.downcast_ref::<output::OutputClash>().is_some()
-    {
-        return EXIT_USAGE;
-    }
-    1
 }
 
 /// The text `sds` prints for an error that stops it (`sds: error: <text>`): the error and each
@@ -469,7 +422,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     if !counts.is_empty() {
         say!("sds: {}; see the report", counts.join(", "));
     }
-    Ok(EXIT_ROUTE_PROBLEMS)
+    Ok(exit::ROUTE_PROBLEMS)
 }
 
 /// Writes the rerun list (spec v1.4 §13) into `file` and says how many routes it holds.

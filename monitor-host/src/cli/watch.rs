@@ -59,13 +59,13 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     let a = &args.score;
     let Some(out) = a.output.clone() else {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
-        return Ok(super::EXIT_USAGE);
+        return Ok(super::exit::USAGE);
     };
     let interval = match crate::watch::interval(args.interval) {
         Ok(d) => d,
         Err(bound) => {
             say!("sds: error: --interval {}: {bound}", args.interval);
-            return Ok(super::EXIT_USAGE);
+            return Ok(super::exit::USAGE);
         }
     };
     let timeout = match args.timeout.map(crate::watch::timeout).transpose() {
@@ -75,7 +75,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                 "sds: error: --timeout {}: {bound}",
                 args.timeout.unwrap_or_default()
             );
-            return Ok(super::EXIT_USAGE);
+            return Ok(super::exit::USAGE);
         }
     };
     let settings = super::settings(a)?;
@@ -197,7 +197,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     };
     say!("sds: watch stopped ({why}); final report {}", out.display());
     Ok(if report.has_problems() {
-        super::EXIT_ROUTE_PROBLEMS
+        super::exit::ROUTE_PROBLEMS
     } else {
         0
     })

@@ -5,7 +5,7 @@
 use monitor_core::Profile;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
-use monitor_host::settings::RunOptions;
+use monitor_host::settings::{protocols_of, RunOptions};
 use monitor_host::Settings;
 use pyo3::prelude::*;
 use pyo3::types::PyBool;
@@ -87,17 +87,12 @@ impl RunKwargs<'_> {
                 (Profile::B2dLegacy.name(), Profile::B2dLegacy),
             ],
         )?;
-        let named: Vec<(&str, DuplicatePolicy)> = [
-            DuplicatePolicy::Error,
-            DuplicatePolicy::First,
-            DuplicatePolicy::Last,
-            DuplicatePolicy::Newest,
-            DuplicatePolicy::All,
-        ]
-        .into_iter()
-        .map(|p| (p.name(), p))
-        .collect();
-        let subsets = [RouteSubset::All, RouteSubset::Found].map(|r| (r.name(), r));
+        let named: Vec<(&str, DuplicatePolicy)> = DuplicatePolicy::ALL
+            .iter()
+            .map(|p| (p.name(), *p))
+            .collect();
+        let subsets: Vec<(&str, RouteSubset)> =
+            RouteSubset::ALL.iter().map(|r| (r.name(), *r)).collect();
         let route_subset = self
             .route_subset
             .as_deref()
@@ -113,16 +108,18 @@ impl RunKwargs<'_> {
                 .transpose()?,
             allow_missing_telemetry: self.allow_missing_telemetry,
             threads: self.jobs,
-            // `route_subset` and `protocols` first, as the settings of those names (as the
-            // command line's options): `settings` can override them.
+            // The typed list, as it is: never joined into text and parsed back.
+            protocols: self
+                .protocols
+                .as_deref()
+                .map(protocols_of)
+                .transpose()
+                .map_err(|e| crate::errors::settings_error(&e))?,
+            // `route_subset` first, as the setting of that name (as the command line's option):
+            // `settings` can override it (and `protocols`).
             overrides: route_subset
                 .map(|r| ("route_subset".to_string(), r.name().to_string()))
                 .into_iter()
-                .chain(
-                    self.protocols
-                        .iter()
-                        .map(|p| ("protocols".to_string(), p.join(","))),
-                )
                 .chain(setting_pairs(self.settings.as_ref())?)
                 .collect(),
         })

@@ -197,6 +197,7 @@ impl RunArgs {
             duplicates: duplicates.map(DuplicatesArg::policy),
             allow_missing_telemetry: self.allow_missing_telemetry,
             threads: self.jobs,
+            protocols: None,
             overrides,
         })
     }

@@ -16,48 +16,24 @@ use crate::input::record::LoadedRecord;
 /// How many ids a list in a warning or a note names before it says how many more there are.
 pub const IDS_SHOWN: usize = 10;
 
-/// What to do when two records share a `route_id` **\[decision\]**.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DuplicatePolicy {
-    /// Score nothing; name every duplicated id and the sources of each copy (default).
-    #[default]
-    Error,
-    /// Keep the first copy in input order; list the others as dropped.
-    First,
-    /// Keep the last copy in input order; list the others as dropped.
-    Last,
-    /// Keep the copy whose `save_name` time stamp (`mm_dd_HH_MM_SS`) is the latest: the
-    /// newest re-run. Ties and unparsable stamps are decided by input order (the last), with a
-    /// warning.
-    Newest,
-    /// Score every copy as a route of its own (spec v1.1's behaviour), with a warning.
-    All,
-}
-
-impl DuplicatePolicy {
-    /// Every policy, in the order of the documentation.
-    pub const ALL: [DuplicatePolicy; 5] = [
-        DuplicatePolicy::Error,
-        DuplicatePolicy::First,
-        DuplicatePolicy::Last,
-        DuplicatePolicy::Newest,
-        DuplicatePolicy::All,
-    ];
-
-    /// The setting's value: `error`, `first`, `last`, `newest` or `all`.
-    pub fn name(self) -> &'static str {
-        match self {
-            DuplicatePolicy::Error => "error",
-            DuplicatePolicy::First => "first",
-            DuplicatePolicy::Last => "last",
-            DuplicatePolicy::Newest => "newest",
-            DuplicatePolicy::All => "all",
-        }
-    }
-
-    /// The policy of this name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|p| p.name() == name)
+named_enum! {
+    /// What to do when two records share a `route_id` **\[decision\]** (the setting's value:
+    /// `error`, `first`, `last`, `newest` or `all`).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub enum DuplicatePolicy {
+        /// Score nothing; name every duplicated id and the sources of each copy (default).
+        #[default]
+        Error = "error",
+        /// Keep the first copy in input order; list the others as dropped.
+        First = "first",
+        /// Keep the last copy in input order; list the others as dropped.
+        Last = "last",
+        /// Keep the copy whose `save_name` time stamp (`mm_dd_HH_MM_SS`) is the latest: the
+        /// newest re-run. Ties and unparsable stamps are decided by input order (the last),
+        /// with a warning.
+        Newest = "newest",
+        /// Score every copy as a route of its own (spec v1.1's behaviour), with a warning.
+        All = "all",
     }
 }
 

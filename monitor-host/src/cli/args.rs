@@ -351,10 +351,10 @@ pub enum Command {
     Compare(CompareArgs),
     /// Score an evaluation while it runs: the inputs of `score`, read again every `--interval`
     /// seconds, the report (`-o`) rewritten after every round, one status line per round.
-    Watch(super::watch::WatchArgs),
+    Watch(WatchArgs),
     /// Merge the JSON reports of `sds score` scored where the files are (one per shard, node
     /// or GPU) into the report `sds score` over all their inputs would write (spec v1.4 §13).
-    Merge(super::merge::MergeArgs),
+    Merge(MergeArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.
@@ -414,4 +414,51 @@ pub enum Command {
         #[arg(short = 'o', long)]
         output: Option<PathBuf>,
     },
+}
+
+/// Arguments of `sds watch`.
+#[derive(Debug, clap::Args)]
+pub struct WatchArgs {
+    /// The inputs and options of `sds score` (`-o` is required).
+    #[command(flatten)]
+    pub score: ScoreArgs,
+    /// Seconds between rounds (fractions allowed; above 0, at most 86400).
+    #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
+    pub interval: f64,
+    /// One round, then the final report.
+    #[arg(long)]
+    pub once: bool,
+    /// Stop after this many seconds (with the final report; 0 to 31536000).
+    #[arg(long, value_name = "SECONDS")]
+    pub timeout: Option<f64>,
+    /// Print each round's status as one JSON object per line (standard error) instead of text.
+    #[arg(long)]
+    pub status_json: bool,
+}
+
+/// Arguments of `sds merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// The parts: JSON reports of `sds score` (each shard scored where its files are), all
+    /// scored with the same settings and, with `--routes`, the same route XML.
+    #[arg(required = true, value_name = "PART")]
+    pub parts: Vec<PathBuf>,
+    /// Output format (the formats of `sds score`).
+    #[arg(long, value_enum, default_value = "json")]
+    pub format: Format,
+    /// Output file (default: standard output); never one of the parts.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// A route id with a record in two parts: `error` (default) names both parts; `first` /
+    /// `last` keep the first / last part's record; `all` scores both.
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
+    /// `provenance.host=false` leaves this machine's name out of the merged report (the
+    /// scoring settings come from the parts).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Also write the routes to run again into FILE (one route XML id per line, the reason
+    /// after a tab).
+    #[arg(long, value_name = "FILE")]
+    pub rerun_list: Option<PathBuf>,
 }

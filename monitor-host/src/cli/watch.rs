@@ -9,29 +9,9 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
-use super::args::{Format, ScoreArgs};
+use super::args::{Format, ScoreArgs, WatchArgs};
 use super::output::{self, write_output};
 use crate::watch::{RoundOutcome, StatusLine, Watcher, RACY};
-
-/// Arguments of `sds watch`.
-#[derive(Debug, clap::Args)]
-pub struct WatchArgs {
-    /// The inputs and options of `sds score` (`-o` is required).
-    #[command(flatten)]
-    pub score: ScoreArgs,
-    /// Seconds between rounds (fractions allowed; above 0, at most 86400).
-    #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
-    pub interval: f64,
-    /// One round, then the final report.
-    #[arg(long)]
-    pub once: bool,
-    /// Stop after this many seconds (with the final report; 0 to 31536000).
-    #[arg(long, value_name = "SECONDS")]
-    pub timeout: Option<f64>,
-    /// Print each round's status as one JSON object per line (standard error) instead of text.
-    #[arg(long)]
-    pub status_json: bool,
-}
 
 /// Why the watch stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

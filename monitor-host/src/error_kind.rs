@@ -185,6 +185,80 @@ impl LiveError {
     }
 }
 
+/// The options an error's message names, by their neutral names (the setting's or the option's
+/// name, as the Python keywords spell them): a front end adds its own spelling of them (`sds`
+/// appends its flags, `(--expected-routes, --route-subset)`).
+///
+/// ```
+/// use monitor_host::error_kind::options;
+/// use monitor_host::{Error, Settings};
+/// let e = Error::from(Settings::default().apply(&["slack".into()]).unwrap_err());
+/// assert_eq!(options(&e), ["set"]);
+/// ```
+pub fn options(e: &Error) -> &'static [&'static str] {
+    match e {
+        Error::InRun { error, .. } => options(error),
+        Error::Settings(e) => settings_options(e),
+        Error::AmbiguousRoute { .. } | Error::Duplicates(_) => &["duplicates"],
+        Error::TooFewRoutes {
+            from_option: true,
+            missing,
+            ..
+        } if *missing > 0 => &["expected_routes", "route_subset"],
+        Error::TooFewRoutes {
+            from_option: true, ..
+        } => &["expected_routes"],
+        Error::TelemetryRoot {
+            given_as: "telemetry",
+            ..
+        } => &["telemetry"],
+        Error::MapsFolder { .. } => &["maps"],
+        Error::UnusedLabels => &["labels", "group_by"],
+        Error::NeedsLabels(n) if n.option == "families" => &["group_by", "families"],
+        Error::NeedsLabels(_) => &["group_by", "labels"],
+        Error::Labels(LabelsError::Safe2DriveFamilies { .. }) => &["families"],
+        Error::Labels(LabelsError::NoMatch { option, .. }) => match *option {
+            "families" => &["families"],
+            "weathers" => &["weathers"],
+            _ => &["labels"],
+        },
+        Error::RouteXml(RouteError::NoRoutes { .. }) => &["routes"],
+        Error::Compare(e) => match e {
+            CompareError::SeedOfTwo { .. } | CompareError::UnknownRun(_) => &["seeds"],
+            CompareError::UnknownBaseline(..) => &["baseline"],
+            CompareError::ProtocolNotAsked(..) => &["protocols"],
+            CompareError::SamplesOutOfRange(_) | CompareError::DrawBudget { .. } => {
+                &["bootstrap_samples"]
+            }
+            CompareError::HalfwidthOutOfRange(_) => &["repro.halfwidth"],
+            CompareError::RouteSetsDiffer { .. } => &["common_routes", "routes"],
+            _ => &[],
+        },
+        _ => &[],
+    }
+}
+
+/// The options a settings error's message names, as [`options`].
+pub fn settings_options(e: &SettingsError) -> &'static [&'static str] {
+    match e {
+        SettingsError::Syntax(_) => &["set"],
+        SettingsError::Range {
+            name: "threads", ..
+        } => &["jobs"],
+        _ => &[],
+    }
+}
+
+/// The options a merge error's message names, as [`options`].
+pub fn merge_options(e: &MergeError) -> &'static [&'static str] {
+    match e {
+        MergeError::Duplicate { .. } | MergeError::Policy(_) => &["duplicates"],
+        MergeError::Groups { .. } => &["group_by"],
+        MergeError::RouteSets { .. } => &["routes", "route_subset"],
+        _ => &[],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

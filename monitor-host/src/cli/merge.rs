@@ -1,8 +1,6 @@
 //! `sds merge PART...` (spec v1.4 §13): the library's [`crate::merge::merge`], rendered as
 //! `sds score` renders its report.
 
-use std::path::PathBuf;
-
 use anyhow::Result;
 
 use super::args::{DuplicatesArg, Format, MergeArgs};

@@ -31,6 +31,7 @@ macro_rules! say {
 pub mod compare;
 pub mod exit;
 pub mod merge;
+pub mod spelling;
 pub mod watch;
 
 use std::ffi::OsString;
@@ -75,7 +76,7 @@ where
     match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            say!("sds: error: {}", error_message(&*e));
+            say!("sds: error: {}{}", error_message(&*e), spelling::suffix(&e));
             exit::of(&e)
         }
     }

@@ -214,7 +214,7 @@ impl std::fmt::Display for DuplicatesError {
                 f,
                 "{} route id(s) appear more than once in the results (the same file given \
                  twice, a merged file beside its raw shards, re-runs, or two models in one \
-                 folder); nothing was scored. Choose which copy counts with --duplicates \
+                 folder); nothing was scored. Choose which copy counts with duplicates = \
                  newest|first|last (or all to score every copy):\n  {}",
                 self.duplicates.len(),
                 self.duplicates
@@ -229,8 +229,8 @@ impl std::fmt::Display for DuplicatesError {
         write!(
             f,
             "{n} files each hold {} {} routes: several runs? Nothing was scored: score each \
-             run on its own (sds score --results FILE) or side by side (sds compare A=FILE \
-             B=FILE); --duplicates would pick one copy per route and mix the runs.",
+             run on its own, or compare them side by side; duplicates would pick one copy per \
+             route and mix the runs.",
             if all { "all" } else { "nearly all" },
             self.ids
         )?;
@@ -668,7 +668,7 @@ mod tests {
             "{msg}"
         );
         assert!(
-            msg.contains("sds compare") && !msg.contains("--duplicates newest"),
+            msg.contains("compare them side by side") && !msg.contains("duplicates = newest"),
             "{msg}"
         );
         assert!(msg.contains("\n  m1.json: 12 of 12 route ids"), "{msg}");
@@ -706,7 +706,7 @@ mod tests {
         assert!(e.whole_runs.is_empty());
         let msg = e.to_string();
         assert!(msg.contains("R1: a record 0, b record 0"), "{msg}");
-        assert!(msg.contains("--duplicates newest|first|last"), "{msg}");
+        assert!(msg.contains("duplicates = newest|first|last"), "{msg}");
 
         let d = deduplicate(rs.clone(), DuplicatePolicy::First).unwrap();
         assert_eq!(d.records.len(), 2);

@@ -30,7 +30,7 @@ use crate::input::route_set::RouteSubset;
 #[non_exhaustive]
 pub enum SettingsError {
     /// `--set` text without `=`.
-    #[error("--set {0}: expected NAME=VALUE")]
+    #[error("setting {0}: expected NAME=VALUE")]
     Syntax(String),
     /// No setting has this name.
     #[error("unknown setting {name}; known settings: {}", Settings::NAMES.join(", "))]
@@ -330,7 +330,7 @@ impl Settings {
         }
         if self.threads == Some(0) {
             return Err(SettingsError::Range {
-                name: "threads (--jobs)",
+                name: "threads",
                 rule: "at least 1",
             });
         }

@@ -17,7 +17,7 @@ STEPS=(
   "fmt|cargo fmt --check"
   "module-graph|module graph: no import cycle in monitor-host/src, at most 2 upward imports"
   "clippy|cargo clippy"
-  "clippy-lib|library builds without the command line (what the bindings compile)"
+  "clippy-lib|library and core without default features"
   "test|cargo test"
   "test-debug|cargo test, debug profile (overflow checks on): monitor-core and monitor-host"
   "html|HTML report: parsed against the JSON report, then in headless Chromium (sort, filter, screenshot)"
@@ -44,7 +44,7 @@ step_test() {
   [ -d ../shared/fixtures ] || echo "note: ../shared/fixtures is absent: the tests on real Bench2Drive files skip (each says why under --nocapture)"
   cargo test --workspace --release
 }
-step_test_debug() { cargo test -p monitor-core -p monitor-host; }
+step_test_debug() { cargo test -p monitor-core -p monitor-host -p sds-cli; }
 step_html() { bash scripts/html-report-test.sh; }
 step_readme_figure() { bash scripts/readme-figure.sh --check; }
 step_doc() { RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet; }
@@ -97,7 +97,7 @@ check_cache() {
   if [ "$(cat "$built_from" 2>/dev/null)" != "$(pwd)" ]; then
     echo "note: the build cache was last built from $(cat "$built_from" 2>/dev/null || echo "an unknown folder"): rebuilding this checkout's crates"
     for profile in "" --release; do
-      cargo clean -q $profile -p monitor-core -p monitor-host -p sds-tests -p sds-capi -p sds-python
+      cargo clean -q $profile -p monitor-core -p monitor-host -p sds-cli -p sds-tests -p sds-capi -p sds-python
     done
   fi
   mkdir -p "$target_dir" && pwd >"$built_from"

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::settings::{RunOptions, Settings, SettingsError};
+use monitor_host::settings::{RunOptions, Settings, SettingsError};
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]
@@ -80,8 +80,8 @@ pub enum DuplicatesArg {
 
 impl DuplicatesArg {
     /// The library's policy.
-    pub fn policy(self) -> crate::input::duplicates::DuplicatePolicy {
-        use crate::input::duplicates::DuplicatePolicy as P;
+    pub fn policy(self) -> monitor_host::input::duplicates::DuplicatePolicy {
+        use monitor_host::input::duplicates::DuplicatePolicy as P;
         match self {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,
@@ -103,8 +103,8 @@ pub enum RouteSubsetArg {
 
 impl RouteSubsetArg {
     /// The library's subset.
-    pub fn subset(self) -> crate::input::route_set::RouteSubset {
-        use crate::input::route_set::RouteSubset as S;
+    pub fn subset(self) -> monitor_host::input::route_set::RouteSubset {
+        use monitor_host::input::route_set::RouteSubset as S;
         match self {
             RouteSubsetArg::All => S::All,
             RouteSubsetArg::Found => S::Found,

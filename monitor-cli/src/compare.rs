@@ -1,5 +1,5 @@
 //! `sds compare` (spec v1.4 section 11): the command line over
-//! [`crate::compare_runs::compare_runs`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
+//! [`monitor_host::compare_runs::compare_runs`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
 //! `--seeds` groups; the output is the `sds-compare/1` report or its tables; `--fail-if-worse`
 //! exits 5 after writing it.
 
@@ -13,12 +13,12 @@ use super::exit::{
 };
 use super::output::write_output;
 use super::style;
-use crate::aggregate::compare::CompareOptions;
-use crate::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
-use crate::report::grid::Style;
-use crate::report::long_tables::{compare_tables, TABLE_NAMES};
-use crate::report::{compare_table, html};
-use crate::{Inputs, NoProgress, Warning};
+use monitor_host::aggregate::compare::CompareOptions;
+use monitor_host::compare_runs::{compare_runs, telemetry_beside, Compared, RunInputs, Seeds};
+use monitor_host::report::grid::Style;
+use monitor_host::report::long_tables::{compare_tables, TABLE_NAMES};
+use monitor_host::report::{compare_table, html};
+use monitor_host::{Inputs, NoProgress, Warning};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
@@ -259,7 +259,8 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
             v
         }
         Format::Html => html::compare_page(c, &compared.models).into_bytes(),
-        _ => crate::report::table::render(&compare_table::compare_tables(c), style).into_bytes(),
+        _ => monitor_host::report::table::render(&compare_table::compare_tables(c), style)
+            .into_bytes(),
     };
     // Never write over any run's input.
     let inputs_read: Vec<PathBuf> = compared
@@ -270,7 +271,7 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         .collect();
     let tables = match &args.tables {
         Some(_) => {
-            let runs: Vec<(&str, &str, &crate::Report)> = compared
+            let runs: Vec<(&str, &str, &monitor_host::Report)> = compared
                 .models
                 .iter()
                 .flat_map(|m| {

@@ -2,7 +2,7 @@
 //! command's own usage errors and outcomes. docs/USAGE.md lists them; the test below pins the
 //! table.
 
-use crate::ErrorKind;
+use monitor_host::ErrorKind;
 
 /// The report was written, but some route has a problem.
 pub const ROUTE_PROBLEMS: i32 = 3;
@@ -34,13 +34,13 @@ pub fn code(kind: ErrorKind) -> i32 {
 /// command's own refusals (an unknown `--infraction`, an `-o` among the written files) 2,
 /// anything else (an output that cannot be written) 1.
 pub fn of(e: &anyhow::Error) -> i32 {
-    if let Some(e) = e.downcast_ref::<crate::Error>() {
+    if let Some(e) = e.downcast_ref::<monitor_host::Error>() {
         return code(e.kind());
     }
-    if let Some(e) = e.downcast_ref::<crate::merge::MergeError>() {
+    if let Some(e) = e.downcast_ref::<monitor_host::merge::MergeError>() {
         return code(e.kind());
     }
-    if let Some(e) = e.downcast_ref::<crate::SettingsError>() {
+    if let Some(e) = e.downcast_ref::<monitor_host::SettingsError>() {
         return code(e.kind());
     }
     if e.downcast_ref::<super::UnknownInfraction>().is_some()

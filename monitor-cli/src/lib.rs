@@ -1,5 +1,5 @@
-//! The `sds` command line (feature `cli`): arguments, progress bar, output, exit codes.
-//! Everything else is the library's [`crate::score_run`]. The `sds` binary and the Python
+//! The `sds` command line (crate `sds-cli`): arguments, progress bar, output, exit codes.
+//! Everything else is the library's [`monitor_host::score_run`]. The `sds` binary and the Python
 //! package's `sds` command both call [`main`] with their argument list, so they are one program.
 //!
 //! Exit codes ([`exit`]): 0 success; 1 no report (an input could not be read, the output not
@@ -7,15 +7,15 @@
 //! was written but some route has a problem (every such route is in the report with its state);
 //! 4 the inputs hold no record at all; 5 (`sds compare --fail-if-worse`) a model is worse than
 //! the baseline on a gated metric. An error's code is [`exit::code`] of its
-//! [`crate::ErrorKind`].
+//! [`monitor_host::ErrorKind`].
 
-pub mod args;
-pub mod output;
-pub mod progress;
+mod args;
+mod output;
+mod progress;
 
 /// Prints one message on standard error, escaped: it may hold strings from the inputs (route
 /// ids, paths, reasons), which must not reach the terminal raw
-/// ([`crate::report::escape::printable_lines`]).
+/// ([`monitor_host::report::escape::printable_lines`]).
 /// A closed standard error loses the message, never panics (`eprintln!` would on EPIPE).
 macro_rules! say {
     ($($t:tt)*) => {{
@@ -23,34 +23,34 @@ macro_rules! say {
         let _ = writeln!(
             std::io::stderr(),
             "{}",
-            crate::report::escape::printable_lines(&format!($($t)*))
+            monitor_host::report::escape::printable_lines(&format!($($t)*))
         );
     }};
 }
 
-pub mod compare;
+mod compare;
 pub mod exit;
-pub mod merge;
-pub mod spelling;
-pub mod watch;
+mod merge;
+mod spelling;
+mod watch;
 
 use std::ffi::OsString;
 
 use anyhow::Result;
 use clap::Parser;
 
-use crate::aggregate::groups::GroupBy;
-use crate::report::grid::Style;
-use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json, long_tables};
-use crate::{
+use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::report::grid::Style;
+use monitor_host::report::table::{self, TableOptions};
+use monitor_host::report::{csv, html, json, long_tables};
+use monitor_host::{
     demo, route_frames, score_labelled, Inputs, LabelFiles, Progress, Settings, SettingsError,
     TelemetryState,
 };
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
 
-pub use crate::scored::Scored;
+pub use monitor_host::scored::Scored;
 use output::write_output;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
@@ -58,8 +58,8 @@ use output::write_output;
 /// `--help` and `--version` print and return their code (2, 0, 0).
 ///
 /// ```
-/// assert_eq!(monitor_host::cli::main(["sds", "--version"]), 0);
-/// assert_eq!(monitor_host::cli::main(["sds", "score"]), 2); // --results is required
+/// assert_eq!(sds_cli::main(["sds", "--version"]), 0);
+/// assert_eq!(sds_cli::main(["sds", "score"]), 2); // --results is required
 /// ```
 pub fn main<I, T>(args: I) -> i32
 where
@@ -93,7 +93,7 @@ where
 ///            "/nonexistent: cannot read: No such file or directory (os error 2)");
 /// ```
 pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
-    crate::error::message(e)
+    monitor_host::error::message(e)
 }
 
 fn run(cli: Cli) -> Result<i32> {
@@ -192,7 +192,8 @@ fn run(cli: Cli) -> Result<i32> {
             for w in &run.warnings {
                 say!("sds: warning: {route_id}: {w}");
             }
-            let lines = crate::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
+            let lines =
+                monitor_host::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
             write_output(output.as_deref(), &lines, &run.files_read)?;
             Ok(0)
         }
@@ -228,7 +229,7 @@ pub fn inputs(args: &ScoreArgs) -> Inputs {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 #[error(
     "--infraction {0}: no such infraction list; the lists are {known}",
-    known = crate::input::record::KNOWN_LISTS.join(", ")
+    known = monitor_host::input::record::KNOWN_LISTS.join(", ")
 )]
 pub struct UnknownInfraction(pub String);
 
@@ -257,13 +258,13 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// breakdown: `--group-by`, or by scenario for the table formats).
 ///
 /// # Errors
-/// A typed error inside (a [`crate::Error`] or [`SettingsError`]; `downcast_ref` tells which).
+/// A typed error inside (a [`monitor_host::Error`] or [`SettingsError`]; `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let settings = settings(args)?;
     if let Some(bad) = args
         .infractions
         .iter()
-        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
+        .find(|l| !monitor_host::input::record::KNOWN_LISTS.contains(&l.as_str()))
     {
         return Err(UnknownInfraction(bad.clone()).into());
     }
@@ -348,7 +349,7 @@ fn run_name(args: &ScoreArgs) -> String {
 }
 
 /// The report in `args.format`, as `sds score` writes it (`sds watch` too).
-fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
+fn render(args: &ScoreArgs, report: &monitor_host::Report) -> Result<Vec<u8>> {
     Ok(match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(report)?,
         (Format::Csv, _) => csv::groups_csv(report).unwrap_or_else(|| csv::csv(report)),
@@ -429,10 +430,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 /// Writes the rerun list (spec v1.4 §13) into `file` and says how many routes it holds.
 fn write_rerun_list(
     file: &std::path::Path,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     inputs: &[std::path::PathBuf],
 ) -> Result<()> {
-    let text = crate::report::rerun_list::rerun_list(report);
+    let text = monitor_host::report::rerun_list::rerun_list(report);
     write_output(Some(file), text.as_bytes(), inputs)?;
     say!(
         "sds: wrote {} route(s) to run again to {}",
@@ -465,7 +466,7 @@ fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
 /// every file it replaced put back (`output::roll_back`); then the rerun list.
 fn write_all(
     args: &ScoreArgs,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     inputs_read: &[std::path::PathBuf],
     write_report: impl FnOnce() -> Result<()>,
 ) -> Result<()> {
@@ -523,8 +524,11 @@ fn write_all(
 
 /// The long tables of `sds score --tables` (spec v1.4 §15): the report's routes and events, and
 /// the frames of every route with telemetry, read again as `sds frames` reads them.
-fn run_tables(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<(&'static str, Vec<u8>)>> {
-    let frames: Vec<_> = crate::run_frames(&inputs(args), &settings(args)?)?
+fn run_tables(
+    args: &ScoreArgs,
+    report: &monitor_host::Report,
+) -> Result<Vec<(&'static str, Vec<u8>)>> {
+    let frames: Vec<_> = monitor_host::run_frames(&inputs(args), &settings(args)?)?
         .into_iter()
         .filter_map(|(source, f)| Some((source, f.ok()?)))
         .collect();
@@ -533,9 +537,9 @@ fn run_tables(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<(&'static 
 }
 
 /// What `--traces` left out: aligned collisions past the first
-/// [`crate::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
-fn untraced_note(report: &crate::Report) -> String {
-    let cap = crate::route::trace::TRACES_PER_ROUTE;
+/// [`monitor_host::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
+fn untraced_note(report: &monitor_host::Report) -> String {
+    let cap = monitor_host::route::trace::TRACES_PER_ROUTE;
     let left: usize = report
         .routes
         .iter()
@@ -556,10 +560,10 @@ fn untraced_note(report: &crate::Report) -> String {
 
 /// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
 /// first 10 and a count): a period read wrong would scale every speed and time of a route.
-fn period_notes(report: &crate::Report) -> Vec<String> {
+fn period_notes(report: &monitor_host::Report) -> Vec<String> {
     let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
     for r in &report.routes {
-        let (Some(dt), Some(crate::pipeline::step_period::DtSource::Inferred), Some(id)) =
+        let (Some(dt), Some(monitor_host::pipeline::step_period::DtSource::Inferred), Some(id)) =
             (r.dt, r.dt_source, r.route_id.as_deref())
         else {
             continue;
@@ -580,7 +584,7 @@ fn period_notes(report: &crate::Report) -> Vec<String> {
                 "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
                  (--set dt=SECONDS fixes the period of every route)",
                 ids.len(),
-                crate::warning::id_list(&ids)
+                monitor_host::warning::id_list(&ids)
             )
         })
         .collect()

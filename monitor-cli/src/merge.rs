@@ -1,4 +1,4 @@
-//! `sds merge PART...` (spec v1.4 §13): the library's [`crate::merge::merge`], rendered as
+//! `sds merge PART...` (spec v1.4 §13): the library's [`monitor_host::merge::merge`], rendered as
 //! `sds score` renders its report.
 
 use anyhow::Result;
@@ -6,10 +6,10 @@ use anyhow::Result;
 use super::args::{DuplicatesArg, Format, MergeArgs};
 use super::output::write_output;
 use super::{style, write_rerun_list};
-use crate::aggregate::groups::GroupBy;
-use crate::input::duplicates::DuplicatePolicy;
-use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json};
+use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::report::table::{self, TableOptions};
+use monitor_host::report::{csv, html, json};
 
 /// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
 pub fn merge(args: &MergeArgs) -> Result<i32> {
@@ -30,7 +30,7 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
     let policy = args
         .duplicates
         .map_or(DuplicatePolicy::Error, DuplicatesArg::policy);
-    let mut report = crate::merge::merge(&args.parts, policy, host)?;
+    let mut report = monitor_host::merge::merge(&args.parts, policy, host)?;
     if report.groups.is_none() && style(args.format).is_some() {
         // The table formats break down by scenario, as `sds score` does.
         report.group(GroupBy::Scenario, None)?;

@@ -31,12 +31,12 @@ pub fn flag(option: &str) -> Option<&'static str> {
 
 /// ` (--a, --b)`: the flags of the options an error names, or nothing.
 pub fn suffix(e: &anyhow::Error) -> String {
-    let options: &[&str] = if let Some(e) = e.downcast_ref::<crate::Error>() {
-        crate::error_kind::options(e)
-    } else if let Some(e) = e.downcast_ref::<crate::merge::MergeError>() {
-        crate::error_kind::merge_options(e)
-    } else if let Some(e) = e.downcast_ref::<crate::SettingsError>() {
-        crate::error_kind::settings_options(e)
+    let options: &[&str] = if let Some(e) = e.downcast_ref::<monitor_host::Error>() {
+        monitor_host::error_kind::options(e)
+    } else if let Some(e) = e.downcast_ref::<monitor_host::merge::MergeError>() {
+        monitor_host::error_kind::merge_options(e)
+    } else if let Some(e) = e.downcast_ref::<monitor_host::SettingsError>() {
+        monitor_host::error_kind::settings_options(e)
     } else {
         &[]
     };

@@ -1,5 +1,5 @@
 //! `sds watch`: the report of an evaluation kept current while it runs (spec §12), over the
-//! library's [`crate::watch::Watcher`]. Rounds every `--interval` seconds; after each scored
+//! library's [`monitor_host::watch::Watcher`]. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
 //! watch runs) and one status line is printed; the last round's report, written when the route
 //! set is complete, on `--timeout`, or on Ctrl-C / SIGTERM, is `sds score`'s, byte for byte.
@@ -11,7 +11,7 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs, WatchArgs};
 use super::output::{self, write_output};
-use crate::watch::{RoundOutcome, StatusLine, Watcher, RACY};
+use monitor_host::watch::{RoundOutcome, StatusLine, Watcher, RACY};
 
 /// Why the watch stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,14 +41,14 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
         return Ok(super::exit::USAGE);
     };
-    let interval = match crate::watch::interval(args.interval) {
+    let interval = match monitor_host::watch::interval(args.interval) {
         Ok(d) => d,
         Err(bound) => {
             say!("sds: error: --interval {}: {bound}", args.interval);
             return Ok(super::exit::USAGE);
         }
     };
-    let timeout = match args.timeout.map(crate::watch::timeout).transpose() {
+    let timeout = match args.timeout.map(monitor_host::watch::timeout).transpose() {
         Ok(t) => t,
         Err(bound) => {
             say!(
@@ -62,14 +62,14 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     if let Some(bad) = a
         .infractions
         .iter()
-        .find(|l| !crate::input::record::KNOWN_LISTS.contains(&l.as_str()))
+        .find(|l| !monitor_host::input::record::KNOWN_LISTS.contains(&l.as_str()))
     {
         return Err(super::UnknownInfraction(bad.clone()).into());
     }
     let tables = super::style(a.format).is_some();
     let by = match (a.group_by, tables) {
         (Some(g), _) => Some(super::group_by(g)),
-        (None, true) => Some(crate::aggregate::groups::GroupBy::Scenario),
+        (None, true) => Some(monitor_host::aggregate::groups::GroupBy::Scenario),
         (None, false) => None,
     };
     output::defer_signals();
@@ -154,7 +154,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         say!("sds: warning: {w}");
     }
     if args.status_json {
-        let end = crate::watch::StatusLine {
+        let end = monitor_host::watch::StatusLine {
             stopped: Some(stop.name().into()),
             ..watcher.last_status().clone()
         };
@@ -206,13 +206,14 @@ fn sleep(interval: Duration, start: Instant, timeout: Option<Duration>) -> Optio
 fn write_round(
     a: &ScoreArgs,
     out: &std::path::Path,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     live: Option<(f64, &StatusLine)>,
 ) -> Result<()> {
     let mut bytes = super::render(a, report)?;
     if let (Format::Html, Some((secs, status))) = (a.format, live) {
-        bytes = crate::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
-            .into_bytes();
+        bytes =
+            monitor_host::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
+                .into_bytes();
     }
     let mut inputs: Vec<PathBuf> = report.files_read.clone();
     inputs.extend(super::label_files(a).files().cloned());
@@ -254,7 +255,7 @@ fn status_line(args: &WatchArgs, s: &StatusLine) {
         pct(s.ds_n),
         pct(s.sds_done),
         pct(s.sds_n),
-        s.seconds_left.map_or_else(|| "?".into(), crate::watch::duration_text),
+        s.seconds_left.map_or_else(|| "?".into(), monitor_host::watch::duration_text),
         s.rescored
     );
 }

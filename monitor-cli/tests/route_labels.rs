@@ -266,7 +266,6 @@ fn route_grouping_without_a_label_map_is_a_usage_error() {
         &["--group-by", "town", "--labels", &labels],
     );
     assert_eq!(out.status.code(), Some(2));
-    assert!(
-        String::from_utf8_lossy(&out.stderr).contains("give group_by = route with it (--labels, --group-by)")
-    );
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("give group_by = route with it (--labels, --group-by)"));
 }

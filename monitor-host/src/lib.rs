@@ -7,8 +7,8 @@
 //!
 //! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress).
 //! The `sds` binary, the tests and the bindings all call it; none of them holds scoring logic.
-//! The command line itself is [`cli`] (feature `cli`, on by default), a library module so that
-//! the `sds` binary and the Python package's `sds` command run the same code.
+//! The command line itself is the crate `sds-cli` (`monitor-cli/`), whose small library target
+//! lets the `sds` binary and the Python package's `sds` command run the same code.
 //!
 //! Data flows one way, through folders named after the stages:
 //!
@@ -63,14 +63,12 @@
 #![deny(missing_docs)]
 // Two audited exceptions are allowed where they are, each with its SAFETY comment: the
 // telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
-// check before the runtime starts (cli/output.rs).
+// check before the runtime starts (monitor-cli/src/output.rs).
 #![deny(unsafe_code)]
 
 #[macro_use]
 pub mod named;
 pub mod aggregate;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod compare_runs;
 pub mod demo;
 pub mod error;

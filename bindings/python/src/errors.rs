@@ -119,6 +119,6 @@ pub fn live_error(e: &LiveError) -> PyErr {
 pub fn error_table(py: Python<'_>) -> PyResult<Vec<(&'static str, i32, Bound<'_, PyType>)>> {
     ErrorKind::ALL
         .iter()
-        .map(|k| Ok((k.name(), monitor_host::cli::exit::code(*k), class(py, *k)?)))
+        .map(|k| Ok((k.name(), sds_cli::exit::code(*k), class(py, *k)?)))
         .collect()
 }

@@ -86,7 +86,7 @@ where
 /// of its causes, joined by `": "`, a cause that the text already ends with written once. The
 /// bindings raise their exceptions with the same text.
 ///
-/// ```
+/// ```ignore
 /// use monitor_host::input::results_file::read_results;
 /// let e = read_results(std::path::Path::new("/nonexistent")).unwrap_err();
 /// assert_eq!(monitor_host::cli::error_message(&e),

@@ -62,7 +62,7 @@ HAVE_VG=0; command -v valgrind >/dev/null && HAVE_VG=1
 
 # ---------------------------------------------------------------------------------------------
 say "building (release)"
-cargo build --release -p monitor-host --bin sds >>"$LOG" 2>&1
+cargo build --release -p sds-cli --bin sds >>"$LOG" 2>&1
 cargo bench -p monitor-host --no-run >>"$LOG" 2>&1
 SDS=$TARGET/release/sds
 bench_exe() { # newest executable of a bench target

@@ -82,7 +82,7 @@ say "cargo fmt --check, cargo clippy (firmware crate)"
 # --- frames: the demo run, recorded by the host tool --------------------------------------------
 HOST_TARGET="${CARGO_TARGET_DIR:-$ROOT/target}"
 say "building sds and monitor_replay (host)"
-(cd "$ROOT" && cargo build -q --release -p monitor-host --bin sds -p sds-tests --bin monitor_replay)
+(cd "$ROOT" && cargo build -q --release -p sds-cli --bin sds -p sds-tests --bin monitor_replay)
 SDS="$HOST_TARGET/release/sds"
 REPLAY="$HOST_TARGET/release/monitor_replay"
 

@@ -10,7 +10,7 @@ target="${CARGO_TARGET_DIR:-target}"
 runs="${RUNS:-5}"
 out="$target/html-bench"
 chrome=$(command -v chromium || command -v chromium-browser) || { echo "needs chromium (scripts/setup.sh)" >&2; exit 1; }
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 sds="$target/release/sds"
 if [ ! -s "$out/run/results.json" ]; then
   rm -rf "$out"; "$sds" demo "$out/run" --large --large-collisions 100 2>/dev/null

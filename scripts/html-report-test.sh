@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 target="${CARGO_TARGET_DIR:-target}"
 out="$target/html-test"
 rm -rf "$out" && mkdir -p "$out"
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 sds="$target/release/sds"
 "$sds" demo "$out/demo" 2>/dev/null
 args=(--results "$out/demo/results.json" --telemetry "$out/demo/telemetry" --routes "$out/demo/routes.xml")

@@ -16,7 +16,7 @@ cd "$(dirname "$0")/.."
 target="${CARGO_TARGET_DIR:-target}"
 out="$target/html-watch-test"
 rm -rf "$out" && mkdir -p "$out"
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 sds="$target/release/sds"
 # shellcheck source=browse.sh
 source scripts/browse.sh

@@ -12,7 +12,7 @@ rm -rf "$out" && mkdir -p "$out/html"
 # shellcheck source=browse.sh
 source scripts/browse.sh
 SDS_MARKDOWN_HTML_OUT="$(realpath "$out/html")" \
-  cargo test -q -p monitor-host --release --test it r3_01_markdown_cells_render_as_their_text >/dev/null
+  cargo test -q -p sds-cli --release --test it r3_01_markdown_cells_render_as_their_text >/dev/null
 pages=("$out"/html/*.html)
 [ ${#pages[@]} -ge 3 ] || { echo "markdown browser test: expected the score, compare and control pages, found ${#pages[@]}" >&2; exit 1; }
 for p in "${pages[@]}"; do

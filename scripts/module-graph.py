@@ -2,19 +2,20 @@
 """The import graph of monitor-host/src between its rooms (top-level modules), from the source.
 
 Reads every `.rs` file under monitor-host/src, takes the paths of `use crate::...`, `use super::...`
-and inline `crate::a::b` mentions in code (comments, strings and `#[cfg(test)]` modules left out),
+and inline `crate::a::b`, `super::a::b` and `self::a::b` mentions in code (comments, strings and `#[cfg(test)]` modules left out),
 resolves each to the file that defines it (following `pub use` re-exports), and prints:
 
 - the room-level graph (room -> rooms it imports, with the number of file edges);
 - cycles: strongly connected components of more than one node, at room level (between stages,
-  and inside one stage) and at file level (across folders, and a folder's mod.rs with its own
-  children);
+  and inside one stage) and at file level (across folders, and inside one folder: a folder's
+  mod.rs with its own children, or two sibling files such as `cli/args.rs` <-> `cli/watch.rs`);
 - upward imports: file edges whose target room comes later in the stage order than the source
   room (the order is below; `lib.rs` is the crate root and is left out).
 
     scripts/module-graph.py [--src monitor-host/src] [--edges] [--check]
 
-`--edges` also lists every file edge; `--check` exits 1 on a room cycle, a file cycle across folders or an upward import.
+`--edges` also lists every file edge; `--check` exits 1 on any import cycle (between rooms, inside
+a stage, across folders or inside one folder) or on more than `--max-upward` (2) upward imports.
 """
 
 import argparse
@@ -25,6 +26,7 @@ from collections import defaultdict
 
 # Lower stages first. Rooms in one tuple share a stage (imports between them are not upward).
 STAGES = [
+    ("named",),  # the enum-naming macro (imports nothing)
     ("input", "warning"),  # warnings are made of input facts (collision lists, duplicates, XML)
     ("settings", "provenance"),  # settings name input policies; provenance digests settings
     ("geometry",),
@@ -35,8 +37,9 @@ STAGES = [
     ("model",),  # what the renderings read: the Report, a route's frames, a watch round's status
     ("stats", "merge"),  # several reports: compared (stats) or merged into one (merge)
     ("report",),  # renderings
-    ("app", "error"),  # the run-level doors every front end calls, and the errors they return
-    ("cli", "demo"),
+    ("app", "error", "error_kind"),  # the run-level doors every front end calls, the errors they
+    # return, and each error's kind
+    ("demo",),
 ]
 
 
@@ -164,7 +167,10 @@ def main():
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--src", default=os.path.join(root, "monitor-host", "src"))
     ap.add_argument("--edges", action="store_true", help="list every file edge")
-    ap.add_argument("--check", action="store_true", help="exit 1 on a cycle or an upward import")
+    ap.add_argument("--check", action="store_true",
+                    help="exit 1 on any cycle or on more than --max-upward upward imports")
+    ap.add_argument("--max-upward", type=int, default=2,
+                    help="upward imports --check allows (default 2)")
     a = ap.parse_args()
 
     files = {}  # module tuple -> rel path
@@ -189,7 +195,7 @@ def main():
             paths, _ = parse_tree(src, m.end())
             for p in paths:
                 res.append((pub, p))
-        for m in re.finditer(r"(?<![A-Za-z0-9_:])crate::", src):
+        for m in re.finditer(r"(?<![A-Za-z0-9_:])(crate|super|self)::", src):
             # inline paths (use items are found again here; harmless, edges are a set)
             paths, _ = parse_tree(src, m.start())
             for p in paths:
@@ -325,7 +331,7 @@ def main():
           f"({sum(len(c) for c in cross)} files)")
     for c in cross:
         print("  " + " <-> ".join(fname(m) for m in c))
-    print(f"file-level cycles inside one folder (mod.rs <-> its children): {len(inner)}")
+    print(f"file-level cycles inside one folder: {len(inner)}")
     for c in inner:
         print("  " + " <-> ".join(fname(m) for m in c))
 
@@ -350,8 +356,17 @@ def main():
 
     print(f"\nsummary: room cycles {len(room_cycles)}, file cycles across folders {len(cross)}, "
           f"inside one folder {len(inner)}, upward imports {len(up)}")
-    if a.check and (room_cycles or cross or up):
-        sys.exit(1)
+    if a.check:
+        problems = []
+        if room_cycles or same_stage or cross or inner:
+            problems.append(f"{len(room_cycles) + len(same_stage) + len(cross) + len(inner)} import cycle(s)")
+        if len(up) > a.max_upward:
+            problems.append(f"{len(up)} upward imports (at most {a.max_upward})")
+        if problems:
+            print("module-graph --check: FAILED: " + ", ".join(problems), file=sys.stderr)
+            sys.exit(1)
+        print("module-graph --check: no import cycle, "
+              f"{len(up)} upward import(s) (at most {a.max_upward})")
 
 
 if __name__ == "__main__":

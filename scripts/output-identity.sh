@@ -53,7 +53,7 @@ dest=$1
 
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 sds=target/release/sds
 work=target/ident-work
 rm -rf "$work"

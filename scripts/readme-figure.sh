@@ -8,7 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 target="${CARGO_TARGET_DIR:-target}"
 figure=docs/img/demo-collision-nodecel.svg
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 "$target/release/sds" demo "$tmp/demo" 2>/dev/null

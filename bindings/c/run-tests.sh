@@ -93,7 +93,7 @@ say "ok: install.sh + pkg-config ($PC_LIBS); sds_replay linked statically"
 
 # 4. Host replays --------------------------------------------------------------------------------
 say "building sds and monitor_replay (host)"
-cargo build -q --release -p monitor-host --bin sds -p sds-tests --bin monitor_replay
+cargo build -q --release -p sds-cli --bin sds -p sds-tests --bin monitor_replay
 SDS="$TARGET_DIR/release/sds"
 REPLAY="$TARGET_DIR/release/monitor_replay"
 "$SDS" demo "$OUT/demo" >/dev/null 2>&1 || fail "sds demo"

@@ -17,7 +17,7 @@ if [ ! -x "$tools/bin/maturin" ] || [ ! -f "$tools/pins" ]; then
 fi
 
 echo "[python] building the sds binary (the reference the tests compare with) and the wheel"
-cargo build -q --release -p monitor-host --bin sds
+cargo build -q --release -p sds-cli --bin sds
 rm -rf "$target/py-wheels"
 "$tools/bin/maturin" build -q --release -o "$target/py-wheels"
 wheel=$(ls "$target"/py-wheels/sds_monitor-*-abi3-*.whl)

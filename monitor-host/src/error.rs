@@ -39,8 +39,8 @@ pub enum Error {
     /// Several records of this route are kept under `--duplicates all` (for
     /// [`crate::route_frames`], which prints one route).
     #[error(
-        "{route}: {copies} records are scored under --duplicates all; choose one copy with \
-         --duplicates first|last"
+        "{route}: {copies} records are scored under duplicates = all; choose one copy with \
+         duplicates = first|last"
     )]
     AmbiguousRoute {
         /// The route id.
@@ -98,7 +98,7 @@ pub enum Error {
     },
     /// The `--maps` folder does not exist or is not a folder.
     #[error(
-        "--maps {}: {reason}; give the folder that holds the towns' OpenDRIVE maps \
+        "maps {}: {reason}; give the folder that holds the towns' OpenDRIVE maps \
          (Town01.xodr, ... or a CARLA install's Maps folder)",
         path.display()
     )]
@@ -143,9 +143,7 @@ pub enum Error {
     #[error(transparent)]
     NeedsLabels(#[from] NeedsLabels),
     /// A route label map was given without the breakdown by route that reads it.
-    #[error(
-        "--labels FILE is the route label map of `--group-by route`: give `--group-by route` with it"
-    )]
+    #[error("labels is the route label map of group_by = route: give group_by = route with it")]
     UnusedLabels,
 }
 
@@ -157,13 +155,13 @@ fn too_few_hint(n: usize, counted: usize, missing: usize, from_option: bool) -> 
         String::new()
     } else if missing > 0 && counted - missing <= n {
         format!(
-            "; {missing} of them are routes of --routes without a record, counted as missing: \
-             to score only the {} route(s) found, give --route-subset found (N is then the \
-             routes found, or --expected-routes), or leave --expected-routes out",
+            "; {missing} of them are routes of the route XML without a record, counted as missing: \
+             to score only the {} route(s) found, set route_subset = found (N is then the \
+             routes found, or expected_routes), or leave expected_routes out",
             counted - missing
         )
     } else {
-        "; raise --expected-routes or leave it out".into()
+        "; raise expected_routes or leave it out".into()
     }
 }
 

@@ -8,8 +8,8 @@
 //! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress);
 //! the front ends call the typed requests of [`app`] around it. The `sds` binary, the tests and
 //! the bindings hold no scoring logic.
-//! The command line itself is [`cli`] (feature `cli`, on by default), a library module so that
-//! the `sds` binary and the Python package's `sds` command run the same code.
+//! The command line itself is the crate `sds-cli` (`monitor-cli/`), whose small library target
+//! lets the `sds` binary and the Python package's `sds` command run the same code.
 //!
 //! Data flows one way, through folders named after the stages:
 //!
@@ -71,15 +71,16 @@
 #![deny(missing_docs)]
 // Two audited exceptions are allowed where they are, each with its SAFETY comment: the
 // telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
-// check before the runtime starts (cli/output.rs).
+// check before the runtime starts (monitor-cli/src/output.rs).
 #![deny(unsafe_code)]
 
+#[macro_use]
+pub mod named;
 pub mod aggregate;
 pub mod app;
-#[cfg(feature = "cli")]
-pub mod cli;
 pub mod demo;
 pub mod error;
+pub mod error_kind;
 pub mod geometry;
 pub mod input;
 pub mod merge;
@@ -103,6 +104,7 @@ pub use app::{compare_runs, run, scored, watch};
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;
+pub use error_kind::ErrorKind;
 pub use input::labels::LabelsError;
 pub use input::lead_infractions::LeadInfractionsError;
 pub use input::results_file::ResultsError;

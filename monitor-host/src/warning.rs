@@ -421,7 +421,7 @@ impl std::fmt::Display for Warning {
             Warning::DuplicatesScored { ids, first } => write!(
                 f,
                 "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
-                 (--duplicates newest|first|last keeps one): {}{}",
+                 (duplicates = newest|first|last keeps one): {}{}",
                 first
                     .iter()
                     .map(ToString::to_string)
@@ -454,7 +454,7 @@ impl std::fmt::Display for Warning {
                  (mm_dd_HH_MM_SS, no year) lie more than half a year apart and could wrap a year \
                  (a December run and a January re-run): the copy in the most recently modified \
                  file was kept (in one file, the checkpoint's own record order): {} (each \
-                 route's `kept` says which; --duplicates first|last chooses by input order)",
+                 route's `kept` says which; duplicates = first|last chooses by input order)",
                 routes.len(),
                 id_list(routes)
             ),
@@ -502,13 +502,13 @@ impl std::fmt::Display for Warning {
             } => write!(
                 f,
                 "step period unknown: {span} steps for duration_game {duration_game} s fit no \
-                 multiple of 0.05 s; dt {dt} s used (fix it with --set dt=SECONDS)"
+                 multiple of 0.05 s; dt {dt} s used (fix it with the setting dt=SECONDS)"
             ),
             Warning::StepPeriodPartial { gaps, span, dt } => write!(
                 f,
                 "step period not inferred: {gaps} of {span} step numbers missing (over 10 %), \
                  the telemetry holds only part of the run; dt {dt} s used (set the agent's \
-                 period with --set dt=SECONDS); its chunks span missing time"
+                 period with the setting dt=SECONDS); its chunks span missing time"
             ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,
@@ -529,7 +529,7 @@ impl std::fmt::Display for Warning {
                     None => write!(
                         f,
                         "no route has telemetry: none of the {routes} route(s) has a \
-                         metric_info.json beside its results file, and no --telemetry was given"
+                         metric_info.json beside its results file, and no telemetry folder was given"
                     )?,
                 }
                 if let Some((route, reason)) = example {
@@ -537,8 +537,7 @@ impl std::fmt::Display for Warning {
                 }
                 f.write_str(
                     "; give the telemetry folder, the one holding <save_name>/metric_info.json \
-                     (--telemetry DIR; in sds compare RESULTS:TELEMETRY or --telemetry-of \
-                     NAME=DIR), or --allow-missing-telemetry to score without telemetry terms",
+                     (telemetry), or allow_missing_telemetry to score without telemetry terms",
                 )
             }
             Warning::LabelsMissKeys { file, keys, count } => write!(
@@ -556,7 +555,7 @@ impl std::fmt::Display for Warning {
             } => write!(
                 f,
                 "{}: eval num {eval_num} but {records} records in the file: the merge counted \
-                 route(s) whose record it did not keep (with --routes, every route of the set \
+                 route(s) whose record it did not keep (with a route XML, every route of the set \
                  without a record is listed as missing)",
                 file.display()
             ),
@@ -573,7 +572,7 @@ impl std::fmt::Display for Warning {
                 f,
                 "{file}: route {route}: every segment is longer than gap_max = {gap_max} m (all \
                  junction gaps): lateral excess unknown for this route (denser waypoints, or \
-                 --set gap_max=<metres>)"
+                 the setting gap_max=<metres>)"
             ),
             Warning::NoReference(e) => write!(f, "{e}: lateral excess unknown for this route"),
             Warning::NoMap {
@@ -591,7 +590,7 @@ impl std::fmt::Display for Warning {
                 if *lane_fallback {
                     f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
                 }
-                f.write_str("; add the town's .xodr to --maps to use its lanes")
+                f.write_str("; add the town's .xodr to the maps folder to use its lanes")
             }
             Warning::NoMaps {
                 towns,
@@ -614,7 +613,7 @@ impl std::fmt::Display for Warning {
                 if *lane_fallback {
                     f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
                 }
-                f.write_str("; add the towns' .xodr to --maps to use their lanes")
+                f.write_str("; add the towns' .xodr to the maps folder to use their lanes")
             }
             Warning::MapNotServing {
                 file,
@@ -648,7 +647,7 @@ impl std::fmt::Display for Warning {
             ),
             Warning::Unmapped { by, keys, routes } => write!(
                 f,
-                "--group-by {by}: {routes} route(s) whose key has no label are grouped as \
+                "group_by = {by}: {routes} route(s) whose key has no label are grouped as \
                  \"(unmapped)\"; keys without a label: {}",
                 keys.join(", ")
             ),
@@ -663,8 +662,8 @@ impl std::fmt::Display for Warning {
                 "protocols: {records} of {of} records hold Bench2Drive's 20 min-speed checkpoints \
                  (min_speed_grid={setting}): under {} their entries were regrouped by 5 into one \
                  Leaderboard checkpoint each, at the group's harmonic mean; each route's \
-                 min_speed_grid and min_speed_events say which and how many (--set \
-                 min_speed_grid=lb-4 charges every entry below 100 %)",
+                 min_speed_grid and min_speed_events say which and how many (the \
+                 setting min_speed_grid=lb-4 charges every entry below 100 %)",
                 protocols.join(", ")
             ),
             Warning::Recorded(text) => f.write_str(text),

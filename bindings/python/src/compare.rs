@@ -6,14 +6,13 @@
 use std::path::PathBuf;
 
 use monitor_host::app::compare_runs::{CompareRequest, RunSpec, Seeds};
-use monitor_host::app::request::ScoreError;
 use monitor_host::error::message;
 use monitor_host::stats::{CompareError, CompareOptions};
-use monitor_host::{Error, NoProgress};
+use monitor_host::NoProgress;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt};
 
-use crate::errors::{run_error, score_error, ConfigError};
+use crate::errors::{score_error, ConfigError};
 use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
@@ -44,18 +43,6 @@ fn samples(b: &Bound<'_, PyInt>) -> PyResult<usize> {
         let shown = b.str().map_or_else(|_| "?".into(), |s| s.to_string());
         ConfigError::new_err(message(&CompareError::SamplesOutOfRange(shown)))
     })
-}
-
-/// The exception for an error of the comparison: how the runs are compared is the caller's
-/// ([`ConfigError`]); a run's own error keeps its class, its message naming the run.
-fn compare_error(py: Python<'_>, e: &ScoreError) -> PyErr {
-    match e {
-        ScoreError::Run(e @ Error::Compare(_)) => ConfigError::new_err(message(e)),
-        ScoreError::Run(e @ Error::InRun { .. }) => {
-            PyErr::from_type(run_error(e.inner()).get_type(py), message(e))
-        }
-        e => score_error(e),
-    }
 }
 
 /// Compares runs (see the Python `sds.compare`, which passes each run as `(name, results,
@@ -98,9 +85,9 @@ pub fn compare<'py>(
         },
     };
     // Settings refused before any run is scored.
-    request.validate().map_err(|e| compare_error(py, &e))?;
+    request.validate().map_err(|e| score_error(&e))?;
     let compared = py
         .detach(|| with_signals(&NoProgress, |p| request.compare(p)))?
-        .map_err(|e| compare_error(py, &e))?;
+        .map_err(|e| score_error(&e))?;
     to_python(py, &compared.comparison)
 }

@@ -1,14 +1,17 @@
-//! The exception classes, and the host's typed errors mapped onto them. Every message is the
-//! text the `sds` command prints after `sds: error: `.
+//! The exception classes, and the host's errors mapped onto them: one match on the library's
+//! [`ErrorKind`] ([`exception`]), as the `sds` command's exit code is. Every message is the text
+//! the `sds` command prints after `sds: error: ` (without the command's option spellings).
 
 use monitor_host::app::request::{RequestError, ScoreError};
 use monitor_host::error::message;
-use monitor_host::geometry::map::MapError;
+use monitor_host::merge::MergeError;
 use monitor_host::pipeline::live::LiveError;
-use monitor_host::{Error, LabelsError, ResultsError, RouteError, SettingsError};
+use monitor_host::{Error, ErrorKind, SettingsError};
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
-use pyo3::PyErr;
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyType};
 
 create_exception!(
     sds,
@@ -42,47 +45,83 @@ create_exception!(
     "An option this build of sds does not have yet (its message names the feature)."
 );
 
-/// The exception for an error of [`monitor_host::score_run`] or
-/// [`monitor_host::score_labelled`].
+/// `RefusedError`: a subclass of both [`InputError`] and [`ConfigError`] (so code that caught
+/// either before keeps catching it), made once per interpreter.
+static REFUSED: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+
+/// The class `sds.RefusedError` ([`REFUSED`]).
+pub fn refused_error(py: Python<'_>) -> PyResult<Bound<'_, PyType>> {
+    let t = REFUSED.get_or_try_init(py, || -> PyResult<Py<PyType>> {
+        let dict = PyDict::new(py);
+        dict.set_item("__module__", "sds")?;
+        dict.set_item(
+            "__doc__",
+            "The inputs do not fit the options (route ids given twice under \
+             duplicates=\"error\", N smaller than the routes counted, a label map that matches \
+             no route, report parts that disagree): both an InputError and a ConfigError.",
+        )?;
+        let bases = (py.get_type::<InputError>(), py.get_type::<ConfigError>());
+        let class = py
+            .get_type::<PyType>()
+            .call1(("RefusedError", bases, dict))?
+            .cast_into::<PyType>()?;
+        Ok(class.unbind())
+    })?;
+    Ok(t.bind(py).clone())
+}
+
+/// The exception class of an error kind. Pinned, with the `sds` command's exit codes, by
+/// `error_table` and the package's tests.
+pub fn class(py: Python<'_>, kind: ErrorKind) -> PyResult<Bound<'_, PyType>> {
+    Ok(match kind {
+        ErrorKind::Io | ErrorKind::MissingFolder => py.get_type::<IoError>(),
+        ErrorKind::Input | ErrorKind::EmptyRun => py.get_type::<InputError>(),
+        ErrorKind::Option => py.get_type::<ConfigError>(),
+        ErrorKind::NeedsLabels => py.get_type::<NeedsLabelsError>(),
+        ErrorKind::Refused => refused_error(py)?,
+        ErrorKind::Cancelled => py.get_type::<PyKeyboardInterrupt>(),
+        // `Internal`, and a kind this package does not know yet.
+        _ => py.get_type::<SdsError>(),
+    })
+}
+
+/// The exception of an error of this kind with this message.
+pub fn exception(kind: ErrorKind, msg: String) -> PyErr {
+    Python::attach(|py| match class(py, kind) {
+        Ok(t) => PyErr::from_type(t, msg),
+        Err(e) => e,
+    })
+}
+
+/// The exception for an error of the library's run-level functions (of the run's own error,
+/// its message naming the run, for a run of a comparison).
 pub fn run_error(e: &Error) -> PyErr {
-    let msg = message(e);
-    match e {
-        Error::Results(ResultsError::Io { .. })
-        | Error::RouteXml(RouteError::Io { .. })
-        | Error::Map(MapError::Io { .. }) => IoError::new_err(msg),
-        Error::TelemetryRoot { .. } | Error::MapsFolder { .. } => IoError::new_err(msg),
-        Error::Settings(_) | Error::TooFewRoutes { .. } | Error::UnusedLabels => {
-            ConfigError::new_err(msg)
-        }
-        Error::NeedsLabels(_) => NeedsLabelsError::new_err(msg),
-        Error::Labels(l) => labels_error(l),
-        Error::Threads(_) => SdsError::new_err(msg),
-        _ => InputError::new_err(msg),
-    }
+    exception(e.kind(), message(e))
 }
 
 /// The exception for settings the library refuses.
 pub fn settings_error(e: &SettingsError) -> PyErr {
-    ConfigError::new_err(message(e))
+    exception(e.kind(), message(e))
 }
 
-/// The exception for a labels file that cannot be used.
-pub fn labels_error(e: &LabelsError) -> PyErr {
-    let msg = message(e);
-    match e {
-        LabelsError::Io { .. } => IoError::new_err(msg),
-        _ => InputError::new_err(msg),
-    }
+/// The exception for a merge that cannot be done.
+pub fn merge_error(e: &MergeError) -> PyErr {
+    exception(e.kind(), message(e))
 }
 
 /// The exception for a live monitor that cannot be set up, or a tick it refuses.
 pub fn live_error(e: &LiveError) -> PyErr {
-    let msg = message(e);
-    match e {
-        LiveError::Map(MapError::Io { .. }) | LiveError::NoMap(_) => IoError::new_err(msg),
-        LiveError::NeedsTown { .. } | LiveError::LaneWithoutMap => ConfigError::new_err(msg),
-        _ => InputError::new_err(msg),
-    }
+    exception(e.kind(), message(e))
+}
+
+/// Every error kind with the `sds` command's exit code and this package's exception class, for
+/// the test that pins the table (`tests/test_errors.py`).
+#[pyfunction]
+pub fn error_table(py: Python<'_>) -> PyResult<Vec<(&'static str, i32, Bound<'_, PyType>)>> {
+    ErrorKind::ALL
+        .iter()
+        .map(|k| Ok((k.name(), sds_cli::exit::code(*k), class(py, *k)?)))
+        .collect()
 }
 
 /// A request refused before any work: always the caller's ([`ConfigError`]), the option named as

@@ -19,7 +19,7 @@
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
-//!   the command line (the one use of `monitor_host::cli`: the installed `sds` is the binary's
+//!   the command line (the one use of the `sds-cli` crate: the installed `sds` is the binary's
 //!   program, run in-process);
 //! - `errors.rs`: the exception classes; `interrupt.rs`: Ctrl-C while `score` or `compare`
 //!   works (the calling thread watches for signals, the library stops between routes).
@@ -45,7 +45,7 @@ use pyo3::prelude::*;
 /// Runs the `sds` command line with `argv` (program name first) and returns its exit code.
 #[pyfunction]
 fn cli_main(py: Python<'_>, argv: Vec<OsString>) -> i32 {
-    py.detach(|| monitor_host::cli::main(argv))
+    py.detach(|| sds_cli::main(argv))
 }
 
 /// The extension module.
@@ -73,6 +73,8 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
         py.get_type::<errors::NeedsLabelsError>(),
     )?;
     m.add("IoError", py.get_type::<errors::IoError>())?;
+    m.add("RefusedError", errors::refused_error(py)?)?;
+    m.add_function(wrap_pyfunction!(errors::error_table, m)?)?;
     m.add(
         "FeatureUnavailableError",
         py.get_type::<errors::FeatureUnavailableError>(),

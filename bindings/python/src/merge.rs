@@ -3,25 +3,11 @@
 use std::path::PathBuf;
 
 use monitor_host::app::merged::MergeRequest;
-use monitor_host::error::message;
 use monitor_host::input::duplicates::DuplicatePolicy;
-use monitor_host::merge::MergeError;
 use pyo3::prelude::*;
 
-use crate::errors::{ConfigError, InputError, IoError};
+use crate::errors::{merge_error, ConfigError};
 use crate::pyser::to_python;
-
-/// The exception for an error of the merge: a part that cannot be read [`IoError`], an
-/// unusable `duplicates` or N [`ConfigError`], parts that are no reports or disagree
-/// [`InputError`].
-fn merge_error(e: &MergeError) -> PyErr {
-    let msg = message(e);
-    match e {
-        MergeError::Read { .. } => IoError::new_err(msg),
-        MergeError::Policy(_) | MergeError::TooFewRoutes { .. } => ConfigError::new_err(msg),
-        _ => InputError::new_err(msg),
-    }
-}
 
 /// Merges `sds score` JSON reports (see the Python `sds.merge`); returns the merged report as
 /// Python objects. The GIL is released while reading and merging.

@@ -88,17 +88,12 @@ impl RunKwargs<'_> {
                 (Profile::Autoware.name(), Profile::Autoware),
             ],
         )?;
-        let named: Vec<(&str, DuplicatePolicy)> = [
-            DuplicatePolicy::Error,
-            DuplicatePolicy::First,
-            DuplicatePolicy::Last,
-            DuplicatePolicy::Newest,
-            DuplicatePolicy::All,
-        ]
-        .into_iter()
-        .map(|p| (p.name(), p))
-        .collect();
-        let subsets = [RouteSubset::All, RouteSubset::Found].map(|r| (r.name(), r));
+        let named: Vec<(&str, DuplicatePolicy)> = DuplicatePolicy::ALL
+            .iter()
+            .map(|p| (p.name(), *p))
+            .collect();
+        let subsets: Vec<(&str, RouteSubset)> =
+            RouteSubset::ALL.iter().map(|r| (r.name(), *r)).collect();
         Ok(RunSettings {
             profile,
             expected_routes: self.expected_routes,

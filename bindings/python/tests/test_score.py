@@ -40,7 +40,7 @@ def test_decomposition_and_events_explain_the_score(demo: Demo) -> None:
 
 def test_no_command_line_in_between() -> None:
     """`sds.score` calls the library: the binding builds no argument list and calls no CLI code
-    for it (the one `cli::` use is the package's `sds` command itself)."""
+    for it (the `sds-cli` crate serves only the `sds` command and the error table)."""
     src = Path(__file__).resolve().parents[1] / "src"
     uses = [
         (p.name, line.strip())
@@ -48,7 +48,10 @@ def test_no_command_line_in_between() -> None:
         for line in p.read_text().splitlines()
         if "cli::" in line and not line.lstrip().startswith("//")
     ]
-    assert uses == [("lib.rs", "py.detach(|| monitor_host::cli::main(argv))")], uses
+    assert uses == [
+        ("errors.rs", ".map(|k| Ok((k.name(), sds_cli::exit::code(*k), class(py, *k)?)))"),
+        ("lib.rs", "py.detach(|| sds_cli::main(argv))"),
+    ], uses
     assert not hasattr(sds._sds, "score_json")
 
 
@@ -105,7 +108,8 @@ def test_real_fixtures_equal_cli(b2d: Path, sds_bin: Path, tmp_path: Path) -> No
                 # No report: the same error, as an exception.
                 with pytest.raises(sds.SdsError) as e:
                     sds.score(run, routes=routes, expected_routes=220, allow_missing_telemetry=allow)
-                assert f"sds: error: {e.value}" in err.splitlines(), run
+                # The command's message is the exception's, its flags appended (` (--flag)`).
+                assert any(line.startswith(f"sds: error: {e.value}") for line in err.splitlines()), run
                 refused += 1
                 continue
             expected = json.loads(out.read_text())
@@ -133,7 +137,7 @@ def test_labels_are_checked_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Pa
     with pytest.raises(sds.InputError) as e:
         sds.score(demo.results, group_by="family", labels=bad)
     code, _, err = run_cli(sds_bin, ["score", *base, "--group-by", "family", "--families", str(bad)])
-    assert code in (1, 2) and f"sds: error: {e.value}" in err.splitlines()
+    assert code in (1, 2) and any(line.startswith(f"sds: error: {e.value}") for line in err.splitlines())
     with pytest.raises(sds.ConfigError):
         sds.score(demo.results, group_by="nope")
     with pytest.raises(sds.ConfigError):
@@ -160,7 +164,7 @@ def test_group_by_route_labels_like_the_cli(demo: Demo, sds_bin: Path, tmp_path:
     # Without its label map: a ConfigError with the command's message.
     with pytest.raises(sds.ConfigError) as e:
         sds.score(demo.results, telemetry=demo.telemetry, group_by="route")
-    assert "--labels" in str(e.value)
+    assert "(labels)" in str(e.value) and "--" not in str(e.value)
 
 
 def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
@@ -168,7 +172,8 @@ def test_duplicates_like_the_cli(demo: Demo, sds_bin: Path, tmp_path: Path) -> N
     with pytest.raises(sds.InputError) as e:
         sds.score([demo.results, demo.results], telemetry=demo.telemetry)
     code, _, err = run_cli(sds_bin, ["score", *twice])
-    assert code == 2 and f"sds: error: {e.value}\n" in err  # a multi-line message
+    # A multi-line message; the command appends its flag.
+    assert code == 2 and f"sds: error: {e.value} (--duplicates)\n" in err
     for policy in ("first", "last", "all"):
         expected = cli_report(sds_bin, twice + ["--duplicates", policy], tmp_path)
         report = sds.score([demo.results, demo.results], telemetry=demo.telemetry, duplicates=policy)

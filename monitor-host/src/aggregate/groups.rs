@@ -10,7 +10,7 @@
 //! assert_eq!(g.by, "town");
 //! // Families and route labels need their label map.
 //! assert!(groups(&[], 0, GroupBy::Family, None).is_err());
-//! assert_eq!(groups(&[], 0, GroupBy::Route, None).unwrap_err().option, "--labels");
+//! assert_eq!(groups(&[], 0, GroupBy::Route, None).unwrap_err().option, "labels");
 //! ```
 
 use std::collections::BTreeMap;
@@ -55,8 +55,8 @@ impl GroupBy {
     /// (`--families`, `--labels`); `None` when the grouping works without one.
     pub fn required_labels(self) -> Option<&'static str> {
         match self {
-            GroupBy::Family => Some("--families"),
-            GroupBy::Route => Some("--labels"),
+            GroupBy::Family => Some("families"),
+            GroupBy::Route => Some("labels"),
             GroupBy::Scenario | GroupBy::Town | GroupBy::Weather => None,
         }
     }
@@ -107,7 +107,7 @@ const UNMAPPED_SHOWN: usize = 5;
 
 /// Grouping needs a label map it was not given.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("--group-by {by} needs its label map ({option} FILE)")]
+#[error("group_by = {by} needs its label map ({option})")]
 pub struct NeedsLabels {
     /// The grouping.
     pub by: &'static str,

@@ -163,7 +163,7 @@ pub fn compare_runs(
             Error::TelemetryRoot { path, reason, .. } => Error::InRun {
                 run: r.name.clone(),
                 error: Box::new(Error::TelemetryRoot {
-                    given_as: "telemetry folder (RESULTS:TELEMETRY or --telemetry-of NAME=DIR)",
+                    given_as: "telemetry folder",
                     path,
                     reason,
                 }),

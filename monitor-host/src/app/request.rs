@@ -16,7 +16,7 @@ use crate::input::duplicates::DuplicatePolicy;
 use crate::input::record::KNOWN_LISTS;
 use crate::input::route_set::RouteSubset;
 use crate::model::Report;
-use crate::settings::{RunOptions, Settings, SettingsError};
+use crate::settings::{protocols_of, RunOptions, Settings, SettingsError};
 
 /// Why a request is refused before any work: a usage error of the front end (the `sds` command
 /// exits 2; Python raises `ConfigError`). Each front end may name its own option.
@@ -119,11 +119,6 @@ impl RunSettings {
             .map(|r| ("route_subset".to_string(), r.name().to_string()))
             .into_iter()
             .chain(
-                self.protocols
-                    .iter()
-                    .map(|p| ("protocols".to_string(), p.join(","))),
-            )
-            .chain(
                 self.ability_rule
                     .iter()
                     .map(|r| ("ability_rule".to_string(), r.clone())),
@@ -134,6 +129,12 @@ impl RunSettings {
             duplicates: self.duplicates,
             allow_missing_telemetry: self.allow_missing_telemetry,
             threads: self.jobs,
+            // A typed list, not text parsed back (an item may still hold ids joined by commas).
+            protocols: self
+                .protocols
+                .as_ref()
+                .map(|p| protocols_of(&p.iter().flat_map(|x| x.split(',')).collect::<Vec<_>>()))
+                .transpose()?,
             overrides: named.chain(self.overrides.iter().cloned()).collect(),
         }
         .settings()

@@ -349,7 +349,7 @@ fn check_telemetry_root(root: &Path) -> Result<(), Error> {
         Err(e) => e.to_string(),
     };
     Err(Error::TelemetryRoot {
-        given_as: "--telemetry",
+        given_as: "telemetry",
         path: root.to_path_buf(),
         reason,
     })

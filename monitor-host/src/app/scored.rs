@@ -75,7 +75,7 @@ enum LabelKey {
 /// // A grouping by family needs its map, checked before anything is scored.
 /// let e = score_labelled(&inputs, &Settings::default(), &LabelFiles::default(),
 ///                        Some(GroupBy::Family), &NoProgress).unwrap_err();
-/// assert_eq!(e.to_string(), "--group-by family needs its label map (--families FILE)");
+/// assert_eq!(e.to_string(), "group_by = family needs its label map (families)");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
@@ -180,12 +180,12 @@ fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels
         LabelKey::Family => (
             counted.filter_map(|r| r.scenario_type.as_deref()).collect(),
             "scenario type",
-            "--families",
+            "families",
         ),
         LabelKey::Weather => (
             counted.filter_map(|r| r.weather_id.as_deref()).collect(),
             "weather id",
-            "--weathers",
+            "weathers",
         ),
         // A route counts as labelled when the map has any form of its id.
         LabelKey::Route => (
@@ -194,7 +194,7 @@ fn label_file(report: &mut Report, file: &Path, what: LabelKey) -> Result<Labels
                 .map(|id| route_label_key(id, &labels).unwrap_or(id))
                 .collect(),
             "route id (1711, RouteScenario_1711 or RouteScenario_1711_rep0)",
-            "--labels",
+            "labels",
         ),
     };
     let unlabelled = check_coverage(&labels, keys, file, name, option)?;

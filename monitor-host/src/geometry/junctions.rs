@@ -10,7 +10,7 @@
 //! let maps = TownMaps::load(None, ["Town12".to_string()])?;
 //! let route = RouteRef { id: "1".into(), town: "Town12".into(), ..RouteRef::default() };
 //! let why = junction_samples(&maps, &route, "Town12", 8.0).unwrap_err();
-//! assert_eq!(why, "no map for Town12 (no --maps folder given)");
+//! assert_eq!(why, "no map for Town12 (no maps folder given)");
 //! # Ok::<(), monitor_host::geometry::map::MapError>(())
 //! ```
 

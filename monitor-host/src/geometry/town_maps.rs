@@ -4,7 +4,7 @@
 //! ```
 //! use monitor_host::geometry::town_maps::TownMaps;
 //! let maps = TownMaps::load(None, ["Town01".to_string()])?;
-//! assert_eq!(maps.get("Town01").unwrap_err(), "no map for Town01 (no --maps folder given)");
+//! assert_eq!(maps.get("Town01").unwrap_err(), "no map for Town01 (no maps folder given)");
 //! # Ok::<(), monitor_host::geometry::map::MapError>(())
 //! ```
 
@@ -44,7 +44,7 @@ impl TownMaps {
             let towns = names
                 .into_iter()
                 .map(|t| {
-                    let why = format!("no map for {t} (no --maps folder given)");
+                    let why = format!("no map for {t} (no maps folder given)");
                     (t, Err(why))
                 })
                 .collect();
@@ -92,7 +92,7 @@ impl TownMaps {
             Some(Ok(m)) => Ok(m),
             Some(Err(why)) => Err(why.clone()),
             None if self.given => Err(format!("no map for {town} (town not loaded)")),
-            None => Err(format!("no map for {town} (no --maps folder given)")),
+            None => Err(format!("no map for {town} (no maps folder given)")),
         }
     }
 

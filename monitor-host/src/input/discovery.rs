@@ -202,7 +202,7 @@ pub fn missing_reason(
     let mut parts = Vec::new();
     match (telemetry_root, save_name) {
         (_, None) => parts.push("the record has no save_name (the telemetry folder name)".into()),
-        (None, Some(_)) => parts.push("no --telemetry root given".into()),
+        (None, Some(_)) => parts.push("no telemetry root given".into()),
         (Some(root), Some(save)) => {
             let folder = root.join(save);
             if folder.is_dir() {
@@ -365,7 +365,7 @@ mod tests {
         assert!(why.contains(&root.display().to_string()), "{why}");
         let why = missing_reason(None, Some(save), "RouteScenario_1_rep0", &result_file, true);
         assert!(
-            why.contains("no --telemetry") && why.contains("beside the results file"),
+            why.contains("no telemetry root") && why.contains("beside the results file"),
             "{why}"
         );
         std::fs::write(root.join(save).join("infractions.json"), "{}").unwrap();

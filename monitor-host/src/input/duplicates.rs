@@ -15,48 +15,24 @@ use crate::input::record::LoadedRecord;
 
 pub use crate::input::source::{Duplicate, Source, IDS_SHOWN};
 
-/// What to do when two records share a `route_id` **\[decision\]**.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum DuplicatePolicy {
-    /// Score nothing; name every duplicated id and the sources of each copy (default).
-    #[default]
-    Error,
-    /// Keep the first copy in input order; list the others as dropped.
-    First,
-    /// Keep the last copy in input order; list the others as dropped.
-    Last,
-    /// Keep the copy whose `save_name` time stamp (`mm_dd_HH_MM_SS`) is the latest: the
-    /// newest re-run. Ties and unparsable stamps are decided by input order (the last), with a
-    /// warning.
-    Newest,
-    /// Score every copy as a route of its own (spec v1.1's behaviour), with a warning.
-    All,
-}
-
-impl DuplicatePolicy {
-    /// Every policy, in the order of the documentation.
-    pub const ALL: [DuplicatePolicy; 5] = [
-        DuplicatePolicy::Error,
-        DuplicatePolicy::First,
-        DuplicatePolicy::Last,
-        DuplicatePolicy::Newest,
-        DuplicatePolicy::All,
-    ];
-
-    /// The setting's value: `error`, `first`, `last`, `newest` or `all`.
-    pub fn name(self) -> &'static str {
-        match self {
-            DuplicatePolicy::Error => "error",
-            DuplicatePolicy::First => "first",
-            DuplicatePolicy::Last => "last",
-            DuplicatePolicy::Newest => "newest",
-            DuplicatePolicy::All => "all",
-        }
-    }
-
-    /// The policy of this name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::ALL.into_iter().find(|p| p.name() == name)
+named_enum! {
+    /// What to do when two records share a `route_id` **\[decision\]** (the setting's value:
+    /// `error`, `first`, `last`, `newest` or `all`).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub enum DuplicatePolicy {
+        /// Score nothing; name every duplicated id and the sources of each copy (default).
+        #[default]
+        Error = "error",
+        /// Keep the first copy in input order; list the others as dropped.
+        First = "first",
+        /// Keep the last copy in input order; list the others as dropped.
+        Last = "last",
+        /// Keep the copy whose `save_name` time stamp (`mm_dd_HH_MM_SS`) is the latest: the
+        /// newest re-run. Ties and unparsable stamps are decided by input order (the last),
+        /// with a warning.
+        Newest = "newest",
+        /// Score every copy as a route of its own (spec v1.1's behaviour), with a warning.
+        All = "all",
     }
 }
 
@@ -191,7 +167,7 @@ impl std::fmt::Display for DuplicatesError {
                 f,
                 "{} route id(s) appear more than once in the results (the same file given \
                  twice, a merged file beside its raw shards, re-runs, or two models in one \
-                 folder); nothing was scored. Choose which copy counts with --duplicates \
+                 folder); nothing was scored. Choose which copy counts with duplicates = \
                  newest|first|last (or all to score every copy):\n  {}",
                 self.duplicates.len(),
                 self.duplicates
@@ -206,8 +182,8 @@ impl std::fmt::Display for DuplicatesError {
         write!(
             f,
             "{n} files each hold {} {} routes: several runs? Nothing was scored: score each \
-             run on its own (sds score --results FILE) or side by side (sds compare A=FILE \
-             B=FILE); --duplicates would pick one copy per route and mix the runs.",
+             run on its own, or compare them side by side; duplicates would pick one copy per \
+             route and mix the runs.",
             if all { "all" } else { "nearly all" },
             self.ids
         )?;
@@ -645,7 +621,7 @@ mod tests {
             "{msg}"
         );
         assert!(
-            msg.contains("sds compare") && !msg.contains("--duplicates newest"),
+            msg.contains("compare them side by side") && !msg.contains("duplicates = newest"),
             "{msg}"
         );
         assert!(msg.contains("\n  m1.json: 12 of 12 route ids"), "{msg}");
@@ -683,7 +659,7 @@ mod tests {
         assert!(e.whole_runs.is_empty());
         let msg = e.to_string();
         assert!(msg.contains("R1: a record 0, b record 0"), "{msg}");
-        assert!(msg.contains("--duplicates newest|first|last"), "{msg}");
+        assert!(msg.contains("duplicates = newest|first|last"), "{msg}");
 
         let d = deduplicate(rs.clone(), DuplicatePolicy::First).unwrap();
         assert_eq!(d.records.len(), 2);

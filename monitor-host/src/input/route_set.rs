@@ -23,32 +23,18 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 
 use crate::input::route_xml::RouteSet;
 
-/// Which routes of the route XML make the route set **\[decision\]**.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum RouteSubset {
-    /// Every route of the XML: a route without a record is missing and counts as 0 (default;
-    /// Bench2Drive's fixed 220).
-    #[default]
-    All,
-    /// The XML's routes that have a record (a debug run of 20 routes is scored over 20; its
-    /// abilities and groups too).
-    Found,
-}
-
-impl RouteSubset {
-    /// The setting's value: `all` or `found`.
-    pub fn name(self) -> &'static str {
-        match self {
-            RouteSubset::All => "all",
-            RouteSubset::Found => "found",
-        }
-    }
-
-    /// The subset of this name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        [RouteSubset::All, RouteSubset::Found]
-            .into_iter()
-            .find(|s| s.name() == name)
+named_enum! {
+    /// Which routes of the route XML make the route set **\[decision\]** (the setting's
+    /// value: `all` or `found`).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub enum RouteSubset {
+        /// Every route of the XML: a route without a record is missing and counts as 0
+        /// (default; Bench2Drive's fixed 220).
+        #[default]
+        All = "all",
+        /// The XML's routes that have a record (a debug run of 20 routes is scored over 20;
+        /// its abilities and groups too).
+        Found = "found",
     }
 }
 

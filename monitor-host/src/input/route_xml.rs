@@ -77,7 +77,7 @@ pub enum RouteError {
     /// `--routes` (a results JSON reads as XML text without elements). Refused: it would make
     /// every record a foreign route.
     #[error(
-        "{file}: holds no route: not a route XML? (--routes takes a Bench2Drive route file: \
+        "{file}: holds no route: not a route XML? (routes takes a Bench2Drive route file: \
          <routes><route id=\"..\" town=\"..\"><waypoints><position x y z/>...)"
     )]
     NoRoutes {

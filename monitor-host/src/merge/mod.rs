@@ -56,7 +56,7 @@ pub enum MergeError {
     },
     /// A part is not an `sds` report (not JSON, another schema, or a field that is not what a
     /// report writes).
-    #[error("{}: not an sds report ({why}); a part is the JSON report of `sds score --format json`", file.display())]
+    #[error("{}: not an sds report ({why}); a part is the JSON report of a scored run", file.display())]
     NotAReport {
         /// The part.
         file: PathBuf,
@@ -64,7 +64,7 @@ pub enum MergeError {
         why: String,
     },
     /// No part given.
-    #[error("sds merge needs at least one part (the JSON report of `sds score`)")]
+    #[error("a merge needs at least one part (the JSON report of a scored run)")]
     NoParts,
     /// Two parts were scored with different settings.
     #[error(
@@ -87,7 +87,7 @@ pub enum MergeError {
     /// Two parts ran different route sets.
     #[error(
         "{} and {} ran different route sets: {a} in the first, {b} in the second; score every \
-         part with the same --routes XML (and without --route-subset found, which keeps only a \
+         part with the same route XML (routes) (and without route_subset = found, which keeps only a \
          part's own routes)",
         first.display(), second.display()
     )]
@@ -103,8 +103,8 @@ pub enum MergeError {
     },
     /// One route has a record in two parts under `--duplicates error`.
     #[error(
-        "{route} has a record in {} and in {} ({copies} duplicated route id(s) in all); pass \
-         --duplicates first|last|all to choose",
+        "{route} has a record in {} and in {} ({copies} duplicated route id(s) in all); choose \
+         with duplicates = first|last|all",
         first.display(), second.display()
     )]
     Duplicate {
@@ -118,7 +118,7 @@ pub enum MergeError {
         copies: usize,
     },
     /// A policy the merge cannot apply.
-    #[error("--duplicates {0}: not available in sds merge (first, last, all or error): the save_name stamps are not in the reports")]
+    #[error("duplicates = {0}: not available in a merge (first, last, all or error): the save_name stamps are not in the reports")]
     Policy(&'static str),
     /// N smaller than the routes counted.
     #[error("expected_routes = {n} but the parts hold {counted} counted routes")]
@@ -129,7 +129,7 @@ pub enum MergeError {
         counted: usize,
     },
     /// Parts grouped by a label map, which the reports do not hold.
-    #[error("{}: grouped by {by}, whose label map the report does not hold: merge parts scored without --group-by {by} (or --group-by scenario|town)", file.display())]
+    #[error("{}: grouped by {by}, whose label map the report does not hold: merge parts scored without group_by = {by} (or group_by = scenario|town)", file.display())]
     Groups {
         /// The part.
         file: PathBuf,
@@ -420,13 +420,13 @@ pub fn merge_parts(
             });
         }
         let set = |q: &Part| match (q.with_xml, &q.subset) {
-            (false, _) => "none (no --routes)".to_string(),
+            (false, _) => "none (no route XML)".to_string(),
             (true, s) => format!(
                 "{} routes, sha256 {}{}",
                 q.route_set.0,
                 q.route_set.1,
                 s.as_ref().map_or_else(String::new, |s| format!(
-                    " (--route-subset found, of {})",
+                    " (route_subset = found, of {})",
                     s.of
                 ))
             ),
@@ -546,7 +546,7 @@ pub fn merge_parts(
     if !dropped.is_empty() {
         warnings.push(Warning::Recorded(format!(
             "merge: {} record(s) of route ids recorded in several parts left out under \
-             --duplicates {} (see dropped)",
+             duplicates = {} (see dropped)",
             dropped.len(),
             duplicates.name()
         )));

@@ -88,7 +88,7 @@ impl SubsetReport {
     /// The sentence the tables print under their figures.
     pub fn note(&self) -> String {
         format!(
-            "route set: the {} of the route XML's {} routes that have a record (--route-subset \
+            "route set: the {} of the route XML's {} routes that have a record (route_subset = \
              found); the others are left out, not counted as 0",
             self.routes, self.of
         )

@@ -131,7 +131,7 @@ mod tests {
         // r = 0.075: k = round(1.5) = 2, |0.075 - 0.1| = 0.025 > 0.02: no fit, a warning
         let (p, w) = infer(1, 100, 0, Some(7.5), &s);
         assert_eq!(p, config);
-        assert!(w[0].to_string().contains("--set dt="), "{}", w[0]);
+        assert!(w[0].to_string().contains("setting dt="), "{}", w[0]);
         // too short, no duration, zero duration: the setting, silently
         assert_eq!(infer(1, 19, 0, Some(1.9), &s), (config, vec![]));
         assert_eq!(infer(1, 100, 0, None, &s), (config, vec![]));
@@ -143,7 +143,7 @@ mod tests {
         assert_eq!((p, w.len()), (config, 1));
         let text = w[0].to_string();
         assert!(
-            text.contains("11 of 100") && text.contains("--set dt="),
+            text.contains("11 of 100") && text.contains("setting dt="),
             "{text}"
         );
         assert!(text.contains("not inferred"), "{text}");

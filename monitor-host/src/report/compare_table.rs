@@ -108,14 +108,14 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
         b2d.note(format!("ability rules differ: {}", each.join(", ")));
     }
     if c.models.iter().all(|m| m.ability.mean.mean.is_none()) {
-        b2d.note("no ability rate: abilities need the route XML (--routes) and routes of Bench2Drive's scenario types");
+        b2d.note("no ability rate: abilities need the route XML (routes) and routes of Bench2Drive's scenario types");
     }
     for m in c.models.iter().filter(|m| m.runs.len() > 1) {
         t1.note(format!("{}: seeds {}", m.name, m.runs.join(", ")));
     }
     let scope = if c.scope.common_routes {
         format!(
-            "compared on the {} route key(s) every run holds (--common-routes)",
+            "compared on the {} route key(s) every run holds (common_routes)",
             c.scope.routes
         )
     } else {

@@ -93,7 +93,7 @@ pub fn seed_tables(c: &Comparison) -> Vec<Grid> {
                 m.seeds.flaky_routes.len().to_string(),
             ]);
         }
-        g.note("seed std is the sample std of the seeds' DS (- for one seed); seeds needed = ceil((1.96 × std / h)²), h = repro.halfwidth (--repro-halfwidth)");
+        g.note("seed std is the sample std of the seeds' DS (- for one seed); seeds needed = ceil((1.96 × std / h)²), h = repro.halfwidth");
         out.push(g);
     }
     let flaky: Vec<_> = c

@@ -84,7 +84,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         g.note(NEEDS_TELEMETRY.replace("{what}", "Comfortness"));
     }
     if b.ability.is_none() {
-        g.note("abilities need the route XML (--routes)");
+        g.note("abilities need the route XML (routes)");
     } else {
         let counts: Vec<String> = b
             .ability_counts
@@ -130,7 +130,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         };
         g.note(format!(
             "Traffic_Signs under {}: {undecided} {}route(s) whose junction credit is undecided (no \
-             map; towns {}) count as failed{bracket}; add the towns' maps (--maps) to decide them: \
+             map; towns {}) count as failed{bracket}; add the towns' maps (maps) to decide them: \
              see summary.bench2drive.ability_undecided",
             b.ability_rule,
             if b.ability_rule == "b2d-0.0.4" {
@@ -162,7 +162,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
 
 /// The note under a column left undefined (`-`) for want of telemetry.
 const NEEDS_TELEMETRY: &str = "{what} - : no route has telemetry; they need each route's \
-     metric_info.json (--telemetry DIR, the folder holding <save_name>/metric_info.json)";
+     metric_info.json (telemetry: the folder holding <save_name>/metric_info.json)";
 
 /// True when some route of the report has its telemetry.
 fn any_telemetry(report: &Report) -> bool {

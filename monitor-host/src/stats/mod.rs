@@ -114,13 +114,13 @@ impl Default for CompareOptions {
 #[non_exhaustive]
 pub enum CompareError {
     /// Nothing to compare.
-    #[error("sds compare needs at least two models (runs, or --seeds groups); got {0}")]
+    #[error("a comparison needs at least two models (runs, or seeds groups); got {0}")]
     TooFewModels(usize),
     /// A model without runs.
     #[error("model {0} has no run")]
     EmptyModel(String),
     /// Two models or two runs of one name.
-    #[error("two {what} are named {name}: name them apart (NAME=RESULTS, --seeds MODEL=RUN,RUN)")]
+    #[error("two {what} are named {name}: name them apart")]
     DuplicateName {
         /// `models` or `runs`.
         what: &'static str,
@@ -128,7 +128,7 @@ pub enum CompareError {
         name: String,
     },
     /// A run named in two seed groups: it would count in the first only.
-    #[error("--seeds: run {run} is a seed of {first} and of {second}; a run belongs to one model")]
+    #[error("seeds: run {run} is a seed of {first} and of {second}; a run belongs to one model")]
     SeedOfTwo {
         /// The run.
         run: String,
@@ -138,20 +138,20 @@ pub enum CompareError {
         second: String,
     },
     /// `--seeds` names a run that is not given.
-    #[error("--seeds names {0}, which is not a run")]
+    #[error("seeds names {0}, which is not a run")]
     UnknownRun(String),
     /// `--baseline` names no model.
-    #[error("--baseline {0} is not a model (models: {1})")]
+    #[error("baseline {0} is not a model (models: {1})")]
     UnknownBaseline(String, String),
     /// An unknown metric name.
-    #[error("unknown metric {0} (known: {known}, and ds@<protocol> for a protocol asked with --protocol)", known = METRICS.join(", "))]
+    #[error("unknown metric {0} (known: {known}, and ds@<protocol> for a protocol of the protocols setting)", known = METRICS.join(", "))]
     UnknownMetric(String),
     /// A protocol metric (`ds@<id>`) whose protocol was not asked.
-    #[error("metric {0} compares a protocol's scores: score the runs with it (--protocol {1})")]
+    #[error("metric {0} compares a protocol's scores: score the runs with it (protocols = {1})")]
     ProtocolNotAsked(String, String),
     /// `bootstrap_samples` outside [`bootstrap::SAMPLES`] (the value as given).
     #[error(
-        "bootstrap_samples (--bootstrap-samples) = {0}: B must be between {lo} and {hi} \
+        "bootstrap_samples = {0}: B must be between {lo} and {hi} \
          resamples (fewer leave the interval's ends to a handful of resamples; more cost time \
          and memory without moving them)",
         lo = SAMPLES.start(), hi = SAMPLES.end()
@@ -159,7 +159,7 @@ pub enum CompareError {
     SamplesOutOfRange(String),
     /// n × B above [`bootstrap::DRAW_BUDGET`] for a model and metric.
     #[error(
-        "bootstrap_samples (--bootstrap-samples) = {b} over the {n} routes of {model} on {metric} \
+        "bootstrap_samples = {b} over the {n} routes of {model} on {metric} \
          is {draws} draws, above the budget of {DRAW_BUDGET} per model and metric (n × B): use \
          at most {most} resamples for {n} routes",
         draws = (*n as u128) * (*b as u128), most = DRAW_BUDGET / (*n).max(1) as u64
@@ -176,7 +176,7 @@ pub enum CompareError {
     },
     /// `repro.halfwidth` not a positive finite number (the value as given).
     #[error(
-        "repro.halfwidth (--repro-halfwidth) = {0}: the half-width of the mean DS's 95 % interval \
+        "repro.halfwidth = {0}: the half-width of the mean DS's 95 % interval \
          that seeds_needed sizes must be a positive number of DS points (default 1.0)"
     )]
     HalfwidthOutOfRange(String),
@@ -188,7 +188,7 @@ pub enum CompareError {
     #[error(
         "the runs do not hold the same routes: {differ} route key(s) are not in every run \
          (first: {first}); {per_run}. Compare over the routes all runs share with \
-         --common-routes, or give every run the same route set (--routes)",
+         common_routes, or give every run the same route set (the same route XML, routes)",
         first = first.join(", "),
         per_run = per_run.iter().map(|(r, n)| format!("{r} lacks {n}")).collect::<Vec<_>>().join(", ")
     )]
@@ -361,7 +361,7 @@ impl Comparison {
     fn no_data_why(&self, metric: &str) -> String {
         if self.scope.routes == 0 {
             if self.scope.common_routes {
-                "the runs share no route key (--common-routes)".into()
+                "the runs share no route key (common_routes)".into()
             } else {
                 "no route key to compare".into()
             }
@@ -492,7 +492,7 @@ pub fn compare_cancellable(
             });
         }
         warnings.push(format!(
-            "--common-routes: compared over the {} route key(s) every run holds; {} key(s) left \
+            "common_routes: compared over the {} route key(s) every run holds; {} key(s) left \
              out (first: {})",
             shared.len(),
             differ.len(),
@@ -590,7 +590,7 @@ pub fn compare_cancellable(
     for m in models.iter().filter(|m| m.runs.len() > 1) {
         let names: Vec<&str> = m.runs.iter().map(|r| r.name.as_str()).collect();
         notes.push(format!(
-            "{} = the mean over the seeds {} (grouped by --seeds)",
+            "{} = the mean over the seeds {} (grouped by seeds)",
             m.name,
             names.join(", ")
         ));
@@ -598,7 +598,7 @@ pub fn compare_cancellable(
     if models.iter().any(|m| m.runs.len() == 1) {
         notes.push(
             "a model with one run: its interval measures the spread across routes only; seeds \
-             (--seeds MODEL=RUN,RUN) would tighten it"
+             (several runs per model) would tighten it"
                 .to_string(),
         );
     }

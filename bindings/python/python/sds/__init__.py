@@ -21,8 +21,9 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
 Errors raise :class:`SdsError` subclasses whose messages are those of the ``sds`` command:
 :class:`InputError` (a bad input file or frame), :class:`ConfigError` (a bad option or setting;
 its subclass :class:`NeedsLabelsError`: a grouping without its label map),
-:class:`IoError` (a file cannot be read), :class:`FeatureUnavailableError` (an option this build
-does not have yet).
+:class:`IoError` (a file cannot be read), :class:`RefusedError` (the inputs do not fit the
+options: both an :class:`InputError` and a :class:`ConfigError`), :class:`FeatureUnavailableError`
+(an option this build does not have yet).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from ._sds import (
     InputError,
     IoError,
     NeedsLabelsError,
+    RefusedError,
     SdsError,
     __version__,
 )
@@ -57,6 +59,7 @@ __all__ = [
     "Monitor",
     "NeedsLabelsError",
     "PathLike",
+    "RefusedError",
     "SdsError",
     "Summary",
     "Tracker",
@@ -136,12 +139,15 @@ def score(
         Routes with problems are in it with their ``state``; the CLI would exit with 3.
 
     Raises:
-        InputError: A results file, the route XML or a labels file is invalid; route ids are
-            duplicated under ``duplicates="error"``; the inputs hold no record.
+        InputError: A results file, the route XML or a labels file is invalid; the inputs hold no
+            record.
         IoError: A file or folder cannot be read (a ``telemetry`` folder that does not exist).
         ConfigError: An option or setting is invalid (an unknown ``profile``, ``duplicates``,
-            ``route_subset`` or ``group_by``, ``expected_routes`` below the routes found); its subclass
+            ``route_subset`` or ``group_by``); its subclass
             :class:`NeedsLabelsError`: ``group_by="family"`` or ``"route"`` without ``labels``.
+        RefusedError: The inputs do not fit the options (an :class:`InputError` and a
+            :class:`ConfigError`): route ids duplicated under ``duplicates="error"``,
+            ``expected_routes`` below the routes counted, a label map that matches no route.
 
     Example:
         >>> report = sds.score("results/", telemetry="eval/", routes="bench2drive220.xml")
@@ -192,8 +198,9 @@ def merge(
         The merged report.
 
     Raises:
-        InputError: A part is not an ``sds`` report, parts were scored with different settings
-            or route sets, or a route is recorded in two parts under ``duplicates="error"``.
+        RefusedError: A part is not an ``sds`` report, parts were scored with different settings
+            or route sets, or a route is recorded in two parts under ``duplicates="error"`` (an
+            :class:`InputError` and a :class:`ConfigError`).
         IoError: A part cannot be read.
         ConfigError: An unknown ``duplicates``.
 

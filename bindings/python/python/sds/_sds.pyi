@@ -26,6 +26,15 @@ class IoError(SdsError):
 class FeatureUnavailableError(SdsError):
     """An option this build of sds does not have yet."""
 
+class RefusedError(InputError, ConfigError):
+    """The inputs do not fit the options (route ids given twice under ``duplicates="error"``,
+    N smaller than the routes counted, a label map that matches no route, report parts that
+    disagree): both an :class:`InputError` and a :class:`ConfigError`."""
+
+def error_table() -> List[Tuple[str, int, type]]:
+    """Every error kind of the library with the ``sds`` command's exit code and this package's
+    exception class (the table docs/PYTHON.md documents)."""
+
 def cli_main(argv: Sequence[str]) -> int:
     """Runs the ``sds`` command line with ``argv`` (program name first); returns its status."""
 

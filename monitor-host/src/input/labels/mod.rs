@@ -28,14 +28,14 @@ mod weather_xml;
 /// Safe2Drive paper groups its routes into three families but names the scenario type of one
 /// of them only, and a family map is keyed by scenario type, so the project ships no built-in
 /// map (a guessed one would put routes in the wrong rows of a published table).
-pub const SAFE2DRIVE_FAMILIES: &str = "--families takes a file that maps scenario types to \
+pub const SAFE2DRIVE_FAMILIES: &str = "families takes a file that maps scenario types to \
     family labels (`type,family` lines, or a JSON object). The Safe2Drive paper groups its 100 \
     routes into three families: work zones (75 routes, its `StaticWorkzoneRoute` scenario), \
     pedestrian jaywalking (10) and occluded vulnerable road users (15: a worker hidden by a \
     construction vehicle, a child hidden by a bus, blind corners and buildings). It names the \
     scenario type of the work-zone routes only, so there is no built-in `safe2drive` map: write \
     one line per scenario type of your run, e.g. `StaticWorkzoneRoute,work zone` (the types are \
-    the record's `scenario_name` without its `_N` suffix; `--group-by scenario` lists them)";
+    the record's `scenario_name` without its `_N` suffix; `group_by = scenario` lists them)";
 
 /// Whether `--families PATH` names the Safe2Drive paper rather than a file: no file is there and
 /// its name is `safe2drive` (any case, with or without `.csv` / `.json`).
@@ -127,7 +127,7 @@ pub enum LabelsError {
     },
     /// `--families safe2drive` (no such file): the name of the Safe2Drive paper, whose families
     /// cannot be a built-in map (see [`SAFE2DRIVE_FAMILIES`]).
-    #[error("--families {}: no such file. {SAFE2DRIVE_FAMILIES}", path.display())]
+    #[error("families {}: no such file. {SAFE2DRIVE_FAMILIES}", path.display())]
     Safe2DriveFamilies {
         /// The name given.
         path: PathBuf,

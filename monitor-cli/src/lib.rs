@@ -1,24 +1,21 @@
-//! The `sds` command line (feature `cli`): arguments, progress bar, output, exit codes.
-//! Everything else is the library's [`crate::score_run`]. The `sds` binary and the Python
+//! The `sds` command line (crate `sds-cli`): arguments, progress bar, output, exit codes.
+//! Everything else is the library's [`monitor_host::score_run`]. The `sds` binary and the Python
 //! package's `sds` command both call [`main`] with their argument list, so they are one program.
 //!
-//! Exit codes: 0 success; 1 an input could not be read or the output not written (no report);
-//! 2 usage error (bad option, a `--telemetry` folder that does not exist, duplicated route ids
-//! under `--duplicates error`, N smaller than the routes counted, a label file that matches no
-//! route, parts `sds merge` refuses: different settings or route sets, a route in two parts, a
-//! file that is not a report); 3 the report was written but some route has a problem (missing or invalid telemetry
-//! without `--allow-missing-telemetry`, an invalid record, or a streaming/batch disagreement) —
-//! every such route is in the report with its state; 4 the inputs hold no record at all;
-//! 5 (`sds compare --fail-if-worse`) the report was written and a model is worse than the
-//! baseline on a gated metric.
+//! Exit codes ([`exit`]): 0 success; 1 no report (an input could not be read, the output not
+//! written); 2 a usage error (an option, or inputs that do not fit the options); 3 the report
+//! was written but some route has a problem (every such route is in the report with its state);
+//! 4 the inputs hold no record at all; 5 (`sds compare --fail-if-worse`) a model is worse than
+//! the baseline on a gated metric. An error's code is [`exit::code`] of its
+//! [`monitor_host::ErrorKind`].
 
-pub mod args;
-pub mod output;
-pub mod progress;
+mod args;
+mod output;
+mod progress;
 
 /// Prints one message on standard error, escaped: it may hold strings from the inputs (route
 /// ids, paths, reasons), which must not reach the terminal raw
-/// ([`crate::report::escape::printable_lines`]).
+/// ([`monitor_host::report::escape::printable_lines`]).
 /// A closed standard error loses the message, never panics (`eprintln!` would on EPIPE).
 macro_rules! say {
     ($($t:tt)*) => {{
@@ -26,50 +23,43 @@ macro_rules! say {
         let _ = writeln!(
             std::io::stderr(),
             "{}",
-            crate::report::escape::printable_lines(&format!($($t)*))
+            monitor_host::report::escape::printable_lines(&format!($($t)*))
         );
     }};
 }
 
-pub mod compare;
-pub mod merge;
-pub mod watch;
+mod compare;
+pub mod exit;
+mod merge;
+mod spelling;
+mod watch;
 
 use std::ffi::OsString;
 
 use anyhow::Result;
 use clap::Parser;
 
-use crate::aggregate::groups::GroupBy;
-use crate::app::request::{RequestError, ScoreError, ScoreRequest};
-use crate::report::grid::Style;
-use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json, long_tables};
-use crate::{
+use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::app::request::{ScoreError, ScoreRequest};
+use monitor_host::report::grid::Style;
+use monitor_host::report::table::{self, TableOptions};
+use monitor_host::report::{csv, html, json, long_tables};
+use monitor_host::{
     demo, route_frames, Inputs, LabelFiles, Progress, Settings, SettingsError, TelemetryState,
 };
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
 
-pub use crate::app::scored::Scored;
+pub use monitor_host::app::scored::Scored;
 use output::write_output;
-
-/// Exit code: the report was written, but some route has a problem.
-const EXIT_ROUTE_PROBLEMS: i32 = 3;
-/// Exit code: a usage error (clap's own code too).
-const EXIT_USAGE: i32 = 2;
-/// Exit code: the inputs hold no record at all.
-const EXIT_EMPTY_RUN: i32 = 4;
-/// Exit code: `sds compare --fail-if-worse` found a model worse than the baseline.
-const EXIT_WORSE: i32 = 5;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
 /// `std::env::args_os()`) and returns the exit code. Never exits the process: usage errors,
 /// `--help` and `--version` print and return their code (2, 0, 0).
 ///
 /// ```
-/// assert_eq!(monitor_host::cli::main(["sds", "--version"]), 0);
-/// assert_eq!(monitor_host::cli::main(["sds", "score"]), 2); // --results is required
+/// assert_eq!(sds_cli::main(["sds", "--version"]), 0);
+/// assert_eq!(sds_cli::main(["sds", "score"]), 2); // --results is required
 /// ```
 pub fn main<I, T>(args: I) -> i32
 where
@@ -86,60 +76,24 @@ where
     match output::install_signal_cleanup().and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => {
-            say!("sds: error: {}", error_message(&*e));
-            exit_code(&e)
+            say!("sds: error: {}{}", error_message(&*e), spelling::suffix(&e));
+            exit::of(&e)
         }
     }
-}
-
-/// The exit code of an error: usage errors 2, an empty run 4, anything else 1.
-fn exit_code(e: &anyhow::Error) -> i32 {
-    use crate::Error;
-    if let Some(e) = e.downcast_ref::<Error>() {
-        return match e.inner() {
-            Error::Duplicates(_)
-            | Error::Compare(_)
-            | Error::TooFewRoutes { .. }
-            | Error::TelemetryRoot { .. }
-            | Error::Settings(_)
-            | Error::MapsFolder { .. }
-            | Error::NeedsLabels(_)
-            | Error::UnusedLabels
-            | Error::Labels(crate::LabelsError::NoMatch { .. })
-            | Error::Labels(crate::LabelsError::Safe2DriveFamilies { .. })
-            | Error::RouteXml(crate::input::route_xml::RouteError::NoRoutes { .. }) => EXIT_USAGE,
-            Error::EmptyRun { .. } => EXIT_EMPTY_RUN,
-            _ => 1,
-        };
-    }
-    if let Some(e) = e.downcast_ref::<crate::merge::MergeError>() {
-        // A part that cannot be read is an input error; every refusal a usage error.
-        return match e {
-            crate::merge::MergeError::Read { .. } => 1,
-            _ => EXIT_USAGE,
-        };
-    }
-    if e.downcast_ref::<SettingsError>().is_some()
-        || e.downcast_ref::<RequestError>().is_some()
-        || e.downcast_ref::<output::OutputClash>().is_some()
-    {
-        return EXIT_USAGE;
-    }
-    1
 }
 
 /// The text `sds` prints for an error that stops it (`sds: error: <text>`): the error and each
 /// of its causes, joined by `": "`, a cause that the text already ends with written once. The
 /// bindings raise their exceptions with the same text.
 ///
-/// ```
+/// ```ignore
 /// use monitor_host::input::results_file::read_results;
 /// let e = read_results(std::path::Path::new("/nonexistent")).unwrap_err();
 /// assert_eq!(monitor_host::cli::error_message(&e),
 ///            "/nonexistent: cannot read: No such file or directory (os error 2)");
 /// ```
 pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
-    crate::error::message(e)
+    monitor_host::error::message(e)
 }
 
 fn run(cli: Cli) -> Result<i32> {
@@ -239,8 +193,12 @@ fn run(cli: Cli) -> Result<i32> {
             settings.apply(&set)?;
             let (run, route_id) = match mcap {
                 Some(log) => (
-                    crate::app::vehicle_logs::log_frames(&log, &log_topics(&topics)?, &settings)?,
-                    crate::input::mcap::log_name(&log),
+                    monitor_host::app::vehicle_logs::log_frames(
+                        &log,
+                        &log_topics(&topics)?,
+                        &settings,
+                    )?,
+                    monitor_host::input::mcap::log_name(&log),
                 ),
                 None => {
                     let id = route_id.unwrap_or_default();
@@ -250,7 +208,8 @@ fn run(cli: Cli) -> Result<i32> {
             for w in &run.warnings {
                 say!("sds: warning: {route_id}: {w}");
             }
-            let lines = crate::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
+            let lines =
+                monitor_host::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
             write_output(output.as_deref(), &lines, &run.files_read)?;
             Ok(0)
         }
@@ -317,13 +276,13 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// Everything `sds score` does before rendering: its [`request`], scored (telling `progress`).
 ///
 /// # Errors
-/// A typed error inside (a [`crate::Error`], [`RequestError`] or [`SettingsError`];
+/// A typed error inside (a [`monitor_host::Error`], [`RequestError`] or [`SettingsError`];
 /// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let request = request(args)?;
     if !args.mcap.is_empty() {
         let settings = request.validate()?;
-        let report = crate::app::vehicle_logs::score_logs(
+        let report = monitor_host::app::vehicle_logs::score_logs(
             &args.mcap,
             &log_topics(&args.topics)?,
             &settings,
@@ -339,12 +298,12 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
 }
 
 /// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16).
-fn log_topics(specs: &[String]) -> Result<crate::input::mcap::Topics> {
-    let mut topics = crate::input::mcap::Topics::default();
+fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
+    let mut topics = monitor_host::input::mcap::Topics::default();
     for s in specs {
         topics.set(s).map_err(|_| SettingsError::Value {
             name: "--topic",
-            expected: "NAME=TOPIC with NAME one of pose, imu, event, path",
+            expected: "NAME=TOPIC with NAME one of pose, imu, event, path".into(),
             value: s.clone(),
         })?;
     }
@@ -416,7 +375,7 @@ fn run_name(args: &ScoreArgs) -> String {
 }
 
 /// The report in `args.format`, as `sds score` writes it (`sds watch` too).
-fn render(args: &ScoreArgs, report: &crate::Report) -> Result<Vec<u8>> {
+fn render(args: &ScoreArgs, report: &monitor_host::Report) -> Result<Vec<u8>> {
     Ok(match (args.format, style(args.format)) {
         (Format::Json, _) => json::json(report)?,
         (Format::Csv, _) => csv::groups_csv(report).unwrap_or_else(|| csv::csv(report)),
@@ -490,16 +449,16 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     if !counts.is_empty() {
         say!("sds: {}; see the report", counts.join(", "));
     }
-    Ok(EXIT_ROUTE_PROBLEMS)
+    Ok(exit::ROUTE_PROBLEMS)
 }
 
 /// Writes the rerun list (spec v1.4 §13) into `file` and says how many routes it holds.
 fn write_rerun_list(
     file: &std::path::Path,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     inputs: &[std::path::PathBuf],
 ) -> Result<()> {
-    let text = crate::report::rerun_list::rerun_list(report);
+    let text = monitor_host::report::rerun_list::rerun_list(report);
     write_output(Some(file), text.as_bytes(), inputs)?;
     say!(
         "sds: wrote {} route(s) to run again to {}",
@@ -532,7 +491,7 @@ fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
 /// every file it replaced put back (`output::roll_back`); then the rerun list.
 fn write_all(
     args: &ScoreArgs,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     inputs_read: &[std::path::PathBuf],
     write_report: impl FnOnce() -> Result<()>,
 ) -> Result<()> {
@@ -589,9 +548,9 @@ fn write_all(
 }
 
 /// What `--traces` left out: aligned collisions past the first
-/// [`crate::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
-fn untraced_note(report: &crate::Report) -> String {
-    let cap = crate::route::trace::TRACES_PER_ROUTE;
+/// [`monitor_host::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
+fn untraced_note(report: &monitor_host::Report) -> String {
+    let cap = monitor_host::route::trace::TRACES_PER_ROUTE;
     let left: usize = report
         .routes
         .iter()
@@ -612,10 +571,10 @@ fn untraced_note(report: &crate::Report) -> String {
 
 /// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
 /// first 10 and a count): a period read wrong would scale every speed and time of a route.
-fn period_notes(report: &crate::Report) -> Vec<String> {
+fn period_notes(report: &monitor_host::Report) -> Vec<String> {
     let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
     for r in &report.routes {
-        let (Some(dt), Some(crate::pipeline::step_period::DtSource::Inferred), Some(id)) =
+        let (Some(dt), Some(monitor_host::pipeline::step_period::DtSource::Inferred), Some(id)) =
             (r.dt, r.dt_source, r.route_id.as_deref())
         else {
             continue;
@@ -636,7 +595,7 @@ fn period_notes(report: &crate::Report) -> Vec<String> {
                 "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
                  (--set dt=SECONDS fixes the period of every route)",
                 ids.len(),
-                crate::warning::id_list(&ids)
+                monitor_host::warning::id_list(&ids)
             )
         })
         .collect()

@@ -4,8 +4,8 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
-use crate::app::request::RunSettings;
-use crate::settings::SettingsError;
+use monitor_host::app::request::RunSettings;
+use monitor_host::settings::SettingsError;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]
@@ -84,8 +84,8 @@ pub enum DuplicatesArg {
 
 impl DuplicatesArg {
     /// The library's policy.
-    pub fn policy(self) -> crate::input::duplicates::DuplicatePolicy {
-        use crate::input::duplicates::DuplicatePolicy as P;
+    pub fn policy(self) -> monitor_host::input::duplicates::DuplicatePolicy {
+        use monitor_host::input::duplicates::DuplicatePolicy as P;
         match self {
             DuplicatesArg::Error => P::Error,
             DuplicatesArg::First => P::First,
@@ -107,8 +107,8 @@ pub enum RouteSubsetArg {
 
 impl RouteSubsetArg {
     /// The library's subset.
-    pub fn subset(self) -> crate::input::route_set::RouteSubset {
-        use crate::input::route_set::RouteSubset as S;
+    pub fn subset(self) -> monitor_host::input::route_set::RouteSubset {
+        use monitor_host::input::route_set::RouteSubset as S;
         match self {
             RouteSubsetArg::All => S::All,
             RouteSubsetArg::Found => S::Found,
@@ -358,10 +358,10 @@ pub enum Command {
     Compare(CompareArgs),
     /// Score an evaluation while it runs: the inputs of `score`, read again every `--interval`
     /// seconds, the report (`-o`) rewritten after every round, one status line per round.
-    Watch(super::watch::WatchArgs),
+    Watch(WatchArgs),
     /// Merge the JSON reports of `sds score` scored where the files are (one per shard, node
     /// or GPU) into the report `sds score` over all their inputs would write (spec v1.4 §13).
-    Merge(super::merge::MergeArgs),
+    Merge(MergeArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.
@@ -427,4 +427,59 @@ pub enum Command {
         #[arg(short = 'o', long)]
         output: Option<PathBuf>,
     },
+}
+
+/// Arguments of `sds watch`.
+#[derive(Debug, clap::Args)]
+pub struct WatchArgs {
+    /// The inputs and options of `sds score` (`-o` is required).
+    #[command(flatten)]
+    pub score: ScoreArgs,
+    /// Seconds between rounds (fractions allowed; above 0, at most 86400).
+    #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
+    pub interval: f64,
+    /// One round, then the final report.
+    #[arg(long)]
+    pub once: bool,
+    /// Stop after this many seconds (with the final report; 0 to 31536000).
+    #[arg(long, value_name = "SECONDS")]
+    pub timeout: Option<f64>,
+    /// Print each round's status as one JSON object per line (standard error) instead of text.
+    #[arg(long)]
+    pub status_json: bool,
+    /// With several shard checkpoints: warn when a shard has written no record for longer than
+    /// K times its median route time (its worker may have died).
+    #[arg(long, value_name = "K", default_value_t = monitor_host::model::shard_stall::DEFAULT_FACTOR)]
+    pub stall_factor: f64,
+}
+
+/// Arguments of `sds merge`.
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// The parts: JSON reports of `sds score` (each shard scored where its files are), all
+    /// scored with the same settings and, with `--routes`, the same route XML.
+    #[arg(required = true, value_name = "PART")]
+    pub parts: Vec<PathBuf>,
+    /// Output format (the formats of `sds score`).
+    #[arg(long, value_enum, default_value = "json")]
+    pub format: Format,
+    /// Output file (default: standard output); never one of the parts.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+    /// A route id with a record in two parts: `error` (default) names both parts; `first` /
+    /// `last` keep the first / last part's record; `all` scores both.
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
+    /// `provenance.host=false` leaves this machine's name out of the merged report (the
+    /// scoring settings come from the parts).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+    /// Also write the routes to run again into FILE (one route XML id per line, the reason
+    /// after a tab).
+    #[arg(long, value_name = "FILE")]
+    pub rerun_list: Option<PathBuf>,
+    /// Also write the long tables into DIR (`routes.csv`, `events.csv`, from the merged rows;
+    /// no `frames.csv`: a merge reads no telemetry); columns in docs/TABLES-SCHEMA.md.
+    #[arg(long, value_name = "DIR")]
+    pub tables: Option<PathBuf>,
 }

@@ -8,14 +8,17 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 
 use super::args::{CompareArgs, Format};
+use super::exit::{
+    ROUTE_PROBLEMS as EXIT_ROUTE_PROBLEMS, USAGE as EXIT_USAGE, WORSE as EXIT_WORSE,
+};
 use super::output::write_output;
-use super::{style, EXIT_ROUTE_PROBLEMS, EXIT_USAGE, EXIT_WORSE};
-use crate::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
-use crate::report::grid::Style;
-use crate::report::long_tables::{compare_tables, TABLE_NAMES};
-use crate::report::{compare_table, html};
-use crate::stats::CompareOptions;
-use crate::{NoProgress, Warning};
+use super::style;
+use monitor_host::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
+use monitor_host::report::grid::Style;
+use monitor_host::report::long_tables::{compare_tables, TABLE_NAMES};
+use monitor_host::report::{compare_table, html};
+use monitor_host::stats::CompareOptions;
+use monitor_host::{NoProgress, Warning};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
@@ -67,7 +70,7 @@ pub struct CompareUsage(pub String);
 ///
 /// # Errors
 /// [`CompareUsage`] for a malformed `--seeds` or `--telemetry-of`, or one naming no run;
-/// [`crate::settings::SettingsError`] for a `--set` without `=`.
+/// [`monitor_host::settings::SettingsError`] for a `--set` without `=`.
 pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
     let usage = |m: String| CompareUsage(m);
     let settings = args.run.request(None, None)?;
@@ -255,7 +258,8 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
             v
         }
         Format::Html => html::compare_page(c, &compared.models).into_bytes(),
-        _ => crate::report::table::render(&compare_table::compare_tables(c), style).into_bytes(),
+        _ => monitor_host::report::table::render(&compare_table::compare_tables(c), style)
+            .into_bytes(),
     };
     // Never write over any run's input.
     let inputs_read: Vec<PathBuf> = compared
@@ -266,7 +270,7 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         .collect();
     let tables = match &args.tables {
         Some(_) => {
-            let runs: Vec<(&str, &str, &crate::Report)> = compared
+            let runs: Vec<(&str, &str, &monitor_host::Report)> = compared
                 .models
                 .iter()
                 .flat_map(|m| {

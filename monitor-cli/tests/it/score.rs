@@ -1218,8 +1218,9 @@ fn i33_8_expected_routes_suggests_route_subset_found() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("200 of them are routes of --routes without a record")
-            && err.contains("--route-subset found"),
+        err.contains("200 of them are routes of the route XML without a record")
+            && err.contains("set route_subset = found")
+            && err.ends_with("(--expected-routes, --route-subset)\n"),
         "{err}"
     );
     let out = crate::common::sds(&[&base[..], &["--route-subset", "found"]].concat());

@@ -1,4 +1,4 @@
-//! The progress bar (indicatif) over [`crate::Progress`].
+//! The progress bar (indicatif) over [`monitor_host::Progress`].
 
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -28,7 +28,7 @@ impl Default for Bar {
     }
 }
 
-impl crate::Progress for Bar {
+impl monitor_host::Progress for Bar {
     fn start(&self, routes: usize) {
         self.0.set_length(routes as u64);
     }

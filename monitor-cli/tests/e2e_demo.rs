@@ -305,7 +305,7 @@ fn breakdown_by_family_uses_the_families_file() {
     assert_eq!(combined.split_whitespace().nth(1), Some("9"));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("--group-by family: 6 route(s)") && stderr.contains("DemoCruising"),
+        stderr.contains("group_by = family: 6 route(s)") && stderr.contains("DemoCruising"),
         "{stderr}"
     );
     // Without its label map, grouping by family is a usage error.

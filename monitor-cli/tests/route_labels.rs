@@ -187,7 +187,7 @@ fn an_id_form_matching_nothing_is_unmapped_with_a_warning() {
     assert_row(row(&r, "(unmapped)"), by_hand(&plain["routes"], &unmapped));
     assert_eq!(row(&r, "b")["routes"], 3);
     assert!(
-        stderr.contains("--group-by route: 2 route(s)")
+        stderr.contains("group_by = route: 2 route(s)")
             && unmapped.iter().all(|id| stderr.contains(id)),
         "{stderr}"
     );
@@ -254,7 +254,7 @@ fn route_grouping_without_a_label_map_is_a_usage_error() {
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
-        stderr.contains("--group-by route needs its label map (--labels FILE)"),
+        stderr.contains("group_by = route needs its label map (labels) (--group-by, --labels)"),
         "{stderr}"
     );
     assert!(out.stdout.is_empty());
@@ -266,5 +266,6 @@ fn route_grouping_without_a_label_map_is_a_usage_error() {
         &["--group-by", "town", "--labels", &labels],
     );
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--group-by route"));
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("give group_by = route with it (--labels, --group-by)"));
 }

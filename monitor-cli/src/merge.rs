@@ -1,48 +1,15 @@
 //! `sds merge PART...` (spec v1.4 §13): the library's [`MergeRequest`], rendered as
 //! `sds score` renders its report.
 
-use std::path::PathBuf;
-
 use anyhow::Result;
 
-use super::args::{DuplicatesArg, Format};
+use super::args::{DuplicatesArg, Format, MergeArgs};
 use super::output::write_output;
 use super::{style, write_rerun_list};
-use crate::app::merged::MergeRequest;
-use crate::input::duplicates::DuplicatePolicy;
-use crate::report::table::{self, TableOptions};
-use crate::report::{csv, html, json, long_tables};
-
-/// Arguments of `sds merge`.
-#[derive(Debug, clap::Args)]
-pub struct MergeArgs {
-    /// The parts: JSON reports of `sds score` (each shard scored where its files are), all
-    /// scored with the same settings and, with `--routes`, the same route XML.
-    #[arg(required = true, value_name = "PART")]
-    pub parts: Vec<PathBuf>,
-    /// Output format (the formats of `sds score`).
-    #[arg(long, value_enum, default_value = "json")]
-    pub format: Format,
-    /// Output file (default: standard output); never one of the parts.
-    #[arg(short = 'o', long)]
-    pub output: Option<PathBuf>,
-    /// A route id with a record in two parts: `error` (default) names both parts; `first` /
-    /// `last` keep the first / last part's record; `all` scores both.
-    #[arg(long, value_enum)]
-    pub duplicates: Option<DuplicatesArg>,
-    /// `provenance.host=false` leaves this machine's name out of the merged report (the
-    /// scoring settings come from the parts).
-    #[arg(long = "set", value_name = "NAME=VALUE")]
-    pub set: Vec<String>,
-    /// Also write the routes to run again into FILE (one route XML id per line, the reason
-    /// after a tab).
-    #[arg(long, value_name = "FILE")]
-    pub rerun_list: Option<PathBuf>,
-    /// Also write the long tables into DIR (`routes.csv`, `events.csv`, from the merged rows;
-    /// no `frames.csv`: a merge reads no telemetry); columns in docs/TABLES-SCHEMA.md.
-    #[arg(long, value_name = "DIR")]
-    pub tables: Option<PathBuf>,
-}
+use monitor_host::app::merged::MergeRequest;
+use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::report::table::{self, TableOptions};
+use monitor_host::report::{csv, html, json, long_tables};
 
 /// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
 pub fn merge(args: &MergeArgs) -> Result<i32> {

@@ -383,7 +383,8 @@ mod bootstrap_and_gate {
             let (code, c, err) = compare(&["--bootstrap-samples", bad], &runs);
             assert_eq!(code, Some(2), "B = {bad}: {err}");
             assert!(
-                err.contains(&format!("--bootstrap-samples) = {bad}"))
+                err.contains(&format!("bootstrap_samples = {bad}"))
+                    && err.contains("(--bootstrap-samples)")
                     && err.contains("between 1000 and 1000000"),
                 "B = {bad}: {err}"
             );

@@ -395,7 +395,7 @@ fn seeds_are_grouped_only_by_the_seeds_option() {
     assert_eq!(paired(&c, "m", "ds")["delta"], 30.0);
     assert!(c["notes"]
         .to_string()
-        .contains("m = the mean over the seeds m_1, m_2 (grouped by --seeds)"));
+        .contains("m = the mean over the seeds m_1, m_2 (grouped by seeds)"));
     // The table says it too, with mean ± std.
     let out = sds(&[
         "compare",
@@ -422,7 +422,7 @@ fn seeds_are_grouped_only_by_the_seeds_option() {
     let (code, _, err) = compare_json(&["--seeds", "m=m_1,m_9"], &[("b", &b), ("m_1", &m1)]);
     assert_eq!(code, Some(2));
     assert!(
-        err.contains("--seeds names m_9, which is not a run"),
+        err.contains("seeds names m_9, which is not a run (--seeds)"),
         "{err}"
     );
 }
@@ -749,7 +749,7 @@ fn protocol_scores_are_paired_metrics() {
     // A protocol metric without its protocol, and an unknown protocol id.
     let (code, _, err) = compare_json(&["--fail-if-worse", "ds@lb2.1"], &runs);
     assert_eq!(code, Some(2), "{err}");
-    assert!(err.contains("--protocol lb2.1"), "{err}");
+    assert!(err.contains("protocols = lb2.1"), "{err}");
     let (code, _, err) = compare_json(&["--fail-if-worse", "ds@lb9"], &runs);
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("unknown metric ds@lb9"), "{err}");

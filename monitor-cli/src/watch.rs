@@ -1,5 +1,5 @@
 //! `sds watch`: the report of an evaluation kept current while it runs (spec §12), over the
-//! library's [`crate::app::session::Session`] (the rounds, the stop rule, the final reading);
+//! library's [`monitor_host::app::session::Session`] (the rounds, the stop rule, the final reading);
 //! this file is the command's spelling, its wait (signals) and its output. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
 //! watch runs) and one status line is printed; the last round's report, written when the route
@@ -9,42 +9,18 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
-use super::args::{Format, ScoreArgs};
+use super::args::{Format, ScoreArgs, WatchArgs};
 use super::output::{self, write_output};
-use crate::app::request::RequestError;
-use crate::app::session::{Step, Stop, Wake, WatchRequest};
-use crate::app::watch::{RoundOutcome, RoundStatus};
-
-/// Arguments of `sds watch`.
-#[derive(Debug, clap::Args)]
-pub struct WatchArgs {
-    /// The inputs and options of `sds score` (`-o` is required).
-    #[command(flatten)]
-    pub score: ScoreArgs,
-    /// Seconds between rounds (fractions allowed; above 0, at most 86400).
-    #[arg(long, default_value_t = 10.0, value_name = "SECONDS")]
-    pub interval: f64,
-    /// One round, then the final report.
-    #[arg(long)]
-    pub once: bool,
-    /// Stop after this many seconds (with the final report; 0 to 31536000).
-    #[arg(long, value_name = "SECONDS")]
-    pub timeout: Option<f64>,
-    /// Print each round's status as one JSON object per line (standard error) instead of text.
-    #[arg(long)]
-    pub status_json: bool,
-    /// With several shard checkpoints: warn when a shard has written no record for longer than
-    /// K times its median route time (its worker may have died).
-    #[arg(long, value_name = "K", default_value_t = crate::model::shard_stall::DEFAULT_FACTOR)]
-    pub stall_factor: f64,
-}
+use monitor_host::app::request::RequestError;
+use monitor_host::app::session::{Step, Stop, Wake, WatchRequest};
+use monitor_host::app::watch::{RoundOutcome, RoundStatus};
 
 /// Runs `sds watch`; returns the exit code (as `sds score`'s for the final report).
 pub fn watch(args: &WatchArgs) -> Result<i32> {
     let a = &args.score;
     let Some(out) = a.output.clone() else {
         say!("sds: error: sds watch writes its report with -o FILE (standard output would repeat it every round)");
-        return Ok(super::EXIT_USAGE);
+        return Ok(super::exit::USAGE);
     };
     let request = WatchRequest {
         score: super::request(a)?,
@@ -57,18 +33,18 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         Ok(s) => s,
         Err(RequestError::Interval { given, bound }) => {
             say!("sds: error: --interval {given}: {bound}");
-            return Ok(super::EXIT_USAGE);
+            return Ok(super::exit::USAGE);
         }
         Err(RequestError::Timeout { given, bound }) => {
             say!("sds: error: --timeout {given}: {bound}");
-            return Ok(super::EXIT_USAGE);
+            return Ok(super::exit::USAGE);
         }
         Err(RequestError::StallFactor { given }) => {
             say!(
                 "sds: error: --stall-factor {given}: expected a number above 0 (default {})",
-                crate::model::shard_stall::DEFAULT_FACTOR
+                monitor_host::model::shard_stall::DEFAULT_FACTOR
             );
-            return Ok(super::EXIT_USAGE);
+            return Ok(super::exit::USAGE);
         }
         Err(e) => return Err(e.into()),
     };
@@ -94,9 +70,10 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                 ..
             } => {
                 status_line(args, &status);
-                for s in
-                    crate::model::shard_stall::newly_stalled(&mut stalled_seen, &status.stalled)
-                {
+                for s in monitor_host::model::shard_stall::newly_stalled(
+                    &mut stalled_seen,
+                    &status.stalled,
+                ) {
                     say!("sds: warning: {}", s.message(args.stall_factor));
                 }
                 // A live round that cannot be written is retried next round; only the final
@@ -151,7 +128,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     };
     say!("sds: watch stopped ({why}); final report {}", out.display());
     Ok(if report.has_problems() {
-        super::EXIT_ROUTE_PROBLEMS
+        super::exit::ROUTE_PROBLEMS
     } else {
         0
     })
@@ -178,13 +155,14 @@ fn wait(d: Duration) -> Wake {
 fn write_round(
     a: &ScoreArgs,
     out: &std::path::Path,
-    report: &crate::Report,
+    report: &monitor_host::Report,
     live: Option<(f64, &RoundStatus)>,
 ) -> Result<()> {
     let mut bytes = super::render(a, report)?;
     if let (Format::Html, Some((secs, status))) = (a.format, live) {
-        bytes = crate::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
-            .into_bytes();
+        bytes =
+            monitor_host::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
+                .into_bytes();
     }
     write_output(Some(out), &bytes, &super::request(a)?.inputs_read(report))
 }
@@ -224,7 +202,7 @@ fn status_line(args: &WatchArgs, s: &RoundStatus) {
         pct(s.ds_n),
         pct(s.sds_done),
         pct(s.sds_n),
-        s.seconds_left.map_or_else(|| "?".into(), crate::report::status::duration_text),
+        s.seconds_left.map_or_else(|| "?".into(), monitor_host::report::status::duration_text),
         s.rescored
     );
 }

@@ -535,5 +535,5 @@ fn compare_three_runs_as_seeds_with_mean_and_std() {
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains(&format!("{mean:.2} ± {std:.2}")), "{text}");
     assert!(text.contains("m: seeds m_1, m_2, m_3"), "{text}");
-    assert!(text.contains("compared on the 218 route key(s) every run holds (--common-routes)"));
+    assert!(text.contains("compared on the 218 route key(s) every run holds (common_routes)"));
 }

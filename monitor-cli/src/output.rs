@@ -176,10 +176,10 @@ pub fn install_signal_cleanup() -> Result<()> {
 }
 
 /// The trace files of the report in `dir`: `(path, contents)`, CSV and SVG per trace, under
-/// unique names ([`crate::report::trace_csv::unique_stems`]).
-fn trace_files(dir: &Path, report: &crate::report::Report) -> Vec<(PathBuf, Vec<u8>)> {
-    use crate::report::{figure, trace_csv};
-    let traces: Vec<(usize, &crate::route::trace::CollisionTrace)> = report
+/// unique names ([`monitor_host::report::trace_csv::unique_stems`]).
+fn trace_files(dir: &Path, report: &monitor_host::report::Report) -> Vec<(PathBuf, Vec<u8>)> {
+    use monitor_host::report::{figure, trace_csv};
+    let traces: Vec<(usize, &monitor_host::route::trace::CollisionTrace)> = report
         .routes
         .iter()
         .enumerate()
@@ -198,7 +198,7 @@ fn trace_files(dir: &Path, report: &crate::report::Report) -> Vec<(PathBuf, Vec<
 }
 
 /// The paths `--traces DIR` writes for this report (to refuse an `-o` among them).
-pub fn trace_paths(dir: &Path, report: &crate::report::Report) -> Vec<PathBuf> {
+pub fn trace_paths(dir: &Path, report: &monitor_host::report::Report) -> Vec<PathBuf> {
     trace_files(dir, report)
         .into_iter()
         .map(|(p, _)| p)
@@ -211,7 +211,7 @@ pub fn trace_paths(dir: &Path, report: &crate::report::Report) -> Vec<PathBuf> {
 /// symbolic link there is refused, never followed (see `place`).
 pub fn place_traces(
     dir: &Path,
-    report: &crate::report::Report,
+    report: &monitor_host::report::Report,
     inputs: &[PathBuf],
 ) -> Result<usize> {
     let files = trace_files(dir, report);
@@ -243,8 +243,8 @@ fn place_all(dir: &Path, files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Re
 
 /// The figure files of the run: `decomposition.svg` (the waterfall from DS to SDS; left out
 /// when the run has no decomposition) and `routes.svg` (DS and DS_safe per route).
-fn figure_files(report: &crate::report::Report) -> Vec<(&'static str, Vec<u8>)> {
-    use crate::report::{route_chart, waterfall};
+fn figure_files(report: &monitor_host::report::Report) -> Vec<(&'static str, Vec<u8>)> {
+    use monitor_host::report::{route_chart, waterfall};
     let decomposition = report.summary.scores.decomposition.as_ref();
     [
         ("decomposition.svg", decomposition.map(waterfall::svg)),
@@ -262,7 +262,7 @@ pub const FIGURE_NAMES: [&str; 2] = ["decomposition.svg", "routes.svg"];
 /// leaving them to the caller's [`commit`] or [`roll_back`], as [`place_traces`].
 pub fn place_figures(
     dir: &Path,
-    report: &crate::report::Report,
+    report: &monitor_host::report::Report,
     inputs: &[PathBuf],
 ) -> Result<Vec<&'static str>> {
     let named = figure_files(report);

@@ -18,6 +18,8 @@
 //! # Ok::<(), monitor_host::SettingsError>(())
 //! ```
 
+pub mod defs;
+
 use monitor_core::{Config, ConfigError, Profile};
 
 use crate::input::duplicates::DuplicatePolicy;
@@ -28,7 +30,7 @@ use crate::input::route_set::RouteSubset;
 #[non_exhaustive]
 pub enum SettingsError {
     /// `--set` text without `=`.
-    #[error("--set {0}: expected NAME=VALUE")]
+    #[error("setting {0}: expected NAME=VALUE")]
     Syntax(String),
     /// No setting has this name.
     #[error("unknown setting {name}; known settings: {}", Settings::NAMES.join(", "))]
@@ -41,8 +43,8 @@ pub enum SettingsError {
     Value {
         /// The setting.
         name: &'static str,
-        /// What it takes.
-        expected: &'static str,
+        /// What it takes (for a named choice: its names, `a, b or c`).
+        expected: String,
         /// The text given.
         value: String,
     },
@@ -59,33 +61,17 @@ pub enum SettingsError {
     },
 }
 
-/// What the lateral error is measured against (`SDS-SPEC.md` v1.2 §2) **\[decision\]**.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum LateralReference {
-    /// The route polyline, its junction gaps filled by the map where the town has one (`route`).
-    #[default]
-    Route,
-    /// The nearest driving lane of the map, whichever it is (`lane`); routes in towns without a
-    /// map fall back to [`LateralReference::Route`] with a warning.
-    Lane,
-}
-
-impl LateralReference {
-    /// `route` or `lane`.
-    pub fn name(self) -> &'static str {
-        match self {
-            LateralReference::Route => "route",
-            LateralReference::Lane => "lane",
-        }
-    }
-
-    /// The setting from its name.
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "route" => Some(LateralReference::Route),
-            "lane" => Some(LateralReference::Lane),
-            _ => None,
-        }
+named_enum! {
+    /// What the lateral error is measured against (`SDS-SPEC.md` v1.2 §2) **\[decision\]**.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+    pub enum LateralReference {
+        /// The route polyline, its junction gaps filled by the map where the town has one
+        /// (`route`).
+        #[default]
+        Route = "route",
+        /// The nearest driving lane of the map, whichever it is (`lane`); routes in towns
+        /// without a map fall back to [`LateralReference::Route`] with a warning.
+        Lane = "lane",
     }
 }
 
@@ -179,27 +165,6 @@ impl Default for Settings {
     }
 }
 
-fn f32_of(name: &'static str, v: &str) -> Result<f32, SettingsError> {
-    // Through f64, as a JSON reader does, so `--set` gives the value the report prints.
-    Ok(f64_of(name, v)? as f32)
-}
-
-fn f64_of(name: &'static str, v: &str) -> Result<f64, SettingsError> {
-    v.trim().parse().map_err(|_| SettingsError::Value {
-        name,
-        expected: "a number",
-        value: v.to_string(),
-    })
-}
-
-fn bool_of(name: &'static str, v: &str) -> Result<bool, SettingsError> {
-    v.trim().parse().map_err(|_| SettingsError::Value {
-        name,
-        expected: "true or false",
-        value: v.to_string(),
-    })
-}
-
 /// An f32 setting as the decimal a person writes: the shortest text that reads back as the same
 /// f32 (`0.05`, not its f64 widening `0.05000000074505806`), as an f64.
 ///
@@ -212,63 +177,10 @@ pub fn decimal(x: f32) -> f64 {
     x.to_string().parse().unwrap_or(f64::from(x))
 }
 
-fn u16_of(name: &'static str, v: &str) -> Result<u16, SettingsError> {
-    v.trim().parse().map_err(|_| SettingsError::Value {
-        name,
-        expected: "an integer in 0..=65535",
-        value: v.to_string(),
-    })
-}
-
 impl Settings {
-    /// Every settable name, in the order of the report's `config` block.
-    pub const NAMES: [&'static str; 45] = [
-        "ability_rule",
-        "align_max_dist",
-        "align_tie",
-        "allow_missing_telemetry",
-        "anomalous_excess",
-        "bounds.lat_acc",
-        "bounds.lon_acc_max",
-        "bounds.lon_acc_min",
-        "bounds.lon_jerk",
-        "bounds.mag_jerk",
-        "bounds.yaw_acc",
-        "bounds.yaw_rate",
-        "chunk_len",
-        "critical_excess",
-        "decel_threshold",
-        "decel_window",
-        "dt",
-        "dt_inference",
-        "duplicates",
-        "ego_half_width",
-        "events.min_standing",
-        "events.signal_reach",
-        "expected_routes",
-        "factors.anomalous",
-        "factors.critical",
-        "factors.layout",
-        "factors.nodecel",
-        "factors.workzone",
-        "gap_max",
-        "lane_width",
-        "lateral_reference",
-        "legacy_jerk_spacing",
-        "lookahead",
-        "min_chunk",
-        "min_speed_grid",
-        "motion.moving_speed",
-        "motion.stationary_speed",
-        "penalty_flavour",
-        "profile",
-        "protocols",
-        "provenance.host",
-        "reacquire_steps",
-        "route_subset",
-        "slack",
-        "stationary_speed",
-    ];
+    /// Every settable name, in the order of the report's `config` block (the names of
+    /// [`defs::SETTINGS`]).
+    pub const NAMES: [&'static str; defs::SETTINGS.len()] = defs::NAMES;
 
     /// Sets one setting from its text (`"0.9"`, `"b2d-legacy"`, `"true"`, `"220"`, `"null"` for
     /// no `expected_routes`) and validates the whole.
@@ -330,209 +242,14 @@ impl Settings {
     }
 
     fn set_unchecked(&mut self, name: &str, v: &str) -> Result<(), SettingsError> {
-        let c = &mut self.core;
-        let b = &mut c.bounds;
-        let f = &mut c.factors;
-        let Some(&key) = Self::NAMES.iter().find(|n| **n == name) else {
-            return Err(SettingsError::Unknown { name: name.into() });
-        };
-        match key {
-            "ability_rule" => {
-                self.ability_rule =
-                    AbilityRule::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "b2d-0.0.4 or b2d-0.0.3",
-                        value: v.into(),
-                    })?
-            }
-            "min_speed_grid" => {
-                self.min_speed_grid =
-                    MinSpeedGridSetting::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "auto, b2d-20 or lb-4",
-                        value: v.into(),
-                    })?
-            }
-            "protocols" => {
-                self.protocols = parse_protocols(v).map_err(|_| SettingsError::Value {
-                    name: key,
-                    expected:
-                        "all, none, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d",
-                    value: v.into(),
-                })?
-            }
-            "align_max_dist" => self.align_max_dist = f64_of(key, v)?,
-            "align_tie" => self.align_tie = f64_of(key, v)?,
-            "gap_max" => self.gap_max = f64_of(key, v)?,
-            "lookahead" => self.lookahead = f64_of(key, v)?,
-            "reacquire_steps" => {
-                self.reacquire_steps = v.trim().parse().map_err(|_| SettingsError::Value {
-                    name: key,
-                    expected: "a step count (an integer, 0 or more)",
-                    value: v.into(),
-                })?
-            }
-            "lateral_reference" => {
-                self.lateral_reference =
-                    LateralReference::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "route or lane",
-                        value: v.into(),
-                    })?
-            }
-            "lane_width" | "ego_half_width" => {
-                let x = f64_of(key, v)?;
-                if key == "lane_width" {
-                    self.lane_width = x;
-                } else {
-                    self.ego_half_width = x;
-                }
-                // Without a map the core's slack is the default lane's (§2).
-                self.core.slack = (self.lane_width / 2.0 - self.ego_half_width) as f32;
-            }
-            "allow_missing_telemetry" => self.allow_missing_telemetry = bool_of(key, v)?,
-            "provenance.host" => self.provenance_host = bool_of(key, v)?,
-            "dt_inference" => self.dt_inference = bool_of(key, v)?,
-            "route_subset" => {
-                self.route_subset =
-                    RouteSubset::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "all or found",
-                        value: v.into(),
-                    })?
-            }
-            "duplicates" => {
-                self.duplicates =
-                    DuplicatePolicy::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "error, first, last, newest or all",
-                        value: v.into(),
-                    })?
-            }
-            "expected_routes" => {
-                self.expected_routes = match v.trim() {
-                    "null" | "" => None,
-                    t => Some(t.parse().map_err(|_| SettingsError::Value {
-                        name: key,
-                        expected: "a route count or null",
-                        value: v.into(),
-                    })?),
-                }
-            }
-            "penalty_flavour" => {
-                self.penalty_flavour =
-                    PenaltyFlavour::from_name(v.trim()).ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "bench2drive or leaderboard20",
-                        value: v.into(),
-                    })?
-            }
-            "profile" => {
-                let profile = [Profile::Physical, Profile::B2dLegacy, Profile::Autoware]
-                    .into_iter()
-                    .find(|p| p.name() == v.trim())
-                    .ok_or(SettingsError::Value {
-                        name: key,
-                        expected: "physical, b2d-legacy or autoware",
-                        value: v.into(),
-                    })?;
-                // The profile brings its own bounds (autoware: spec v1.4 §16), unless they
-                // were set one by one.
-                if c.bounds == monitor_core::Bounds::of(c.profile) {
-                    c.bounds = monitor_core::Bounds::of(profile);
-                }
-                c.profile = profile;
-            }
-            "anomalous_excess" => c.anomalous_excess = f32_of(key, v)?,
-            "critical_excess" => c.critical_excess = f32_of(key, v)?,
-            "decel_threshold" => c.decel_threshold = f32_of(key, v)?,
-            "dt" => {
-                // A fixed step period: every route uses it (spec section 1.2).
-                c.dt = f32_of(key, v)?;
-                self.dt_inference = false;
-            }
-            "legacy_jerk_spacing" => c.legacy_jerk_spacing = f32_of(key, v)?,
-            "slack" => c.slack = f32_of(key, v)?,
-            "stationary_speed" => c.stationary_speed = f32_of(key, v)?,
-            "chunk_len" => c.chunk_len = u16_of(key, v)?,
-            "min_chunk" => c.min_chunk = u16_of(key, v)?,
-            "decel_window" => c.decel_window = u16_of(key, v)?,
-            "bounds.lat_acc" => b.lat_acc = f32_of(key, v)?,
-            "bounds.lon_acc_max" => b.lon_acc_max = f32_of(key, v)?,
-            "bounds.lon_acc_min" => b.lon_acc_min = f32_of(key, v)?,
-            "bounds.lon_jerk" => b.lon_jerk = f32_of(key, v)?,
-            "bounds.mag_jerk" => b.mag_jerk = f32_of(key, v)?,
-            "bounds.yaw_acc" => b.yaw_acc = f32_of(key, v)?,
-            "bounds.yaw_rate" => b.yaw_rate = f32_of(key, v)?,
-            "factors.anomalous" => f.anomalous = f64_of(key, v)?,
-            "factors.critical" => f.critical = f64_of(key, v)?,
-            "factors.layout" => f.layout = f64_of(key, v)?,
-            "factors.nodecel" => f.nodecel = f64_of(key, v)?,
-            "factors.workzone" => f.workzone = f64_of(key, v)?,
-            "motion.moving_speed" => self.motion.moving_speed = f64_of(key, v)?,
-            "events.min_standing" => self.events.min_standing = f64_of(key, v)?,
-            "events.signal_reach" => self.events.signal_reach = f64_of(key, v)?,
-            "motion.stationary_speed" => self.motion.stationary_speed = f64_of(key, v)?,
-            _ => return Err(SettingsError::Unknown { name: name.into() }),
-        }
-        Ok(())
+        let def = defs::def(name).ok_or_else(|| SettingsError::Unknown { name: name.into() })?;
+        (def.set)(self, def.name, v)
     }
 
     /// The value of a setting as a person writes it (`0.05`, not the f32's f64 widening), or
     /// `None` for an unknown name.
     pub fn get(&self, name: &str) -> Option<String> {
-        let c = &self.core;
-        let (b, f) = (&c.bounds, &c.factors);
-        Some(match name {
-            "ability_rule" => self.ability_rule.name().into(),
-            "protocols" => protocols_text(&self.protocols),
-            "min_speed_grid" => self.min_speed_grid.name().into(),
-            "align_max_dist" => self.align_max_dist.to_string(),
-            "align_tie" => self.align_tie.to_string(),
-            "gap_max" => self.gap_max.to_string(),
-            "lookahead" => self.lookahead.to_string(),
-            "reacquire_steps" => self.reacquire_steps.to_string(),
-            "lateral_reference" => self.lateral_reference.name().into(),
-            "lane_width" => self.lane_width.to_string(),
-            "ego_half_width" => self.ego_half_width.to_string(),
-            "allow_missing_telemetry" => self.allow_missing_telemetry.to_string(),
-            "provenance.host" => self.provenance_host.to_string(),
-            "dt_inference" => self.dt_inference.to_string(),
-            "duplicates" => self.duplicates.name().into(),
-            "route_subset" => self.route_subset.name().into(),
-            "expected_routes" => self
-                .expected_routes
-                .map_or_else(|| "null".into(), |n| n.to_string()),
-            "penalty_flavour" => self.penalty_flavour.name().into(),
-            "profile" => c.profile.name().into(),
-            "anomalous_excess" => c.anomalous_excess.to_string(),
-            "critical_excess" => c.critical_excess.to_string(),
-            "decel_threshold" => c.decel_threshold.to_string(),
-            "dt" => c.dt.to_string(),
-            "legacy_jerk_spacing" => c.legacy_jerk_spacing.to_string(),
-            "slack" => c.slack.to_string(),
-            "stationary_speed" => c.stationary_speed.to_string(),
-            "chunk_len" => c.chunk_len.to_string(),
-            "min_chunk" => c.min_chunk.to_string(),
-            "decel_window" => c.decel_window.to_string(),
-            "bounds.lat_acc" => b.lat_acc.to_string(),
-            "bounds.lon_acc_max" => b.lon_acc_max.to_string(),
-            "bounds.lon_acc_min" => b.lon_acc_min.to_string(),
-            "bounds.lon_jerk" => b.lon_jerk.to_string(),
-            "bounds.mag_jerk" => b.mag_jerk.to_string(),
-            "bounds.yaw_acc" => b.yaw_acc.to_string(),
-            "bounds.yaw_rate" => b.yaw_rate.to_string(),
-            "factors.anomalous" => f.anomalous.to_string(),
-            "factors.critical" => f.critical.to_string(),
-            "factors.layout" => f.layout.to_string(),
-            "factors.nodecel" => f.nodecel.to_string(),
-            "factors.workzone" => f.workzone.to_string(),
-            "motion.moving_speed" => self.motion.moving_speed.to_string(),
-            "events.min_standing" => self.events.min_standing.to_string(),
-            "events.signal_reach" => self.events.signal_reach.to_string(),
-            "motion.stationary_speed" => self.motion.stationary_speed.to_string(),
-            _ => return None,
-        })
+        defs::def(name).map(|d| (d.get)(self).text())
     }
 
     /// Checks the whole: the core's [`Config::validate`] for the default monitor capacity, and
@@ -613,7 +330,7 @@ impl Settings {
         }
         if self.threads == Some(0) {
             return Err(SettingsError::Range {
-                name: "threads (--jobs)",
+                name: "threads",
                 rule: "at least 1",
             });
         }
@@ -651,79 +368,47 @@ impl std::fmt::Display for Settings {
     }
 }
 
-/// The report's `config` block: every setting by name, keys in alphabetical order, the groups
-/// `bounds` and `factors` as objects, f32 values printed as the decimal a person writes
-/// ([`decimal`]). `threads` and `provenance.host` are not part of it.
+/// The report's `config` block: every setting of [`defs::SETTINGS`] that is part of it, by name,
+/// keys in alphabetical order, the members of a group (`bounds.yaw_rate`) in an object of the
+/// group's name, f32 values printed as the decimal a person writes ([`decimal`]). `threads` and
+/// `provenance.host` are not part of it.
 impl serde::Serialize for Settings {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeMap;
-        let c = &self.core;
-        let (b, f) = (&c.bounds, &c.factors);
-        let w = decimal;
-        let bounds: [(&str, f64); 7] = [
-            ("lat_acc", w(b.lat_acc)),
-            ("lon_acc_max", w(b.lon_acc_max)),
-            ("lon_acc_min", w(b.lon_acc_min)),
-            ("lon_jerk", w(b.lon_jerk)),
-            ("mag_jerk", w(b.mag_jerk)),
-            ("yaw_acc", w(b.yaw_acc)),
-            ("yaw_rate", w(b.yaw_rate)),
-        ];
-        let factors: [(&str, f64); 5] = [
-            ("anomalous", f.anomalous),
-            ("critical", f.critical),
-            ("layout", f.layout),
-            ("nodecel", f.nodecel),
-            ("workzone", f.workzone),
-        ];
-        let mut m = s.serialize_map(Some(30))?;
-        m.serialize_entry("ability_rule", self.ability_rule.name())?;
-        m.serialize_entry("align_max_dist", &self.align_max_dist)?;
-        m.serialize_entry("align_tie", &self.align_tie)?;
-        m.serialize_entry("allow_missing_telemetry", &self.allow_missing_telemetry)?;
-        m.serialize_entry("anomalous_excess", &w(c.anomalous_excess))?;
-        m.serialize_entry("bounds", &Group(&bounds))?;
-        m.serialize_entry("chunk_len", &c.chunk_len)?;
-        m.serialize_entry("critical_excess", &w(c.critical_excess))?;
-        m.serialize_entry("decel_threshold", &w(c.decel_threshold))?;
-        m.serialize_entry("decel_window", &c.decel_window)?;
-        m.serialize_entry("dt", &w(c.dt))?;
-        m.serialize_entry("dt_inference", &self.dt_inference)?;
-        m.serialize_entry("duplicates", self.duplicates.name())?;
-        m.serialize_entry("ego_half_width", &self.ego_half_width)?;
-        let events = [
-            ("min_standing", self.events.min_standing),
-            ("signal_reach", self.events.signal_reach),
-        ];
-        m.serialize_entry("events", &Group(&events))?;
-        m.serialize_entry("expected_routes", &self.expected_routes)?;
-        m.serialize_entry("factors", &Group(&factors))?;
-        m.serialize_entry("gap_max", &self.gap_max)?;
-        m.serialize_entry("lane_width", &self.lane_width)?;
-        m.serialize_entry("lateral_reference", self.lateral_reference.name())?;
-        m.serialize_entry("legacy_jerk_spacing", &w(c.legacy_jerk_spacing))?;
-        m.serialize_entry("lookahead", &self.lookahead)?;
-        m.serialize_entry("min_chunk", &c.min_chunk)?;
-        m.serialize_entry("min_speed_grid", self.min_speed_grid.name())?;
-        let motion = [
-            ("moving_speed", self.motion.moving_speed),
-            ("stationary_speed", self.motion.stationary_speed),
-        ];
-        m.serialize_entry("motion", &Group(&motion))?;
-        m.serialize_entry("penalty_flavour", self.penalty_flavour.name())?;
-        m.serialize_entry("profile", c.profile.name())?;
-        let ids: Vec<&str> = self.protocols.iter().map(|p| p.id()).collect();
-        m.serialize_entry("protocols", &ids)?;
-        m.serialize_entry("reacquire_steps", &self.reacquire_steps)?;
-        m.serialize_entry("route_subset", self.route_subset.name())?;
-        m.serialize_entry("slack", &w(c.slack))?;
-        m.serialize_entry("stationary_speed", &w(c.stationary_speed))?;
+        let rows: Vec<&defs::SettingDef> = defs::SETTINGS.iter().filter(|d| d.in_config).collect();
+        // Top-level entries: a plain setting, or a group of consecutive `group.member` rows.
+        let mut entries: Vec<(&str, Entry)> = Vec::new();
+        for d in rows {
+            let value = (d.get)(self);
+            match d.name.split_once('.') {
+                None => entries.push((d.name, Entry::Value(value))),
+                Some((group, member)) => match entries.last_mut() {
+                    Some((g, Entry::Group(members))) if *g == group => {
+                        members.push((member, value));
+                    }
+                    _ => entries.push((group, Entry::Group(vec![(member, value)]))),
+                },
+            }
+        }
+        let mut m = s.serialize_map(Some(entries.len()))?;
+        for (key, entry) in &entries {
+            match entry {
+                Entry::Value(v) => m.serialize_entry(key, v)?,
+                Entry::Group(members) => m.serialize_entry(key, &Group(members))?,
+            }
+        }
         m.end()
     }
 }
 
+/// One top-level entry of the `config` block.
+enum Entry {
+    Value(defs::Value),
+    Group(Vec<(&'static str, defs::Value)>),
+}
+
 /// A settings group (`bounds`, `factors`) as a JSON object.
-struct Group<'a>(&'a [(&'a str, f64)]);
+struct Group<'a>(&'a [(&'static str, defs::Value)]);
 
 impl serde::Serialize for Group<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
@@ -856,6 +541,38 @@ pub fn parse_protocols(text: &str) -> Result<Vec<Protocol>, String> {
     Ok(out)
 }
 
+/// The `protocols` setting from a list of ids (a front end's typed list, never joined into
+/// text): each item an id, `all` or `none`. In [`Protocol::ALL`] order without repeats.
+///
+/// ```
+/// use monitor_host::settings::{protocols_of, Protocol};
+/// assert_eq!(protocols_of(&["lb2.1", "b2d"])?, [Protocol::B2d, Protocol::Lb21]);
+/// assert_eq!(protocols_of(&["all"])?, Protocol::ALL);
+/// assert!(protocols_of(&["lb3"]).unwrap_err().to_string().contains("\"lb3\""));
+/// # Ok::<(), monitor_host::SettingsError>(())
+/// ```
+///
+/// # Errors
+/// [`SettingsError::Value`] naming the item that is no id.
+pub fn protocols_of<S: AsRef<str>>(ids: &[S]) -> Result<Vec<Protocol>, SettingsError> {
+    let mut out = Vec::new();
+    for id in ids {
+        let id = id.as_ref();
+        match id.trim() {
+            "all" => out.extend(Protocol::ALL),
+            "none" => {}
+            t => out.push(Protocol::from_id(t).ok_or_else(|| SettingsError::Value {
+                name: "protocols",
+                expected: defs::PROTOCOLS_EXPECTED.into(),
+                value: id.to_string(),
+            })?),
+        }
+    }
+    out.sort_unstable();
+    out.dedup();
+    Ok(out)
+}
+
 /// The `protocols` setting as text: `none`, or the ids joined by commas.
 pub fn protocols_text(protocols: &[Protocol]) -> String {
     if protocols.is_empty() {
@@ -868,98 +585,51 @@ pub fn protocols_text(protocols: &[Protocol]) -> String {
         .join(",")
 }
 
-/// The Traffic_Signs counting rule (§8.2).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum AbilityRule {
-    /// Bench2Drive release 0.0.4: counted once.
-    #[default]
-    B2d004,
-    /// Bench2Drive release 0.0.3: counted twice.
-    B2d003,
-}
-
-impl AbilityRule {
-    /// `b2d-0.0.4` or `b2d-0.0.3`.
-    pub fn name(self) -> &'static str {
-        match self {
-            AbilityRule::B2d004 => "b2d-0.0.4",
-            AbilityRule::B2d003 => "b2d-0.0.3",
-        }
-    }
-
-    /// The rule of a name.
-    pub fn from_name(name: &str) -> Option<AbilityRule> {
-        [AbilityRule::B2d004, AbilityRule::B2d003]
-            .into_iter()
-            .find(|r| r.name() == name)
+named_enum! {
+    /// The Traffic_Signs counting rule (§8.2): `b2d-0.0.4` or `b2d-0.0.3`.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+    pub enum AbilityRule {
+        /// Bench2Drive release 0.0.4: counted once.
+        #[default]
+        B2d004 = "b2d-0.0.4",
+        /// Bench2Drive release 0.0.3: counted twice.
+        B2d003 = "b2d-0.0.3",
     }
 }
 
-/// The `min_speed_grid` setting (§8.4 v1.4): on which checkpoint grid a record's min-speed
-/// entries are read under `lb2.0`, `lb2.1` and `lead-nds`.
-///
-/// ```
-/// use monitor_host::settings::MinSpeedGridSetting;
-/// assert_eq!(MinSpeedGridSetting::from_name("b2d-20"), Some(MinSpeedGridSetting::B2d20));
-/// assert_eq!(MinSpeedGridSetting::default().name(), "auto");
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum MinSpeedGridSetting {
-    /// Per record: Bench2Drive's 20-checkpoint grid when it holds more than 5 min-speed
-    /// entries with a number or any at 100 % or more, else the Leaderboard's (default).
-    #[default]
-    Auto,
-    /// Every record on Bench2Drive's 20-checkpoint grid: entries regrouped by 5.
-    B2d20,
-    /// Every record on the Leaderboard's grid: every entry below 100 % is an event.
-    Lb4,
-}
-
-impl MinSpeedGridSetting {
-    /// `auto`, `b2d-20` or `lb-4`.
-    pub fn name(self) -> &'static str {
-        match self {
-            MinSpeedGridSetting::Auto => "auto",
-            MinSpeedGridSetting::B2d20 => "b2d-20",
-            MinSpeedGridSetting::Lb4 => "lb-4",
-        }
-    }
-
-    /// The setting of a name.
-    pub fn from_name(name: &str) -> Option<MinSpeedGridSetting> {
-        [
-            MinSpeedGridSetting::Auto,
-            MinSpeedGridSetting::B2d20,
-            MinSpeedGridSetting::Lb4,
-        ]
-        .into_iter()
-        .find(|g| g.name() == name)
+named_enum! {
+    /// The `min_speed_grid` setting (§8.4 v1.4): on which checkpoint grid a record's min-speed
+    /// entries are read under `lb2.0`, `lb2.1` and `lead-nds`: `auto`, `b2d-20` or `lb-4`.
+    ///
+    /// ```
+    /// use monitor_host::settings::MinSpeedGridSetting;
+    /// assert_eq!(MinSpeedGridSetting::from_name("b2d-20"), Some(MinSpeedGridSetting::B2d20));
+    /// assert_eq!(MinSpeedGridSetting::default().name(), "auto");
+    /// assert_eq!(MinSpeedGridSetting::choices(), "auto, b2d-20 or lb-4");
+    /// ```
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+    pub enum MinSpeedGridSetting {
+        /// Per record: Bench2Drive's 20-checkpoint grid when it holds more than 5 min-speed
+        /// entries with a number or any at 100 % or more, else the Leaderboard's (default).
+        #[default]
+        Auto = "auto",
+        /// Every record on Bench2Drive's 20-checkpoint grid: entries regrouped by 5.
+        B2d20 = "b2d-20",
+        /// Every record on the Leaderboard's grid: every entry below 100 % is an event.
+        Lb4 = "lb-4",
     }
 }
 
-/// Which evaluator's penalty rules to re-check against (§8).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PenaltyFlavour {
-    /// Bench2Drive: min-speed infractions carry no factor.
-    Bench2Drive,
-    /// CARLA Leaderboard 2.0: each min-speed infraction multiplies by `1 - 0.3 (1 - pct/100)`.
-    Leaderboard20,
-}
-
-impl PenaltyFlavour {
-    /// `"bench2drive"` or `"leaderboard20"` (the name used in reports and on the command line).
-    pub fn name(self) -> &'static str {
-        match self {
-            PenaltyFlavour::Bench2Drive => "bench2drive",
-            PenaltyFlavour::Leaderboard20 => "leaderboard20",
-        }
-    }
-
-    /// The flavour named `name` (see [`PenaltyFlavour::name`]).
-    pub fn from_name(name: &str) -> Option<Self> {
-        [PenaltyFlavour::Bench2Drive, PenaltyFlavour::Leaderboard20]
-            .into_iter()
-            .find(|f| f.name() == name)
+named_enum! {
+    /// Which evaluator's penalty rules to re-check against (§8): `bench2drive` or
+    /// `leaderboard20` (the name used in reports and settings).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+    pub enum PenaltyFlavour {
+        /// Bench2Drive: min-speed infractions carry no factor.
+        Bench2Drive = "bench2drive",
+        /// CARLA Leaderboard 2.0: each min-speed infraction multiplies by
+        /// `1 - 0.3 (1 - pct/100)`.
+        Leaderboard20 = "leaderboard20",
     }
 }
 
@@ -1005,6 +675,35 @@ mod tests {
         assert_eq!(keys, names);
         assert_eq!(s.get("dt").as_deref(), Some("0.05"));
         assert_eq!(s.get("nope"), None);
+    }
+
+    /// docs/SCORE.md's settings table is [`defs::markdown_table`]: a setting added, renamed or
+    /// re-documented in the table of settings changes the docs with it (`SDS_BLESS=1` rewrites).
+    #[test]
+    fn score_md_settings_table_is_generated_from_the_table() {
+        const START: &str = "<!-- settings table: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n";
+        const END: &str = "<!-- end of settings table -->";
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/SCORE.md");
+        let Ok(doc) = std::fs::read_to_string(&path) else {
+            eprintln!(
+                "skipped: {} not found (the crate outside its repository)",
+                path.display()
+            );
+            return;
+        };
+        let a = doc.find(START).expect("the table's start marker") + START.len();
+        let b = a + doc[a..].find(END).expect("the table's end marker");
+        let table = defs::markdown_table();
+        if std::env::var_os("SDS_BLESS").is_some() {
+            std::fs::write(&path, format!("{}{table}{}", &doc[..a], &doc[b..])).unwrap();
+            return;
+        }
+        assert_eq!(
+            doc[a..b],
+            table,
+            "docs/SCORE.md's settings table: rerun with SDS_BLESS=1"
+        );
+        assert_eq!(defs::SETTINGS.len(), Settings::NAMES.len());
     }
 
     #[test]
@@ -1092,6 +791,9 @@ pub struct RunOptions {
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores).
     pub threads: Option<usize>,
+    /// The scoring protocols, as a typed list (`None`: the setting's default, or an override's);
+    /// [`protocols_of`] reads a front end's list of ids.
+    pub protocols: Option<Vec<Protocol>>,
     /// Overrides by name, applied in order after the options above (`--set NAME=VALUE`).
     pub overrides: Vec<(String, String)>,
 }
@@ -1105,6 +807,7 @@ impl Default for RunOptions {
             duplicates: None,
             allow_missing_telemetry: false,
             threads: None,
+            protocols: None,
             overrides: Vec::new(),
         }
     }
@@ -1126,6 +829,9 @@ impl RunOptions {
         }
         s.allow_missing_telemetry = self.allow_missing_telemetry;
         s.threads = self.threads;
+        if let Some(p) = &self.protocols {
+            s.protocols = p.clone();
+        }
         s.apply_pairs(self.overrides.iter().map(|(n, v)| (n, v)))?;
         Ok(s)
     }

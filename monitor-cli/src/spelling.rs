@@ -1,0 +1,52 @@
+//! The command line's spelling of the options the library's messages name neutrally (by the
+//! setting's or option's name: `expected_routes`, `route_subset = found`): `sds` appends its
+//! flags to an error's message, `(--expected-routes, --route-subset)`.
+
+/// The flag of a neutral option name (`None`: the option has no flag of its own; it is then a
+/// setting, given with `--set NAME=VALUE`).
+pub fn flag(option: &str) -> Option<&'static str> {
+    Some(match option {
+        "set" => "--set",
+        "jobs" => "--jobs",
+        "duplicates" => "--duplicates",
+        "expected_routes" => "--expected-routes",
+        "route_subset" => "--route-subset",
+        "telemetry" => "--telemetry",
+        "maps" => "--maps",
+        "routes" => "--routes",
+        "labels" => "--labels",
+        "families" => "--families",
+        "weathers" => "--weathers",
+        "group_by" => "--group-by",
+        "seeds" => "--seeds",
+        "baseline" => "--baseline",
+        "protocols" => "--protocol",
+        "bootstrap_samples" => "--bootstrap-samples",
+        "repro.halfwidth" => "--repro-halfwidth",
+        "common_routes" => "--common-routes",
+        "allow_missing_telemetry" => "--allow-missing-telemetry",
+        _ => return None,
+    })
+}
+
+/// ` (--a, --b)`: the flags of the options an error names, or nothing.
+pub fn suffix(e: &anyhow::Error) -> String {
+    let options: &[&str] = if let Some(e) = e.downcast_ref::<monitor_host::Error>() {
+        monitor_host::error_kind::options(e)
+    } else if let Some(e) = e.downcast_ref::<monitor_host::merge::MergeError>() {
+        monitor_host::error_kind::merge_options(e)
+    } else if let Some(e) = e.downcast_ref::<monitor_host::SettingsError>() {
+        monitor_host::error_kind::settings_options(e)
+    } else {
+        &[]
+    };
+    let flags: Vec<String> = options
+        .iter()
+        .map(|o| flag(o).map_or_else(|| format!("--set {o}=..."), str::to_string))
+        .collect();
+    if flags.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", flags.join(", "))
+    }
+}

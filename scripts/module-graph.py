@@ -27,7 +27,7 @@ from collections import defaultdict
 # Lower stages first. Rooms in one tuple share a stage (imports between them are not upward).
 STAGES = [
     ("named",),  # the enum-naming macro (imports nothing)
-    ("input", "warning"),  # warnings are made of input facts (collision lists, duplicates, XML)
+    ("input",),  # the readers, and the warnings made of input facts (input/warning.rs)
     ("settings", "provenance"),  # settings name input policies; provenance digests settings
     ("geometry",),
     ("reference",),  # the batch reference the replay checks itself against (spec section 9)

@@ -93,7 +93,7 @@ pub mod report;
 pub mod route;
 pub mod settings;
 pub mod stats;
-pub mod warning;
+pub use input::warning;
 
 // The run-level doors, also at their earlier paths (`monitor_host::run::...`).
 pub use app::compare_runs::CompareRequest;

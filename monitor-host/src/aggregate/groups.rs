@@ -20,8 +20,8 @@ use serde::Serialize;
 use crate::aggregate::aggregates::Aggregates;
 pub use crate::input::labels::Labels;
 use crate::input::route_set::parse_route_id;
+use crate::input::warning::Warning;
 use crate::route::row::{counted_routes, RouteReport};
-use crate::warning::Warning;
 
 /// What to group the breakdown by.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -22,8 +22,8 @@ use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::Settings;
 
+use crate::input::warning::Warning;
 pub use crate::model::frames::RouteFrames;
-use crate::warning::Warning;
 
 /// The files of a run.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

@@ -9,10 +9,10 @@ use crate::aggregate::groups::{route_label_key, GroupBy};
 use crate::app::run::{score_run_cached, Inputs, Progress, ReplayCache};
 use crate::error::Error;
 use crate::input::labels::{check_coverage, read_labels, Labels, LabelsError};
+use crate::input::warning::Warning;
 use crate::model::report::Report;
 use crate::route::row::counted_routes;
 use crate::settings::Settings;
-use crate::warning::Warning;
 
 /// The label files of a run, one per kind of key (each optional).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]

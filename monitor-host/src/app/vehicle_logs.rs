@@ -16,6 +16,7 @@ use crate::input::lead_infractions::StepInfraction;
 use crate::input::mcap::{read_log, McapError, Topics, VehicleLog};
 use crate::input::record::{Infractions, LoadedRecord, Meta, Record};
 use crate::input::route_xml::RouteRef;
+use crate::input::warning::Warning;
 use crate::model::frames::RouteFrames;
 use crate::model::report::{assemble, Report, RunFacts};
 use crate::pipeline::align::AlignedBy;
@@ -26,7 +27,6 @@ use crate::pipeline::step_period::{DtSource, StepPeriod};
 use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::{decimal, Settings};
-use crate::warning::Warning;
 
 /// The collision list a log's events go to **\[decision\]**: the event topic says "something
 /// happened here" (a collision or an emergency), and §5's check only needs its time.

@@ -15,11 +15,14 @@ use std::fmt::Write as _;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+mod frame;
 mod map;
 mod telemetry;
 
 pub use map::TOWN;
 
+pub use frame::LargeLayout;
+use frame::SimFrame;
 use telemetry::{write_metric_info, write_metric_info_realistic};
 
 /// Why the demo run could not be written.
@@ -271,13 +274,6 @@ fn scripts() -> Vec<Script> {
     ]
 }
 
-/// One simulated frame in world coordinates.
-struct SimFrame {
-    loc: [f64; 2],
-    acc: [f64; 2],
-    speed: f64,
-}
-
 fn simulate(s: &Script) -> Vec<SimFrame> {
     let mut out = Vec::with_capacity(s.frames);
     let (mut x, mut v) = (0.0f64, s.v0);
@@ -354,19 +350,6 @@ pub fn existing_run(dir: &Path) -> Vec<PathBuf> {
         .map(|n| dir.join(n))
         .filter(|p| std::fs::symlink_metadata(p).is_ok())
         .collect()
-}
-
-/// Which keys each frame of a large run's `metric_info.json` has.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum LargeLayout {
-    /// Bench2Drive's own layout: the six keys its agents' `get_metric_info()` returns
-    /// (`acceleration`, `angular_velocity`, `forward_vector`, `right_vector`, `location`,
-    /// `rotation`), about 830 bytes per frame. What the throughput figures are measured on.
-    #[default]
-    Bench2Drive,
-    /// A wider frame of 13 keys (the six plus `velocity`, `speed`, `throttle`, `steer`, `brake`,
-    /// `gps`, `compass`), about 1.26 KB per frame: more bytes to skip per number kept.
-    Wide,
 }
 
 /// Writes a benchmark-sized run in Bench2Drive's layout (see [`write_large_with`]).

@@ -6,7 +6,7 @@ use std::fs;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::{LargeLayout, SimFrame};
+use super::frame::{LargeLayout, SimFrame};
 
 pub(super) fn write_metric_info(path: &Path, sim: &[SimFrame]) -> std::io::Result<()> {
     let mut w = BufWriter::new(fs::File::create(path)?);

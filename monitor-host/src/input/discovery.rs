@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use walkdir::WalkDir;
 
-use crate::warning::Warning;
+use crate::input::warning::Warning;
 
 /// What [`json_files`] found under a results root.
 #[derive(Debug, Default, Clone, PartialEq, Eq)]

@@ -37,3 +37,4 @@ pub mod route_xml;
 pub mod source;
 pub mod stored;
 pub mod telemetry;
+pub mod warning;

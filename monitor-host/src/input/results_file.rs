@@ -41,8 +41,8 @@ use std::path::{Path, PathBuf};
 use serde_json::{Map, Value};
 
 use crate::input::record::{expected, kind, LoadedRecord, Record};
+use crate::input::warning::Warning;
 use crate::input::{discovery, json_keys};
-use crate::warning::Warning;
 
 /// The totals stored in a Bench2Drive merged file.
 #[derive(Debug, Clone, PartialEq)]

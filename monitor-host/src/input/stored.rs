@@ -8,7 +8,7 @@ use serde::Serialize;
 
 use crate::input::record::LoadedRecord;
 use crate::input::results_file::ResultSet;
-use crate::warning::Warning;
+use crate::input::warning::Warning;
 
 /// What a file stores.
 #[derive(Clone, Debug, PartialEq, Serialize)]

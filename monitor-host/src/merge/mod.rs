@@ -31,12 +31,12 @@ use serde_json::Value;
 
 use crate::aggregate::groups::GroupBy;
 use crate::input::duplicates::{Dropped, DuplicatePolicy, Kept, Source};
+use crate::input::warning::Warning;
 use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
 use crate::pipeline::outcome::RouteState;
 use crate::provenance::{sha256_hex, FileDigest, Provenance};
 use crate::route::row::{InfractionCounts, RouteReport};
 use crate::settings::Settings;
-use crate::warning::Warning;
 
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
 
@@ -535,7 +535,7 @@ pub fn merge_parts(
     if versions.len() > 1 {
         let list: Vec<String> = versions
             .iter()
-            .map(|(v, files)| format!("{v}: {}", crate::warning::id_list(files)))
+            .map(|(v, files)| format!("{v}: {}", crate::input::warning::id_list(files)))
             .collect();
         warnings.push(Warning::Recorded(format!(
             "merge: the parts were scored by different sds versions ({}); one version's figures \

@@ -9,6 +9,7 @@ use serde_json::Value;
 use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
 use crate::input::duplicates::{DuplicatePolicy, Kept, Source};
+use crate::input::warning::Warning;
 use crate::pipeline::align::AlignedBy;
 use crate::pipeline::outcome::{CollisionEvent, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
@@ -21,7 +22,6 @@ use crate::route::protocol::Protocol;
 use crate::route::row::{
     CollisionCounts, ComfortReport, InfractionCounts, LateralReport, PenaltyReport, RouteReport,
 };
-use crate::warning::Warning;
 
 /// A field of a part that is not what a report writes: its JSON path and what was expected.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]

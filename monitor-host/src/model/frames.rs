@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use monitor_core::Frame;
 
-use crate::warning::Warning;
+use crate::input::warning::Warning;
 
 /// The monitor's input frames of one route, as [`crate::score_run`] would stream them, and the warnings
 /// met while reading its telemetry.

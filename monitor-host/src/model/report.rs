@@ -13,11 +13,11 @@ use crate::input::duplicates::{Dropped, Kept};
 use crate::input::labels::Labels;
 use crate::input::route_set::{route_set_id, RouteSetId, RunRouteSet};
 use crate::input::stored::InputReport;
+use crate::input::warning::Warning;
 use crate::pipeline::outcome::{RouteOutcome, RouteState};
 use crate::provenance::Provenance;
 use crate::route::row::{counted_routes, row_name, RouteReport};
 use crate::settings::Settings;
-use crate::warning::Warning;
 
 /// The report's schema name.
 pub const SCHEMA: &str = "sds-report/1";

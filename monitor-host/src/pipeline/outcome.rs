@@ -6,11 +6,11 @@ use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
 use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
 use crate::input::record::{LoadedRecord, Record};
+use crate::input::warning::Warning;
 use crate::pipeline::align::AlignedBy;
 use crate::pipeline::motion::{Motion, MovingComfort};
 use crate::pipeline::step_period::StepPeriod;
 use crate::pipeline::timeline::RouteTimeline;
-use crate::warning::Warning;
 
 /// What became of a route's telemetry.
 #[derive(Clone, Debug, PartialEq, Eq)]

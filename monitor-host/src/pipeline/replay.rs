@@ -17,6 +17,7 @@ use crate::input::lead_infractions;
 use crate::input::record::{LoadedRecord, Record};
 use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
+use crate::input::warning::Warning;
 use crate::pipeline::motion::MovingComfort;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::placement;
@@ -25,7 +26,6 @@ use crate::pipeline::step_period::{self, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, RouteTimeline};
 use crate::reference::batch;
 use crate::settings::Settings;
-use crate::warning::Warning;
 
 /// Why the monitor refused a route.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]

@@ -15,8 +15,8 @@
 //! assert!(w.is_empty());
 //! ```
 
+use crate::input::warning::Warning;
 use crate::settings::{decimal, Settings};
-use crate::warning::Warning;
 
 /// The CARLA tick the periods are multiples of, s.
 const TICK: f64 = 0.05;

@@ -98,7 +98,7 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         g.note(format!(
             "{} route(s) of the route set have no record (not in the ability rates): {}",
             b.ability_missing.len(),
-            crate::warning::id_list(&b.ability_missing)
+            crate::input::warning::id_list(&b.ability_missing)
         ));
     }
     if !b.ability_undecided.is_empty() {

@@ -15,6 +15,7 @@ use crate::input::duplicates::{Kept, Source};
 use crate::input::record::{Infractions, KNOWN_LISTS, MIN_SPEED_LIST};
 use crate::input::route_set::MissingRoute;
 use crate::input::route_xml::RouteSet;
+use crate::input::warning::Warning;
 use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, RouteState, TelemetryState};
 use crate::pipeline::step_period::DtSource;
 use crate::pipeline::timeline::ChunkLog;
@@ -28,7 +29,6 @@ use crate::route::protocol::min_speed::{min_speed_grid, MinSpeedGrid};
 use crate::route::protocol::route::{score_record, RouteProtocols};
 use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
-use crate::warning::Warning;
 
 /// Collision counts of a route.
 #[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]

@@ -5,7 +5,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use super::{LaneRef, Map};
+use super::lane::LaneRef;
+use super::town_map::Map;
 
 /// A chain may be at most `CHAIN_FACTOR * |PQ| + CHAIN_EXTRA` m long.
 pub const CHAIN_FACTOR: f64 = 3.0;

@@ -18,10 +18,10 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use super::lane::TIE_TOLERANCE;
 use super::network::Network;
 use super::projection::{seg_dist, Index};
 use super::road::Road;
-use super::TIE_TOLERANCE;
 
 /// Pieces of the same lane on each side of P that the fast path solves itself (so they do not
 /// count against P's clearance; they touch P): with 2 m pieces, the nearest piece of P's own

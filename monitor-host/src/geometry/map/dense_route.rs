@@ -3,7 +3,8 @@
 //! of a filled junction gap), from P up to and including the first sample closer than
 //! [`DENSE_CUTOFF`] m to Q; each sample says whether it lies in a junction when a map is given.
 
-use super::{Map, Projector};
+use super::projector::Projector;
+use super::town_map::Map;
 
 /// Spacing of the dense route's samples (m).
 pub const DENSE_STEP: f64 = 1.0;

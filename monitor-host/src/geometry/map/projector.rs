@@ -4,8 +4,9 @@
 use std::sync::Arc;
 
 use super::clearance::NEIGHBOURS;
+use super::lane::{Projection, TIE_TOLERANCE};
 use super::projection::{nearest_on, seg_dist2, Candidate};
-use super::{Map, Projection, TIE_TOLERANCE};
+use super::town_map::Map;
 
 /// Projects consecutive points (a route's frames) faster. The previous answer's lane piece
 /// first: when the point lies within that piece's clearance (or a neighbouring piece's of the

@@ -6,7 +6,7 @@ use crate::route::row::RouteReport;
 use crate::route::trace::Verdict;
 
 use super::page::{escape, num};
-use super::timeline;
+use super::timeline::{self, FIGURES_PER_ROUTE};
 
 /// A results file as a shared page names it: its folder and file name, never the path above
 /// (`10857/checkpoint_endpoint.json`; the JSON report keeps the path as found).
@@ -104,10 +104,6 @@ const COLUMNS: [(&str, &str); 20] = [
     ("critical", "lat. crit."),
     ("warnings", "warnings"),
 ];
-
-/// The most collision figures drawn in the page for one route (100,000 collisions made a
-/// 1.09 GB page); the others are counted under them, and every collision is in the JSON report.
-pub const FIGURES_PER_ROUTE: usize = 10;
 
 /// The route table with its filter controls.
 pub(super) fn route_table(out: &mut String, report: &Report) {

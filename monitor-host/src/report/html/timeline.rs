@@ -19,6 +19,10 @@ const LABEL_W: u32 = 90;
 const ROW_H: u32 = 12;
 const MAX_W: u32 = 900;
 
+/// The most collision figures drawn in the page for one route (100,000 collisions made a
+/// 1.09 GB page); the others are counted under them, and every collision is in the JSON report.
+pub const FIGURES_PER_ROUTE: usize = 10;
+
 /// Chunk width in px: the strip fits in `MAX_W`, between 1 and 12 px per chunk.
 fn chunk_w(chunks: u32) -> f64 {
     (f64::from(MAX_W) / f64::from(chunks.max(1))).clamp(1.0, 12.0)
@@ -216,7 +220,7 @@ pub(super) fn events(out: &mut String, r: &RouteReport, route: usize) {
     let figures: Vec<usize> = r
         .traces
         .iter()
-        .take(super::routes::FIGURES_PER_ROUTE)
+        .take(FIGURES_PER_ROUTE)
         .map(|t| t.event)
         .collect();
     let _ = write!(

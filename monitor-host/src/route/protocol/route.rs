@@ -20,6 +20,7 @@ use serde::Serialize;
 
 use crate::input::message::{outside_lanes_percent_text, percent_of, Percent};
 use crate::input::record::{Record, MIN_SPEED_LIST};
+use crate::input::warning::Warning;
 use crate::route::protocol::min_speed::{min_speed_events, MinSpeedEvents};
 use crate::route::protocol::outside_lanes::{outside_lanes_factor, OutsideLanes, OUTSIDE_LIST};
 use crate::route::protocol::terms::{
@@ -27,7 +28,6 @@ use crate::route::protocol::terms::{
 };
 use crate::route::protocol::Protocol;
 use crate::settings::MinSpeedGridSetting;
-use crate::warning::Warning;
 
 /// A route under one protocol.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -23,7 +23,7 @@ use monitor_host::{NoProgress, Warning};
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
 ///
-/// ```
+/// ```ignore
 /// use monitor_host::cli::compare::parse_run;
 /// use std::path::PathBuf;
 /// assert_eq!(parse_run("new=out/r.json:out/tel"),
@@ -127,7 +127,7 @@ pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
 /// whole comparison: every run is scored against the same `--maps` folder, so the towns are
 /// listed once, and each run's count of routes in them (instead of one long line per run).
 ///
-/// ```
+/// ```ignore
 /// use monitor_host::cli::compare::maps_warning;
 /// use monitor_host::Warning;
 /// let w = |towns: &[(&str, usize)]| Warning::NoMaps {

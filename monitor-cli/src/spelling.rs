@@ -37,6 +37,10 @@ pub fn suffix(e: &anyhow::Error) -> String {
         monitor_host::error_kind::merge_options(e)
     } else if let Some(e) = e.downcast_ref::<monitor_host::SettingsError>() {
         monitor_host::error_kind::settings_options(e)
+    } else if let Some(monitor_host::RequestError::Settings(e)) =
+        e.downcast_ref::<monitor_host::RequestError>()
+    {
+        monitor_host::error_kind::settings_options(e)
     } else {
         &[]
     };

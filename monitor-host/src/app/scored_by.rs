@@ -9,7 +9,7 @@
 //! runs and the first setting that differs.
 //!
 //! ```
-//! use monitor_host::scored_by::{differences, ScoredBy};
+//! use monitor_host::app::scored_by::{differences, ScoredBy};
 //! let a = ScoredBy { sds_version: Some("0.1.0".into()),
 //!                    config: serde_json::json!({"profile": "physical", "slack": 0.82}) };
 //! let b = ScoredBy { config: serde_json::json!({"profile": "physical", "slack": 0.5}), ..a.clone() };

@@ -207,7 +207,7 @@ fn empty_log(path: &Path) -> VehicleLog {
 /// makes it, without the figures that need a Leaderboard record (it says so in its warnings).
 ///
 /// ```no_run
-/// use monitor_host::{input::mcap::Topics, vehicle_logs::score_logs, Settings};
+/// use monitor_host::{input::mcap::Topics, app::vehicle_logs::score_logs, Settings};
 /// let mut settings = Settings::default();
 /// settings.set("profile", "autoware")?;
 /// let report = score_logs(&["drive.mcap".into()], &Topics::default(), &settings)?;

@@ -11,7 +11,7 @@
 //! record is rare for a live worker, since routes vary about twofold around the median).
 //!
 //! ```
-//! use monitor_host::shard_stall::{stalled_shards, Shard};
+//! use monitor_host::model::shard_stall::{stalled_shards, Shard};
 //! use std::time::{Duration, SystemTime};
 //! let now = SystemTime::now();
 //! let shard = |name: &str, idle_s: u64, done: u64| Shard {

@@ -276,7 +276,7 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// Everything `sds score` does before rendering: its [`request`], scored (telling `progress`).
 ///
 /// # Errors
-/// A typed error inside (a [`monitor_host::Error`], [`RequestError`] or [`SettingsError`];
+/// A typed error inside (a [`monitor_host::Error`], [`monitor_host::RequestError`] or [`SettingsError`];
 /// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
     let request = request(args)?;

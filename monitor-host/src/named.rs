@@ -1,4 +1,4 @@
-//! Enums named once (pydantic-core's `serialization_mode!` pattern): one [`named_enum!`] gives
+//! Enums named once (pydantic-core's `serialization_mode!` pattern): one `named_enum!` gives
 //! an enum its variants' names, and from them `ALL`, `NAMES`, `name`, `from_name` and `choices`
 //! (the names as a message lists them, `a, b or c`). A front end that lists the choices (an
 //! error, `--help`, a Python exception) reads them from here, never from a copy.

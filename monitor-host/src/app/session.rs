@@ -205,7 +205,7 @@ impl Session {
     /// interval through `wait` (called with at most the time left of the interval and of the
     /// timeout, again until the interval has passed), then runs a round. The timeout counts from
     /// the first call. After a timeout or a stop the inputs are read once more (retried
-    /// [`LAST_TRIES`] times on a half-written file) and the watch stops. Once stopped, every call
+    /// `LAST_TRIES` times on a half-written file) and the watch stops. Once stopped, every call
     /// returns [`Step::Aborted`].
     ///
     /// # Errors

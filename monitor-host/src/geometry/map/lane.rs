@@ -3,7 +3,7 @@
 /// Lanes whose centre lines lie within this distance (m) of the nearest one are *tied*.
 pub const TIE_TOLERANCE: f64 = 1e-3;
 
-/// A driving lane in one lane section: the road (an index into the map, see [`Map::road_id`]),
+/// A driving lane in one lane section: the road (an index into the map, see [`Map::road_id`](super::Map::road_id)),
 /// the lane section's index in the road, and the OpenDRIVE lane id.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct LaneRef {

@@ -175,7 +175,7 @@ static void test_config(void) {
   CHECK_RESULT(sds_config_validate(&c), SDS_RESULT_OK);
 
   CHECK_RESULT(sds_monitor_push(m, &f, &ev), SDS_RESULT_OK);
-  BAD_CONFIG(c->profile = 2, SDS_RESULT_CONFIG_PROFILE);
+  BAD_CONFIG(c->profile = 3, SDS_RESULT_CONFIG_PROFILE);
   BAD_CONFIG(c->dt = 0.0f, SDS_RESULT_CONFIG_DT);
   BAD_CONFIG(c->dt = NAN, SDS_RESULT_CONFIG_DT);
   BAD_CONFIG(c->legacy_jerk_spacing = -0.1f, SDS_RESULT_CONFIG_LEGACY_SPACING);

@@ -62,7 +62,7 @@ enum sds_result
   SDS_RESULT_MISALIGNED_POINTER = 10,
   // An error this version of the C API does not know (the core is newer).
   SDS_RESULT_UNKNOWN = 99,
-  // `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
+  // `profile` is none of `SDS_PROFILE_PHYSICAL`, `SDS_PROFILE_B2D_LEGACY`, `SDS_PROFILE_AUTOWARE`.
   SDS_RESULT_CONFIG_PROFILE = 100,
   // `dt` must be finite and positive.
   SDS_RESULT_CONFIG_DT = 101,
@@ -120,7 +120,7 @@ typedef uint32_t sds_result;
 // `sds_monitor_storage`. Nothing is allocated and nothing needs freeing.
 typedef struct sds_monitor sds_monitor;
 
-// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL` or `SDS_PROFILE_B2D_LEGACY`.
+// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL`, `SDS_PROFILE_B2D_LEGACY` or `SDS_PROFILE_AUTOWARE`.
 // A plain integer, so that no value written by C is undefined behaviour in Rust.
 typedef uint32_t sds_profile;
 
@@ -159,7 +159,7 @@ typedef struct sds_factors {
 // The whole configuration. Start from `sds_config_default()`, change fields, and check with
 // `sds_config_validate` (`sds_monitor_init` checks it too).
 typedef struct sds_config {
-  // `SDS_PROFILE_PHYSICAL` (default) or `SDS_PROFILE_B2D_LEGACY`.
+  // `SDS_PROFILE_PHYSICAL` (default), `SDS_PROFILE_B2D_LEGACY` or `SDS_PROFILE_AUTOWARE`.
   sds_profile profile;
   // Nominal step period in seconds (default 0.05, 20 Hz).
   float dt;

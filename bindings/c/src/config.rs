@@ -6,7 +6,7 @@ use monitor_core::{Bounds, Config, Factors, Profile};
 use crate::result::{code, sds_result};
 use crate::{guard, usable, SDS_CAPACITY};
 
-/// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL` or `SDS_PROFILE_B2D_LEGACY`.
+/// Which comfort definition to compute: `SDS_PROFILE_PHYSICAL`, `SDS_PROFILE_B2D_LEGACY` or `SDS_PROFILE_AUTOWARE`.
 /// A plain integer, so that no value written by C is undefined behaviour in Rust.
 #[allow(non_camel_case_types)]
 pub type sds_profile = u32;
@@ -63,7 +63,7 @@ pub struct sds_factors {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[allow(non_camel_case_types)]
 pub struct sds_config {
-    /// `SDS_PROFILE_PHYSICAL` (default) or `SDS_PROFILE_B2D_LEGACY`.
+    /// `SDS_PROFILE_PHYSICAL` (default), `SDS_PROFILE_B2D_LEGACY` or `SDS_PROFILE_AUTOWARE`.
     pub profile: sds_profile,
     /// Nominal step period in seconds (default 0.05, 20 Hz).
     pub dt: f32,

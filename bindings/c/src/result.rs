@@ -38,7 +38,7 @@ pub enum sds_result {
     MisalignedPointer = 10,
     /// An error this version of the C API does not know (the core is newer).
     Unknown = 99,
-    /// `profile` is neither `SDS_PROFILE_PHYSICAL` nor `SDS_PROFILE_B2D_LEGACY`.
+    /// `profile` is none of `SDS_PROFILE_PHYSICAL`, `SDS_PROFILE_B2D_LEGACY`, `SDS_PROFILE_AUTOWARE`.
     ConfigProfile = 100,
     /// `dt` must be finite and positive.
     ConfigDt = 101,
@@ -166,7 +166,7 @@ pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
         9 => c"a Rust panic was caught at the C boundary (a bug: please report it)",
         10 => c"a pointer argument is not aligned for its type",
         99 => c"an error this version of the C API does not know",
-        100 => c"config: profile must be SDS_PROFILE_PHYSICAL or SDS_PROFILE_B2D_LEGACY",
+        100 => c"config: profile must be SDS_PROFILE_PHYSICAL, SDS_PROFILE_B2D_LEGACY or SDS_PROFILE_AUTOWARE",
         101 => c"config: dt must be finite and positive",
         102 => c"config: legacy_jerk_spacing must be finite and positive",
         103 => c"config: min_chunk must be at least the filter window (7)",

@@ -68,14 +68,12 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         }
         (_, None) => anyhow::bail!("no renderer for {:?}", args.format),
     };
-    // The long tables, then the report, all or nothing (as `sds score`). The merge reads no
-    // telemetry, so there are no frames (the parts' `sds score --tables` wrote theirs).
+    // The long tables, then the report, all or nothing (as `sds score`).
     let tables = match &args.tables {
-        Some(dir) => {
-            let mut t = long_tables::long_tables(&report, &[]).map_err(anyhow::Error::msg)?;
-            t.frames = None;
-            Some((dir, t.files().map_err(anyhow::Error::msg)?))
-        }
+        Some(dir) => Some((
+            dir,
+            MergeRequest::long_tables(&report).map_err(anyhow::Error::msg)?,
+        )),
         None => None,
     };
     let written = (|| -> Result<()> {

@@ -25,6 +25,13 @@ pub enum Profile {
 }
 
 impl Profile {
+    /// Every profile, in declaration order (what a front end lists and parses names against).
+    ///
+    /// ```
+    /// assert_eq!(monitor_core::Profile::ALL.len(), 3);
+    /// ```
+    pub const ALL: [Profile; 3] = [Profile::Physical, Profile::B2dLegacy, Profile::Autoware];
+
     /// The name used on the command line and in reports (`physical`, `b2d-legacy`, `autoware`).
     ///
     /// ```

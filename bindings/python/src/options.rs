@@ -82,11 +82,7 @@ impl RunKwargs<'_> {
         let profile = choice(
             "profile",
             &self.profile,
-            &[
-                (Profile::Physical.name(), Profile::Physical),
-                (Profile::B2dLegacy.name(), Profile::B2dLegacy),
-                (Profile::Autoware.name(), Profile::Autoware),
-            ],
+            &Profile::ALL.map(|p| (p.name(), p)),
         )?;
         let named: Vec<(&str, DuplicatePolicy)> = DuplicatePolicy::ALL
             .iter()

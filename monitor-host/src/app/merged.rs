@@ -62,4 +62,16 @@ impl MergeRequest {
         }
         Ok(report)
     }
+
+    /// The long tables of a merged report (spec v1.4 §15): its routes and events, each as a file
+    /// name and its bytes. No frames: a merge reads no telemetry (each part's `--tables` wrote
+    /// its own).
+    ///
+    /// # Errors
+    /// A table that cannot be made (its message).
+    pub fn long_tables(report: &Report) -> Result<Vec<(&'static str, Vec<u8>)>, String> {
+        let mut tables = crate::report::long_tables::long_tables(report, &[])?;
+        tables.frames = None;
+        tables.files()
+    }
 }

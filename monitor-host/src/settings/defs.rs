@@ -292,7 +292,7 @@ pub const SETTINGS: &[SettingDef] = &[
         "comfort profile (section 5): `physical`, `b2d-legacy` or `autoware` (section 5.3a)",
         "**decision**: physical units by default",
         |s, k, v| {
-            let profiles = [Profile::Physical, Profile::B2dLegacy, Profile::Autoware];
+            let profiles = Profile::ALL;
             let profile = profiles
                 .into_iter()
                 .find(|p| p.name() == v.trim())

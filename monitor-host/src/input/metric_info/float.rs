@@ -4,10 +4,11 @@
 //!
 //! Python's `repr` of a CARLA float32 widened to double has 16 or 17 significant digits and a
 //! decimal exponent between -21 and 0 (`0.49865996837615967`, `4.4775766582461074e-05`). For
-//! such a number the mantissa `w` (at most 19 digits) fits a u64 and `10^k` (k <= 21) a u128, so
-//! `w / 10^k` is found exactly in integers: `w` is shifted to the top of a u128, divided by
-//! `10^k`, and the quotient (at least 57 bits) rounded to 53 bits with the remainder as the sticky
-//! bit. Anything else (more digits, other exponents) goes to `str::parse`, which is exact too.
+//! such a number the mantissa `w` (at most 19 digits) fits a u64, and `w / 10^k` (k <= 21) is
+//! found in integers: `w` times a 128-bit reciprocal of `10^k`, whose product's top 64 bits and
+//! sticky bit are known exactly (see [`by_reciprocal`] for why), rounded to 53 bits half to
+//! even; a mantissa of at most 53 bits is divided in f64 (exact operands, one correctly rounded
+//! division). Anything else (more digits, other exponents) goes to `str::parse`, exact too.
 
 /// `10^k` for k = 0..=21.
 const POW10: [u128; 22] = {
@@ -20,6 +21,32 @@ const POW10: [u128; 22] = {
     t
 };
 
+/// `floor(2^(127 + L) / 10^k)` for k = 1..=21, where L is the bit length of `10^k`: the
+/// reciprocal of `10^k` with its top bit at bit 127 (for k = 0, unused).
+const RECIP: [u128; 22] = {
+    let mut t = [0u128; 22];
+    let mut k = 1;
+    while k < 22 {
+        let d = POW10[k];
+        let bits = 127 + (128 - d.leading_zeros());
+        // Long division of 2^bits by d, one bit at a time (d < 2^70: no overflow).
+        let (mut r, mut q) = (1u128, 0u128);
+        let mut i = 0;
+        while i < bits {
+            r <<= 1;
+            q <<= 1;
+            if r >= d {
+                r -= d;
+                q |= 1;
+            }
+            i += 1;
+        }
+        t[k] = q;
+        k += 1;
+    }
+    t
+};
+
 /// The value `w * 10^-k` correctly rounded, or `None` where this path does not apply (the caller
 /// then parses the token with `str::parse`). `w` is the mantissa's digits without the decimal
 /// point (exactly, so at most 19 significant digits).
@@ -27,38 +54,69 @@ const POW10: [u128; 22] = {
 pub(super) fn exact_div(w: u64, k: u32, neg: bool) -> Option<f64> {
     let x = if w == 0 {
         0.0
+    } else if k == 0 {
+        // An integer: the cast rounds correctly (half to even).
+        w as f64
+    } else if w <= 1 << 53 && k <= 22 {
+        // Both exact in f64, so the one division rounds correctly (Clinger's fast path).
+        w as f64 / *POW10_F64.get(k as usize)?
     } else {
-        let d = *POW10.get(k as usize)?;
-        match u64::try_from(d) {
-            Ok(d) => small(w, d),
-            Err(_) => large(w, d),
-        }
+        by_reciprocal(w, k)?
     };
     // The sign without a branch (it is as likely as not).
     Some(f64::from_bits(x.to_bits() | u64::from(neg) << 63))
 }
 
-/// `w / d` correctly rounded, for `d = 10^k < 2^64`: `n = w * 2^s` with bit lengths chosen so
-/// that `2^62 < q = n / d < 2^64` (n has 63 + bit length of d bits), one 128-by-64-bit division.
-#[inline]
-fn small(w: u64, d: u64) -> f64 {
-    let s = 63 + (64 - d.leading_zeros()) - (64 - w.leading_zeros());
-    let n = u128::from(w) << s;
-    let (q, r) = div_wide(n, d);
-    round(q, r != 0, s)
-}
+/// `10^k` as f64 for k = 0..=22 (all exact).
+const POW10_F64: [f64; 23] = {
+    let mut t = [1.0f64; 23];
+    let mut k = 1;
+    while k < 23 {
+        t[k] = t[k - 1] * 10.0;
+        k += 1;
+    }
+    t
+};
 
-/// `w / d` correctly rounded, for `d = 10^20` or `10^21`: `w` at the top of a u128, the quotient
-/// (at least 57 bits) cut to 64 bits with what is cut off as sticky.
+/// `w / 10^k` correctly rounded by multiplying with the truncated reciprocal [`RECIP`] (two
+/// 64-by-64-bit multiplications, no division), for 1 <= k <= 21 and w > 0.
+///
+/// With `w` shifted to its top bit (`v = w << z`, `2^63 <= v < 2^64`) and `R = RECIP[k]`, the
+/// exact scaled value `T = v * 2^(127 + L) / 10^k` (L: the bit length of `10^k`) is
+/// `T = P + d` with `0 < d < v < 2^64`, for the product `P = v * R` (192 bits, `hi:mid:lo`):
+/// `R` is `2^(127 + L) / 10^k` cut to an integer, and that quotient is never an integer for
+/// k >= 1.
+///
+/// What lies below `T`'s top 64 bits, `T mod 2^128`, is a multiple of `2^128 / 5^k` (since
+/// `127 + L >= 128 + k`, `T mod 2^128 = 2^128 * j / 5^k` for an integer `j < 5^k`), and
+/// `2^128 / 5^k > 2^79` for k <= 21. So either `T` is exact in 64 bits (`j = 0`), and then
+/// `P = T - d` borrows: `mid` is all ones and `T`'s top bits are `hi + 1`; or `T mod 2^128`
+/// lies in `[2^79, 2^128 - 2^79]`, and then `P`'s part below `hi` is that minus `d`: no borrow,
+/// `mid` is not all ones, `hi` is `T`'s top bits and something non-zero lies below them. Either
+/// way the top bits and the sticky bit are known exactly, and [`round`] rounds them. The test
+/// `bit_identical_to_str_parse_on_random_numbers` checks it against `str::parse`, exact values
+/// (`exact_binary_values`) included.
 #[inline]
-fn large(w: u64, d: u128) -> f64 {
-    let s = w.leading_zeros() + 64;
-    let n = u128::from(w) << s;
-    let q = n / d;
-    let r = n - q * d;
-    let cut = 64u32.saturating_sub(q.leading_zeros());
-    let sticky = r != 0 || q & ((1u128 << cut) - 1) != 0;
-    round((q >> cut) as u64, sticky, s - cut)
+fn by_reciprocal(w: u64, k: u32) -> Option<f64> {
+    if k == 0 || w == 0 {
+        return None;
+    }
+    let r = *RECIP.get(k as usize)?;
+    let l = 128 - POW10.get(k as usize)?.leading_zeros();
+    let z = w.leading_zeros();
+    let v = u128::from(w << z);
+    let p_hi = v * (r >> 64);
+    let p_lo = v * (r & u128::from(u64::MAX));
+    // P = p_hi << 64 + p_lo: its top two words.
+    let (mid, carry) = (p_hi as u64).overflowing_add((p_lo >> 64) as u64);
+    let hi = ((p_hi >> 64) as u64) + u64::from(carry);
+    // The value is T's top bits times 2^-(L + z - 1).
+    let s = l + z - 1;
+    Some(if mid == u64::MAX {
+        round(hi.wrapping_add(1), false, s)
+    } else {
+        round(hi, true, s)
+    })
 }
 
 /// `q * 2^-s` rounded to 53 bits, half to even; `sticky`: the exact value is above `q * 2^-s`.
@@ -69,42 +127,16 @@ fn round(q: u64, sticky: bool, s: u32) -> f64 {
     let mut m = q >> shift;
     let rem = q & ((1u64 << shift) - 1);
     let half = 1u64 << (shift - 1);
-    let mut p = shift as i32 - s as i32;
+    let p = shift as i32 - s as i32;
     // Up when above half, or at half with something below or an odd m: no branch (as likely as
     // not).
     let up = (rem > half) | ((rem == half) & (sticky | (m & 1 == 1)));
     m += u64::from(up);
-    if m == 1 << 53 {
-        m >>= 1;
-        p += 1;
-    }
-    // m < 2^53 and -127 <= p <= 11: both exact, the product normal and exact.
-    m as f64 * f64::from_bits(((1023 + p) as u64) << 52)
-}
-
-/// `(n / d, n % d)` for a quotient below 2^64 (`n >> 64 < d`).
-#[inline]
-fn div_wide(n: u128, d: u64) -> (u64, u64) {
-    #[cfg(target_arch = "x86_64")]
-    if ((n >> 64) as u64) < d {
-        let (q, r): (u64, u64);
-        #[allow(unsafe_code)]
-        // SAFETY: `div` divides rdx:rax by d; it faults only when the quotient does not fit 64
-        // bits, which the check above rules out (n >> 64 < d). It touches no memory.
-        // (The u128 division routine costs about twice as much here.)
-        unsafe {
-            std::arch::asm!(
-                "div {d}",
-                d = in(reg) d,
-                inout("rax") n as u64 => q,
-                inout("rdx") (n >> 64) as u64 => r,
-                options(pure, nomem, nostack),
-            );
-        }
-        return (q, r);
-    }
-    let q = n / u128::from(d);
-    (q as u64, (n - q * u128::from(d)) as u64)
+    // The value is m * 2^p with 2^52 <= m <= 2^53 and -127 <= p <= 11: normal. Its bits are
+    // the biased exponent of 2^(p + 52) (1075 + p) above m's 52 stored bits; adding m to
+    // (1074 + p) << 52 puts m's leading bit into the exponent, and m = 2^53 (rounded up past
+    // 53 bits) carries into it as it should.
+    f64::from_bits((((1074 + p) as u64) << 52) + m)
 }
 
 #[cfg(test)]
@@ -214,6 +246,31 @@ mod tests {
             }
         }
         assert!(hits > cases, "the exact path was taken {hits} times");
+    }
+
+    /// Values exact in binary (a CARLA float32 such as `1520.4012451171875` is printed exactly
+    /// when its expansion is short): the reciprocal's product borrows there
+    /// (`by_reciprocal`'s `mid` all ones); their decimal neighbours do not.
+    #[test]
+    fn exact_binary_values() {
+        let mut rng = Rng(0xE8AC7);
+        let mut hits = 0;
+        for _ in 0..200_000 {
+            // m * 2^-e, m below 2^(24..=60), written exactly: m * 5^e with a point e digits in.
+            let e = (rng.next() % 20) as u32;
+            let m = rng.next() >> (4 + rng.next() % 40);
+            let Some(digits) = u128::from(m).checked_mul(5u128.pow(e)) else {
+                continue;
+            };
+            for d in [digits.saturating_sub(1), digits, digits + 1] {
+                let mut t = format!("{d:0>width$}", width = e as usize + 1);
+                if e > 0 {
+                    t.insert(t.len() - e as usize, '.');
+                }
+                check(&t, &mut hits);
+            }
+        }
+        assert!(hits > 300_000, "the exact path was taken {hits} times");
     }
 
     #[test]

@@ -84,6 +84,92 @@ const POW10: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_0
 struct Cursor<'a> {
     b: &'a [u8],
     i: usize,
+    /// Whether the numbers read are noted in `marks`.
+    learning: bool,
+    /// While a frame is read token by token: where each of its numbers was and what it was for,
+    /// to learn the frame's [`Layout`].
+    marks: Vec<Mark>,
+}
+
+/// What a number in a frame is for.
+#[derive(Clone, Copy)]
+enum Role {
+    /// Component `comp` of required vector `field`, converted.
+    Keep { field: u8, comp: u8 },
+    /// A required vector's component that is only checked to be finite.
+    Finite,
+    /// A number of another field, checked only.
+    Other,
+}
+
+/// One number token of a frame: its extent and its role.
+#[derive(Clone, Copy)]
+struct Mark {
+    start: usize,
+    end: usize,
+    role: Role,
+}
+
+/// The bytes of one frame around its numbers, learned from a frame read token by token: the
+/// frame is `seps[0] num seps[1] num ... seps[n]`. Bench2Drive writes every frame with the same
+/// keys in the same order and the same indentation, so the next frame is read by comparing its
+/// bytes between numbers with the learned ones and reading only the numbers.
+///
+/// Why that gives what token-by-token reading gives: token by token, what the scanner does with
+/// the bytes between two numbers depends only on those bytes and on where it is in the frame,
+/// and a number token ends at the first byte that cannot continue it (every separator starts
+/// with such a byte: `,`, `]`, `}` or whitespace). So a frame whose numbers are number tokens
+/// and whose bytes between them equal the learned ones is read by the token-by-token scanner
+/// in the same steps, into the same roles. Anything else (another key, order, indentation,
+/// count of numbers, a token that is not a number) fails a comparison, and that frame is read
+/// token by token, and its layout learned in turn.
+struct Layout<'a> {
+    /// The bytes before, between and after the numbers (one more than `roles`).
+    seps: Vec<&'a [u8]>,
+    /// The role of each number.
+    roles: Vec<Role>,
+}
+
+impl<'a> Layout<'a> {
+    /// The layout of the frame at `b[start..end]` with these numbers.
+    fn learn(&mut self, b: &'a [u8], start: usize, end: usize, marks: &[Mark]) {
+        self.seps.clear();
+        self.roles.clear();
+        let mut at = start;
+        for m in marks {
+            self.seps.push(&b[at..m.start]);
+            self.roles.push(m.role);
+            at = m.end;
+        }
+        self.seps.push(&b[at..end]);
+    }
+}
+
+/// `a == b` for slices of equal length, eight bytes at a time (the separators are 10-60 bytes:
+/// a call to `memcmp` for each costs more than the comparison).
+#[inline]
+fn same(a: &[u8], b: &[u8]) -> bool {
+    let n = a.len();
+    if n != b.len() {
+        return false;
+    }
+    if n < 8 {
+        return a == b;
+    }
+    let w = |s: &[u8], i: usize| -> u64 {
+        let mut x = [0u8; 8];
+        x.copy_from_slice(&s[i..i + 8]);
+        u64::from_le_bytes(x)
+    };
+    let mut i = 0;
+    while i + 8 < n {
+        if w(a, i) != w(b, i) {
+            return false;
+        }
+        i += 8;
+    }
+    // The last eight bytes (overlapping the word before when n is not a multiple of 8).
+    w(a, n - 8) == w(b, n - 8)
 }
 
 /// Eight copies of a byte, for comparing eight bytes at once.
@@ -313,9 +399,18 @@ impl<'a> Cursor<'a> {
         self.parse(t.start).map(|_| ())
     }
 
+    /// Notes a number token from `start` to here, when learning a layout.
+    #[inline]
+    fn mark(&mut self, start: usize, role: Role) {
+        if self.learning {
+            let end = self.i;
+            self.marks.push(Mark { start, end, role });
+        }
+    }
+
     /// A required vector: exactly three finite numbers, those of `keep` (bit k for component
     /// k) converted, the others left 0.0 (`TelemetryFrame::from_raw` reads only the kept ones).
-    fn vec3(&mut self, keep: u8) -> Option<[f64; 3]> {
+    fn vec3(&mut self, field: usize, keep: u8) -> Option<[f64; 3]> {
         self.eat(b'[')?;
         let mut v = [0.0f64; 3];
         for (k, slot) in v.iter_mut().enumerate() {
@@ -324,10 +419,15 @@ impl<'a> Cursor<'a> {
                 self.eat(b',')?;
             }
             self.ws();
+            let start = self.i;
             if keep & (1 << k) != 0 {
                 *slot = self.value()?;
+                // field < 5, k < 3.
+                let (field, comp) = (field as u8, k as u8);
+                self.mark(start, Role::Keep { field, comp });
             } else {
                 self.finite()?;
+                self.mark(start, Role::Finite);
             }
         }
         self.ws();
@@ -338,14 +438,19 @@ impl<'a> Cursor<'a> {
     /// Another field's value: a number or a flat array of numbers, checked only.
     fn other(&mut self) -> Option<()> {
         if self.eat(b'[').is_none() {
-            return self.number().map(|_| ());
+            let start = self.i;
+            self.number()?;
+            self.mark(start, Role::Other);
+            return Some(());
         }
         self.ws();
         if self.eat(b']').is_some() {
             return Some(());
         }
         loop {
+            let start = self.i;
             self.number()?;
+            self.mark(start, Role::Other);
             self.ws();
             match self.peek()? {
                 b',' => {
@@ -378,7 +483,7 @@ impl<'a> Cursor<'a> {
                         return None;
                     }
                     seen |= 1 << idx;
-                    vals[idx] = self.vec3(KEPT[idx])?;
+                    vals[idx] = self.vec3(idx, KEPT[idx])?;
                 }
                 None => self.other()?,
             }
@@ -399,22 +504,92 @@ impl<'a> Cursor<'a> {
     }
 }
 
+impl<'a> Cursor<'a> {
+    /// The learned separator `sep` at the cursor, skipped.
+    #[inline]
+    fn expect(&mut self, sep: &[u8]) -> Option<()> {
+        let end = self.i + sep.len();
+        same(self.b.get(self.i..end)?, sep).then(|| self.i = end)
+    }
+
+    /// One frame object read by its learned layout (`None` where it departs from it: the
+    /// caller reads the frame token by token from the same place).
+    #[inline]
+    fn frame_by(&mut self, layout: &Layout<'a>, step: u64) -> Option<TelemetryFrame> {
+        let mut vals = [[0.0f64; 3]; 5];
+        for (sep, role) in layout.seps.iter().zip(&layout.roles) {
+            self.expect(sep)?;
+            match *role {
+                Role::Keep { field, comp } => {
+                    // Learned in bounds (field < 5, comp < 3); `get_mut` keeps it panic-free.
+                    *vals
+                        .get_mut(usize::from(field))?
+                        .get_mut(usize::from(comp))? = self.value()?;
+                }
+                Role::Finite => self.finite()?,
+                Role::Other => self.number().map(|_| ())?,
+            }
+        }
+        self.expect(layout.seps.last()?)?;
+        TelemetryFrame::from_raw(step, vals).ok()
+    }
+
+    /// One frame object read token by token, its layout learned into `layout`.
+    fn frame_learning(&mut self, layout: &mut Layout<'a>, step: u64) -> Option<TelemetryFrame> {
+        let start = self.i;
+        self.marks.clear();
+        self.learning = true;
+        let frame = self.frame(step);
+        self.learning = false;
+        if frame.is_some() {
+            layout.learn(self.b, start, self.i, &self.marks);
+        }
+        frame
+    }
+}
+
 /// The frames of `bytes` in file order and whether their steps increase, or `None` when the
 /// serde_json path must decide.
 pub(super) fn parse(bytes: &[u8]) -> Option<(Vec<TelemetryFrame>, bool)> {
-    let mut c = Cursor { b: bytes, i: 0 };
+    scan(bytes, true).map(|(frames, sorted, _)| (frames, sorted))
+}
+
+/// [`parse`], with frames read by their learned layout when `by_layout` (else every frame token
+/// by token), and the count of frames read by layout.
+fn scan(bytes: &[u8], by_layout: bool) -> Option<(Vec<TelemetryFrame>, bool, usize)> {
+    let mut c = Cursor {
+        b: bytes,
+        i: 0,
+        learning: false,
+        marks: Vec::new(),
+    };
+    let mut layout = Layout {
+        seps: Vec::new(),
+        roles: Vec::new(),
+    };
     c.ws();
     c.eat(b'{')?;
     // About 830 bytes per frame in Bench2Drive's layout; the estimate only avoids regrowth.
     let mut frames: Vec<TelemetryFrame> = Vec::with_capacity((bytes.len() / 700).min(1 << 20));
     let mut sorted = true;
+    let mut laid = 0;
     loop {
         c.ws();
         let step = step_number(std::str::from_utf8(c.key()?).ok()?).ok()?;
         c.ws();
         c.eat(b':')?;
         c.ws();
-        let frame = c.frame(step)?;
+        let at = c.i;
+        let frame = match c.frame_by(&layout, step).filter(|_| by_layout) {
+            Some(f) => {
+                laid += 1;
+                f
+            }
+            None => {
+                c.i = at;
+                c.frame_learning(&mut layout, step)?
+            }
+        };
         if frames.last().is_some_and(|p| step <= p.step) {
             sorted = false;
         }
@@ -430,5 +605,99 @@ pub(super) fn parse(bytes: &[u8]) -> Option<(Vec<TelemetryFrame>, bool)> {
         }
     }
     c.ws();
-    (c.i == bytes.len()).then_some((frames, sorted))
+    (c.i == bytes.len()).then_some((frames, sorted, laid))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::scan;
+
+    /// A frame in `json.dump(indent=4)`'s layout, numbers varied by `i`.
+    fn frame(i: usize) -> String {
+        let x = |k: usize| format!("{}.{}", (i * 7 + k) % 13, 1 + (i * 31 + k * 17) % 997);
+        let v = |a: usize| {
+            format!(
+                "[\n            {},\n            -{},\n            {}e-5\n        ]",
+                x(a),
+                x(a + 1),
+                x(a + 2)
+            )
+        };
+        format!(
+            "{{\n        \"acceleration\": {},\n        \"angular_velocity\": {},\n        \
+             \"forward_vector\": {},\n        \"right_vector\": {},\n        \
+             \"location\": {},\n        \"rotation\": {}\n    }}",
+            v(0),
+            v(3),
+            v(6),
+            v(9),
+            v(12),
+            v(15)
+        )
+    }
+
+    fn file(frames: &[String]) -> String {
+        let body: Vec<String> = frames
+            .iter()
+            .enumerate()
+            .map(|(i, f)| format!("    \"{}\": {f}", i + 1))
+            .collect();
+        format!("{{\n{}\n}}", body.join(",\n"))
+    }
+
+    /// Frames read by layout give what token-by-token reading gives, on files whose frames keep
+    /// the first one's layout and on files where one frame departs from it in every way the
+    /// layout could be fooled by; and the layout is used where it holds.
+    #[test]
+    fn frames_by_layout_are_frames_token_by_token() {
+        let plain: Vec<String> = (0..6).map(frame).collect();
+        let (a, sa, laid) = scan(file(&plain).as_bytes(), true).expect("valid");
+        let (b, sb, none) = scan(file(&plain).as_bytes(), false).expect("valid");
+        assert_eq!((a, sa), (b, sb));
+        assert_eq!((laid, none), (5, 0), "frames 2-6 by layout");
+
+        let departures: [(&str, &str); 12] = [
+            (
+                "\"acceleration\"",
+                "\"speed\": 2.5,\n        \"acceleration\"",
+            ),
+            ("\"rotation\": [", "\"rotation\": [1, "),
+            ("\n            ", "\n  "),
+            ("\"location\"", "\"locatiom\""),
+            ("\"rotation\"", "\"location\""),
+            ("e-5", "E-5"),
+            ("e-5", "e-999"),
+            ("e-5", "e+400"),
+            (".", "e3."),
+            ("-", "--"),
+            ("-", "+"),
+            (",", ""),
+        ];
+        for (from, to) in departures {
+            for at in [1, 3, 5] {
+                let mut frames = plain.clone();
+                frames[at] = frames[at].replacen(from, to, 1);
+                let text = file(&frames);
+                let with = scan(text.as_bytes(), true);
+                let without = scan(text.as_bytes(), false);
+                assert_eq!(
+                    with.as_ref().map(|(f, s, _)| (f, s)),
+                    without.as_ref().map(|(f, s, _)| (f, s)),
+                    "{from:?} -> {to:?} in frame {}",
+                    at + 1
+                );
+            }
+        }
+        // A departure that is valid is learned: the frames after it are read by its layout.
+        let mut frames = plain.clone();
+        for f in &mut frames[3..] {
+            *f = f.replacen(
+                "\"acceleration\"",
+                "\"speed\": 2.5,\n        \"acceleration\"",
+                1,
+            );
+        }
+        let (_, _, laid) = scan(file(&frames).as_bytes(), true).expect("valid");
+        assert_eq!(laid, 4, "frames 2, 3 and 5, 6 by layout");
+    }
 }

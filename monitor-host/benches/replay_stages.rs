@@ -67,6 +67,32 @@ fn timed<T>(acc: &mut Acc, frames: usize, bytes: usize, f: impl FnOnce() -> T) -
     out
 }
 
+/// The fastest of `passes` parses of the run's `metric_info.json` files (held in memory).
+fn parse_passes(dir: &std::path::Path, max: usize, passes: usize) -> anyhow::Result<()> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir.join("telemetry"))?.take(max) {
+        files.push(std::fs::read(entry?.path().join("metric_info.json"))?);
+    }
+    let bytes: usize = files.iter().map(Vec::len).sum();
+    let mut best = f64::MAX;
+    for _ in 0..passes {
+        let mut acc = Acc::default();
+        for f in &files {
+            let t = timed(&mut acc, 0, f.len(), || {
+                metric_info::parse_metric_info(black_box(f))
+            })?;
+            drop(black_box(t));
+        }
+        best = best.min(acc.cpu);
+    }
+    println!(
+        "stage=parse-passes files={} bytes={bytes} passes={passes} best_cpu_s={best:.6} mb_s={:.0}",
+        files.len(),
+        bytes as f64 / best / 1e6
+    );
+    Ok(())
+}
+
 fn main() -> anyhow::Result<()> {
     // `cargo bench` passes `--bench`; the rest are ours.
     let args: Vec<String> = std::env::args()
@@ -82,6 +108,14 @@ fn main() -> anyhow::Result<()> {
         .and_then(|a| a.parse().ok())
         .unwrap_or(usize::MAX);
 
+    // `SDS_PARSE_PASSES=N`: only the parse, N passes over the run's files (each read once,
+    // held), printing the fastest pass: a steadier figure for comparing parser changes.
+    if let Some(passes) = std::env::var("SDS_PARSE_PASSES")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        return parse_passes(&dir, max, passes);
+    }
     let set = results_file::read_results(&dir.join("results.json"))?;
     let routes = route_xml::read_route_xml(&dir.join("routes.xml"))?;
     let settings = Settings::default();

@@ -7,8 +7,7 @@
 //! such a number the mantissa `w` (at most 19 digits) fits a u64, and `w / 10^k` (k <= 21) is
 //! found in integers: `w` times a 128-bit reciprocal of `10^k`, whose product's top 64 bits and
 //! sticky bit are known exactly (see [`by_reciprocal`] for why), rounded to 53 bits half to
-//! even; a mantissa of at most 53 bits is divided in f64 (exact operands, one correctly rounded
-//! division). Anything else (more digits, other exponents) goes to `str::parse`, exact too.
+//! even (a division, even Clinger's one `divsd` for short mantissas, costs more). Anything else (more digits, other exponents) goes to `str::parse`, exact too.
 
 /// `10^k` for k = 0..=21.
 const POW10: [u128; 22] = {
@@ -52,31 +51,22 @@ const RECIP: [u128; 22] = {
 /// point (exactly, so at most 19 significant digits).
 #[inline]
 pub(super) fn exact_div(w: u64, k: u32, neg: bool) -> Option<f64> {
+    if k > 21 {
+        return None;
+    }
+    // All three cases computed and one picked without a branch (which case it is varies from
+    // number to number): an integer (k = 0; the cast rounds correctly, half to even), zero, or
+    // the quotient.
     let x = if w == 0 {
-        0.0
+        0
     } else if k == 0 {
-        // An integer: the cast rounds correctly (half to even).
-        w as f64
-    } else if w <= 1 << 53 && k <= 22 {
-        // Both exact in f64, so the one division rounds correctly (Clinger's fast path).
-        w as f64 / *POW10_F64.get(k as usize)?
+        (w as f64).to_bits()
     } else {
-        by_reciprocal(w, k)?
+        by_reciprocal(w, k)?.to_bits()
     };
     // The sign without a branch (it is as likely as not).
-    Some(f64::from_bits(x.to_bits() | u64::from(neg) << 63))
+    Some(f64::from_bits(x | u64::from(neg) << 63))
 }
-
-/// `10^k` as f64 for k = 0..=22 (all exact).
-const POW10_F64: [f64; 23] = {
-    let mut t = [1.0f64; 23];
-    let mut k = 1;
-    while k < 23 {
-        t[k] = t[k - 1] * 10.0;
-        k += 1;
-    }
-    t
-};
 
 /// `w / 10^k` correctly rounded by multiplying with the truncated reciprocal [`RECIP`] (two
 /// 64-by-64-bit multiplications, no division), for 1 <= k <= 21 and w > 0.
@@ -101,6 +91,7 @@ fn by_reciprocal(w: u64, k: u32) -> Option<f64> {
     if k == 0 || w == 0 {
         return None;
     }
+    // (k <= 21: both tables have the entry.)
     let r = *RECIP.get(k as usize)?;
     let l = 128 - POW10.get(k as usize)?.leading_zeros();
     let z = w.leading_zeros();
@@ -112,11 +103,8 @@ fn by_reciprocal(w: u64, k: u32) -> Option<f64> {
     let hi = ((p_hi >> 64) as u64) + u64::from(carry);
     // The value is T's top bits times 2^-(L + z - 1).
     let s = l + z - 1;
-    Some(if mid == u64::MAX {
-        round(hi.wrapping_add(1), false, s)
-    } else {
-        round(hi, true, s)
-    })
+    let exact = mid == u64::MAX;
+    Some(round(hi.wrapping_add(u64::from(exact)), !exact, s))
 }
 
 /// `q * 2^-s` rounded to 53 bits, half to even; `sticky`: the exact value is above `q * 2^-s`.

@@ -39,6 +39,8 @@ use std::path::Path;
 use serde::de::{Deserializer, IgnoredAny};
 
 mod float;
+mod layout;
+mod number;
 mod scan;
 mod visitor;
 

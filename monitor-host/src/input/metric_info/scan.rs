@@ -17,6 +17,7 @@
 //! their messages. The test `metric_info_fast_path` checks both paths on the fuzz corpus and on
 //! generated, mutated and arbitrary inputs: same frames bit for bit, never accepting more.
 
+use super::layout::{Layout, Mark, Role};
 use super::visitor::{field_index, step_number};
 use super::TelemetryFrame;
 
@@ -81,95 +82,14 @@ fn mantissa(int: &[u8], b: &[u8], at: usize, frac: usize) -> Option<(u64, usize)
 const POW10: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
 
 /// A position in the bytes.
-struct Cursor<'a> {
-    b: &'a [u8],
-    i: usize,
+pub(super) struct Cursor<'a> {
+    pub(super) b: &'a [u8],
+    pub(super) i: usize,
     /// Whether the numbers read are noted in `marks`.
-    learning: bool,
+    pub(super) learning: bool,
     /// While a frame is read token by token: where each of its numbers was and what it was for,
     /// to learn the frame's [`Layout`].
-    marks: Vec<Mark>,
-}
-
-/// What a number in a frame is for.
-#[derive(Clone, Copy)]
-enum Role {
-    /// Component `comp` of required vector `field`, converted.
-    Keep { field: u8, comp: u8 },
-    /// A required vector's component that is only checked to be finite.
-    Finite,
-    /// A number of another field, checked only.
-    Other,
-}
-
-/// One number token of a frame: its extent and its role.
-#[derive(Clone, Copy)]
-struct Mark {
-    start: usize,
-    end: usize,
-    role: Role,
-}
-
-/// The bytes of one frame around its numbers, learned from a frame read token by token: the
-/// frame is `seps[0] num seps[1] num ... seps[n]`. Bench2Drive writes every frame with the same
-/// keys in the same order and the same indentation, so the next frame is read by comparing its
-/// bytes between numbers with the learned ones and reading only the numbers.
-///
-/// Why that gives what token-by-token reading gives: token by token, what the scanner does with
-/// the bytes between two numbers depends only on those bytes and on where it is in the frame,
-/// and a number token ends at the first byte that cannot continue it (every separator starts
-/// with such a byte: `,`, `]`, `}` or whitespace). So a frame whose numbers are number tokens
-/// and whose bytes between them equal the learned ones is read by the token-by-token scanner
-/// in the same steps, into the same roles. Anything else (another key, order, indentation,
-/// count of numbers, a token that is not a number) fails a comparison, and that frame is read
-/// token by token, and its layout learned in turn.
-struct Layout<'a> {
-    /// The bytes before, between and after the numbers (one more than `roles`).
-    seps: Vec<&'a [u8]>,
-    /// The role of each number.
-    roles: Vec<Role>,
-}
-
-impl<'a> Layout<'a> {
-    /// The layout of the frame at `b[start..end]` with these numbers.
-    fn learn(&mut self, b: &'a [u8], start: usize, end: usize, marks: &[Mark]) {
-        self.seps.clear();
-        self.roles.clear();
-        let mut at = start;
-        for m in marks {
-            self.seps.push(&b[at..m.start]);
-            self.roles.push(m.role);
-            at = m.end;
-        }
-        self.seps.push(&b[at..end]);
-    }
-}
-
-/// `a == b` for slices of equal length, eight bytes at a time (the separators are 10-60 bytes:
-/// a call to `memcmp` for each costs more than the comparison).
-#[inline]
-fn same(a: &[u8], b: &[u8]) -> bool {
-    let n = a.len();
-    if n != b.len() {
-        return false;
-    }
-    if n < 8 {
-        return a == b;
-    }
-    let w = |s: &[u8], i: usize| -> u64 {
-        let mut x = [0u8; 8];
-        x.copy_from_slice(&s[i..i + 8]);
-        u64::from_le_bytes(x)
-    };
-    let mut i = 0;
-    while i + 8 < n {
-        if w(a, i) != w(b, i) {
-            return false;
-        }
-        i += 8;
-    }
-    // The last eight bytes (overlapping the word before when n is not a multiple of 8).
-    w(a, n - 8) == w(b, n - 8)
+    pub(super) marks: Vec<Mark>,
 }
 
 /// Eight copies of a byte, for comparing eight bytes at once.
@@ -178,7 +98,7 @@ const fn splat(c: u8) -> u64 {
 }
 
 /// What the scanner saw of one number token.
-struct Token {
+pub(super) struct Token {
     /// Where it starts.
     start: usize,
     /// Digits of the integer part.
@@ -289,7 +209,7 @@ impl<'a> Cursor<'a> {
 
     /// A number token in JSON's grammar, `-? (0 | [1-9][0-9]*) (. [0-9]+)? ([eE] [+-]? [0-9]+)?`.
     #[inline]
-    fn number(&mut self) -> Option<Token> {
+    pub(super) fn number(&mut self) -> Option<Token> {
         let start = self.i;
         // Branch-free: the sign is as likely as not.
         self.i += usize::from(self.peek() == Some(b'-'));
@@ -363,7 +283,7 @@ impl<'a> Cursor<'a> {
     /// A number token's value, correctly rounded (`None` if not finite): the digits Python
     /// writes go through `float::exact_div`, the rest through `str::parse`; the same bits.
     #[inline]
-    fn value(&mut self) -> Option<f64> {
+    pub(super) fn value(&mut self) -> Option<f64> {
         let t = self.number()?;
         let neg = self.b[t.start] == b'-';
         let int_at = t.start + usize::from(neg);
@@ -386,7 +306,7 @@ impl<'a> Cursor<'a> {
     /// A number that is checked and known to be finite but not converted (`None` if it is not
     /// finite): a required vector's component the frame does not keep.
     #[inline]
-    fn finite(&mut self) -> Option<()> {
+    pub(super) fn finite(&mut self) -> Option<()> {
         let t = self.number()?;
         // Below 10^(int + exp) <= 10^308 < f64::MAX: finite without converting.
         let magnitude = match t.exp {
@@ -467,7 +387,7 @@ impl<'a> Cursor<'a> {
     }
 
     /// One frame object.
-    fn frame(&mut self, step: u64) -> Option<TelemetryFrame> {
+    pub(super) fn frame(&mut self, step: u64) -> Option<TelemetryFrame> {
         self.eat(b'{')?;
         let mut vals = [[0.0f64; 3]; 5];
         let mut seen = 0u8;
@@ -504,50 +424,6 @@ impl<'a> Cursor<'a> {
     }
 }
 
-impl<'a> Cursor<'a> {
-    /// The learned separator `sep` at the cursor, skipped.
-    #[inline]
-    fn expect(&mut self, sep: &[u8]) -> Option<()> {
-        let end = self.i + sep.len();
-        same(self.b.get(self.i..end)?, sep).then(|| self.i = end)
-    }
-
-    /// One frame object read by its learned layout (`None` where it departs from it: the
-    /// caller reads the frame token by token from the same place).
-    #[inline]
-    fn frame_by(&mut self, layout: &Layout<'a>, step: u64) -> Option<TelemetryFrame> {
-        let mut vals = [[0.0f64; 3]; 5];
-        for (sep, role) in layout.seps.iter().zip(&layout.roles) {
-            self.expect(sep)?;
-            match *role {
-                Role::Keep { field, comp } => {
-                    // Learned in bounds (field < 5, comp < 3); `get_mut` keeps it panic-free.
-                    *vals
-                        .get_mut(usize::from(field))?
-                        .get_mut(usize::from(comp))? = self.value()?;
-                }
-                Role::Finite => self.finite()?,
-                Role::Other => self.number().map(|_| ())?,
-            }
-        }
-        self.expect(layout.seps.last()?)?;
-        TelemetryFrame::from_raw(step, vals).ok()
-    }
-
-    /// One frame object read token by token, its layout learned into `layout`.
-    fn frame_learning(&mut self, layout: &mut Layout<'a>, step: u64) -> Option<TelemetryFrame> {
-        let start = self.i;
-        self.marks.clear();
-        self.learning = true;
-        let frame = self.frame(step);
-        self.learning = false;
-        if frame.is_some() {
-            layout.learn(self.b, start, self.i, &self.marks);
-        }
-        frame
-    }
-}
-
 /// The frames of `bytes` in file order and whether their steps increase, or `None` when the
 /// serde_json path must decide.
 pub(super) fn parse(bytes: &[u8]) -> Option<(Vec<TelemetryFrame>, bool)> {
@@ -563,10 +439,7 @@ fn scan(bytes: &[u8], by_layout: bool) -> Option<(Vec<TelemetryFrame>, bool, usi
         learning: false,
         marks: Vec::new(),
     };
-    let mut layout = Layout {
-        seps: Vec::new(),
-        roles: Vec::new(),
-    };
+    let mut layout = Layout::default();
     c.ws();
     c.eat(b'{')?;
     // About 830 bytes per frame in Bench2Drive's layout; the estimate only avoids regrowth.

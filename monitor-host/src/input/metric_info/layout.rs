@@ -98,7 +98,7 @@ impl Layout {
 /// ending at the end (overlapping the one before it), their differences or-ed, one branch in
 /// all. The separators are 14-60 bytes: a call to `memcmp` for each costs more.
 #[inline(always)]
-fn same(got: &[u8], want: &[u8]) -> bool {
+pub(super) fn same(got: &[u8], want: &[u8]) -> bool {
     let n = got.len();
     if n < 8 || want.len() != n {
         return got == want;

@@ -5,10 +5,14 @@
 //! frame an object whose keys are plain ASCII (no escapes), whose five required fields are
 //! arrays of exactly three numbers, and whose other fields are a number or a flat array of
 //! numbers; JSON whitespace anywhere between tokens. Numbers follow JSON's grammar exactly and
-//! the 15 that are kept are converted by `str::parse::<f64>`, which rounds correctly, as
-//! serde_json does with `float_roundtrip`: the same bits (integers included, which serde_json
-//! converts exactly and `as f64` rounds correctly). Numbers of other fields are checked, not
-//! converted, as serde_json's `IgnoredAny` does.
+//! the 10 a frame keeps are converted to the correctly rounded f64 (`float.rs`, else
+//! `str::parse::<f64>`), as serde_json does with `float_roundtrip`: the same bits (integers
+//! included, which serde_json converts exactly and `as f64` rounds correctly). The other
+//! numbers are checked, not converted, as serde_json's `IgnoredAny` does.
+//!
+//! Token by token, one frame at a time, here; the frames after one read so are read by its
+//! layout (`layout.rs`): their bytes between numbers compared with that frame's, their numbers
+//! read sixteen bytes at a time (`number.rs`), any departure read token by token again.
 //!
 //! It never produces an error. On anything else (a string or nested value, an escape, a
 //! non-ASCII byte, a missing, repeated, short or long required vector, a value that is not
@@ -17,7 +21,7 @@
 //! their messages. The test `metric_info_fast_path` checks both paths on the fuzz corpus and on
 //! generated, mutated and arbitrary inputs: same frames bit for bit, never accepting more.
 
-use super::layout::{Layout, Mark, Role};
+use super::layout::{same, Layout, Mark, Role};
 use super::visitor::{field_index, step_number};
 use super::TelemetryFrame;
 
@@ -424,14 +428,50 @@ impl<'a> Cursor<'a> {
     }
 }
 
+impl Cursor<'_> {
+    /// A step key read by the learned gap around it: `before`, 1-19 ASCII digits, `after`
+    /// (which starts with the closing quote), whitespace; `None`, the cursor unmoved, on any
+    /// departure.
+    /// The token-by-token path reads the same bytes into the same step: `before` and `after`
+    /// are bytes it read once already, and the digits are a key `step_number` accepts.
+    #[inline]
+    fn key_by(&mut self, before: &[u8], after: &[u8]) -> Option<u64> {
+        let d = self.i + before.len();
+        if !same(self.b.get(self.i..d)?, before) {
+            return None;
+        }
+        let digits = self.b.get(d..)?;
+        let n = digits
+            .iter()
+            .take(20)
+            .take_while(|c| c.is_ascii_digit())
+            .count();
+        if n == 0 || n > 19 {
+            return None;
+        }
+        let step = digits[..n]
+            .iter()
+            .fold(0u64, |s, &c| s * 10 + u64::from(c - b'0'));
+        let end = d + n + after.len();
+        if !same(self.b.get(d + n..end)?, after) {
+            return None;
+        }
+        // Token by token, whitespace after the colon is skipped whatever its length: `after`
+        // may end before some of it (learned where there was less).
+        self.i = end;
+        self.ws();
+        Some(step)
+    }
+}
+
 /// The frames of `bytes` in file order and whether their steps increase, or `None` when the
 /// serde_json path must decide.
 pub(super) fn parse(bytes: &[u8]) -> Option<(Vec<TelemetryFrame>, bool)> {
     scan(bytes, true).map(|(frames, sorted, _)| (frames, sorted))
 }
 
-/// [`parse`], with frames read by their learned layout when `by_layout` (else every frame token
-/// by token), and the count of frames read by layout.
+/// [`parse`], with frames and step keys read by their learned layout when `by_layout` (else
+/// token by token), and the count of frames read by layout.
 fn scan(bytes: &[u8], by_layout: bool) -> Option<(Vec<TelemetryFrame>, bool, usize)> {
     let mut c = Cursor {
         b: bytes,
@@ -446,12 +486,46 @@ fn scan(bytes: &[u8], by_layout: bool) -> Option<(Vec<TelemetryFrame>, bool, usi
     let mut frames: Vec<TelemetryFrame> = Vec::with_capacity((bytes.len() / 700).min(1 << 20));
     let mut sorted = true;
     let mut laid = 0;
+    // The bytes between one frame and the next one's step number (`,\n    "`) and between the
+    // number and the frame (`": `), learned from the first pair of frames read token by token
+    // (as a frame's layout is): the step keys after it are read by comparing those bytes.
+    let mut gap: Option<(Vec<u8>, Vec<u8>)> = None;
+    let mut from = c.i;
+    let mut first = true;
     loop {
-        c.ws();
-        let step = step_number(std::str::from_utf8(c.key()?).ok()?).ok()?;
-        c.ws();
-        c.eat(b':')?;
-        c.ws();
+        let by_gap = if first || !by_layout {
+            None
+        } else {
+            gap.as_ref()
+        };
+        let step = match by_gap.and_then(|(before, after)| c.key_by(before, after)) {
+            Some(step) => step,
+            None => {
+                c.i = from;
+                if !first {
+                    c.ws();
+                    match c.peek()? {
+                        b',' => c.i += 1,
+                        b'}' => {
+                            c.i += 1;
+                            break;
+                        }
+                        _ => return None,
+                    }
+                }
+                c.ws();
+                let quote = c.i;
+                let step = step_number(std::str::from_utf8(c.key()?).ok()?).ok()?;
+                let close = c.i - 1;
+                c.ws();
+                c.eat(b':')?;
+                c.ws();
+                if !first {
+                    gap = Some((bytes[from..=quote].to_vec(), bytes[close..c.i].to_vec()));
+                }
+                step
+            }
+        };
         let at = c.i;
         let frame = match c.frame_by(&layout, step).filter(|_| by_layout) {
             Some(f) => {
@@ -467,15 +541,8 @@ fn scan(bytes: &[u8], by_layout: bool) -> Option<(Vec<TelemetryFrame>, bool, usi
             sorted = false;
         }
         frames.push(frame);
-        c.ws();
-        match c.peek()? {
-            b',' => c.i += 1,
-            b'}' => {
-                c.i += 1;
-                break;
-            }
-            _ => return None,
-        }
+        from = c.i;
+        first = false;
     }
     c.ws();
     (c.i == bytes.len()).then_some((frames, sorted, laid))
@@ -560,6 +627,29 @@ mod tests {
                     at + 1
                 );
             }
+        }
+        // Step keys and the bytes around them.
+        let text = file(&plain);
+        for (from, to) in [
+            (",\n    \"3\": {", ",\n  \"3\": {"),
+            (",\n    \"3\": {", ", \"3\" : {"),
+            ("\"3\": {", "\"03\": {"),
+            ("\"3\": {", "\"3\":{"),
+            ("\"3\": {", "\"99999999999999999999\": {"),
+            ("\"3\": {", "\"18446744073709551615\": {"),
+            ("\"3\": {", "\"3x\": {"),
+            ("\"3\": {", "\"\": {"),
+            ("\"6\": {", "\"2\": {"),
+            ("\n}", ",\n}"),
+        ] {
+            let text = text.replacen(from, to, 1);
+            let with = scan(text.as_bytes(), true);
+            let without = scan(text.as_bytes(), false);
+            assert_eq!(
+                with.as_ref().map(|(f, s, _)| (f, s)),
+                without.as_ref().map(|(f, s, _)| (f, s)),
+                "{from:?} -> {to:?}"
+            );
         }
         // A departure that is valid is learned: the frames after it are read by its layout.
         let mut frames = plain.clone();

@@ -116,19 +116,30 @@ pub(super) fn token(b: &[u8], i: usize) -> Option<Token> {
 fn token_sse2(b: &[u8], i: usize) -> Option<Token> {
     let neg = *b.get(i)? == b'-';
     let int_at = i + usize::from(neg);
-    let m = digit_mask(load(b, int_at)?);
+    // 32 bytes from the first digit hold the whole mantissa of what Python writes: the digit
+    // and zero masks of both parts come from the same two loads, in parallel.
+    let (v0, v1) = (load(b, int_at)?, load(b, int_at + 16)?);
+    let m = digit_mask(v0) | digit_mask(v1) << 16;
     let int_len = (!m).trailing_zeros() as usize;
     // 1-15 digits, no leading zero, then the point.
-    if int_len == 0 || (int_len > 1 && b[int_at] == b'0') || b.get(int_at + int_len) != Some(&b'.')
+    if int_len == 0
+        || int_len > 15
+        || (int_len > 1 && b[int_at] == b'0')
+        || b.get(int_at + int_len) != Some(&b'.')
     {
         return None;
     }
     let frac_at = int_at + int_len + 1;
-    let first = load(b, frac_at)?;
-    let m = digit_mask(first) | digit_mask(load(b, frac_at + 16)?) << 16;
-    let zeros = _mm_movemask_epi8(_mm_cmpeq_epi8(first, _mm_set1_epi8(b'0' as i8))) as u32;
+    let ones = |v| _mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_set1_epi8(b'0' as i8))) as u32;
+    let zeros = (ones(v0) | ones(v1) << 16) >> (int_len + 1);
+    let mut frac_len = (!(m >> (int_len + 1))).trailing_zeros() as usize;
+    if int_len + 1 + frac_len >= 32 {
+        // The fraction may go on past the 32 bytes: its own 32.
+        let m = digit_mask(load(b, frac_at)?) | digit_mask(load(b, frac_at + 16)?) << 16;
+        frac_len = (!m).trailing_zeros() as usize;
+    }
+    // Leading '0's of the fraction, counted among its first 16 bytes (16: all of them).
     let lead = (!zeros).trailing_zeros().min(16) as usize;
-    let frac_len = (!m).trailing_zeros() as usize;
     if frac_len == 0 || frac_len == 32 {
         return None;
     }
@@ -266,6 +277,10 @@ mod tests {
             ("1520.0]", 6, false, 4, 1, 0),
             ("-3310.25E+012 ", 13, true, 4, 2, 12),
             ("7.5.", 3, false, 1, 1, 0),
+            // Mantissas reaching past the first 32 bytes.
+            ("123456789012345.12345678901234567,", 33, false, 15, 17, 0),
+            ("-0.0000000000000000000000000000012 ", 34, true, 1, 31, 0),
+            ("0.0000000000000012345678901234567e3]", 35, false, 1, 31, 3),
         ] {
             let text = format!("{t}{pad}");
             let got = token(text.as_bytes(), 0).expect(t);

@@ -29,8 +29,6 @@ pub(super) struct Token {
     pub int_len: usize,
     /// Fraction digits (1-31); they start at `int_at + int_len + 1`.
     pub frac_len: usize,
-    /// How many of the fraction's first 16 bytes are '0' before anything else (16: all).
-    pub lead: usize,
     /// The written exponent (0 when absent).
     pub exp: i32,
 }
@@ -65,6 +63,22 @@ fn digit_mask(v: __m128i) -> u32 {
     let nine = _mm_set1_epi8(9);
     // Unsigned t <= 9 exactly for '0'..='9'.
     _mm_movemask_epi8(_mm_cmpeq_epi8(_mm_max_epu8(t, nine), nine)) as u32
+}
+
+/// How many of the 16 bytes at `i` are '0' before any other (16: all).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "sse2")]
+#[inline]
+fn leading_zeros(b: &[u8], i: usize) -> Option<usize> {
+    let zeros = _mm_movemask_epi8(_mm_cmpeq_epi8(load(b, i)?, _mm_set1_epi8(b'0' as i8))) as u32;
+    Some((!zeros).trailing_zeros().min(16) as usize)
+}
+
+/// Byte-wise targets count nothing here (never reached: [`token`] answers `None` there).
+#[cfg(not(target_arch = "x86_64"))]
+#[inline]
+fn leading_zeros(_b: &[u8], _i: usize) -> Option<usize> {
+    None
 }
 
 /// The value of the `n` (<= 16) digits that end at `end`: the 16 bytes before `end` read at
@@ -130,16 +144,12 @@ fn token_sse2(b: &[u8], i: usize) -> Option<Token> {
         return None;
     }
     let frac_at = int_at + int_len + 1;
-    let ones = |v| _mm_movemask_epi8(_mm_cmpeq_epi8(v, _mm_set1_epi8(b'0' as i8))) as u32;
-    let zeros = (ones(v0) | ones(v1) << 16) >> (int_len + 1);
     let mut frac_len = (!(m >> (int_len + 1))).trailing_zeros() as usize;
     if int_len + 1 + frac_len >= 32 {
         // The fraction may go on past the 32 bytes: its own 32.
         let m = digit_mask(load(b, frac_at)?) | digit_mask(load(b, frac_at + 16)?) << 16;
         frac_len = (!m).trailing_zeros() as usize;
     }
-    // Leading '0's of the fraction, counted among its first 16 bytes (16: all of them).
-    let lead = (!zeros).trailing_zeros().min(16) as usize;
     if frac_len == 0 || frac_len == 32 {
         return None;
     }
@@ -169,7 +179,6 @@ fn token_sse2(b: &[u8], i: usize) -> Option<Token> {
         int_at,
         int_len,
         frac_len,
-        lead,
         exp,
     })
 }
@@ -213,14 +222,18 @@ impl Token {
         let frac_at = self.int_at + self.int_len + 1;
         let frac_end = frac_at + self.frac_len;
         let int_zero = self.int_len == 1 && b.get(self.int_at) == Some(&b'0');
-        // Significant digits: the fraction's leading zeros are not, after "0.".
+        // Significant digits: the fraction's leading zeros are not, after "0." (counted among
+        // its first 16 bytes; after 16 zeros more may follow: not known here).
         let sig = if int_zero {
-            self.frac_len - self.lead.min(self.frac_len)
+            let lead = leading_zeros(b, frac_at)?;
+            if lead == 16 {
+                return None;
+            }
+            self.frac_len - lead.min(self.frac_len)
         } else {
             self.int_len + self.frac_len
         };
-        // (After "0." with 16 zeros, more may follow: the count is not known here.)
-        if !(0..=21).contains(&k) || sig > 19 || (int_zero && self.lead == 16) {
+        if !(0..=21).contains(&k) || sig > 19 {
             return None;
         }
         let frac = if self.frac_len <= 16 {

@@ -19,6 +19,10 @@
 //! | `motion`  | `motion::measure` (§8.5 distance, stationary share, moving chunks), with    |
 //! |           | the locations and steps it is given (inside `prepare` they exist already)  |
 //!
+//! With `SDS_PARSE_PASSES=N` in the environment it only parses the run's files (read once,
+//! held) N times and prints the fastest pass (`stage=parse-passes ... mb_s=`): steadier than
+//! one pass for comparing parser changes.
+//!
 //! Prints one line per stage: `stage=NAME routes=R frames=F bytes=B wall_s=W cpu_s=C`, where
 //! `cpu_s` is this thread's CPU time (`CLOCK_THREAD_CPUTIME_ID`; equal to `wall_s` where that
 //! clock is missing), which other processes on a shared machine do not inflate.

@@ -4,8 +4,8 @@
 //! Bench2Drive writes every frame with the same keys in the same order and the same
 //! indentation (`json.dump(indent=4)`), so a frame is `seps[0] num seps[1] num ... seps[n]`
 //! with the same separators each time: the next frame is read by comparing its bytes between
-//! numbers with the learned ones, sixteen at a time, and reading only its numbers
-//! ([`super::number`]).
+//! numbers with the learned ones, eight at a time, and reading only its numbers (`number.rs`;
+//! the reading itself is `Cursor::frame_by` in `scan.rs`, this file the layout).
 //!
 //! Why that gives what token-by-token reading gives: token by token, what the scanner does with
 //! the bytes between two numbers depends only on those bytes and on where it is in the frame,
@@ -15,10 +15,6 @@
 //! in the same steps, into the same roles. Anything else (another key, order, indentation,
 //! count of numbers, a token that is not a number) fails a comparison; that frame is read
 //! token by token, and its layout learned in turn.
-
-use super::number;
-use super::scan::Cursor;
-use super::TelemetryFrame;
 
 /// What a number in a frame is for.
 #[derive(Clone, Copy)]
@@ -50,18 +46,18 @@ pub(super) struct Layout {
     /// The separators one after another.
     bytes: Vec<u8>,
     /// Each number: the separator before it, and its role.
-    steps: Vec<(Sep, Role)>,
+    pub(super) steps: Vec<(Sep, Role)>,
     /// The separator after the last number (`None` until a layout is learned).
-    last: Option<Sep>,
+    pub(super) last: Option<Sep>,
 }
 
 /// Where a separator lies in [`Layout::bytes`].
 #[derive(Clone, Copy)]
-struct Sep {
+pub(super) struct Sep {
     /// Offset in `bytes`.
     at: usize,
     /// Its length.
-    len: usize,
+    pub(super) len: usize,
 }
 
 impl Layout {
@@ -86,7 +82,7 @@ impl Layout {
 
     /// Whether `b[i..]` starts with separator `s`.
     #[inline(always)]
-    fn matches(&self, b: &[u8], i: usize, s: Sep) -> bool {
+    pub(super) fn matches(&self, b: &[u8], i: usize, s: Sep) -> bool {
         match (b.get(i..i + s.len), self.bytes.get(s.at..s.at + s.len)) {
             (Some(got), Some(want)) => same(got, want),
             _ => false,
@@ -115,86 +111,4 @@ pub(super) fn same(got: &[u8], want: &[u8]) -> bool {
         j += 8;
     }
     diff == 0
-}
-
-impl Cursor<'_> {
-    /// The learned separator `s` at the cursor, skipped.
-    #[inline(always)]
-    fn expect(&mut self, layout: &Layout, s: Sep) -> Option<()> {
-        layout.matches(self.b, self.i, s).then(|| self.i += s.len)
-    }
-
-    /// One frame object read by its learned layout (`None` where it departs from it: the
-    /// caller reads the frame token by token from the same place).
-    #[inline]
-    pub(super) fn frame_by(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
-        #[cfg(target_arch = "x86_64")]
-        #[allow(unsafe_code)]
-        // SAFETY: as in `same`: SSE2 is part of x86-64. (Compiled with it, the number reader
-        // and the comparisons inline here.)
-        return unsafe { self.frame_by_sse2(layout, step) };
-        #[cfg(not(target_arch = "x86_64"))]
-        return self.frame_by_body(layout, step);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "sse2")]
-    fn frame_by_sse2(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
-        self.frame_by_body(layout, step)
-    }
-
-    #[inline(always)]
-    fn frame_by_body(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
-        let mut vals = [[0.0f64; 3]; 5];
-        for &(sep, role) in &layout.steps {
-            self.expect(layout, sep)?;
-            // The number, sixteen bytes at a time where `number::token` can (one call site:
-            // it inlines), else byte by byte.
-            let t = number::token(self.b, self.i);
-            match role {
-                Role::Keep { field, comp } => {
-                    let v = match t.and_then(|t| Some((t.end, t.value(self.b)?))) {
-                        Some((end, v)) => {
-                            self.i = end;
-                            v
-                        }
-                        None => self.value()?,
-                    };
-                    // Learned in bounds (field < 5, comp < 3); `get_mut` keeps it panic-free.
-                    *vals
-                        .get_mut(usize::from(field))?
-                        .get_mut(usize::from(comp))? = v;
-                }
-                Role::Finite => match t {
-                    Some(t) if t.surely_finite() => self.i = t.end,
-                    _ => self.finite()?,
-                },
-                Role::Other => match t {
-                    Some(t) => self.i = t.end,
-                    None => {
-                        self.number()?;
-                    }
-                },
-            }
-        }
-        self.expect(layout, layout.last?)?;
-        TelemetryFrame::from_raw(step, vals).ok()
-    }
-
-    /// One frame object read token by token, its layout learned into `layout`.
-    pub(super) fn frame_learning(
-        &mut self,
-        layout: &mut Layout,
-        step: u64,
-    ) -> Option<TelemetryFrame> {
-        let start = self.i;
-        self.marks.clear();
-        self.learning = true;
-        let frame = self.frame(step);
-        self.learning = false;
-        if frame.is_some() {
-            layout.learn(self.b, start, self.i, &self.marks);
-        }
-        frame
-    }
 }

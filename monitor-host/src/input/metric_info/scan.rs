@@ -21,7 +21,8 @@
 //! their messages. The test `metric_info_fast_path` checks both paths on the fuzz corpus and on
 //! generated, mutated and arbitrary inputs: same frames bit for bit, never accepting more.
 
-use super::layout::{same, Layout, Mark, Role};
+use super::layout::{same, Layout, Mark, Role, Sep};
+use super::number;
 use super::visitor::{field_index, step_number};
 use super::TelemetryFrame;
 
@@ -425,6 +426,90 @@ impl<'a> Cursor<'a> {
             return None;
         }
         TelemetryFrame::from_raw(step, vals).ok()
+    }
+}
+
+impl Cursor<'_> {
+    // Frames by their learned layout (see `layout.rs`).
+
+    /// The learned separator `s` at the cursor, skipped.
+    #[inline(always)]
+    fn expect(&mut self, layout: &Layout, s: Sep) -> Option<()> {
+        layout.matches(self.b, self.i, s).then(|| self.i += s.len)
+    }
+
+    /// One frame object read by its learned layout (`None` where it departs from it: the
+    /// caller reads the frame token by token from the same place).
+    #[inline]
+    pub(super) fn frame_by(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
+        #[cfg(target_arch = "x86_64")]
+        #[allow(unsafe_code)]
+        // SAFETY: as in `same`: SSE2 is part of x86-64. (Compiled with it, the number reader
+        // and the comparisons inline here.)
+        return unsafe { self.frame_by_sse2(layout, step) };
+        #[cfg(not(target_arch = "x86_64"))]
+        return self.frame_by_body(layout, step);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "sse2")]
+    fn frame_by_sse2(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
+        self.frame_by_body(layout, step)
+    }
+
+    #[inline(always)]
+    fn frame_by_body(&mut self, layout: &Layout, step: u64) -> Option<TelemetryFrame> {
+        let mut vals = [[0.0f64; 3]; 5];
+        for &(sep, role) in &layout.steps {
+            self.expect(layout, sep)?;
+            // The number, sixteen bytes at a time where `number::token` can (one call site:
+            // it inlines), else byte by byte.
+            let t = number::token(self.b, self.i);
+            match role {
+                Role::Keep { field, comp } => {
+                    let v = match t.and_then(|t| Some((t.end, t.value(self.b)?))) {
+                        Some((end, v)) => {
+                            self.i = end;
+                            v
+                        }
+                        None => self.value()?,
+                    };
+                    // Learned in bounds (field < 5, comp < 3); `get_mut` keeps it panic-free.
+                    *vals
+                        .get_mut(usize::from(field))?
+                        .get_mut(usize::from(comp))? = v;
+                }
+                Role::Finite => match t {
+                    Some(t) if t.surely_finite() => self.i = t.end,
+                    _ => self.finite()?,
+                },
+                Role::Other => match t {
+                    Some(t) => self.i = t.end,
+                    None => {
+                        self.number()?;
+                    }
+                },
+            }
+        }
+        self.expect(layout, layout.last?)?;
+        TelemetryFrame::from_raw(step, vals).ok()
+    }
+
+    /// One frame object read token by token, its layout learned into `layout`.
+    pub(super) fn frame_learning(
+        &mut self,
+        layout: &mut Layout,
+        step: u64,
+    ) -> Option<TelemetryFrame> {
+        let start = self.i;
+        self.marks.clear();
+        self.learning = true;
+        let frame = self.frame(step);
+        self.learning = false;
+        if frame.is_some() {
+            layout.learn(self.b, start, self.i, &self.marks);
+        }
+        frame
     }
 }
 

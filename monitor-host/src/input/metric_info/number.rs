@@ -131,7 +131,7 @@ fn token_sse2(b: &[u8], i: usize) -> Option<Token> {
     let neg = *b.get(i)? == b'-';
     let int_at = i + usize::from(neg);
     // 32 bytes from the first digit hold the whole mantissa of what Python writes: the digit
-    // and zero masks of both parts come from the same two loads, in parallel.
+    // masks of both parts come from the same two loads, in parallel.
     let (v0, v1) = (load(b, int_at)?, load(b, int_at + 16)?);
     let m = digit_mask(v0) | digit_mask(v1) << 16;
     let int_len = (!m).trailing_zeros() as usize;

@@ -7,10 +7,11 @@
 //! such a number the mantissa `w` (at most 19 digits) fits a u64, and `w / 10^k` (k <= 21) is
 //! found in integers: `w` times a 128-bit reciprocal of `10^k`, whose product's top 64 bits and
 //! sticky bit are known exactly (see [`by_reciprocal`] for why), rounded to 53 bits half to
-//! even (a division, even Clinger's one `divsd` for short mantissas, costs more). Anything else (more digits, other exponents) goes to `str::parse`, exact too.
+//! even (a division, even Clinger's one `divsd` for short mantissas, costs more). Anything else
+//! (more digits, other exponents) goes to `str::parse`, exact too.
 
-/// `10^k` for k = 0..=21.
-const POW10: [u128; 22] = {
+/// `10^k` for k = 0..=21 (the scanner's digit assembly uses it too).
+pub(super) const POW10: [u128; 22] = {
     let mut t = [1u128; 22];
     let mut k = 1;
     while k < 22 {

@@ -33,16 +33,29 @@ pub(super) struct Token {
     pub exp: i32,
 }
 
-/// `10^k` for k = 0..=19.
-const POW10: [u64; 20] = {
-    let mut t = [1u64; 20];
-    let mut k = 1;
-    while k < 20 {
-        t[k] = t[k - 1] * 10;
-        k += 1;
+/// `10^k` as u64, k <= 19.
+#[inline(always)]
+fn pow10(k: usize) -> u64 {
+    super::float::POW10[k] as u64
+}
+
+/// The run of 1 to `max` ASCII digits that starts `b`: its length and value (`None` when there
+/// is none, or more than `max` digits; `max` <= 19, so the value fits).
+#[inline]
+pub(super) fn digit_run(b: &[u8], max: usize) -> Option<(usize, u64)> {
+    let n = b
+        .iter()
+        .take(max + 1)
+        .take_while(|c| c.is_ascii_digit())
+        .count();
+    if n == 0 || n > max {
+        return None;
     }
-    t
-};
+    Some((
+        n,
+        b[..n].iter().fold(0, |v, &c| v * 10 + u64::from(c - b'0')),
+    ))
+}
 
 /// Sixteen bytes from `i`, if there are sixteen.
 #[cfg(target_arch = "x86_64")]
@@ -158,18 +171,9 @@ fn token_sse2(b: &[u8], i: usize) -> Option<Token> {
     if matches!(b.get(end), Some(b'e' | b'E')) {
         let sign = b.get(end + 1).copied();
         let at = end + 1 + usize::from(matches!(sign, Some(b'-' | b'+')));
-        let digits = b.get(at..)?;
-        let n = digits
-            .iter()
-            .take(4)
-            .take_while(|c| c.is_ascii_digit())
-            .count();
-        if n == 0 || n > 3 {
-            return None;
-        }
-        let e = digits[..n]
-            .iter()
-            .fold(0i32, |e, &c| e * 10 + i32::from(c - b'0'));
+        let (n, e) = digit_run(b.get(at..)?, 3)?;
+        // At most 999.
+        let e = e as i32;
         exp = if sign == Some(b'-') { -e } else { e };
         end = at + n;
     }
@@ -240,14 +244,14 @@ impl Token {
             value_of(b, frac_end, self.frac_len)?
         } else {
             let head = value_of(b, frac_end - 16, self.frac_len - 16)?;
-            head.wrapping_mul(POW10[16])
+            head.wrapping_mul(pow10(16))
                 .wrapping_add(value_of(b, frac_end, 16)?)
         };
         let w = if int_zero {
             frac
         } else {
             value_of(b, self.int_at + self.int_len, self.int_len)?
-                .wrapping_mul(POW10[self.frac_len.min(19)])
+                .wrapping_mul(pow10(self.frac_len.min(19)))
                 .wrapping_add(frac)
         };
         super::float::exact_div(w, k as u32, self.neg)
@@ -284,28 +288,63 @@ mod tests {
     #[test]
     fn tokens_end_where_json_ends_them() {
         let pad = " ".repeat(40);
-        for (t, end, neg, int_len, frac_len, exp) in [
-            ("0.49865996837615967,", 19, false, 1, 17, 0),
-            ("-4.4775766582461074e-5\n", 22, true, 1, 16, -5),
-            ("1520.0]", 6, false, 4, 1, 0),
-            ("-3310.25E+012 ", 13, true, 4, 2, 12),
-            ("7.5.", 3, false, 1, 1, 0),
+        // Last: whether `value` converts it (<= 19 significant digits, 10^-21..=10^0).
+        for (t, end, neg, int_len, frac_len, exp, converts) in [
+            ("0.49865996837615967,", 19, false, 1, 17, 0, true),
+            ("-4.4775766582461074e-5\n", 22, true, 1, 16, -5, true),
+            ("1520.0]", 6, false, 4, 1, 0, true),
+            ("-3310.25E+012 ", 13, true, 4, 2, 12, false),
+            ("7.5.", 3, false, 1, 1, 0, true),
             // Mantissas reaching past the first 32 bytes.
-            ("123456789012345.12345678901234567,", 33, false, 15, 17, 0),
-            ("-0.0000000000000000000000000000012 ", 34, true, 1, 31, 0),
-            ("0.0000000000000012345678901234567e3]", 35, false, 1, 31, 3),
+            (
+                "123456789012345.12345678901234567,",
+                33,
+                false,
+                15,
+                17,
+                0,
+                false,
+            ),
+            (
+                "-0.0000000000000000000000000000012 ",
+                34,
+                true,
+                1,
+                31,
+                0,
+                false,
+            ),
+            (
+                "0.0000000000000012345678901234567e3]",
+                35,
+                false,
+                1,
+                31,
+                3,
+                false,
+            ),
         ] {
-            let text = format!("{t}{pad}");
-            let got = token(text.as_bytes(), 0).expect(t);
+            // Bytes before the token too, as in a file: the digits are read 16 bytes back from
+            // where they end.
+            let text = format!("{pad}{t}{pad}");
+            let got = token(text.as_bytes(), pad.len()).expect(t);
             assert_eq!(
-                (got.end, got.neg, got.int_len, got.frac_len, got.exp),
+                (
+                    got.end - pad.len(),
+                    got.neg,
+                    got.int_len,
+                    got.frac_len,
+                    got.exp
+                ),
                 (end, neg, int_len, frac_len, exp),
                 "{t}"
             );
             let value: f64 = t[..end].parse().expect("a number");
-            if let Some(v) = got.value(text.as_bytes()) {
-                assert_eq!(v.to_bits(), value.to_bits(), "{t}");
-            }
+            assert_eq!(
+                got.value(text.as_bytes()).map(f64::to_bits),
+                converts.then(|| value.to_bits()),
+                "{t}"
+            );
         }
         for t in [
             "01.5", "1", "1.", ".5", "1.5e", "1.5e+", "1.5e1234", "-", "+1.5", "1.5e-x",

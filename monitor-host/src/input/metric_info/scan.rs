@@ -78,13 +78,12 @@ fn mantissa(int: &[u8], b: &[u8], at: usize, frac: usize) -> Option<(u64, usize)
     if r > 0 {
         // The r digits moved to the top of the word, '0's below them.
         let x = (word(i)? << (8 * (8 - r))) | (splat(b'0') >> (8 * r));
-        w = w.wrapping_mul(POW10[r]).wrapping_add(eight_digits(x));
+        w = w
+            .wrapping_mul(super::float::POW10[r] as u64)
+            .wrapping_add(eight_digits(x));
     }
     Some((w, sig))
 }
-
-/// `10^r` for r = 0..8.
-const POW10: [u64; 8] = [1, 10, 100, 1_000, 10_000, 100_000, 1_000_000, 10_000_000];
 
 /// A position in the bytes.
 pub(super) struct Cursor<'a> {
@@ -525,18 +524,7 @@ impl Cursor<'_> {
         if !same(self.b.get(self.i..d)?, before) {
             return None;
         }
-        let digits = self.b.get(d..)?;
-        let n = digits
-            .iter()
-            .take(20)
-            .take_while(|c| c.is_ascii_digit())
-            .count();
-        if n == 0 || n > 19 {
-            return None;
-        }
-        let step = digits[..n]
-            .iter()
-            .fold(0u64, |s, &c| s * 10 + u64::from(c - b'0'));
+        let (n, step) = number::digit_run(self.b.get(d..)?, 19)?;
         let end = d + n + after.len();
         if !same(self.b.get(d + n..end)?, after) {
             return None;

@@ -104,6 +104,8 @@ check_cache() {
 }
 
 last_step="(start)"
+timings=()
+run_start=$SECONDS
 for want in "${selected[@]}"; do
   # No step may turn a device node into a file (a rename onto /dev/null as root once did).
   [ -c /dev/null ] || { echo "FAILED: /dev/null is no longer a character device after: $last_step" >&2; exit 1; }
@@ -114,11 +116,16 @@ for want in "${selected[@]}"; do
     fi
   done
   case "$want" in setup | setup-test) ;; *) check_cache ;; esac
+  step_start=$SECONDS
   "step_${want//-/_}"
+  timings+=("$(printf '%-15s %4d s' "$want" $((SECONDS - step_start)))")
 done
 [ -c /dev/null ] || { echo "FAILED: /dev/null is no longer a character device after: $last_step" >&2; exit 1; }
 
 printf '\n=== %s\n' "end"
+# Where the run's time went, so a slow step shows (CI's budget is 40 minutes for both runs).
+echo "time per step ($((SECONDS - run_start)) s in all):"
+printf '  %s\n' "${timings[@]}"
 if [ -s "$SDS_SKIP_LOG" ]; then
   echo "SKIPPED checks ($(wc -l <"$SDS_SKIP_LOG")): everything else passed"
   sed 's/^/  - /' "$SDS_SKIP_LOG"

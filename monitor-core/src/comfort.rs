@@ -50,14 +50,42 @@ fn inside(values: &[f32], lo: f32, hi: f32) -> bool {
     values.iter().fold(true, |ok, &v| ok & (lo < v) & (v < hi))
 }
 
+/// [`inside`] for the values `v / h`: a derivative whose tap sums `v` were kept unscaled, so
+/// that two profiles with different spacings share them. `v / h` is the very division
+/// [`sg::filter`] does with `Some(h)`, so the bits are the same.
+fn inside_over(sums: &[f32], h: f32, lo: f32, hi: f32) -> bool {
+    sums.iter().fold(true, |ok, &v| {
+        let v = v / h;
+        ok & (lo < v) & (v < hi)
+    })
+}
+
+/// The sample spacing of a profile's derivatives (spec section 4): the step period, or
+/// Bench2Drive's 0.1 s for the legacy jerks.
+fn spacing(profile: Profile, config: &Config) -> f32 {
+    match profile {
+        Profile::Physical | Profile::Autoware => config.dt,
+        Profile::B2dLegacy => config.legacy_jerk_spacing,
+    }
+}
+
 /// The raw per-frame signals of the current chunk, at most `N` frames.
 #[derive(Clone, Debug)]
 pub(crate) struct ChunkBuffer<const N: usize> {
     a_lon: Vec<f32, N>,
     a_lat: Vec<f32, N>,
     a_mag: Vec<f32, N>,
-    /// rad/s for the physical profile, raw deg/s for the legacy one (unwrapped at the end).
+    /// As the frame gives it, in deg/s; each profile converts it when the chunk is filtered.
     yaw: Vec<f32, N>,
+}
+
+/// What every profile shares in a chunk: the three smoothed accelerations' verdicts and the
+/// tap sums of their derivatives, before the profile's spacing divides them.
+struct Shared<'a> {
+    lon_acc: bool,
+    lat_acc: bool,
+    lon_sums: &'a [f32],
+    mag_sums: &'a [f32],
 }
 
 impl<const N: usize> ChunkBuffer<N> {
@@ -81,8 +109,9 @@ impl<const N: usize> ChunkBuffer<N> {
         self.a_lon.is_empty()
     }
 
-    /// Appends one frame's signals; `false` (and nothing stored) when full.
-    pub fn push(&mut self, a_lon: f32, a_lat: f32, a_mag: f32, yaw: f32) -> bool {
+    /// Appends one frame's signals (the yaw rate in deg/s); `false` (and nothing stored) when
+    /// full.
+    pub fn push(&mut self, a_lon: f32, a_lat: f32, a_mag: f32, yaw_deg: f32) -> bool {
         if self.a_lon.is_full() {
             return false;
         }
@@ -90,7 +119,7 @@ impl<const N: usize> ChunkBuffer<N> {
         let _ = self.a_lon.push(a_lon);
         let _ = self.a_lat.push(a_lat);
         let _ = self.a_mag.push(a_mag);
-        let _ = self.yaw.push(yaw);
+        let _ = self.yaw.push(yaw_deg);
         true
     }
 
@@ -102,51 +131,85 @@ impl<const N: usize> ChunkBuffer<N> {
         self.yaw.clear();
     }
 
-    /// Filters the held chunk and checks the six bounds. `None` when it holds fewer than
-    /// [`sg::WINDOW`] frames.
-    pub fn evaluate(&self, config: &Config) -> Option<Failures> {
+    /// Filters the held chunk and checks the six bounds under `config.profile` and, when asked,
+    /// under a `second` profile too (the same bounds). The three accelerations and their
+    /// derivatives' tap sums are computed once for both: every profile smooths them alike. `None`
+    /// when the chunk holds fewer than [`sg::WINDOW`] frames.
+    pub fn evaluate(
+        &self,
+        config: &Config,
+        second: Option<Profile>,
+    ) -> Option<(Failures, Option<Failures>)> {
         let n = self.len();
         let b = &config.bounds;
-        let mut lon = [0.0f32; N];
-        let mut mag = [0.0f32; N];
-        let mut yaw = [0.0f32; N];
+        // Four work arrays, reused: the stack a chunk end needs does not grow with `second`.
+        let mut smooth = [0.0f32; N];
+        let mut lon_sums = [0.0f32; N];
+        let mut mag_sums = [0.0f32; N];
         let mut tmp = [0.0f32; N];
-        let h = match config.profile {
-            Profile::Physical | Profile::Autoware => config.dt,
-            Profile::B2dLegacy => config.legacy_jerk_spacing,
-        };
-        let mut f = Failures::default();
 
-        if !sg::filter(&self.a_lon, &VALUE, None, &mut lon) {
+        if !sg::filter(&self.a_lon, &VALUE, None, &mut smooth) {
             return None;
         }
-        let lon = lon.get(..n)?;
-        f.lon_acc = !inside(lon, b.lon_acc_min, b.lon_acc_max);
+        let lon = smooth.get(..n)?;
+        let lon_acc = !inside(lon, b.lon_acc_min, b.lon_acc_max);
+        sg::filter(lon, &DERIVATIVE, None, &mut lon_sums);
 
-        sg::filter(&self.a_lat, &VALUE, None, &mut tmp);
-        f.lat_acc = !inside(tmp.get(..n)?, -b.lat_acc, b.lat_acc);
+        sg::filter(&self.a_lat, &VALUE, None, &mut smooth);
+        let lat_acc = !inside(smooth.get(..n)?, -b.lat_acc, b.lat_acc);
 
-        sg::filter(lon, &DERIVATIVE, Some(h), &mut tmp);
-        f.lon_jerk = !inside(tmp.get(..n)?, -b.lon_jerk, b.lon_jerk);
+        sg::filter(&self.a_mag, &VALUE, None, &mut smooth);
+        sg::filter(smooth.get(..n)?, &DERIVATIVE, None, &mut mag_sums);
 
-        sg::filter(&self.a_mag, &VALUE, None, &mut mag);
-        let mag = mag.get(..n)?;
-        sg::filter(mag, &DERIVATIVE, Some(h), &mut tmp);
-        f.mag_jerk = !inside(tmp.get(..n)?, -b.mag_jerk, b.mag_jerk);
+        let shared = Shared {
+            lon_acc,
+            lat_acc,
+            lon_sums: lon_sums.get(..n)?,
+            mag_sums: mag_sums.get(..n)?,
+        };
+        let first = self.verdict(&shared, config.profile, config, &mut smooth, &mut tmp)?;
+        let second = match second {
+            Some(p) => Some(self.verdict(&shared, p, config, &mut smooth, &mut tmp)?),
+            None => None,
+        };
+        Some((first, second))
+    }
 
-        match config.profile {
+    /// One profile's six verdicts from the shared part and the chunk's yaw rate.
+    fn verdict(
+        &self,
+        shared: &Shared,
+        profile: Profile,
+        config: &Config,
+        yaw: &mut [f32; N],
+        tmp: &mut [f32; N],
+    ) -> Option<Failures> {
+        let n = self.len();
+        let b = &config.bounds;
+        let h = spacing(profile, config);
+        let mut f = Failures {
+            lon_acc: shared.lon_acc,
+            lat_acc: shared.lat_acc,
+            lon_jerk: !inside_over(shared.lon_sums, h, -b.lon_jerk, b.lon_jerk),
+            mag_jerk: !inside_over(shared.mag_sums, h, -b.mag_jerk, b.mag_jerk),
+            ..Failures::default()
+        };
+        match profile {
             Profile::Physical | Profile::Autoware => {
-                sg::filter(&self.yaw, &VALUE, None, &mut yaw);
+                for (w, &deg) in tmp.iter_mut().zip(&self.yaw) {
+                    *w = profile.comfort_yaw_rate(deg);
+                }
+                sg::filter(tmp.get(..n)?, &VALUE, None, yaw);
                 let yaw = yaw.get(..n)?;
                 f.yaw_rate = !inside(yaw, -b.yaw_rate, b.yaw_rate);
-                sg::filter(yaw, &DERIVATIVE, Some(config.dt), &mut tmp);
+                sg::filter(yaw, &DERIVATIVE, Some(h), tmp);
                 f.yaw_acc = !inside(tmp.get(..n)?, -b.yaw_acc, b.yaw_acc);
             }
             Profile::B2dLegacy => {
                 // Bench2Drive unwraps deg/s with a 2π period per chunk, and compares the smoothed
                 // yaw rate itself against the yaw-acceleration bound.
-                signal::unwrap(&self.yaw, &mut tmp);
-                sg::filter(tmp.get(..n)?, &VALUE, None, &mut yaw);
+                signal::unwrap(&self.yaw, tmp);
+                sg::filter(tmp.get(..n)?, &VALUE, None, yaw);
                 let yaw = yaw.get(..n)?;
                 f.yaw_rate = !inside(yaw, -b.yaw_rate, b.yaw_rate);
                 f.yaw_acc = !inside(yaw, -b.yaw_acc, b.yaw_acc);

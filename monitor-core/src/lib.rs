@@ -90,7 +90,7 @@ pub const DEFAULT_CAPACITY: usize = 20;
 /// The largest capacity `N` a [`Monitor<N>`] accepts ([`Config::validate`] refuses more with
 /// [`ConfigError::Capacity`]), so that its memory is bounded for every `N`:
 ///
-/// - state: `size_of::<Monitor<N>>()` is about `20 N + 230` bytes (632 B for the default
+/// - state: `size_of::<Monitor<N>>()` is about `20 N + 260` bytes (664 B for the default
 ///   `N = 20`, [`MONITOR_SIZE`]; 20.7 KB for `N = 1024`);
 /// - stack at a chunk end: four `[f32; N]` work arrays of the comfort check, `16 N` bytes plus a
 ///   few hundred (measured with the monitor itself on the same stack: under 8 KiB up to

@@ -1,14 +1,14 @@
 //! The streaming state machine: `push` one frame at a time, `finish` the route.
 
 use crate::comfort::ChunkBuffer;
-use crate::config::Config;
+use crate::config::{Config, Profile};
 use crate::decel::DecelWindow;
 use crate::error::{ConfigError, MonitorError};
 use crate::event::{CollisionVerdict, ComfortVerdict, Event, Events, LateralVerdict};
 use crate::frame::Frame;
 use crate::lateral::{Band, LateralChunk};
 use crate::signal;
-use crate::summary::RouteSummary;
+use crate::summary::{ComfortSummary, RouteSummary};
 
 /// The SDS monitor of one route, holding at most `N` frames per chunk and in the deceleration
 /// window (default 20, the spec's values). Fixed size, no allocation, buildable in a `const`.
@@ -41,6 +41,15 @@ pub struct Monitor<const N: usize = { crate::DEFAULT_CAPACITY }> {
     lateral: LateralChunk,
     decel: DecelWindow<N>,
     summary: RouteSummary,
+    /// Comfort counted under a second profile as well ([`Monitor::with_second_profile`]).
+    second: Option<SecondComfort>,
+}
+
+/// The comfort counts of a second profile, over the same chunks.
+#[derive(Clone, Copy, Debug)]
+struct SecondComfort {
+    profile: Profile,
+    comfort: ComfortSummary,
 }
 
 /// What [`Monitor::finish`] returns: the events of the last (partial) chunk and the summary.
@@ -90,6 +99,51 @@ impl<const N: usize> Monitor<N> {
             lateral: LateralChunk::new(),
             decel: DecelWindow::new(),
             summary: RouteSummary::ZERO,
+            second: None,
+        }
+    }
+
+    /// Also counts comfort under `profile`, over the same chunks and with the same bounds: for
+    /// example Bench2Drive's smoothness (`b2d-legacy`, spec section 8.2) beside the run's own
+    /// `physical` comfort. The three accelerations are smoothed once for both profiles, so this
+    /// costs far less than a second monitor, and counts exactly what one would.
+    ///
+    /// ```
+    /// use monitor_core::{Config, Frame, Monitor, Profile};
+    ///
+    /// let turning = Frame { speed: 5.0, yaw_rate: 40.0, ..Frame::default() };
+    /// let mut both: Monitor = Monitor::new(Config::DEFAULT).unwrap().with_second_profile(Profile::B2dLegacy);
+    /// let legacy = Config { profile: Profile::B2dLegacy, ..Config::DEFAULT };
+    /// let mut alone: Monitor = Monitor::new(legacy).unwrap();
+    /// for _ in 0..40 {
+    ///     both.push(&turning).unwrap();
+    ///     alone.push(&turning).unwrap();
+    /// }
+    /// let done = both.finish().unwrap();
+    /// // 40 deg/s is 0.70 rad/s: within the yaw-rate bound, but not in Bench2Drive's deg/s.
+    /// assert_eq!(done.summary.comfort.comfortable, 2);
+    /// assert_eq!(both.second_comfort(), Some(&alone.finish().unwrap().summary.comfort));
+    /// assert_eq!(both.second_comfort().unwrap().comfortable, 0);
+    /// ```
+    pub const fn with_second_profile(mut self, profile: Profile) -> Self {
+        self.second = Some(SecondComfort {
+            profile,
+            comfort: ComfortSummary::ZERO,
+        });
+        self
+    }
+
+    /// The comfort counts under the second profile ([`Monitor::with_second_profile`]), `None`
+    /// when none was asked for. Final after [`Monitor::finish`].
+    ///
+    /// ```
+    /// use monitor_core::Monitor;
+    /// assert_eq!(Monitor::default().second_comfort(), None);
+    /// ```
+    pub const fn second_comfort(&self) -> Option<&ComfortSummary> {
+        match &self.second {
+            Some(s) => Some(&s.comfort),
+            None => None,
         }
     }
 
@@ -120,6 +174,9 @@ impl<const N: usize> Monitor<N> {
         self.lateral = LateralChunk::new();
         self.decel.clear();
         self.summary = RouteSummary::default();
+        if let Some(s) = &mut self.second {
+            s.comfort = ComfortSummary::ZERO;
+        }
     }
 
     /// Consumes one frame. O(1) except at a chunk's end, where the chunk is filtered.
@@ -170,9 +227,10 @@ impl<const N: usize> Monitor<N> {
         }
         self.decel.push(frame.a_lon);
 
-        // Comfort signals: only the first chunk_len frames of each chunk are buffered.
-        let yaw = c.profile.comfort_yaw_rate(frame.yaw_rate);
-        self.chunk.push(frame.a_lon, frame.a_lat, frame.a_mag, yaw);
+        // Comfort signals: only the first chunk_len frames of each chunk are buffered; the yaw
+        // rate in deg/s, converted by each profile at the chunk's end.
+        self.chunk
+            .push(frame.a_lon, frame.a_lat, frame.a_mag, frame.yaw_rate);
 
         if let Some(lat_err) = frame.lat_err {
             self.lateral.add(signal::excess(lat_err, c.slack));
@@ -224,14 +282,13 @@ impl<const N: usize> Monitor<N> {
 
     fn close_comfort(&mut self, events: &mut Events) {
         let frames = self.chunk.len() as u16;
-        if let Some(failed) = self.chunk.evaluate(&self.config) {
-            let s = &mut self.summary.comfort;
-            let chunk = s.chunks;
-            s.chunks = s.chunks.saturating_add(1);
-            if failed.comfortable() {
-                s.comfortable = s.comfortable.saturating_add(1);
+        let second = self.second.as_ref().map(|s| s.profile);
+        if let Some((failed, also)) = self.chunk.evaluate(&self.config, second) {
+            let chunk = self.summary.comfort.chunks;
+            self.summary.comfort.count(&failed);
+            if let (Some(s), Some(also)) = (&mut self.second, also) {
+                s.comfort.count(&also);
             }
-            s.failed.add(&failed);
             events.add(Event::Comfort(ComfortVerdict {
                 chunk,
                 frames,
@@ -283,15 +340,17 @@ mod tests {
     fn state_layout() {
         // Layout (DESIGN.md), 64-bit host: Config 104 + ChunkBuffer 352 (4 heapless Vec<f32, 20>
         // of 80 + 8) + LateralChunk 8 + DecelWindow 96 (HistoryBuf<f32, 20>) + RouteSummary 64 +
-        // finished 1 = 625, padded to 8: 632.
+        // Option<SecondComfort> 36 (a profile and a ComfortSummary of 32) + finished 1 = 661,
+        // padded to 8: 664.
         let parts = [
             core::mem::size_of::<Config>(),
             core::mem::size_of::<ChunkBuffer<20>>(),
             core::mem::size_of::<LateralChunk>(),
             core::mem::size_of::<DecelWindow<20>>(),
             core::mem::size_of::<RouteSummary>(),
+            core::mem::size_of::<Option<SecondComfort>>(),
         ];
-        assert_eq!(parts, [104, 352, 8, 96, 64]);
-        assert_eq!(crate::MONITOR_SIZE, 632);
+        assert_eq!(parts, [104, 352, 8, 96, 64, 36]);
+        assert_eq!(crate::MONITOR_SIZE, 664);
     }
 }

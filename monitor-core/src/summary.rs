@@ -54,6 +54,39 @@ pub struct ComfortSummary {
     pub failed: FailureCounts,
 }
 
+impl ComfortSummary {
+    /// No chunk yet (usable in a `const`).
+    pub const ZERO: ComfortSummary = ComfortSummary {
+        chunks: 0,
+        comfortable: 0,
+        failed: FailureCounts {
+            lon_acc: 0,
+            lat_acc: 0,
+            mag_jerk: 0,
+            lon_jerk: 0,
+            yaw_acc: 0,
+            yaw_rate: 0,
+        },
+    };
+
+    /// Counts one chunk's verdict.
+    ///
+    /// ```
+    /// use monitor_core::{ComfortSummary, Failures};
+    /// let mut c = ComfortSummary::ZERO;
+    /// c.count(&Failures::default());
+    /// c.count(&Failures { lat_acc: true, ..Default::default() });
+    /// assert_eq!((c.chunks, c.comfortable, c.failed.lat_acc), (2, 1, 1));
+    /// ```
+    pub fn count(&mut self, failed: &Failures) {
+        self.chunks = self.chunks.saturating_add(1);
+        if failed.comfortable() {
+            self.comfortable = self.comfortable.saturating_add(1);
+        }
+        self.failed.add(failed);
+    }
+}
+
 /// Lateral counts (spec section 6).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -106,18 +139,7 @@ impl RouteSummary {
     /// All counts zero.
     pub const ZERO: RouteSummary = RouteSummary {
         frames: 0,
-        comfort: ComfortSummary {
-            chunks: 0,
-            comfortable: 0,
-            failed: FailureCounts {
-                lon_acc: 0,
-                lat_acc: 0,
-                mag_jerk: 0,
-                lon_jerk: 0,
-                yaw_acc: 0,
-                yaw_rate: 0,
-            },
-        },
+        comfort: ComfortSummary::ZERO,
         lateral: LateralSummary {
             chunks: 0,
             scored_chunks: 0,

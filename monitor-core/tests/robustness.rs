@@ -458,7 +458,7 @@ fn the_monitor_has_a_fixed_small_size() {
     assert!(size <= 1024);
     // The layout of the parts (ChunkBuffer, LateralChunk, DecelWindow are internal) is checked
     // by the unit test `monitor::tests::state_layout`.
-    assert_eq!(MONITOR_SIZE, 632);
+    assert_eq!(MONITOR_SIZE, 664);
     // A monitor is plain data: buildable in a static, no allocation.
     static M: Monitor = Monitor::new_static(Config::DEFAULT);
     assert_eq!(M.frames(), 0);

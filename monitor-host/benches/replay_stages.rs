@@ -13,8 +13,9 @@
 //! | `parse`   | `metric_info::parse_metric_info` (the scanner; serde visitor on doubt)     |
 //! | `serde`   | `metric_info::parse_metric_info_serde` (the serde_json visitor alone)       |
 //! | `prepare` | `prepare::prepare`: speeds, lateral error, alignment, `Frame`s              |
-//! | `stream`  | `replay::stream`: the monitor over every frame                            |
-//! | `batch`   | `batch::compute`: the batch reference check on the same frames           |
+//! | `stream`  | `replay::stream`: the monitor over every frame (Bench2Drive's smoothness, |
+//! |           | §8.2, counted beside the run's comfort, as `replay` does)                  |
+//! | `batch`   | `batch::compute_with`: the batch reference check on the same frames       |
 //! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
 //! | `motion`  | `motion::measure` (§8.5 distance, stationary share, moving chunks), with    |
 //! |           | the locations and steps it is given (inside `prepare` they exist already)  |
@@ -186,7 +187,8 @@ fn main() -> anyhow::Result<()> {
         })
         .map_err(|e| anyhow::anyhow!("frame {}: {e}", e.index()))?;
         let reference = timed(&mut acc[6], frames, n, || {
-            batch::compute(&prepared.frames, &settings.core)
+            let core = &settings.core;
+            batch::compute_with(&prepared.frames, core, replay::smoothness_profile(core))
         });
         agree &= reference.summary == summary;
         let out = timed(&mut acc[7], frames, n, || {

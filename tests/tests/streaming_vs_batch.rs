@@ -439,6 +439,46 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(proptest_config(2_000))]
+
+    /// A second comfort profile (how the replay counts Bench2Drive's smoothness beside the run's
+    /// comfort) shares the smoothing with the first, and counts exactly what a monitor of that
+    /// profile alone counts; the first profile's counts and events do not change. The batch
+    /// reference's second profile agrees too.
+    #[test]
+    fn a_second_profile_counts_what_its_own_monitor_counts(
+        frames in route(),
+        config in config(),
+        second in select(Profile::ALL.to_vec()),
+    ) {
+        let alone_config = Config { profile: second, ..config };
+        let alone = stream(&frames, &alone_config)
+            .map_err(|e| TestCaseError::fail(format!("monitor refused a valid route: {e:?}")))?;
+        let first = stream(&frames, &config)
+            .map_err(|e| TestCaseError::fail(format!("monitor refused a valid route: {e:?}")))?;
+
+        let mut both: Monitor = Monitor::new(config)
+            .map_err(|e| TestCaseError::fail(format!("{e:?}")))?
+            .with_second_profile(second);
+        let mut events = sds_tests::Streamed::default();
+        for f in &frames {
+            let e = both.push(f).map_err(|e| TestCaseError::fail(format!("{e:?}")))?;
+            e.iter().for_each(|e| events.record(e));
+        }
+        let done = both.finish().map_err(|e| TestCaseError::fail(format!("{e:?}")))?;
+        done.events.iter().for_each(|e| events.record(e));
+        events.summary = done.summary;
+        prop_assert_eq!(&events, &first, "the second profile changed the first's output");
+        prop_assert_eq!(both.second_comfort(), Some(&alone.summary.comfort));
+
+        let b = batch::compute_with(&frames, &config, Some(second));
+        prop_assert_eq!(b.summary, batch::compute(&frames, &config).summary);
+        prop_assert_eq!(b.second_comfort, Some(alone.summary.comfort));
+        prop_assert_eq!(batch::compute(&frames, &alone_config).summary, alone.summary);
+    }
+}
+
 /// An invalid frame: a valid one with one field made NaN, infinite, or negative where it must
 /// not be.
 fn invalid_frame() -> impl Strategy<Value = Frame> {

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use monitor_core::{
-    score, ComfortSummary, Config, ConfigError, Event, Frame, Monitor, MonitorError, Profile,
+    score, ComfortSummary, Config, ConfigError, Event, Monitor, MonitorError, Profile,
     RecordScores, RouteSummary,
 };
 
@@ -60,10 +60,36 @@ impl Refused {
 /// # Errors
 /// The first frame (or the configuration) the monitor refused.
 pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSummary, Refused> {
-    stream_logged(prepared, config, &mut ChunkLog::default())
+    stream_logged(prepared, config, &mut ChunkLog::default()).map(|s| s.summary)
 }
 
-/// [`stream`], keeping the monitor's per-chunk verdicts in `log`.
+/// What streaming a route gives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Streamed {
+    /// The route's counts under the run's profile.
+    pub summary: RouteSummary,
+    /// Its comfort under `b2d-legacy`, Bench2Drive's smoothness (§8.2), whatever the run's
+    /// profile: counted by the same monitor ([`Monitor::with_second_profile`]) unless the run's
+    /// profile is `b2d-legacy` already.
+    pub legacy_comfort: ComfortSummary,
+}
+
+/// The profile to count beside the run's own so that Bench2Drive's smoothness (§8.2) is
+/// reported under every profile: `b2d-legacy`, unless the run uses it already.
+///
+/// ```
+/// use monitor_core::{Config, Profile};
+/// use monitor_host::pipeline::replay::smoothness_profile;
+/// assert_eq!(smoothness_profile(&Config::DEFAULT), Some(Profile::B2dLegacy));
+/// let legacy = Config { profile: Profile::B2dLegacy, ..Config::DEFAULT };
+/// assert_eq!(smoothness_profile(&legacy), None);
+/// ```
+pub fn smoothness_profile(config: &Config) -> Option<Profile> {
+    (config.profile != Profile::B2dLegacy).then_some(Profile::B2dLegacy)
+}
+
+/// [`stream`], keeping the monitor's per-chunk verdicts in `log`, and counting Bench2Drive's
+/// smoothness beside the run's comfort ([`Streamed`]).
 ///
 /// # Errors
 /// As [`stream`].
@@ -71,8 +97,11 @@ pub fn stream_logged(
     prepared: &mut PreparedRoute,
     config: &Config,
     log: &mut ChunkLog,
-) -> Result<RouteSummary, Refused> {
+) -> Result<Streamed, Refused> {
     let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
+    if let Some(profile) = smoothness_profile(config) {
+        monitor = monitor.with_second_profile(profile);
+    }
     let mut verdicts = Vec::new();
     for (index, f) in prepared.frames.iter().enumerate() {
         let events = monitor
@@ -98,7 +127,13 @@ pub fn stream_logged(
             }
         }
     }
-    Ok(done.summary)
+    Ok(Streamed {
+        summary: done.summary,
+        legacy_comfort: monitor
+            .second_comfort()
+            .copied()
+            .unwrap_or(done.summary.comfort),
+    })
 }
 
 /// Why the monitor refused a frame, said in the file's own fields: the frame's numbers are
@@ -153,42 +188,6 @@ pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
         "{what} at step {step} {why} ({})",
         FrameError::NonFinite(*field)
     )
-}
-
-/// The route's comfort under the `b2d-legacy` profile (Bench2Drive's smoothness, §8.2), and
-/// whether the batch reference agrees. Under that profile it is the run's own comfort; under
-/// another, the frames (profile-free: the yaw rate stays in deg/s until the monitor converts it)
-/// go once more through a legacy monitor and the legacy batch reference, so that the smoothness
-/// obeys §9 like every other count.
-///
-/// # Errors
-/// The frame the legacy monitor refused (never one the run's own monitor accepted: validation
-/// does not depend on the profile).
-pub fn legacy_comfort(
-    frames: &[Frame],
-    summary: &RouteSummary,
-    config: &Config,
-) -> Result<(ComfortSummary, bool), Refused> {
-    if config.profile == Profile::B2dLegacy {
-        return Ok((summary.comfort, true));
-    }
-    let legacy = Config {
-        profile: Profile::B2dLegacy,
-        ..*config
-    };
-    let mut monitor: Monitor = Monitor::new(legacy).map_err(Refused::Config)?;
-    for (index, f) in frames.iter().enumerate() {
-        monitor
-            .push(f)
-            .map_err(|error| Refused::Frame { index, error })?;
-    }
-    let done = monitor.finish().map_err(|error| Refused::Frame {
-        index: frames.len(),
-        error,
-    })?;
-    let reference = batch::compute(frames, &legacy);
-    let comfort = done.summary.comfort;
-    Ok((comfort, reference.summary.comfort == comfort))
 }
 
 /// A route's telemetry, read and turned into frames.
@@ -437,16 +436,20 @@ pub fn replay_read(
             out.period = Some(period);
             let mut chunks = ChunkLog::default();
             match stream_logged(&mut prepared, &route_settings.core, &mut chunks) {
-                Ok(summary) => {
-                    let reference = batch::compute(&prepared.frames, &route_settings.core);
-                    let mut agrees = reference.summary == summary;
-                    if let Ok((legacy, legacy_agrees)) =
-                        legacy_comfort(&prepared.frames, &summary, &route_settings.core)
-                    {
-                        out.legacy_comfort = Some(legacy);
-                        agrees &= legacy_agrees;
-                    }
-                    out.batch_agrees = Some(agrees);
+                Ok(Streamed {
+                    summary,
+                    legacy_comfort,
+                }) => {
+                    // §9 for every count, Bench2Drive's smoothness included.
+                    let core = &route_settings.core;
+                    let reference =
+                        batch::compute_with(&prepared.frames, core, smoothness_profile(core));
+                    let legacy_reference = reference
+                        .second_comfort
+                        .unwrap_or(reference.summary.comfort);
+                    out.legacy_comfort = Some(legacy_comfort);
+                    out.batch_agrees =
+                        Some(reference.summary == summary && legacy_reference == legacy_comfort);
                     out.telemetry = TelemetryState::Ok;
                     out.moving = Some(MovingComfort::count(
                         &prepared.motion.moving,

@@ -35,6 +35,8 @@
 //! assert!((safe.ds_safe - 100.0 * 0.8 * 0.95).abs() < 1e-9);
 //! ```
 
+use std::ops::Range;
+
 use monitor_core::{
     sg, signal, CollisionSummary, ComfortSummary, Config, FailureCounts, Failures, Frame,
     LateralSummary, Profile, RouteSummary,
@@ -49,6 +51,9 @@ pub struct BatchRoute {
     pub collisions: Vec<BatchCollision>,
     /// One entry per comfort chunk, in chunk order.
     pub comfort: Vec<BatchComfort>,
+    /// The comfort counts under the second profile of [`compute_with`], if one was asked for
+    /// (the streaming side: [`monitor_core::Monitor::second_comfort`]).
+    pub second_comfort: Option<ComfortSummary>,
     /// Per lateral chunk (the trailing partial chunk included), the maximum excess over its
     /// frames of known excess; `None` for an unscored chunk.
     pub lateral: Vec<Option<f32>>,
@@ -86,8 +91,27 @@ pub struct BatchComfort {
 /// assert_eq!(route.comfort[0].frames, 19);
 /// ```
 pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
+    compute_with(frames, config, None)
+}
+
+/// [`compute`], and the comfort counts under a `second` profile too (same chunks, same
+/// bounds): for example Bench2Drive's smoothness (`b2d-legacy`, §8.2) beside a `physical` run.
+/// The three smoothed accelerations are computed once for both profiles.
+///
+/// ```
+/// use monitor_core::{Config, Frame, Profile};
+/// use monitor_host::reference::batch;
+///
+/// let turning = vec![Frame { speed: 5.0, yaw_rate: 40.0, ..Frame::default() }; 40];
+/// let route = batch::compute_with(&turning, &Config::DEFAULT, Some(Profile::B2dLegacy));
+/// let legacy = Config { profile: Profile::B2dLegacy, ..Config::DEFAULT };
+/// assert_eq!(route.second_comfort, Some(batch::compute(&turning, &legacy).summary.comfort));
+/// assert_eq!(route.summary.comfort.comfortable, 2); // 0.70 rad/s
+/// assert_eq!(route.second_comfort.unwrap().comfortable, 0); // 40 "rad/s"
+/// ```
+pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) -> BatchRoute {
     let n = frames.len();
-    // A valid config has chunk_len >= 7; never let 0 reach `chunks_exact`.
+    // A valid config has chunk_len >= 7; never let 0 reach `chunks`.
     let chunk_len = usize::from(config.chunk_len).max(1);
     let min_chunk = usize::from(config.min_chunk);
 
@@ -95,31 +119,38 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
     let a_lon: Vec<f32> = frames.iter().map(|f| f.a_lon).collect();
     let a_lat: Vec<f32> = frames.iter().map(|f| f.a_lat).collect();
     let a_mag: Vec<f32> = frames.iter().map(|f| f.a_mag).collect();
-    let omega: Vec<f32> = frames
-        .iter()
-        .map(|f| config.profile.comfort_yaw_rate(f.yaw_rate))
-        .collect();
+    let omega_deg: Vec<f32> = frames.iter().map(|f| f.yaw_rate).collect();
     let excess: Vec<Option<f32>> = frames
         .iter()
         .map(|f| f.lat_err.map(|e| signal::excess(e, config.slack)))
         .collect();
 
-    // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk.
-    let comfort: Vec<BatchComfort> = if n >= chunk_len {
-        a_lon
-            .chunks_exact(chunk_len)
-            .zip(a_lat.chunks_exact(chunk_len))
-            .zip(a_mag.chunks_exact(chunk_len))
-            .zip(omega.chunks_exact(chunk_len))
-            .filter_map(|(((lon, lat), mag), w)| comfort_chunk(lon, lat, mag, w, config))
+    // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
+    // a chunk shorter than the filter window has no verdict.
+    let spans: Vec<Range<usize>> = if n >= chunk_len {
+        (0..n / chunk_len)
+            .map(|k| k * chunk_len..(k + 1) * chunk_len)
             .collect()
     } else if n >= min_chunk {
-        comfort_chunk(&a_lon, &a_lat, &a_mag, &omega, config)
-            .into_iter()
-            .collect()
+        std::iter::once(0..n).collect()
     } else {
         Vec::new()
     };
+    let spans: Vec<Range<usize>> = spans
+        .into_iter()
+        .filter(|r| r.len() >= sg::WINDOW)
+        .collect();
+    let smoothed = Smoothed {
+        lon: per_chunk(&a_lon, &spans, smooth),
+        lat: per_chunk(&a_lat, &spans, smooth),
+        mag: per_chunk(&a_mag, &spans, smooth),
+    };
+    let comfort = comfort_chunks(&smoothed, &omega_deg, &spans, config.profile, config);
+    let second_comfort = second.map(|profile| {
+        comfort_summary(&comfort_chunks(
+            &smoothed, &omega_deg, &spans, profile, config,
+        ))
+    });
 
     // §6: lateral excess over every chunk, the trailing partial one included.
     let lateral: Vec<Option<f32>> = excess
@@ -163,6 +194,7 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
         summary,
         collisions,
         comfort,
+        second_comfort,
         lateral,
     }
 }
@@ -171,16 +203,33 @@ fn count(n: usize) -> u32 {
     u32::try_from(n).unwrap_or(u32::MAX)
 }
 
-/// `SG(x)`: the smoothed values; `None` when `x` is shorter than the filter window.
-fn smooth(x: &[f32]) -> Option<Vec<f32>> {
+/// `op` applied to each span of `x` on its own (the chunks of §3), into one array of `x`'s
+/// length; zero outside the spans.
+fn per_chunk(x: &[f32], spans: &[Range<usize>], op: impl Fn(&[f32], &mut [f32])) -> Vec<f32> {
     let mut out = vec![0.0f32; x.len()];
-    sg::filter(x, &sg::VALUE, None, &mut out).then_some(out)
+    for r in spans {
+        if let (Some(x), Some(o)) = (x.get(r.clone()), out.get_mut(r.clone())) {
+            op(x, o);
+        }
+    }
+    out
+}
+
+/// `SG(x)`: the smoothed values (`x` holds at least the filter window).
+fn smooth(x: &[f32], out: &mut [f32]) {
+    sg::filter(x, &sg::VALUE, None, out);
 }
 
 /// `SG'(x, h)`: the first derivative over sample spacing `h`.
-fn derivative(x: &[f32], h: f32) -> Option<Vec<f32>> {
-    let mut out = vec![0.0f32; x.len()];
-    sg::filter(x, &sg::DERIVATIVE, Some(h), &mut out).then_some(out)
+fn derivative(h: f32) -> impl Fn(&[f32], &mut [f32]) {
+    move |x, out| {
+        sg::filter(x, &sg::DERIVATIVE, Some(h), out);
+    }
+}
+
+/// The values of `x` in the span `r`.
+fn at<'a>(x: &'a [f32], r: &Range<usize>) -> &'a [f32] {
+    x.get(r.clone()).unwrap_or_default()
 }
 
 /// Every value strictly inside `(lo, hi)`; NaN is never inside.
@@ -188,55 +237,65 @@ fn within(values: &[f32], lo: f32, hi: f32) -> bool {
     values.iter().all(|&v| lo < v && v < hi)
 }
 
-/// One comfort chunk (§4); `None` when it is shorter than the filter window.
-fn comfort_chunk(
-    a_lon: &[f32],
-    a_lat: &[f32],
-    a_mag: &[f32],
-    omega: &[f32],
+/// `lon = SG(a_lon)`, `lat = SG(a_lat)`, `mag = SG(a_mag)`, chunk by chunk: the same under
+/// every profile (§4).
+struct Smoothed {
+    lon: Vec<f32>,
+    lat: Vec<f32>,
+    mag: Vec<f32>,
+}
+
+/// The comfort verdict of every chunk under `profile` (§4).
+fn comfort_chunks(
+    s: &Smoothed,
+    omega_deg: &[f32],
+    spans: &[Range<usize>],
+    profile: Profile,
     config: &Config,
-) -> Option<BatchComfort> {
+) -> Vec<BatchComfort> {
     let b = &config.bounds;
-    let lon = smooth(a_lon)?;
-    let lat = smooth(a_lat)?;
-    let mag = smooth(a_mag)?;
-    let (lon_jerk, mag_jerk, yaw_rate, yaw_acc) = match config.profile {
+    let (lon_jerk, mag_jerk, yaw_rate, yaw_acc) = match profile {
         Profile::Physical | Profile::Autoware => {
-            let yaw_rate = smooth(omega)?;
-            let yaw_acc = derivative(&yaw_rate, config.dt)?;
+            let omega: Vec<f32> = omega_deg
+                .iter()
+                .map(|&w| profile.comfort_yaw_rate(w))
+                .collect();
+            let yaw_rate = per_chunk(&omega, spans, smooth);
+            let yaw_acc = per_chunk(&yaw_rate, spans, derivative(config.dt));
             (
-                derivative(&lon, config.dt)?,
-                derivative(&mag, config.dt)?,
+                per_chunk(&s.lon, spans, derivative(config.dt)),
+                per_chunk(&s.mag, spans, derivative(config.dt)),
                 yaw_rate,
                 yaw_acc,
             )
         }
         Profile::B2dLegacy => {
-            let mut u = vec![0.0f32; omega.len()];
-            signal::unwrap(omega, &mut u);
-            let yaw_rate = smooth(&u)?;
+            let u = per_chunk(omega_deg, spans, signal::unwrap);
+            let yaw_rate = per_chunk(&u, spans, smooth);
             let yaw_acc = yaw_rate.clone(); // Bench2Drive's bug: no derivative
             let h = config.legacy_jerk_spacing;
             (
-                derivative(&lon, h)?,
-                derivative(&mag, h)?,
+                per_chunk(&s.lon, spans, derivative(h)),
+                per_chunk(&s.mag, spans, derivative(h)),
                 yaw_rate,
                 yaw_acc,
             )
         }
     };
-    let failed = Failures {
-        lon_acc: !within(&lon, b.lon_acc_min, b.lon_acc_max),
-        lat_acc: !within(&lat, -b.lat_acc, b.lat_acc),
-        mag_jerk: !within(&mag_jerk, -b.mag_jerk, b.mag_jerk),
-        lon_jerk: !within(&lon_jerk, -b.lon_jerk, b.lon_jerk),
-        yaw_acc: !within(&yaw_acc, -b.yaw_acc, b.yaw_acc),
-        yaw_rate: !within(&yaw_rate, -b.yaw_rate, b.yaw_rate),
-    };
-    Some(BatchComfort {
-        frames: a_lon.len(),
-        failed,
-    })
+    spans
+        .iter()
+        .map(|r| BatchComfort {
+            frames: r.len(),
+            failed: Failures {
+                lon_acc: !within(at(&s.lon, r), b.lon_acc_min, b.lon_acc_max),
+                lat_acc: !within(at(&s.lat, r), -b.lat_acc, b.lat_acc),
+                mag_jerk: !within(at(&mag_jerk, r), -b.mag_jerk, b.mag_jerk),
+                lon_jerk: !within(at(&lon_jerk, r), -b.lon_jerk, b.lon_jerk),
+                yaw_acc: !within(at(&yaw_acc, r), -b.yaw_acc, b.yaw_acc),
+                yaw_rate: !within(at(&yaw_rate, r), -b.yaw_rate, b.yaw_rate),
+            },
+        })
+        .collect()
 }
 
 fn comfort_summary(chunks: &[BatchComfort]) -> ComfortSummary {

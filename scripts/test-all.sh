@@ -19,7 +19,7 @@ STEPS=(
   "clippy|cargo clippy"
   "clippy-lib|library and core without default features"
   "test|cargo test"
-  "test-debug|cargo test, debug profile (overflow checks on): monitor-core and monitor-host"
+  "test-debug|cargo test, debug profile (overflow checks on): monitor-core, monitor-host, sds-cli (the doc examples ran in test)"
   "html|HTML report: parsed against the JSON report, then in headless Chromium (sort, filter, screenshot)"
   "readme-figure|the README's figure matches what the code draws"
   "doc|cargo doc (warnings denied)"
@@ -44,7 +44,8 @@ step_test() {
   [ -d ../shared/fixtures ] || echo "note: ../shared/fixtures is absent: the tests on real Bench2Drive files skip (each says why under --nocapture)"
   cargo test --workspace --release
 }
-step_test_debug() { cargo test -p monitor-core -p monitor-host -p sds-cli; }
+# The doc examples are left to `test`: compiling each again unoptimised took a minute a run.
+step_test_debug() { cargo test -p monitor-core -p monitor-host -p sds-cli --lib --bins --tests; }
 step_html() { bash scripts/html-report-test.sh; }
 step_readme_figure() { bash scripts/readme-figure.sh --check; }
 step_doc() { RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet; }

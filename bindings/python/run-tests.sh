@@ -58,10 +58,14 @@ sdist=$(ls "$target"/py-sdist/sds_monitor-*.tar.gz)
 venv="$target/py-test-sdist"
 echo "[python] fresh venv $venv: pip install $(basename "$sdist") (built from source, offline)"
 python3 -m venv --clear "$venv"
-# pip builds the wheel in an isolated environment (maturin from the wheelhouse) with cargo, from
-# scratch: no wheel cache, and no shared target folder (the sdist's files carry fixed times, so
-# cargo took a previous run's artifacts for fresh and installed a stale build: measured).
-rm -rf "$target/py-sdist-build"
+# pip builds the wheel in an isolated environment (maturin from the wheelhouse) with cargo: no
+# wheel cache, and a target folder of its own in which the project's crates are always built
+# afresh: the sdist's files carry fixed times, so cargo took a previous run's artifacts of them for
+# fresh and installed a stale build (measured). Its registry crates are kept from run to run
+# (.ci/run's second run, a rerun here): they are the same crates, and compiling them again took
+# two minutes a run.
+cargo clean -q --release --target-dir "$target/py-sdist-build" \
+  -p sds-python -p sds-cli -p monitor-host -p monitor-core
 CARGO_TARGET_DIR="$target/py-sdist-build" "$venv/bin/pip" install -q --no-cache-dir --no-index \
   --find-links "$tools/wheelhouse" "$sdist" pytest numpy pandas
 installed=$("$venv/bin/sds" --version)

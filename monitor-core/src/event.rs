@@ -98,21 +98,25 @@ impl Events {
     /// ```
     /// assert!(monitor_core::Events::new().as_slice().is_empty());
     /// ```
+    #[inline]
     pub fn as_slice(&self) -> &[Event] {
         &self.0
     }
 
     /// Number of events.
+    #[inline]
     pub fn len(&self) -> usize {
         self.0.len()
     }
 
     /// True when nothing happened.
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
 
     /// Iterates the events.
+    #[inline]
     pub fn iter(&self) -> core::slice::Iter<'_, Event> {
         self.0.iter()
     }
@@ -121,6 +125,7 @@ impl Events {
 impl<'a> IntoIterator for &'a Events {
     type Item = &'a Event;
     type IntoIter = core::slice::Iter<'a, Event>;
+    #[inline]
     fn into_iter(self) -> Self::IntoIter {
         self.0.iter()
     }

@@ -107,6 +107,10 @@ pub fn stream_logged(
         let events = monitor
             .push(f)
             .map_err(|error| Refused::Frame { index, error })?;
+        // Most frames have no event.
+        if events.is_empty() {
+            continue;
+        }
         log.record(&events);
         for e in &events {
             if let Event::Collision(v) = e {

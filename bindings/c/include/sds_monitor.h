@@ -25,7 +25,7 @@
 #define SDS_NUMBER_TEXT_MAX 32
 
 // 64-bit words of `sds_monitor_storage`.
-#define SDS_MONITOR_STORAGE_WORDS 80
+#define SDS_MONITOR_STORAGE_WORDS 84
 
 // The outcome of every fallible `sds_` function: `SDS_RESULT_OK` (0), or why it refused.
 // Nothing changes when a call fails (a failed push leaves the monitor as it was).

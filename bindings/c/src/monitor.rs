@@ -24,7 +24,7 @@ pub struct sds_monitor {
 }
 
 /// 64-bit words of `sds_monitor_storage`.
-pub const SDS_MONITOR_STORAGE_WORDS: usize = 80;
+pub const SDS_MONITOR_STORAGE_WORDS: usize = 84;
 
 /// Memory for one monitor with the right size and alignment for every target, usable as a
 /// `static` or on the stack: `sds_monitor_storage mem; sds_monitor *m = (sds_monitor *)&mem;`.

@@ -190,6 +190,7 @@ impl<const N: usize> Monitor<N> {
     /// assert!(matches!(m.push(&bad), Err(MonitorError::Frame(_))));
     /// assert_eq!(m.frames(), 0);
     /// ```
+    #[inline]
     pub fn push(&mut self, frame: &Frame) -> Result<Events, MonitorError> {
         if self.finished {
             return Err(MonitorError::Finished);

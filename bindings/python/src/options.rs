@@ -51,7 +51,7 @@ fn choice<T: Copy>(option: &str, value: &str, choices: &[(&str, T)]) -> PyResult
 #[derive(FromPyObject)]
 #[pyo3(from_item_all)]
 pub struct RunKwargs<'py> {
-    /// `"physical"` or `"b2d-legacy"`.
+    /// A profile's name: `"physical"`, `"b2d-legacy"` or `"autoware"`.
     pub profile: String,
     /// `"error"`, `"first"`, `"last"`, `"newest"` or `"all"`; None (`sds.compare`, as
     /// `sds compare`): the setting's default or a `settings` override.

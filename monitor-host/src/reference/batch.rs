@@ -127,7 +127,7 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 
     // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
     // a chunk shorter than the filter window has no verdict.
-    let spans: Vec<Range<usize>> = if n >= chunk_len {
+    let mut spans: Vec<Range<usize>> = if n >= chunk_len {
         (0..n / chunk_len)
             .map(|k| k * chunk_len..(k + 1) * chunk_len)
             .collect()
@@ -136,10 +136,7 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
     } else {
         Vec::new()
     };
-    let spans: Vec<Range<usize>> = spans
-        .into_iter()
-        .filter(|r| r.len() >= sg::WINDOW)
-        .collect();
+    spans.retain(|r| r.len() >= sg::WINDOW);
     let smoothed = Smoothed {
         lon: per_chunk(&a_lon, &spans, smooth),
         lat: per_chunk(&a_lat, &spans, smooth),

@@ -1,7 +1,7 @@
 //! Long tables (`SDS-SPEC.md` v1.4 §15), for DataFrames, DuckDB and Spark: `routes` (one row
 //! per route row of the report), `events` (one row per entry of a route's `events[]`) and
-//! `frames` (one row per frame of a route with telemetry, the values `sds frames` prints), as
-//! CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
+//! `frames` (one row per frame of a route with telemetry: its `time`, then the values `sds
+//! frames` prints), as CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
 //!
 //! The columns come from the JSON report's own value tree (the JSON text read back, its key
 //! order kept): every scalar of the per-route object, nested objects joined with `.`
@@ -417,8 +417,8 @@ pub struct LongTables {
     /// One row per event: `route_index`, `route_id`, `event_index`, then every field.
     pub events: Table,
     /// One row per frame of each route with telemetry: `route_index`, `route_id`, `frame`
-    /// (0-based, the `frame` of the events), then the fields of `sds frames`; `None` for a
-    /// comparison.
+    /// (0-based, the `frame` of the events), `time` (s from the route's first frame), then the
+    /// fields of `sds frames`; `None` for a comparison.
     pub frames: Option<Table>,
 }
 
@@ -698,7 +698,7 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
                         }
                     }
                 }
-                let key = [i.clone(), id.clone(), k.to_string()];
+                let key = [i.clone(), id.clone(), k.to_string(), time_cell(route.2, k)];
                 w.write_record(key.iter().chain(&cells))
                     .map_err(|e| e.to_string())
             })?;
@@ -706,7 +706,7 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         })
         .collect::<Result<_, String>>()?;
     Ok(Table {
-        columns: ["route_index", "route_id", "frame"]
+        columns: ["route_index", "route_id", "frame", "time"]
             .iter()
             .map(|k| k.to_string())
             .chain(names)
@@ -714,6 +714,16 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         rows: Vec::new(),
         body: bodies.concat(),
     })
+}
+
+/// The `time` cell of frame `k`: seconds from the route's first frame, `(step - first step) ×
+/// dt`, the arithmetic of the events' `time_s`, so that an event and its frame agree.
+fn time_cell(f: &RouteFrames, k: usize) -> String {
+    let (Some(&first), Some(&step)) = (f.steps.first(), f.steps.get(k)) else {
+        return String::new();
+    };
+    let t = step.saturating_sub(first) as f64 * crate::settings::decimal(f.dt);
+    serde_json::Number::from_f64(t).map_or_else(String::new, |n| n.to_string())
 }
 
 fn borrow(v: &[(Vec<Node>, Node)]) -> Vec<(Vec<Node>, &Node)> {

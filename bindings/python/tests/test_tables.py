@@ -232,3 +232,64 @@ def test_long_tables_of_a_real_run_equal_the_cli_tables(b2d: Path, sds_bin: Path
         for row, cells in zip(rows, cli[1:]):
             for c, cell in zip(columns, cells):
                 assert _cell_holds(cell, row[c]), (name, c, row[c], cell)
+
+
+def _snapshot(folder: Path) -> Dict[str, bytes]:
+    """Every entry of a folder: name -> bytes (a link as ``-> target``)."""
+    out: Dict[str, bytes] = {}
+    for p in sorted(folder.iterdir()):
+        out[p.name] = ("-> " + str(p.readlink())).encode() if p.is_symlink() else p.read_bytes()
+    return out
+
+
+def test_r4_01_to_parquet_refuses_a_planted_link_and_writes_nothing(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 47 finding 1: a link planted at DIR/routes.parquet in a shared folder was written
+    through (its target, a mode-600 file, then started with PAR1). Now it is refused, naming the
+    link; its target, the link and the folder are as they were."""
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed (scripts/setup.sh downloads it)")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    victim = tmp_path / "victim"
+    victim.write_bytes(b"secret")
+    victim.chmod(0o600)
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "routes.parquet").symlink_to(victim)
+    before = _snapshot(shared)
+    for source in (folder, sds.score(demo.results), sds.to_pandas(sds.score(demo.results))):
+        with pytest.raises(sds.IoError, match=r"routes\.parquet: a symbolic link"):
+            sds.to_parquet(source, shared)
+        assert victim.read_bytes() == b"secret"
+        assert _snapshot(shared) == before
+
+
+def test_r4_01_to_parquet_is_all_or_nothing(demo: Demo, sds_bin: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 47 finding 1: a disk that fills (ENOSPC) while the second file is written left the
+    first one replaced. Now every file of the set is as before, and no temporary file is left."""
+    import errno
+
+    pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow is not installed")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    out = tmp_path / "pq"
+    sds.to_parquet(sds.score(demo.results), out)  # a previous set (routes, events)
+    (out / "frames.parquet").write_bytes(b"an older frames file")
+    before = _snapshot(out)
+    real = pq.write_table
+    calls: List[Any] = []
+
+    def full_disk(table: Any, where: Any, *args: Any, **kwargs: Any) -> None:
+        calls.append(where)
+        if len(calls) == 2:
+            real(table, where, *args, **kwargs)  # part of the file, then the disk is full
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real(table, where, *args, **kwargs)
+
+    monkeypatch.setattr(pq, "write_table", full_disk)
+    with pytest.raises(OSError, match="No space left"):
+        sds.to_parquet(folder, out)
+    assert len(calls) == 2
+    assert _snapshot(out) == before
+    monkeypatch.setattr(pq, "write_table", real)
+    written = sds.to_parquet(folder, out)
+    assert [p.name for p in written] == ["routes.parquet", "events.parquet", "frames.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["events.parquet", "frames.parquet", "routes.parquet"]
+    assert pq.read_table(out / "frames.parquet").num_rows > 0

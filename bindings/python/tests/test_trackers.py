@@ -177,3 +177,20 @@ def test_log_imports_no_backend_it_was_not_asked_for(demo: Demo, tmp_path: Path)
     assert {m for m in ("wandb", "mlflow") if m in sys.modules} == before
     with pytest.raises(ValueError, match="expected one of wandb, tensorboard, mlflow"):
         sds.log({}, to="neptune")
+
+
+def test_r4_01_tensorboard_refuses_a_planted_link(demo: Demo, tmp_path: Path) -> None:
+    """Issue 47 finding 1: sds.log(to="tensorboard") copied report.html through a link planted
+    in the log folder (shutil.copy follows it). Now the link is refused, naming it; its target
+    is untouched and no report file is left in the folder."""
+    pytest.importorskip("tensorboard", reason="tensorboard is not installed (scripts/setup.sh downloads it)")
+    victim = tmp_path / "victim"
+    victim.write_text("secret")
+    tb = tmp_path / "tb"
+    tb.mkdir()
+    (tb / "report.html").symlink_to(victim)
+    with pytest.raises(sds.IoError, match=r"report\.html: a symbolic link"):
+        sds.log(_report(demo), to="tensorboard", log_dir=str(tb))
+    assert victim.read_text() == "secret"
+    assert (tb / "report.html").is_symlink()
+    assert not (tb / "report.json").exists()

@@ -24,6 +24,7 @@ What is logged:
 
 from __future__ import annotations
 
+import functools
 import importlib
 import json
 import os
@@ -31,9 +32,10 @@ import shutil
 import tempfile
 import time
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, BinaryIO, Dict, List, Mapping, Optional, Sequence, Tuple
 
 from . import _sds
+from ._files import FileSet, refuse_unsafe
 from ._tables import long_tables
 
 BACKENDS = ("wandb", "tensorboard", "mlflow")
@@ -93,6 +95,10 @@ def report_files(report: Mapping[str, Any], folder: Path, name: str) -> List[Pat
 def _routes(report: Mapping[str, Any]) -> Tuple[List[str], List[List[Any]]]:
     columns, rows = long_tables(report)["routes"]
     return columns, [[row[c] for c in columns] for row in rows]
+
+
+def _write_bytes(data: bytes, f: BinaryIO) -> None:
+    f.write(data)
 
 
 class Tracker:
@@ -202,8 +208,14 @@ class Tracker:
             if pictures:
                 self.run.log(pictures)
         elif self.to == "tensorboard":
-            for p in paths:
-                shutil.copy(p, self.log_dir / p.name)
+            # Into a folder others may write to: as sds score writes its own files (a link at
+            # a name refused, never followed; the set all or nothing).
+            targets = [self.log_dir / p.name for p in paths]
+            for t in targets:
+                refuse_unsafe(t)
+            with FileSet(self.log_dir) as out:
+                for p, t in zip(paths, targets):
+                    out.place(t, functools.partial(_write_bytes, p.read_bytes()))
         else:
             for p in paths:
                 self.client.log_artifact(self.run_id, str(p), "sds")

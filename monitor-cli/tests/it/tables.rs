@@ -232,8 +232,17 @@ fn i46_5d_frames_table_has_the_time_of_each_frame() {
         let s: u64 = r[step].parse().unwrap();
         let s0 = *first.entry(r[0].clone()).or_insert(s);
         let want = (s - s0) as f64 * r[dt].parse::<f64>().unwrap();
-        assert_eq!(r[3].parse::<f64>().unwrap(), want, "route {} frame {}", r[0], r[2]);
-        assert_eq!(r[3], serde_json::Number::from_f64(want).unwrap().to_string());
+        assert_eq!(
+            r[3].parse::<f64>().unwrap(),
+            want,
+            "route {} frame {}",
+            r[0],
+            r[2]
+        );
+        assert_eq!(
+            r[3],
+            serde_json::Number::from_f64(want).unwrap().to_string()
+        );
         nonzero += usize::from(want > 0.0);
         at.insert((r[0].clone(), r[2].clone()), r[3].clone());
     }

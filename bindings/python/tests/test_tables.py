@@ -293,3 +293,56 @@ def test_r4_01_to_parquet_is_all_or_nothing(demo: Demo, sds_bin: Path, tmp_path:
     assert [p.name for p in written] == ["routes.parquet", "events.parquet", "frames.parquet"]
     assert sorted(p.name for p in out.iterdir()) == ["events.parquet", "frames.parquet", "routes.parquet"]
     assert pq.read_table(out / "frames.parquet").num_rows > 0
+
+
+def test_i46_5a_duckdb_avg_over_a_run_without_telemetry_is_null(b2d: Path, sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 46 item 5a: in a run without telemetry (every public results file) seven numeric
+    columns are empty on every route; DuckDB's sniffer reads them as text, and
+    ``avg("comfort.score")`` was a Binder Error. The typed reads USAGE.md documents (its SQL
+    after ``<!-- duckdb-typed -->``, ``sds.duckdb_read_csv``, the Parquet files) give NULL, and
+    every other figure as the report has it."""
+    duckdb = pytest.importorskip("duckdb", reason="duckdb is not installed (scripts/setup.sh downloads it)")
+    results = b2d / "carla_garage_tfpp_b2d_traj_merged.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["score", "--results", str(results), "--allow-missing-telemetry", "--format", "json",
+         "-o", str(tmp_path / "r.json"), "--tables", str(tmp_path / "tables")],
+    )
+    assert code in (0, 3), err
+    report = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
+    assert report["summary"]["mean_comfort"] is None
+    con = duckdb.connect()
+    # The query USAGE.md shows, as written (its path relative to the tables' parent).
+    usage = (REPO / "docs" / "USAGE.md").read_text(encoding="utf-8")
+    m = re.search(r"<!-- duckdb-typed -->\s*```sql\n(.*?)```", usage, re.S)
+    assert m, "docs/USAGE.md has no SQL block after <!-- duckdb-typed -->"
+    typed = m.group(1).replace("'tables/", f"'{tmp_path}/tables/")
+    comfort, ds = con.execute(typed).fetchall()[0]
+    assert comfort is None and ds == pytest.approx(report["summary"]["driving_score"], rel=1e-15)
+    # The helper: every column of the schema typed, whatever the cells hold.
+    routes = sds.duckdb_read_csv(tmp_path / "tables" / "routes.csv")
+    kinds = {name: kind for name, kind, *_ in con.execute(f"DESCRIBE SELECT * FROM {routes}").fetchall()}
+    from sds._schema import column_type
+
+    want = {"int": "BIGINT", "float": "DOUBLE", "bool": "BOOLEAN", "string": "VARCHAR", "json": "VARCHAR"}
+    for name, kind in kinds.items():
+        assert kind == want[column_type("routes", name) or "string"], (name, kind)
+    assert kinds["comfort.score"] == "DOUBLE" and kinds["dt"] == "DOUBLE" and kinds["batch_agrees"] == "BOOLEAN"
+    row = con.execute(f'SELECT avg("comfort.score"), avg(score_composed), count(*) FROM {routes}').fetchall()[0]
+    assert row[0] is None and row[2] == 220
+    assert row[1] == pytest.approx(report["summary"]["driving_score"], rel=1e-15)
+    # Every table of the folder, frames too (no rows, but the frame columns, typed).
+    frames = sds.duckdb_read_csv(tmp_path / "tables" / "frames.csv")
+    assert con.execute(f"SELECT max(abs(a_lat)), count(*) FROM {frames}").fetchall() == [(None, 0)]
+    events = sds.duckdb_read_csv(tmp_path / "tables" / "events.csv")
+    assert con.execute(f"SELECT count(*) FROM {events}").fetchall()[0][0] > 100
+    # A quote in the path is written as SQL wants it.
+    odd = tmp_path / "it's"
+    odd.mkdir()
+    (odd / "routes.csv").write_bytes((tmp_path / "tables" / "routes.csv").read_bytes())
+    assert con.execute(f"SELECT count(*) FROM {sds.duckdb_read_csv(odd / 'routes.csv')}").fetchall() == [(220,)]
+    # The Parquet files are typed too.
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed")
+    sds.to_parquet(tmp_path / "tables", tmp_path / "pq")
+    pq_avg = con.execute(f"SELECT avg(\"comfort.score\") FROM '{tmp_path}/pq/routes.parquet'").fetchall()
+    assert pq_avg == [(None,)]

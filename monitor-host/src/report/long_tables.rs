@@ -618,8 +618,25 @@ fn line_leaves(id: &str, line: &[u8]) -> Result<Node, String> {
 /// the very cells the slow path writes (880,000 frames: 16.9 s before, see PERFORMANCE.md).
 fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, String> {
     use rayon::prelude::*;
+    // A run without frames (no telemetry) still gets the columns every frame line has, so that
+    // a query naming them (DuckDB, pandas) reads an empty table rather than failing to bind.
+    let blank = RouteFrames {
+        frames: vec![monitor_core::Frame::default()],
+        steps: vec![0],
+        lateral: vec![None],
+        reference: crate::geometry::corridor::ReferenceKind::None,
+        dt: 0.05,
+        warnings: Vec::new(),
+        files_read: Vec::new(),
+    };
+    let header_only = [(0, String::new(), &blank)];
+    let shaped = if framed.is_empty() {
+        &header_only[..]
+    } else {
+        framed
+    };
     // Pass 1: each route's distinct shapes in order, merged in route order.
-    let shapes: Vec<Vec<Vec<(String, bool)>>> = framed
+    let shapes: Vec<Vec<Vec<(String, bool)>>> = shaped
         .par_iter()
         .map(|route| {
             let (mut seen, mut shapes) = (HashSet::new(), Vec::new());

@@ -12,7 +12,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   reports of ``sds watch``), for notebooks and dashboards;
 - :func:`to_pandas` turns a report (or a folder of ``sds score --tables``) into DataFrames
   (``routes``, ``events``, ``frames``: the long tables, typed; :func:`long_tables` without
-  pandas), :func:`to_parquet` writes them as Parquet;
+  pandas), :func:`to_parquet` writes them as Parquet, :func:`duckdb_read_csv` types DuckDB's
+  read of the CSV files;
 - :func:`log` logs a report to Weights & Biases, TensorBoard or MLflow, and a
   :class:`Tracker`'s ``on_round`` logs each round of :func:`watch`;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
@@ -49,7 +50,7 @@ from ._compare import compare
 from ._options import PathLike, run_options
 from ._options import paths as _paths
 from ._sds import Watch
-from ._tables import long_tables, read_tables, to_pandas, to_parquet
+from ._tables import duckdb_read_csv, long_tables, read_tables, to_pandas, to_parquet
 from ._trackers import Tracker, log
 from ._warn import warn_each
 from ._watch import watch
@@ -72,6 +73,7 @@ __all__ = [
     "Watch",
     "__version__",
     "compare",
+    "duckdb_read_csv",
     "merge",
     "log",
     "long_tables",

@@ -3,7 +3,8 @@
 The tables come from the Rust library's own builder (``_sds.long_tables``, the code that writes
 ``routes.csv`` and ``events.csv``): nothing here re-implements a table rule. :func:`long_tables`
 gives them as rows; :func:`to_pandas` as DataFrames with typed columns (pandas imported only
-then); :func:`to_parquet` writes them as Parquet (pyarrow imported only then). The frames
+then); :func:`to_parquet` writes them as Parquet (pyarrow imported only then);
+:func:`duckdb_read_csv` gives DuckDB's typed read of a CSV file. The frames
 (``frames.csv``) need the telemetry, not the report: write them with ``sds score --tables DIR``
 and hand ``DIR`` to :func:`to_pandas` or :func:`to_parquet`, which read the CSV files and type
 their columns.
@@ -18,7 +19,7 @@ import json
 import os
 import re
 from pathlib import Path
-from typing import Any, Callable, Dict, List, Mapping, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
 from ._files import FileSet, refuse_unsafe
@@ -149,6 +150,37 @@ def to_pandas(source: Source) -> Dict[str, Any]:
         )
         for name, (columns, data) in _tables_of(source).items()
     }
+
+
+_DUCKDB = {"int": "BIGINT", "float": "DOUBLE", "bool": "BOOLEAN", "string": "VARCHAR", "json": "VARCHAR"}
+
+
+def _sql_string(text: str) -> str:
+    return "'" + text.replace("'", "''") + "'"
+
+
+def duckdb_read_csv(path: Union[str, "os.PathLike[str]"], table: Optional[str] = None) -> str:
+    """DuckDB's ``read_csv(...)`` of a table ``sds score --tables`` wrote, every column typed as
+    docs/TABLES-SCHEMA.md says (``int`` BIGINT, ``float`` DOUBLE, ``bool`` BOOLEAN, ``string``
+    and ``json`` VARCHAR), to put after ``FROM``. DuckDB reads a CSV file's types from its
+    cells, so a column empty on every row (``comfort.score``, ``dt``, ``distance_m``, ... in a
+    run without telemetry) would be text, and ``avg("comfort.score")`` would not bind; typed,
+    it is NULL. ``table`` (``routes``, ``events``, ``frames``) defaults to the file's name; the
+    file's header is read to name its columns. DuckDB itself is not imported.
+
+    >>> import duckdb, sds  # doctest: +SKIP
+    >>> duckdb.sql(f'SELECT town, avg("comfort.score") FROM {sds.duckdb_read_csv("tables/routes.csv")} GROUP BY town')  # doctest: +SKIP
+    """
+    p = Path(path)
+    name = table or p.stem
+    if name not in TABLES:
+        raise ValueError(f"{p}: table {name!r}: expected one of {', '.join(TABLES)} (pass table=...)")
+    with open(p, newline="", encoding="utf-8") as f:
+        columns = next(csv.reader(f), [])
+    types = ", ".join(
+        f"{_sql_string(c)}: '{_DUCKDB[k]}'" for c in columns if (k := column_type(name, c)) is not None
+    )
+    return f"read_csv({_sql_string(os.fspath(p))}, header = true, delim = ',', quote = '\"', types = {{{types}}})"
 
 
 def _arrow_type(pa: Any, kind: str) -> Any:

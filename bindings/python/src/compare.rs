@@ -48,13 +48,15 @@ fn samples(b: &Bound<'_, PyInt>) -> PyResult<usize> {
 /// Compares runs (see the Python `sds.compare`, which passes each run as `(name, results,
 /// telemetry or None)` and its keyword arguments as the dict `options`): the library's
 /// [`CompareRequest`]; returns the report `sds compare --format json` writes, as Python
-/// objects. The GIL is released while scoring.
+/// objects, and the warnings `sds compare` prints (each run's, named by the run, then the
+/// comparison's own; a missing map is said per run, where the command says it once), which
+/// `sds.compare` raises as Python warnings. The GIL is released while scoring.
 #[pyfunction]
 pub fn compare<'py>(
     py: Python<'py>,
     runs: Vec<(String, PathBuf, Option<PathBuf>)>,
     options: &Bound<'py, PyDict>,
-) -> PyResult<Bound<'py, PyAny>> {
+) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     let settings = options.extract::<RunKwargs<'_>>()?.request()?;
     let kw: CompareKwargs<'_> = options.extract()?;
     let request = CompareRequest {
@@ -89,5 +91,9 @@ pub fn compare<'py>(
     let compared = py
         .detach(|| with_signals(&NoProgress, |p| request.compare(p)))?
         .map_err(|e| score_error(&e))?;
-    to_python(py, &compared.comparison)
+    let mut warnings: Vec<String> = (compared.models.iter().flat_map(|m| &m.runs))
+        .flat_map(|r| r.report.warnings.iter().map(|w| format!("{}: {w}", r.name)))
+        .collect();
+    warnings.extend(compared.comparison.warnings.iter().cloned());
+    Ok((to_python(py, &compared.comparison)?, warnings))
 }

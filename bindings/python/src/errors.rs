@@ -8,7 +8,7 @@ use monitor_host::merge::MergeError;
 use monitor_host::pipeline::live::LiveError;
 use monitor_host::{Error, ErrorKind, SettingsError};
 use pyo3::create_exception;
-use pyo3::exceptions::{PyException, PyKeyboardInterrupt};
+use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyUserWarning};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyType};
@@ -43,6 +43,13 @@ create_exception!(
     FeatureUnavailableError,
     SdsError,
     "An option this build of sds does not have yet (its message names the feature)."
+);
+
+create_exception!(
+    sds,
+    SdsWarning,
+    PyUserWarning,
+    "A warning of the report (its `warnings`): a problem that did not stop scoring, as the `sds` command prints it after `sds: warning: `."
 );
 
 /// `RefusedError`: a subclass of both [`InputError`] and [`ConfigError`] (so code that caught

@@ -73,6 +73,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
         py.get_type::<errors::NeedsLabelsError>(),
     )?;
     m.add("IoError", py.get_type::<errors::IoError>())?;
+    m.add("SdsWarning", py.get_type::<errors::SdsWarning>())?;
     m.add("RefusedError", errors::refused_error(py)?)?;
     m.add_function(wrap_pyfunction!(errors::error_table, m)?)?;
     m.add(

@@ -232,3 +232,117 @@ def test_long_tables_of_a_real_run_equal_the_cli_tables(b2d: Path, sds_bin: Path
         for row, cells in zip(rows, cli[1:]):
             for c, cell in zip(columns, cells):
                 assert _cell_holds(cell, row[c]), (name, c, row[c], cell)
+
+
+def _snapshot(folder: Path) -> Dict[str, bytes]:
+    """Every entry of a folder: name -> bytes (a link as ``-> target``)."""
+    out: Dict[str, bytes] = {}
+    for p in sorted(folder.iterdir()):
+        out[p.name] = ("-> " + str(p.readlink())).encode() if p.is_symlink() else p.read_bytes()
+    return out
+
+
+def test_r4_01_to_parquet_refuses_a_planted_link_and_writes_nothing(demo: Demo, sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 47 finding 1: a link planted at DIR/routes.parquet in a shared folder was written
+    through (its target, a mode-600 file, then started with PAR1). Now it is refused, naming the
+    link; its target, the link and the folder are as they were."""
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed (scripts/setup.sh downloads it)")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    victim = tmp_path / "victim"
+    victim.write_bytes(b"secret")
+    victim.chmod(0o600)
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    (shared / "routes.parquet").symlink_to(victim)
+    before = _snapshot(shared)
+    for source in (folder, sds.score(demo.results), sds.to_pandas(sds.score(demo.results))):
+        with pytest.raises(sds.IoError, match=r"routes\.parquet: a symbolic link"):
+            sds.to_parquet(source, shared)
+        assert victim.read_bytes() == b"secret"
+        assert _snapshot(shared) == before
+
+
+def test_r4_01_to_parquet_is_all_or_nothing(demo: Demo, sds_bin: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 47 finding 1: a disk that fills (ENOSPC) while the second file is written left the
+    first one replaced. Now every file of the set is as before, and no temporary file is left."""
+    import errno
+
+    pq = pytest.importorskip("pyarrow.parquet", reason="pyarrow is not installed")
+    folder = _cli_tables(sds_bin, demo, tmp_path)
+    out = tmp_path / "pq"
+    sds.to_parquet(sds.score(demo.results), out)  # a previous set (routes, events)
+    (out / "frames.parquet").write_bytes(b"an older frames file")
+    before = _snapshot(out)
+    real = pq.write_table
+    calls: List[Any] = []
+
+    def full_disk(table: Any, where: Any, *args: Any, **kwargs: Any) -> None:
+        calls.append(where)
+        if len(calls) == 2:
+            real(table, where, *args, **kwargs)  # part of the file, then the disk is full
+            raise OSError(errno.ENOSPC, "No space left on device")
+        real(table, where, *args, **kwargs)
+
+    monkeypatch.setattr(pq, "write_table", full_disk)
+    with pytest.raises(OSError, match="No space left"):
+        sds.to_parquet(folder, out)
+    assert len(calls) == 2
+    assert _snapshot(out) == before
+    monkeypatch.setattr(pq, "write_table", real)
+    written = sds.to_parquet(folder, out)
+    assert [p.name for p in written] == ["routes.parquet", "events.parquet", "frames.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["events.parquet", "frames.parquet", "routes.parquet"]
+    assert pq.read_table(out / "frames.parquet").num_rows > 0
+
+
+def test_i46_5a_duckdb_avg_over_a_run_without_telemetry_is_null(b2d: Path, sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 46 item 5a: in a run without telemetry (every public results file) seven numeric
+    columns are empty on every route; DuckDB's sniffer reads them as text, and
+    ``avg("comfort.score")`` was a Binder Error. The typed reads USAGE.md documents (its SQL
+    after ``<!-- duckdb-typed -->``, ``sds.duckdb_read_csv``, the Parquet files) give NULL, and
+    every other figure as the report has it."""
+    duckdb = pytest.importorskip("duckdb", reason="duckdb is not installed (scripts/setup.sh downloads it)")
+    results = b2d / "carla_garage_tfpp_b2d_traj_merged.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["score", "--results", str(results), "--allow-missing-telemetry", "--format", "json",
+         "-o", str(tmp_path / "r.json"), "--tables", str(tmp_path / "tables")],
+    )
+    assert code in (0, 3), err
+    report = json.loads((tmp_path / "r.json").read_text(encoding="utf-8"))
+    assert report["summary"]["mean_comfort"] is None
+    con = duckdb.connect()
+    # The query USAGE.md shows, as written (its path relative to the tables' parent).
+    usage = (REPO / "docs" / "USAGE.md").read_text(encoding="utf-8")
+    m = re.search(r"<!-- duckdb-typed -->\s*```sql\n(.*?)```", usage, re.S)
+    assert m, "docs/USAGE.md has no SQL block after <!-- duckdb-typed -->"
+    typed = m.group(1).replace("'tables/", f"'{tmp_path}/tables/")
+    comfort, ds = con.execute(typed).fetchall()[0]
+    assert comfort is None and ds == pytest.approx(report["summary"]["driving_score"], rel=1e-15)
+    # The helper: every column of the schema typed, whatever the cells hold.
+    routes = sds.duckdb_read_csv(tmp_path / "tables" / "routes.csv")
+    kinds = {name: kind for name, kind, *_ in con.execute(f"DESCRIBE SELECT * FROM {routes}").fetchall()}
+    from sds._schema import column_type
+
+    want = {"int": "BIGINT", "float": "DOUBLE", "bool": "BOOLEAN", "string": "VARCHAR", "json": "VARCHAR"}
+    for name, kind in kinds.items():
+        assert kind == want[column_type("routes", name) or "string"], (name, kind)
+    assert kinds["comfort.score"] == "DOUBLE" and kinds["dt"] == "DOUBLE" and kinds["batch_agrees"] == "BOOLEAN"
+    row = con.execute(f'SELECT avg("comfort.score"), avg(score_composed), count(*) FROM {routes}').fetchall()[0]
+    assert row[0] is None and row[2] == 220
+    assert row[1] == pytest.approx(report["summary"]["driving_score"], rel=1e-15)
+    # Every table of the folder, frames too (no rows, but the frame columns, typed).
+    frames = sds.duckdb_read_csv(tmp_path / "tables" / "frames.csv")
+    assert con.execute(f"SELECT max(abs(a_lat)), count(*) FROM {frames}").fetchall() == [(None, 0)]
+    events = sds.duckdb_read_csv(tmp_path / "tables" / "events.csv")
+    assert con.execute(f"SELECT count(*) FROM {events}").fetchall()[0][0] > 100
+    # A quote in the path is written as SQL wants it.
+    odd = tmp_path / "it's"
+    odd.mkdir()
+    (odd / "routes.csv").write_bytes((tmp_path / "tables" / "routes.csv").read_bytes())
+    assert con.execute(f"SELECT count(*) FROM {sds.duckdb_read_csv(odd / 'routes.csv')}").fetchall() == [(220,)]
+    # The Parquet files are typed too.
+    pytest.importorskip("pyarrow", reason="pyarrow is not installed")
+    sds.to_parquet(tmp_path / "tables", tmp_path / "pq")
+    pq_avg = con.execute(f"SELECT avg(\"comfort.score\") FROM '{tmp_path}/pq/routes.parquet'").fetchall()
+    assert pq_avg == [(None,)]

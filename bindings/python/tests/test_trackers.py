@@ -23,10 +23,36 @@ def _watch(demo: Demo, tracker: "sds.Tracker") -> List[Dict[str, Any]]:
     """A watch of the finished demo run: every round goes to the tracker; the statuses seen."""
     seen: List[Dict[str, Any]] = []
     w = sds.watch(demo.results, telemetry=demo.telemetry, routes=demo.routes, interval=0.05, timeout=5,
+                  protocols=["all"],
                   on_round=lambda status, report: (seen.append(status), tracker.on_round(status, report)))
     reports = list(w)
     assert len(reports) == len(seen) >= 1
     return seen
+
+
+def _assert_settings(logged: Dict[str, Any], report: Dict[str, Any], as_text: bool = False) -> None:
+    """The tracker's run holds the report's settings: the sds version, the settings' hash, the
+    profile, the ability rule, the protocols and every value of ``config`` (issue 46 item 5c)."""
+    provenance = report["inputs"]["provenance"]
+    want: Dict[str, Any] = {
+        "sds_version": provenance["sds_version"],
+        "settings_sha256": provenance["settings_sha256"],
+        "profile": report["profile"],
+        "ability_rule": report["config"]["ability_rule"],
+        "protocols": ",".join(report["config"]["protocols"]),
+        "config/slack": report["config"]["slack"],
+        "config/bounds/lat_acc": report["config"]["bounds"]["lat_acc"],
+        "config/duplicates": report["config"]["duplicates"],
+        "config/allow_missing_telemetry": report["config"]["allow_missing_telemetry"],
+    }
+    assert want["protocols"] and want["sds_version"] == sds.__version__
+    for k, v in want.items():
+        assert k in logged, (k, sorted(logged))
+        if as_text:
+            assert logged[k] == (str(v).lower() if isinstance(v, bool) else str(v)), k
+        else:
+            assert logged[k] == v, k
+    assert sum(1 for k in logged if k.startswith("config/")) >= 30
 
 
 def test_on_round_is_called_with_each_status_and_report(demo: Demo) -> None:
@@ -96,6 +122,7 @@ def test_wandb_offline_run_files_hold_the_report(demo: Demo, tmp_path: Path, mon
     history: Dict[str, Any] = {}
     summary: Dict[str, Any] = {}
     artifacts: Dict[str, List[str]] = {}
+    config: Dict[str, Any] = {}
     for r in _wandb_records(next(run_dir.glob("run-*.wandb"))):
         kind = r.WhichOneof("record_type")
         if kind == "history":
@@ -104,8 +131,15 @@ def test_wandb_offline_run_files_hold_the_report(demo: Demo, tmp_path: Path, mon
             summary.update({i.key or "/".join(i.nested_key): json.loads(i.value_json) for i in r.summary.update})
         elif kind == "artifact":
             artifacts[r.artifact.name] = [c.path for c in r.artifact.manifest.contents]
+        elif kind == "config":
+            config.update({i.key or "/".join(i.nested_key): json.loads(i.value_json) for i in r.config.update})
     assert history["sds/driving_score"] == report["summary"]["driving_score"]
     assert summary["sds/sds"] == report["summary"]["sds"]
+    # Issue 46 item 5b: the route count stays a number; the routes table has a key of its own.
+    assert summary["sds/routes"] == report["summary"]["routes"]
+    assert summary["tables/routes/_type"] == "table-file"
+    # Issue 46 item 5c: the settings are the run's config.
+    _assert_settings(config, report)
     assert summary["sds/protocols/lb2.1/driving_score"] == report["summary"]["protocols"]["lb2.1"]["driving_score"]
     assert history["watch/ds_n"] == seen[-1]["ds_n"] and history["watch/crashes"] == 0
     assert history["_step"] == seen[-1]["round"]
@@ -117,6 +151,7 @@ def test_wandb_offline_run_files_hold_the_report(demo: Demo, tmp_path: Path, mon
     assert table["columns"][:2] == ["route_index", "route_id"]
     html = sorted(p.name.split("_")[0] for p in (run_dir / "files" / "media" / "html").rglob("*.html"))
     assert html == ["decomposition", "routes"]  # the two pictures as HTML panels
+    assert summary["figures/routes/_type"] == "html-file"
 
 
 def test_tensorboard_event_files_hold_the_report(demo: Demo, tmp_path: Path) -> None:
@@ -135,7 +170,10 @@ def test_tensorboard_event_files_hold_the_report(demo: Demo, tmp_path: Path) -> 
     rounds = acc.Scalars("watch/ds_done")
     assert [e.step for e in rounds] == [s["round"] for s in seen]
     assert rounds[-1].value == pytest.approx(seen[-1]["ds_done"], rel=1e-6)
-    text = acc.Tensors("sds/routes")[0]
+    # Issue 46 item 5b: the route count is a scalar; the routes table a text under its own tag.
+    assert acc.Scalars("sds/routes")[0].value == report["summary"]["routes"]
+    assert "sds/routes" not in acc.Tags()["tensors"]
+    text = acc.Tensors("tables/routes")[0]
     from tensorboard.util import tensor_util
 
     cells = tensor_util.make_ndarray(text.tensor_proto)
@@ -143,6 +181,16 @@ def test_tensorboard_event_files_hold_the_report(demo: Demo, tmp_path: Path) -> 
     assert cells[0][1] == b"route_id"
     assert (tmp_path / "tb" / "report.json").exists() and (tmp_path / "tb" / "report.html").exists()
     assert json.loads((tmp_path / "tb" / "report.json").read_text()) == report
+    # Issue 46 item 5c: the settings as the run's hparams (the HParams dashboard's session).
+    from tensorboard.plugins.hparams import plugin_data_pb2
+
+    content = acc.PluginTagToContent("hparams")["_hparams_/session_start_info"]
+    data = plugin_data_pb2.HParamsPluginData.FromString(content)
+    hparams = {}
+    for k, v in data.session_start_info.hparams.items():
+        kind = v.WhichOneof("kind")
+        hparams[k] = {"string_value": v.string_value, "bool_value": v.bool_value, "number_value": v.number_value}[kind]
+    _assert_settings(hparams, report)
 
 
 def test_mlflow_file_store_holds_the_report(demo: Demo, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
@@ -157,6 +205,8 @@ def test_mlflow_file_store_holds_the_report(demo: Demo, tmp_path: Path, monkeypa
     run = client.get_run(tracker.run_id)
     assert run.info.status == "FINISHED"
     metrics = run.data.metrics
+    # Issue 46 item 5c: the settings as the run's params (MLflow keeps them as text).
+    _assert_settings(run.data.params, report, as_text=True)
     assert metrics["sds/driving_score"] == report["summary"]["driving_score"]
     assert metrics["sds/protocols/lb2.1/driving_score"] == report["summary"]["protocols"]["lb2.1"]["driving_score"]
     history = client.get_metric_history(tracker.run_id, "watch/done")
@@ -166,6 +216,12 @@ def test_mlflow_file_store_holds_the_report(demo: Demo, tmp_path: Path, monkeypa
     local = client.download_artifacts(tracker.run_id, "sds/routes.json", str(tmp_path / "dl"))
     table = json.loads(Path(local).read_text())
     assert len(table["data"]) == len(report["routes"])
+    # MLflow keeps a run's params once: a report of other settings into the same run is said,
+    # and the params logged stay.
+    other = sds.score(demo.results, telemetry=demo.telemetry, routes=demo.routes, profile="b2d-legacy")
+    with pytest.warns(sds.SdsWarning, match="MLflow keeps a run's parameters once"):
+        sds.log(other, to="mlflow", tracking_uri=f"file:{tmp_path / 'mlruns'}", run=tracker.run_id)
+    _assert_settings(client.get_run(tracker.run_id).data.params, report, as_text=True)
 
 
 def test_log_imports_no_backend_it_was_not_asked_for(demo: Demo, tmp_path: Path) -> None:
@@ -177,3 +233,20 @@ def test_log_imports_no_backend_it_was_not_asked_for(demo: Demo, tmp_path: Path)
     assert {m for m in ("wandb", "mlflow") if m in sys.modules} == before
     with pytest.raises(ValueError, match="expected one of wandb, tensorboard, mlflow"):
         sds.log({}, to="neptune")
+
+
+def test_r4_01_tensorboard_refuses_a_planted_link(demo: Demo, tmp_path: Path) -> None:
+    """Issue 47 finding 1: sds.log(to="tensorboard") copied report.html through a link planted
+    in the log folder (shutil.copy follows it). Now the link is refused, naming it; its target
+    is untouched and no report file is left in the folder."""
+    pytest.importorskip("tensorboard", reason="tensorboard is not installed (scripts/setup.sh downloads it)")
+    victim = tmp_path / "victim"
+    victim.write_text("secret")
+    tb = tmp_path / "tb"
+    tb.mkdir()
+    (tb / "report.html").symlink_to(victim)
+    with pytest.raises(sds.IoError, match=r"report\.html: a symbolic link"):
+        sds.log(_report(demo), to="tensorboard", log_dir=str(tb))
+    assert victim.read_text() == "secret"
+    assert (tb / "report.html").is_symlink()
+    assert not (tb / "report.json").exists()

@@ -107,7 +107,7 @@ fn check_routes_and_events(dir: &Path, report: &Value) -> BTreeMap<usize, Vec<Ve
     }
 
     let (fh, frows) = read_csv(&dir.join("frames.csv"));
-    assert_eq!(fh[..3], ["route_index", "route_id", "frame"]);
+    assert_eq!(fh[..4], ["route_index", "route_id", "frame", "time"]);
     let mut by_route: BTreeMap<usize, Vec<Vec<String>>> = BTreeMap::new();
     for r in frows {
         by_route.entry(r[0].parse().unwrap()).or_default().push(r);
@@ -206,11 +206,57 @@ fn tables_equal_the_json_report_and_sds_frames_on_the_demo() {
                 (row[1].as_str(), row[2].as_str()),
                 (id, k.to_string().as_str())
             );
-            assert_row(&header, row, 3, line, &format!("frames.csv {id} frame {k}"));
+            assert_row(&header, row, 4, line, &format!("frames.csv {id} frame {k}"));
             compared += 1;
         }
     }
     assert!(compared > 1000, "{compared} frames compared");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 46 item 5d (spec §15: "step, time, the core frame, the host values"): `frames.csv`
+/// has a `time` column after `frame`, the seconds from the route's first frame, computed as the
+/// events' `time_s` is, so that an event and its frame show the same time.
+#[test]
+fn i46_5d_frames_table_has_the_time_of_each_frame() {
+    let dir = tmp("time");
+    demo_tables(&dir);
+    let (fh, frows) = read_csv(&dir.join("tables/frames.csv"));
+    assert_eq!(fh[..4], ["route_index", "route_id", "frame", "time"]);
+    let col = |h: &[String], n: &str| h.iter().position(|c| c == n).unwrap();
+    let (step, dt) = (col(&fh, "host.step"), col(&fh, "host.dt"));
+    let mut first: BTreeMap<String, u64> = BTreeMap::new();
+    let mut at: BTreeMap<(String, String), String> = BTreeMap::new();
+    let mut nonzero = 0;
+    for r in &frows {
+        let s: u64 = r[step].parse().unwrap();
+        let s0 = *first.entry(r[0].clone()).or_insert(s);
+        let want = (s - s0) as f64 * r[dt].parse::<f64>().unwrap();
+        assert_eq!(
+            r[3].parse::<f64>().unwrap(),
+            want,
+            "route {} frame {}",
+            r[0],
+            r[2]
+        );
+        assert_eq!(
+            r[3],
+            serde_json::Number::from_f64(want).unwrap().to_string()
+        );
+        nonzero += usize::from(want > 0.0);
+        at.insert((r[0].clone(), r[2].clone()), r[3].clone());
+    }
+    assert!(nonzero > 1000, "{nonzero} frames after the first");
+    // An event placed at a frame shows that frame's time.
+    let (eh, erows) = read_csv(&dir.join("tables/events.csv"));
+    let (frame, time_s) = (col(&eh, "frame"), col(&eh, "time_s"));
+    let mut placed = 0;
+    for e in erows.iter().filter(|e| !e[frame].is_empty()) {
+        let t = &at[&(e[0].clone(), e[frame].clone())];
+        assert_eq!(e[time_s].parse::<f64>().unwrap(), t.parse::<f64>().unwrap());
+        placed += 1;
+    }
+    assert!(placed > 0, "the demo has placed events");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -247,8 +293,17 @@ fn tables_equal_the_json_report_on_a_real_run() {
     let report: Value =
         serde_json::from_slice(&std::fs::read(dir.join("report.json")).unwrap()).unwrap();
     let mut frames = check_routes_and_events(&dir.join("tables"), &report);
-    frames.remove(&usize::MAX);
+    let header = frames.remove(&usize::MAX).unwrap().remove(0);
     assert!(frames.is_empty(), "no telemetry, no frames");
+    // Issue 46 item 5a: no frame, but the columns every frame has (a query naming them reads
+    // an empty table instead of failing to bind).
+    let always: BTreeSet<String> = documented()["frames.csv"]
+        .iter()
+        .filter(|(_, always)| *always)
+        .map(|(n, _)| n.clone())
+        .collect();
+    assert_eq!(header.iter().cloned().collect::<BTreeSet<_>>(), always);
+    assert!(header.contains(&"a_lat".to_string()) && header.len() > 10);
     assert_eq!(report["routes"].as_array().unwrap().len(), 220);
     let (_, events) = read_csv(&dir.join("tables/events.csv"));
     assert!(events.len() > 100, "{} events", events.len());

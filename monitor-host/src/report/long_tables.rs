@@ -1,7 +1,7 @@
 //! Long tables (`SDS-SPEC.md` v1.4 §15), for DataFrames, DuckDB and Spark: `routes` (one row
 //! per route row of the report), `events` (one row per entry of a route's `events[]`) and
-//! `frames` (one row per frame of a route with telemetry, the values `sds frames` prints), as
-//! CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
+//! `frames` (one row per frame of a route with telemetry: its `time`, then the values `sds
+//! frames` prints), as CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
 //!
 //! The columns come from the JSON report's own value tree (the JSON text read back, its key
 //! order kept): every scalar of the per-route object, nested objects joined with `.`
@@ -417,8 +417,8 @@ pub struct LongTables {
     /// One row per event: `route_index`, `route_id`, `event_index`, then every field.
     pub events: Table,
     /// One row per frame of each route with telemetry: `route_index`, `route_id`, `frame`
-    /// (0-based, the `frame` of the events), then the fields of `sds frames`; `None` for a
-    /// comparison.
+    /// (0-based, the `frame` of the events), `time` (s from the route's first frame), then the
+    /// fields of `sds frames`; `None` for a comparison.
     pub frames: Option<Table>,
 }
 
@@ -618,8 +618,25 @@ fn line_leaves(id: &str, line: &[u8]) -> Result<Node, String> {
 /// the very cells the slow path writes (880,000 frames: 16.9 s before, see PERFORMANCE.md).
 fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, String> {
     use rayon::prelude::*;
+    // A run without frames (no telemetry) still gets the columns every frame line has, so that
+    // a query naming them (DuckDB, pandas) reads an empty table rather than failing to bind.
+    let blank = RouteFrames {
+        frames: vec![monitor_core::Frame::default()],
+        steps: vec![0],
+        lateral: vec![None],
+        reference: crate::geometry::corridor::ReferenceKind::None,
+        dt: 0.05,
+        warnings: Vec::new(),
+        files_read: Vec::new(),
+    };
+    let header_only = [(0, String::new(), &blank)];
+    let shaped = if framed.is_empty() {
+        &header_only[..]
+    } else {
+        framed
+    };
     // Pass 1: each route's distinct shapes in order, merged in route order.
-    let shapes: Vec<Vec<Vec<(String, bool)>>> = framed
+    let shapes: Vec<Vec<Vec<(String, bool)>>> = shaped
         .par_iter()
         .map(|route| {
             let (mut seen, mut shapes) = (HashSet::new(), Vec::new());
@@ -698,7 +715,7 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
                         }
                     }
                 }
-                let key = [i.clone(), id.clone(), k.to_string()];
+                let key = [i.clone(), id.clone(), k.to_string(), time_cell(route.2, k)];
                 w.write_record(key.iter().chain(&cells))
                     .map_err(|e| e.to_string())
             })?;
@@ -706,7 +723,7 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         })
         .collect::<Result<_, String>>()?;
     Ok(Table {
-        columns: ["route_index", "route_id", "frame"]
+        columns: ["route_index", "route_id", "frame", "time"]
             .iter()
             .map(|k| k.to_string())
             .chain(names)
@@ -714,6 +731,16 @@ fn frames_table(framed: &[(usize, String, &RouteFrames)]) -> Result<Table, Strin
         rows: Vec::new(),
         body: bodies.concat(),
     })
+}
+
+/// The `time` cell of frame `k`: seconds from the route's first frame, `(step - first step) ×
+/// dt`, the arithmetic of the events' `time_s`, so that an event and its frame agree.
+fn time_cell(f: &RouteFrames, k: usize) -> String {
+    let (Some(&first), Some(&step)) = (f.steps.first(), f.steps.get(k)) else {
+        return String::new();
+    };
+    let t = step.saturating_sub(first) as f64 * crate::settings::decimal(f.dt);
+    serde_json::Number::from_f64(t).map_or_else(String::new, |n| n.to_string())
 }
 
 fn borrow(v: &[(Vec<Node>, Node)]) -> Vec<(Vec<Node>, &Node)> {

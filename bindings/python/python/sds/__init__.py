@@ -12,11 +12,15 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
   reports of ``sds watch``), for notebooks and dashboards;
 - :func:`to_pandas` turns a report (or a folder of ``sds score --tables``) into DataFrames
   (``routes``, ``events``, ``frames``: the long tables, typed; :func:`long_tables` without
-  pandas), :func:`to_parquet` writes them as Parquet;
+  pandas), :func:`to_parquet` writes them as Parquet, :func:`duckdb_read_csv` types DuckDB's
+  read of the CSV files;
 - :func:`log` logs a report to Weights & Biases, TensorBoard or MLflow, and a
   :class:`Tracker`'s ``on_round`` logs each round of :func:`watch`;
 - :class:`Monitor` is the streaming monitor of one route, fed the dict Bench2Drive's
   ``get_metric_info()`` returns each tick; it returns that tick's events as they happen.
+
+The report's warnings are Python warnings of the class :class:`SdsWarning` (a ``UserWarning``):
+``warnings.simplefilter("error", sds.SdsWarning)`` makes them fatal, ``"ignore"`` silences them.
 
 Errors raise :class:`SdsError` subclasses whose messages are those of the ``sds`` command:
 :class:`InputError` (a bad input file or frame), :class:`ConfigError` (a bad option or setting;
@@ -39,14 +43,16 @@ from ._sds import (
     NeedsLabelsError,
     RefusedError,
     SdsError,
+    SdsWarning,
     __version__,
 )
 from ._compare import compare
 from ._options import PathLike, run_options
 from ._options import paths as _paths
 from ._sds import Watch
-from ._tables import long_tables, read_tables, to_pandas, to_parquet
+from ._tables import duckdb_read_csv, long_tables, read_tables, to_pandas, to_parquet
 from ._trackers import Tracker, log
+from ._warn import warn_each
 from ._watch import watch
 from .monitor import Event, Monitor, Summary
 
@@ -61,11 +67,13 @@ __all__ = [
     "PathLike",
     "RefusedError",
     "SdsError",
+    "SdsWarning",
     "Summary",
     "Tracker",
     "Watch",
     "__version__",
     "compare",
+    "duckdb_read_csv",
     "merge",
     "log",
     "long_tables",
@@ -138,6 +146,10 @@ def score(
         The report (``schema``, ``profile``, ``config``, ``routes``, ``summary``, ``warnings``).
         Routes with problems are in it with their ``state``; the CLI would exit with 3.
 
+    Warns:
+        SdsWarning: Each of the report's ``warnings`` (what ``sds score`` prints as
+            ``sds: warning: ...``), at the caller's line.
+
     Raises:
         InputError: A results file, the route XML or a labels file is invalid; the inputs hold no
             record.
@@ -172,6 +184,7 @@ def score(
         "progress": progress,
     }
     report: Dict[str, Any] = _sds.score(_paths(results), options)
+    warn_each(report.get("warnings") or [])
     return report
 
 
@@ -197,6 +210,9 @@ def merge(
     Returns:
         The merged report.
 
+    Warns:
+        SdsWarning: Each of the merged report's ``warnings`` (each part's, naming it).
+
     Raises:
         RefusedError: A part is not an ``sds`` report, parts were scored with different settings
             or route sets, or a route is recorded in two parts under ``duplicates="error"`` (an
@@ -209,4 +225,5 @@ def merge(
         >>> merged["summary"]["driving_score"]  # doctest: +SKIP
     """
     report: Dict[str, Any] = _sds.merge(_paths(parts), duplicates, host)
+    warn_each(report.get("warnings") or [])
     return report

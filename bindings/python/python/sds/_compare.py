@@ -8,6 +8,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 from . import _sds
 from ._options import PathLike, run_options
 from ._sds import ConfigError
+from ._warn import warn_each
 
 Run = Union[PathLike, Tuple[PathLike, PathLike]]
 """A run: its results (file or folder), or ``(results, telemetry)``."""
@@ -80,6 +81,11 @@ def compare(
         ``seed_ds``, ``seed_std``, ``seeds_needed``), and with ``rank`` the report has
         ``ranking``.
 
+    Warns:
+        SdsWarning: Each warning ``sds compare`` prints: each run's report's (``"<run>: ..."``;
+            a missing map per run, where the command says it once), then the comparison's own
+            ``warnings``, at the caller's line.
+
     Raises:
         ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
             unknown metric, route sets that differ without ``common_routes``,
@@ -130,5 +136,6 @@ def compare(
         "rank": bool(rank),
         "repro_halfwidth": float(repro_halfwidth),
     }
-    report: Dict[str, Any] = _sds.compare(pairs, options)
+    report, warned = _sds.compare(pairs, options)
+    warn_each(warned)
     return report

@@ -23,6 +23,11 @@ class NeedsLabelsError(ConfigError):
 class IoError(SdsError):
     """A file or folder cannot be read."""
 
+class SdsWarning(UserWarning):
+    """A warning of the report (its ``warnings``): a problem that did not stop scoring, as the
+    ``sds`` command prints it after ``sds: warning: ``. ``sds.score``, ``sds.compare`` and
+    ``sds.merge`` raise one per warning with ``warnings.warn``."""
+
 class FeatureUnavailableError(SdsError):
     """An option this build of sds does not have yet."""
 
@@ -44,10 +49,12 @@ def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
 
 def compare(
     runs: Sequence[Tuple[str, str, Optional[str]]], options: Mapping[str, Any]
-) -> Dict[str, Any]:
+) -> Tuple[Dict[str, Any], List[str]]:
     """Compares runs through the library: each run ``(name, results, telemetry or None)``;
     ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
-    as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``)."""
+    as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``) and the
+    warnings ``sds compare`` prints: each run's (``"<run>: ..."``; a missing map per run), then
+    the comparison's own."""
 
 def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
     """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""

@@ -3,7 +3,8 @@
 The tables come from the Rust library's own builder (``_sds.long_tables``, the code that writes
 ``routes.csv`` and ``events.csv``): nothing here re-implements a table rule. :func:`long_tables`
 gives them as rows; :func:`to_pandas` as DataFrames with typed columns (pandas imported only
-then); :func:`to_parquet` writes them as Parquet (pyarrow imported only then). The frames
+then); :func:`to_parquet` writes them as Parquet (pyarrow imported only then);
+:func:`duckdb_read_csv` gives DuckDB's typed read of a CSV file. The frames
 (``frames.csv``) need the telemetry, not the report: write them with ``sds score --tables DIR``
 and hand ``DIR`` to :func:`to_pandas` or :func:`to_parquet`, which read the CSV files and type
 their columns.
@@ -12,14 +13,16 @@ their columns.
 from __future__ import annotations
 
 import csv
+import functools
 import importlib
 import json
 import os
 import re
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
+from ._files import FileSet, refuse_unsafe
 from ._schema import column_type
 
 Row = Dict[str, Any]
@@ -149,6 +152,37 @@ def to_pandas(source: Source) -> Dict[str, Any]:
     }
 
 
+_DUCKDB = {"int": "BIGINT", "float": "DOUBLE", "bool": "BOOLEAN", "string": "VARCHAR", "json": "VARCHAR"}
+
+
+def _sql_string(text: str) -> str:
+    return "'" + text.replace("'", "''") + "'"
+
+
+def duckdb_read_csv(path: Union[str, "os.PathLike[str]"], table: Optional[str] = None) -> str:
+    """DuckDB's ``read_csv(...)`` of a table ``sds score --tables`` wrote, every column typed as
+    docs/TABLES-SCHEMA.md says (``int`` BIGINT, ``float`` DOUBLE, ``bool`` BOOLEAN, ``string``
+    and ``json`` VARCHAR), to put after ``FROM``. DuckDB reads a CSV file's types from its
+    cells, so a column empty on every row (``comfort.score``, ``dt``, ``distance_m``, ... in a
+    run without telemetry) would be text, and ``avg("comfort.score")`` would not bind; typed,
+    it is NULL. ``table`` (``routes``, ``events``, ``frames``) defaults to the file's name; the
+    file's header is read to name its columns. DuckDB itself is not imported.
+
+    >>> import duckdb, sds  # doctest: +SKIP
+    >>> duckdb.sql(f'SELECT town, avg("comfort.score") FROM {sds.duckdb_read_csv("tables/routes.csv")} GROUP BY town')  # doctest: +SKIP
+    """
+    p = Path(path)
+    name = table or p.stem
+    if name not in TABLES:
+        raise ValueError(f"{p}: table {name!r}: expected one of {', '.join(TABLES)} (pass table=...)")
+    with open(p, newline="", encoding="utf-8") as f:
+        columns = next(csv.reader(f), [])
+    types = ", ".join(
+        f"{_sql_string(c)}: '{_DUCKDB[k]}'" for c in columns if (k := column_type(name, c)) is not None
+    )
+    return f"read_csv({_sql_string(os.fspath(p))}, header = true, delim = ',', quote = '\"', types = {{{types}}})"
+
+
 def _arrow_type(pa: Any, kind: str) -> Any:
     return {"bool": pa.bool_(), "int": pa.int64(), "float": pa.float64()}.get(kind, pa.string())
 
@@ -162,6 +196,12 @@ def _arrow_values(kind: str, values: Sequence[Any]) -> List[Any]:
     return list(values)
 
 
+def _arrow_table(pa: Any, name: str, columns: List[str], data: Dict[str, List[Any]]) -> Any:
+    kinds = [_kind(name, c, data[c]) for c in columns]
+    arrays = [pa.array(_arrow_values(k, data[c]), type=_arrow_type(pa, k)) for c, k in zip(columns, kinds)]
+    return pa.Table.from_arrays(arrays, names=columns)
+
+
 def to_parquet(source: Union[Source, Mapping[str, Any]], folder: Union[str, "os.PathLike[str]"]) -> List[Path]:
     """Writes the long tables as Parquet files ``routes.parquet``, ``events.parquet`` (and
     ``frames.parquet`` from a folder of ``sds score --tables``) into ``folder`` (created if
@@ -170,6 +210,11 @@ def to_parquet(source: Union[Source, Mapping[str, Any]], folder: Union[str, "os.
     docs/TABLES-SCHEMA.md says (int64, double, bool, string; a list as its JSON text); a null is
     a Parquet null. Imports pyarrow (install it yourself; the package does not depend on it).
 
+    The files are written as ``sds score --tables`` writes its own: each through a temporary
+    file renamed over its name, a link at a name refused (:class:`sds.IoError`, naming it,
+    before anything is written), and all or nothing: on an error (a full disk, Ctrl-C) the
+    files this call replaced are put back and the ones it created removed.
+
     >>> import sds  # doctest: +SKIP
     >>> sds.to_parquet("tables/", "parquet/")  # doctest: +SKIP
     [PosixPath('parquet/routes.parquet'), PosixPath('parquet/events.parquet'), PosixPath('parquet/frames.parquet')]
@@ -177,30 +222,25 @@ def to_parquet(source: Union[Source, Mapping[str, Any]], folder: Union[str, "os.
     pa = importlib.import_module("pyarrow")
     pq = importlib.import_module("pyarrow.parquet")
     out = Path(folder)
-    out.mkdir(parents=True, exist_ok=True)
-    written: List[Path] = []
+    tables: List[Tuple[str, Callable[[], Any]]] = []
     # The dict of to_pandas (DataFrames), not a report (whose "routes" is a list).
     if isinstance(source, Mapping) and "routes" in source and not isinstance(source["routes"], list):
         for name, df in source.items():
-            table = pa.Table.from_pandas(df, preserve_index=False)
-            path = out / f"{name}.parquet"
-            pq.write_table(table, path)
-            written.append(path)
-        return written
-    if isinstance(source, (str, os.PathLike)):
+            tables.append((name, functools.partial(pa.Table.from_pandas, df, preserve_index=False)))
+    elif isinstance(source, (str, os.PathLike)):
         # A folder: pyarrow reads the CSV itself, each column of the schema's type (880,000
         # frames: 1.4 s and 0.28 GB, against 10.4 s and 1.7 GB through Python lists).
         pa_csv = importlib.import_module("pyarrow.csv")
-        found = False
-        for name in TABLES:
-            path = Path(source) / f"{name}.csv"
-            if not path.exists():
-                continue
-            found = True
+        paths = [(name, Path(source) / f"{name}.csv") for name in TABLES]
+        paths = [(name, path) for name, path in paths if path.exists()]
+        if not paths:
+            read_tables(source)  # raises, naming the folder
+
+        def from_csv(name: str, path: Path) -> Any:
             with open(path, newline="", encoding="utf-8") as f:
                 columns = next(csv.reader(f), [])
             types = {c: _arrow_type(pa, k) for c in columns if (k := column_type(name, c)) is not None}
-            table = pa_csv.read_csv(
+            return pa_csv.read_csv(
                 path,
                 convert_options=pa_csv.ConvertOptions(
                     column_types=types,
@@ -210,16 +250,18 @@ def to_parquet(source: Union[Source, Mapping[str, Any]], folder: Union[str, "os.
                     false_values=["false"],
                 ),
             )
-            written.append(out / f"{name}.parquet")
-            pq.write_table(table, written[-1])
-        if not found:
-            read_tables(source)  # raises, naming the folder
-        return written
-    for name, (columns, data) in _tables_of(source).items():
-        kinds = [_kind(name, c, data[c]) for c in columns]
-        arrays = [pa.array(_arrow_values(k, data[c]), type=_arrow_type(pa, k)) for c, k in zip(columns, kinds)]
-        table = pa.Table.from_arrays(arrays, names=columns)
-        path = out / f"{name}.parquet"
-        pq.write_table(table, path)
-        written.append(path)
+
+        for name, path in paths:
+            tables.append((name, functools.partial(from_csv, name, path)))
+    else:
+        for name, (columns, data) in _tables_of(source).items():
+
+            tables.append((name, functools.partial(_arrow_table, pa, name, columns, data)))
+    written = [out / f"{name}.parquet" for name, _ in tables]
+    for path in written:
+        refuse_unsafe(path)  # a planted link: refused before anything is written
+    with FileSet(out) as files:
+        for path, (_, table) in zip(written, tables):
+            t = table()
+            files.place(path, functools.partial(pq.write_table, t))
     return written

@@ -11,11 +11,18 @@ What is logged:
 - the summary's numbers as scalars, each named ``sds/<path in summary>``: ``sds/driving_score``
   (DS), ``sds/success_rate`` (SR), ``sds/mean_ds_safe`` (DS_safe), ``sds/mean_comfort``,
   ``sds/sds``, ``sds/protocols/<id>/<field>``, ``sds/bench2drive/<field>`` and the rest;
-- the per-route rows (the long table ``routes``, :func:`sds.long_tables`) as a table: a W&B
-  Table, a TensorBoard text table, an MLflow table artifact;
+- the settings the report was scored with (:func:`settings_params`: ``sds_version``,
+  ``settings_sha256``, ``profile``, ``ability_rule``, ``protocols`` and every value of
+  ``config`` as ``config/<path>``) as the run's parameters: W&B config, TensorBoard hparams,
+  MLflow params, so that runs can be filtered and grouped by them;
+- the per-route rows (the long table ``routes``, :func:`sds.long_tables`) as a table under
+  ``tables/routes`` (apart from the scalar ``sds/routes``, the route count): a W&B Table, a
+  TensorBoard text table, an MLflow table artifact ``sds/routes.json``;
 - the JSON and HTML reports as artifacts (TensorBoard has none: both files are written into
-  its log folder), and the two pictures (``decomposition.svg``, ``routes.svg``) where the
-  tracker shows them (W&B as HTML panels, MLflow as artifacts; TensorBoard shows no SVG);
+  its log folder, as ``sds score`` writes its own files), and the two pictures
+  (``decomposition.svg``, ``routes.svg``) where the tracker shows them (W&B as HTML panels
+  ``figures/decomposition`` and ``figures/routes``, MLflow as artifacts; TensorBoard shows no
+  SVG);
 - each round of a watch (:meth:`Tracker.on_round`): ``watch/ds_done``, ``watch/ds_n`` (the
   running DS over the routes done and over N), ``watch/sds_done``, ``watch/sds_n``,
   ``watch/done``, ``watch/n``, ``watch/crashes`` (routes whose evaluator status says it
@@ -24,19 +31,29 @@ What is logged:
 
 from __future__ import annotations
 
+import functools
 import importlib
 import json
 import os
 import shutil
 import tempfile
 import time
+import warnings
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple
+from typing import Any, BinaryIO, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
+from ._files import FileSet, refuse_unsafe
+from ._sds import SdsWarning
 from ._tables import long_tables
 
 BACKENDS = ("wandb", "tensorboard", "mlflow")
+# The routes table's key (W&B) and tag (TensorBoard): apart from the scalars `sds/<path>`, one of
+# which is the route count `sds/routes` (a table logged there replaced it in W&B).
+TABLE_KEY = "tables/routes"
+# The two pictures' keys in W&B (`figures/routes`, `figures/decomposition`), apart from the
+# scalars for the same reason (`sds/routes` is the route count).
+FIGURES_KEY = "figures"
 
 
 def summary_scalars(report: Mapping[str, Any]) -> Dict[str, float]:
@@ -57,6 +74,55 @@ def summary_scalars(report: Mapping[str, Any]) -> Dict[str, float]:
 
     walk("sds", report.get("summary", {}))
     return out
+
+
+Setting = Union[str, int, float, bool]
+
+
+def settings_params(report: Mapping[str, Any]) -> Dict[str, Setting]:
+    """The settings a report was scored with, flat, for a tracker's run parameters (MLflow
+    params, W&B config, TensorBoard hparams), so that runs can be filtered and grouped by them:
+    ``sds_version`` and ``settings_sha256`` (the report's ``inputs.provenance``; the version of
+    this package when the report has none), ``profile``, ``ability_rule``, ``protocols`` (the
+    ids joined with ``,``; empty for none) and every value of ``config`` as ``config/<path>``
+    (a list as its JSON text, a null as ``"null"``).
+
+    >>> p = settings_params({"profile": "physical", "config": {"ability_rule": "b2d-0.0.4",
+    ...     "protocols": ["lb2.1"], "bounds": {"lat_acc": 4.89}, "expected_routes": None}})
+    >>> p["protocols"], p["config/bounds/lat_acc"], p["config/expected_routes"]
+    ('lb2.1', 4.89, 'null')
+    """
+    config = report.get("config") or {}
+    provenance = (report.get("inputs") or {}).get("provenance") or {}
+    out: Dict[str, Setting] = {"sds_version": str(provenance.get("sds_version") or _sds.__version__)}
+    if provenance.get("settings_sha256"):
+        out["settings_sha256"] = str(provenance["settings_sha256"])
+    profile = report.get("profile", config.get("profile"))
+    if profile is not None:
+        out["profile"] = str(profile)
+    if config.get("ability_rule") is not None:
+        out["ability_rule"] = str(config["ability_rule"])
+    if isinstance(config.get("protocols"), list):
+        out["protocols"] = ",".join(str(p) for p in config["protocols"])
+
+    def walk(prefix: str, v: Any) -> None:
+        if isinstance(v, Mapping):
+            for k, x in v.items():
+                walk(f"{prefix}/{k}", x)
+        elif v is None:
+            out[prefix] = "null"
+        elif isinstance(v, (str, int, float, bool)):
+            out[prefix] = v
+        else:
+            out[prefix] = json.dumps(v, ensure_ascii=False)
+
+    walk("config", config)
+    return out
+
+
+def _text(v: Setting) -> str:
+    """A setting as MLflow keeps it (text; a bool as JSON writes it)."""
+    return ("true" if v else "false") if isinstance(v, bool) else str(v)
 
 
 def crashes(report: Mapping[str, Any]) -> int:
@@ -93,6 +159,10 @@ def report_files(report: Mapping[str, Any], folder: Path, name: str) -> List[Pat
 def _routes(report: Mapping[str, Any]) -> Tuple[List[str], List[List[Any]]]:
     columns, rows = long_tables(report)["routes"]
     return columns, [[row[c] for c in columns] for row in rows]
+
+
+def _write_bytes(data: bytes, f: BinaryIO) -> None:
+    f.write(data)
 
 
 class Tracker:
@@ -139,6 +209,8 @@ class Tracker:
         self.name = name
         self.owns = run is None
         self._rounds = 0
+        self._params: Optional[Dict[str, Setting]] = None
+        self._logged: Dict[str, str] = {}
         self._tmp = Path(tempfile.mkdtemp(prefix="sds-log-"))
         if to == "wandb":
             wandb = importlib.import_module("wandb")
@@ -159,6 +231,8 @@ class Tracker:
                 run = self.client.create_run(exp_id, run_name=name)
             self.run_id: str = run if isinstance(run, str) else run.info.run_id
             self.run = run
+            if not self.owns:  # a run handed in may hold params already
+                self._logged = dict(self.client.get_run(self.run_id).data.params)
 
     # -- the backends' three primitives: scalars, a table, files ------------------------------
     def _scalars(self, values: Mapping[str, float], step: int) -> None:
@@ -177,16 +251,49 @@ class Tracker:
             metrics = [entities.Metric(k, v, now, step) for k, v in values.items()]
             self.client.log_batch(self.run_id, metrics=metrics)
 
+    def _settings(self, report: Mapping[str, Any]) -> None:
+        """The report's settings as the run's parameters, once per run unless they change."""
+        params = settings_params(report)
+        if params == self._params:
+            return
+        self._params = params
+        if self.to == "wandb":
+            self.run.config.update(params, allow_val_change=True)
+        elif self.to == "tensorboard":
+            hparams = importlib.import_module("tensorboard.plugins.hparams.summary_v2")
+            event_pb2 = importlib.import_module("tensorboard.compat.proto.event_pb2")
+            summary = hparams.hparams_pb(params, trial_id=self.name)
+            self.writer.add_event(event_pb2.Event(wall_time=time.time(), summary=summary))
+        else:
+            # MLflow keeps a run's params once: the new ones are logged, a changed one is said.
+            entities = importlib.import_module("mlflow.entities")
+            text = {k: _text(v) for k, v in params.items()}
+            changed = [k for k, v in text.items() if self._logged.get(k, v) != v]
+            if changed:
+                k = changed[0]
+                warnings.warn(
+                    f"MLflow run {self.run_id}: this report's settings differ from those logged "
+                    f"({len(changed)} parameter(s), first {k}: {self._logged[k]} kept, this report "
+                    f"has {text[k]}); MLflow keeps a run's parameters once: log reports scored "
+                    "with other settings to another run",
+                    SdsWarning,
+                    stacklevel=4,
+                )
+            items = [entities.Param(k, v) for k, v in text.items() if k not in self._logged]
+            for i in range(0, len(items), 100):  # MLflow takes at most 100 params a batch
+                self.client.log_batch(self.run_id, params=items[i : i + 100])
+            self._logged.update({p.key: p.value for p in items})
+
     def _table(self, columns: Sequence[str], rows: Sequence[Sequence[Any]], step: int) -> None:
         if self.to == "wandb":
             table = self.wandb.Table(columns=list(columns), data=[list(r) for r in rows], allow_mixed_types=True)
-            self.run.log({"sds/routes": table}, step=step)
+            self.run.log({TABLE_KEY: table}, step=step)
         elif self.to == "tensorboard":
             text = importlib.import_module("tensorboard.plugins.text.summary_v2")
             event_pb2 = importlib.import_module("tensorboard.compat.proto.event_pb2")
             np = importlib.import_module("numpy")
             cells = [list(columns)] + [["" if v is None else str(v) for v in r] for r in rows]
-            summary = text.text_pb("sds/routes", np.array(cells, dtype=object))
+            summary = text.text_pb(TABLE_KEY, np.array(cells, dtype=object))
             self.writer.add_event(event_pb2.Event(wall_time=time.time(), step=step, summary=summary))
         else:
             data = {c: [r[i] for r in rows] for i, c in enumerate(columns)}
@@ -198,12 +305,18 @@ class Tracker:
             for p in paths:
                 artifact.add_file(str(p))
             self.run.log_artifact(artifact)
-            pictures = {f"sds/{p.stem}": self.wandb.Html(p.read_text(encoding="utf-8"), inject=False) for p in paths if p.suffix == ".svg"}
+            pictures = {f"{FIGURES_KEY}/{p.stem}": self.wandb.Html(p.read_text(encoding="utf-8"), inject=False) for p in paths if p.suffix == ".svg"}
             if pictures:
                 self.run.log(pictures)
         elif self.to == "tensorboard":
-            for p in paths:
-                shutil.copy(p, self.log_dir / p.name)
+            # Into a folder others may write to: as sds score writes its own files (a link at
+            # a name refused, never followed; the set all or nothing).
+            targets = [self.log_dir / p.name for p in paths]
+            for t in targets:
+                refuse_unsafe(t)
+            with FileSet(self.log_dir) as out:
+                for p, t in zip(paths, targets):
+                    out.place(t, functools.partial(_write_bytes, p.read_bytes()))
         else:
             for p in paths:
                 self.client.log_artifact(self.run_id, str(p), "sds")
@@ -214,6 +327,7 @@ class Tracker:
         and the pictures (see the module's doc). ``step``: the tracker's step (default: after
         the last round logged)."""
         at = self._rounds if step is None else step
+        self._settings(report)
         self._scalars(summary_scalars(report), at)
         columns, rows = _routes(report)
         self._table(columns, rows, at)
@@ -226,6 +340,7 @@ class Tracker:
         number as step. Hand it to ``sds.watch(..., on_round=tracker.on_round)``."""
         step = int(status.get("round") or self._rounds + 1)
         self._rounds = max(self._rounds, step)
+        self._settings(report)
         self._scalars(round_scalars(status, report), step)
         self._flush()
 

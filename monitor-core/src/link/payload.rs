@@ -504,10 +504,9 @@ const KIND_RESTORED: u8 = 6;
 /// 2 critical); segment: index u32; link_fault and link_restored: bad statuses u32.
 fn put_event(t: &Tagged, p: &mut Put<'_>) {
     let (kind, flags) = match &t.event {
-        LinkEvent::Monitor(Event::Collision(v)) => (
-            KIND_COLLISION,
-            v.decelerated as u8 | (v.exempt as u8) << 1,
-        ),
+        LinkEvent::Monitor(Event::Collision(v)) => {
+            (KIND_COLLISION, v.decelerated as u8 | (v.exempt as u8) << 1)
+        }
         LinkEvent::Monitor(Event::Comfort(_)) => (KIND_COMFORT, 0),
         LinkEvent::Monitor(Event::Lateral(_)) => (KIND_LATERAL, 0),
         LinkEvent::Segment { .. } => (KIND_SEGMENT, 0),

@@ -205,6 +205,7 @@ fn replay(config: Config, segments: &[Vec<(u16, Frame)>]) -> (Vec<Tagged>, LinkS
 const DT_US: u64 = 50_000;
 
 /// Plays one route into `checker` and checks every property.
+#[allow(clippy::too_many_arguments)]
 fn play_route(
     checker: &mut Checker,
     start_counter: u16,

@@ -11,7 +11,7 @@
 
 use std::collections::HashMap;
 use std::io::{Read, Write};
-use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
 use monitor_core::link::{
@@ -224,17 +224,14 @@ impl Player {
         Ok(self.shadow.status().accepted.wrapping_sub(before))
     }
 
-    /// Reads what has arrived, waiting until `deadline` for at least one message when `wait`.
+    /// Reads what has arrived; with a `deadline`, waits until then for at least one message.
     fn pump(&mut self, deadline: Option<Instant>) {
         loop {
             let got = match deadline {
-                Some(d) => match self
+                Some(d) => self
                     .incoming
                     .recv_timeout(d.saturating_duration_since(Instant::now()))
-                {
-                    Ok(x) => Some(x),
-                    Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => None,
-                },
+                    .ok(),
                 None => self.incoming.try_recv().ok(),
             };
             let Some((t, bytes)) = got else {

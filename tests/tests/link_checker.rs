@@ -392,6 +392,45 @@ proptest! {
         prop_assert!(e2e::check(&bad).is_err());
     }
 
+    /// The checker's streaming COBS decoder (`Deframer`) gives what the `cobs` crate's decoder
+    /// gives, message by message, on valid encodings, on random bytes and on their mixtures.
+    #[test]
+    fn streaming_cobs_decode_equals_the_crate(
+        pieces in vec(prop_oneof![
+            vec(any::<u8>(), 0..300).prop_map(|m| {
+                let mut out = vec![0u8; m.len() + m.len() / 254 + 2];
+                let n = link::framing::frame(&m, &mut out).unwrap();
+                out.truncate(n);
+                out
+            }),
+            vec(any::<u8>(), 0..300),
+        ], 1..8),
+    ) {
+        let stream: Vec<u8> = pieces.concat();
+        let mut rx = Deframer::new();
+        let mut got = Vec::new();
+        for &b in &stream {
+            if let Some(r) = rx.push(b) {
+                got.push(r.map(|m| m.to_vec()));
+            }
+        }
+        let mut want = Vec::new();
+        let mut segments: Vec<&[u8]> = stream.split(|&b| b == 0).collect();
+        segments.pop(); // the bytes after the last delimiter: no message yet
+        for seg in segments.into_iter().filter(|s| !s.is_empty()) {
+            if seg.len() > link::MAX_ENCODED {
+                want.push(Err(link::FramingError::TooLong));
+                continue;
+            }
+            let mut copy = seg.to_vec();
+            want.push(match cobs::decode_in_place(&mut copy) {
+                Ok(n) => Ok(copy[..n].to_vec()),
+                Err(_) => Err(link::FramingError::Cobs),
+            });
+        }
+        prop_assert_eq!(got, want);
+    }
+
     /// A stream of random bytes: no panic, nothing accepted, bounded answers.
     #[test]
     fn random_bytes_are_never_accepted(noise in vec(any::<u8>(), 0..4096)) {

@@ -1,9 +1,12 @@
 //! Messages on a byte stream: each message is COBS-encoded (no 0x00 inside) and ends with one
 //! 0x00 byte, so a receiver that lost bytes finds the next message at the next 0x00.
 //!
-//! COBS comes from the `cobs` crate (no_std, no allocation with its default features off; it
-//! encodes into and decodes in a caller's slice, returning errors rather than panicking), the
-//! usual choice on embedded Rust, so the checker needs no own encoder.
+//! The encoder is the `cobs` crate's (no_std, no allocation with its default features off, the
+//! usual choice on embedded Rust). The receiving side decodes as the bytes arrive, in
+//! [`Deframer::push`]: one pass instead of a second one over the buffer at the delimiter, and
+//! no bounds check the optimiser cannot remove (the crate's in-place decoder kept three), so the
+//! Cortex-M link checker's release build proves its receive path panic-free
+//! (firmware-example/link-checker). The property tests hold it to the crate's encoder.
 
 use crate::link::payload::MAX_MESSAGE;
 
@@ -51,9 +54,16 @@ pub fn frame(message: &[u8], out: &mut [u8]) -> Option<usize> {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Deframer {
+    /// The message decoded so far.
     buf: [u8; MAX_ENCODED],
     len: usize,
-    overflow: bool,
+    /// Encoded bytes since the last delimiter.
+    seen: usize,
+    /// Data bytes left in the current COBS block (0: the next byte is a block's code).
+    block_left: u8,
+    /// The current block stands for its bytes and a 0x00 (its code was not 0xFF); the zero is
+    /// written when another block follows, and is the delimiter itself otherwise.
+    zero_after: bool,
 }
 
 impl Default for Deframer {
@@ -68,41 +78,62 @@ impl Deframer {
         Deframer {
             buf: [0; MAX_ENCODED],
             len: 0,
-            overflow: false,
+            seen: 0,
+            block_left: 0,
+            zero_after: false,
         }
     }
 
     /// Forgets a partly received message.
     pub fn clear(&mut self) {
         self.len = 0;
-        self.overflow = false;
+        self.seen = 0;
+        self.block_left = 0;
+        self.zero_after = false;
+    }
+
+    fn put(&mut self, byte: u8) {
+        // `seen` bounds `len` (a message never decodes longer than its encoding), so the slot
+        // is always there; `get_mut` says so without a panicking branch.
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = byte;
+            self.len += 1;
+        }
     }
 
     /// Takes one byte. At a delimiter, returns the decoded message (valid until the next call)
     /// or why the bytes before it are not one; two delimiters in a row are not a message.
     pub fn push(&mut self, byte: u8) -> Option<Result<&mut [u8], FramingError>> {
         if byte != 0 {
-            match self.buf.get_mut(self.len) {
-                Some(slot) if !self.overflow => {
-                    *slot = byte;
-                    self.len += 1;
+            self.seen = self.seen.saturating_add(1);
+            if self.seen > MAX_ENCODED {
+                return None; // too long: reported at the delimiter
+            }
+            if self.block_left == 0 {
+                // A block's code: its data bytes follow, then (unless 0xFF) a zero.
+                if self.zero_after {
+                    self.put(0);
                 }
-                _ => self.overflow = true,
+                self.block_left = byte - 1;
+                self.zero_after = byte != 0xFF;
+            } else {
+                self.put(byte);
+                self.block_left -= 1;
             }
             return None;
         }
-        let (len, overflow) = (self.len, self.overflow);
+        let (len, seen, truncated) = (self.len, self.seen, self.block_left != 0);
         self.clear();
-        if overflow {
+        if seen > MAX_ENCODED {
             return Some(Err(FramingError::TooLong));
         }
-        if len == 0 {
+        if seen == 0 {
             return None;
         }
-        let encoded = &mut self.buf[..len];
-        match cobs::decode_in_place(encoded) {
-            Ok(n) => Some(Ok(&mut self.buf[..n])),
-            Err(_) => Some(Err(FramingError::Cobs)),
+        if truncated {
+            // The last block's code promised more bytes than came before the delimiter.
+            return Some(Err(FramingError::Cobs));
         }
+        Some(self.buf.get_mut(..len).ok_or(FramingError::TooLong))
     }
 }

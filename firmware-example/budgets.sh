@@ -24,3 +24,11 @@ M3_WORST_INSNS_MAX=130000
 # Proof 5: stack high-water mark of a whole `run` (paint-stack), in bytes.
 STACK_MAX_VEHICLE=3072
 STACK_MAX_REPORT=4096
+
+# Proof 6: the link checker image (link-checker/, Cortex-M4F only). Flash without the wire
+# capture the measurement modes replay; instructions per received message, its answers and the
+# pin included (median and worst, exact counts); stack of the serve runs (clean and faults).
+LINK_FLASH_CODE_MAX=40960
+LINK_STACK_MAX=4096
+LINK_MEDIAN_INSNS_MAX=4000
+LINK_WORST_INSNS_MAX=19999

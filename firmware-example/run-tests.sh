@@ -7,7 +7,10 @@
 #   3. flash and RAM sizes, and the monitor's state size, within budgets.sh;
 #   4. instructions per frame (average and worst frame), counted by QEMU with -icount shift=0
 #      and our insncount plugin (qemu-plugin/insncount.c, built here), within budgets.sh;
-#   5. stack high-water mark (cortex-m-rt paint-stack) within budgets.sh.
+#   5. stack high-water mark (cortex-m-rt paint-stack) within budgets.sh;
+#   6. the link checker image (link-checker/, Cortex-M4F): `sds link` plays the demo run into it
+#      over a TCP character device, without and with faults, every route equal to the replay;
+#      its sizes, stack and instructions per message within budgets.sh (link-checker/run-link.sh).
 # Idempotent; everything it writes goes to firmware-example/target/ (git-ignored; builds go to
 # $CARGO_TARGET_DIR/firmware-example instead when CARGO_TARGET_DIR is set). Measurements
 # are summarised in target/qemu-tests/measurements.txt (docs/FIRMWARE.md records them).
@@ -295,6 +298,10 @@ for target in "${TARGETS[@]}"; do
   check "$tag average instructions per frame (rounded up)" "$avg_int" "$avg_max"
   check "$tag worst-frame instructions" "$worst" "$worst_max"
 done
+
+# Proof 6: the link checker on the Cortex-M4F.
+# shellcheck source=link-checker/run-link.sh
+source "$FW/link-checker/run-link.sh"
 
 # Host unit tests of the firmware's library (frame table, pin rules, output lines).
 say "host unit tests of the firmware library"

@@ -362,6 +362,12 @@ pub enum Command {
     /// Merge the JSON reports of `sds score` scored where the files are (one per shard, node
     /// or GPU) into the report `sds score` over all their inputs would write (spec v1.4 §13).
     Merge(MergeArgs),
+    /// Play a run (or vehicle logs) to a checker over a byte stream and check that its events
+    /// equal the replay of the frames it accepted (exit 3 when a route's do not).
+    Link(crate::link::LinkArgs),
+    /// The checker on the host: the doer's messages on standard input, its answers on
+    /// standard output.
+    Checker(crate::link::CheckerArgs),
     /// Write the built-in demo run into DIR (and score it with --score).
     Demo {
         /// Output folder.

@@ -30,6 +30,7 @@ macro_rules! say {
 
 mod compare;
 pub mod exit;
+mod link;
 mod merge;
 mod spelling;
 mod watch;
@@ -102,6 +103,8 @@ fn run(cli: Cli) -> Result<i32> {
         Command::Compare(args) => compare::compare(&args),
         Command::Watch(args) => watch::watch(&args),
         Command::Merge(args) => merge::merge(&args),
+        Command::Link(args) => link::link(&args),
+        Command::Checker(args) => link::checker(&args),
         Command::Demo {
             dir,
             score: then_score,

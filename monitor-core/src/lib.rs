@@ -22,6 +22,7 @@
 //! | 6 lateral excess | [`lateral`] |
 //! | 7-8 work zone, scores | [`score`] |
 //! | defaults and \[decision\]s | [`config`] |
+//! | the live link to a safety controller | [`link`] |
 //!
 //! ```
 //! use monitor_core::{score, Config, Frame, Monitor};
@@ -65,6 +66,7 @@ pub mod frame;
 #[cfg(feature = "serde")]
 pub mod json;
 pub mod lateral;
+pub mod link;
 pub mod monitor;
 pub mod score;
 pub mod sg;

@@ -83,6 +83,7 @@ pub mod error;
 pub mod error_kind;
 pub mod geometry;
 pub mod input;
+pub mod live_link;
 pub mod merge;
 pub mod model;
 pub mod pipeline;

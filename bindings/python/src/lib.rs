@@ -29,6 +29,7 @@ mod compare;
 mod convert;
 mod errors;
 mod interrupt;
+mod link;
 mod merge;
 mod monitor;
 mod options;
@@ -57,6 +58,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(watch::watch, m)?)?;
     m.add_function(wrap_pyfunction!(merge::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(link::link, m)?)?;
     m.add_function(wrap_pyfunction!(tables::long_tables, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add_class::<watch::Watch>()?;

@@ -6,6 +6,7 @@ mod common;
 
 mod compare;
 mod hostile;
+mod link;
 mod mcap;
 mod merge;
 mod perf;

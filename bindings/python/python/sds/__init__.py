@@ -57,6 +57,7 @@ from ._watch import watch
 from .monitor import Event, Monitor, Summary
 
 __all__ = [
+    "link",
     "ConfigError",
     "Event",
     "FeatureUnavailableError",
@@ -185,6 +186,57 @@ def score(
     }
     report: Dict[str, Any] = _sds.score(_paths(results), options)
     warn_each(report.get("warnings") or [])
+    return report
+
+
+def link(
+    results: Union[PathLike, Sequence[PathLike]],
+    *,
+    to: str,
+    telemetry: Optional[PathLike] = None,
+    pace: Literal["fast", "realtime"] = "fast",
+    inject: Optional[str] = None,
+    tap: Optional[PathLike] = None,
+    settings: Optional[Mapping[str, Any]] = None,
+) -> Dict[str, Any]:
+    """Plays a run to a checker over a byte stream; returns the report of ``sds link``.
+
+    Each route is played to the checker (``to``: ``"serial:DEVICE[@BAUD]"``,
+    ``"tcp:HOST:PORT"`` or ``"exec:COMMAND"``, e.g. ``"exec:sds checker"``), and its events are
+    compared with the replay of the frames the checker accepted, cut into the segments it
+    started (docs/SCORE.md, "Live link").
+
+    Args:
+        results: Results file(s) or folder(s), as for :func:`score`.
+        to: The checker.
+        telemetry: The telemetry root.
+        pace: ``"fast"`` (as fast as the checker reads) or ``"realtime"`` (one frame a period).
+        inject: Faults, ``"drop=P,corrupt=P,duplicate=P,reorder=P,stall=SECONDS,seed=N"``.
+        tap: A folder for ``sent.bin`` and ``received.bin``.
+        settings: Settings by name (as ``--set``).
+
+    Returns:
+        The report: ``routes`` (each with its ``link`` object) and ``summary``
+        (``equal_routes`` of ``routes``).
+
+    Raises:
+        ConfigError: A bad ``to``, ``pace``, ``inject`` or setting.
+        IoError: The checker cannot be reached or stops answering.
+
+    Example:
+        >>> r = sds.link("results.json", telemetry="telemetry", to="exec:sds checker")  # doctest: +SKIP
+        >>> r["summary"]["equal_routes"] == r["summary"]["routes"]  # doctest: +SKIP
+    """
+    overrides = [(str(k), str(v)) for k, v in (settings or {}).items()]
+    report: Dict[str, Any] = _sds.link(
+        _paths(results),
+        None if telemetry is None else str(telemetry),
+        to,
+        pace,
+        inject or "",
+        None if tap is None else str(tap),
+        overrides,
+    )
     return report
 
 

@@ -59,6 +59,17 @@ def compare(
 def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
     """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""
 
+def link(
+    results: Sequence[str],
+    telemetry: Optional[str],
+    to: str,
+    pace: str,
+    inject: str,
+    tap: Optional[str],
+    overrides: Sequence[Tuple[str, str]],
+) -> Dict[str, Any]:
+    """Plays a run to a checker through the library (see ``sds.link``)."""
+
 def long_tables(
     report_json: str,
 ) -> Dict[str, Tuple[List[str], Dict[str, List[Any]]]]:

@@ -1,0 +1,75 @@
+//! `sds.link` (docs/SCORE.md, "Live link"): the library's [`LinkRequest`], the report converted
+//! to Python objects ([`crate::pyser`]).
+
+use std::path::PathBuf;
+
+use monitor_core::link::LinkConfig;
+use monitor_host::app::link::{LinkError, LinkRequest};
+use monitor_host::app::request::RunSettings;
+use monitor_host::input::mcap::Topics;
+use monitor_host::live_link::{Inject, Pace, Target};
+use monitor_host::Inputs;
+use pyo3::prelude::*;
+
+use crate::errors::{run_error, settings_error, ConfigError, IoError};
+use crate::pyser::to_python;
+
+/// Plays a run to a checker (see the Python `sds.link`); returns the report as Python objects.
+/// The GIL is released while playing.
+#[pyfunction]
+#[pyo3(signature = (results, telemetry, to, pace, inject, tap, overrides))]
+#[allow(clippy::too_many_arguments)]
+pub fn link<'py>(
+    py: Python<'py>,
+    results: Vec<PathBuf>,
+    telemetry: Option<PathBuf>,
+    to: &str,
+    pace: &str,
+    inject: &str,
+    tap: Option<PathBuf>,
+    overrides: Vec<(String, String)>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let target: Target =
+        to.parse()
+            .map_err(|e: monitor_host::live_link::transport::TargetError| {
+                ConfigError::new_err(e.to_string())
+            })?;
+    let pace = match pace {
+        "fast" => Pace::Fast,
+        "realtime" => Pace::Realtime,
+        other => {
+            return Err(ConfigError::new_err(format!(
+                "pace={other:?}: expected \"fast\" or \"realtime\""
+            )))
+        }
+    };
+    let inject: Inject =
+        inject
+            .parse()
+            .map_err(|e: monitor_host::live_link::inject::InjectError| {
+                ConfigError::new_err(e.to_string())
+            })?;
+    let request = LinkRequest {
+        inputs: Inputs {
+            telemetry,
+            ..Inputs::new(results)
+        },
+        mcap: Vec::new(),
+        topics: Topics::default(),
+        settings: RunSettings {
+            overrides,
+            ..RunSettings::default()
+        },
+        target,
+        pace,
+        inject,
+        link: LinkConfig::DEFAULT,
+        tap,
+    };
+    let report = py.detach(|| request.run()).map_err(|e| match e {
+        LinkError::Settings(e) => settings_error(&e),
+        LinkError::Run(e) => run_error(&e),
+        other => IoError::new_err(monitor_host::error::message(&other)),
+    })?;
+    to_python(py, &report)
+}

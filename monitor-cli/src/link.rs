@@ -1,0 +1,191 @@
+//! `sds link` (the doer: plays a run to a checker) and `sds checker` (the checker on the host).
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use monitor_core::link::LinkConfig;
+use monitor_host::app::link::{LinkError, LinkRequest};
+use monitor_host::live_link::{Inject, Pace, Target};
+use monitor_host::SettingsError;
+
+use crate::args::{DuplicatesArg, RunArgs};
+use crate::output::write_output;
+
+/// `--pace`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum PaceArg {
+    /// One frame per frame period.
+    Realtime,
+    /// As fast as the checker reads.
+    Fast,
+}
+
+/// Arguments of `sds link`.
+#[derive(Debug, clap::Args)]
+pub struct LinkArgs {
+    /// Results (as for `score`).
+    #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
+    pub results: Vec<PathBuf>,
+    /// Telemetry root.
+    #[arg(long)]
+    pub telemetry: Option<PathBuf>,
+    /// Vehicle logs instead of results (as for `score`).
+    #[arg(long, value_name = "FILE")]
+    pub mcap: Vec<PathBuf>,
+    /// A vehicle log's topic, `NAME=TOPIC` (as for `score`).
+    #[arg(long = "topic", value_name = "NAME=TOPIC", requires = "mcap")]
+    pub topics: Vec<String>,
+    /// The options of `score` (profile, maps, `--set`; `--set link.max_delta=N`,
+    /// `link.timeout=N`, `link.window=N`, `link.max_errors=N` must match the checker's).
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Which copy of a duplicated route id to play (as for `score`).
+    #[arg(long, value_enum)]
+    pub duplicates: Option<DuplicatesArg>,
+    /// The checker: `serial:DEVICE[@BAUD]`, `tcp:HOST:PORT` or `exec:COMMAND`.
+    #[arg(long, value_name = "TARGET")]
+    pub to: String,
+    /// `fast` (default): as fast as the checker reads; `realtime`: one frame per period.
+    #[arg(long, value_enum, default_value = "fast")]
+    pub pace: PaceArg,
+    /// Faults on the bytes the checker receives:
+    /// `drop=P,corrupt=P,duplicate=P,reorder=P,stall=SECONDS,seed=N`.
+    #[arg(long, value_name = "FAULTS")]
+    pub inject: Option<String>,
+    /// Copy every byte written to the checker into DIR/sent.bin and every byte read into
+    /// DIR/received.bin.
+    #[arg(long, value_name = "DIR")]
+    pub tap: Option<PathBuf>,
+    /// Write the report here instead of standard output.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
+}
+
+/// Arguments of `sds checker`.
+#[derive(Debug, clap::Args)]
+pub struct CheckerArgs {
+    /// Link settings: `link.max_delta=N` (3), `link.timeout=N` frame periods (3),
+    /// `link.window=N` (20), `link.max_errors=N` (2).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    pub set: Vec<String>,
+}
+
+/// Splits the `link.*` settings from the others and reads them.
+fn link_settings(set: &[String]) -> Result<(LinkConfig, Vec<String>), SettingsError> {
+    let mut link = LinkConfig::DEFAULT;
+    let mut rest = Vec::new();
+    for s in set {
+        let Some((name, value)) = s.split_once('=') else {
+            rest.push(s.clone());
+            continue;
+        };
+        let bad = |expected: &str| SettingsError::Value {
+            name: "--set",
+            expected: expected.into(),
+            value: s.clone(),
+        };
+        match name.trim() {
+            "link.max_delta" => {
+                link.max_delta = value
+                    .trim()
+                    .parse()
+                    .map_err(|_| bad("link.max_delta=N, 1..=65535"))?
+            }
+            "link.timeout" => {
+                link.timeout = value
+                    .trim()
+                    .parse()
+                    .map_err(|_| bad("link.timeout=N frame periods, 1..=65535"))?
+            }
+            "link.window" => {
+                link.window = value
+                    .trim()
+                    .parse()
+                    .map_err(|_| bad("link.window=N, 1..=32"))?
+            }
+            "link.max_errors" => {
+                link.max_errors = value
+                    .trim()
+                    .parse()
+                    .map_err(|_| bad("link.max_errors=N, below link.window"))?
+            }
+            _ => rest.push(s.clone()),
+        }
+    }
+    link.validate().map_err(|e| SettingsError::Value {
+        name: "--set",
+        expected: e.to_string(),
+        value: set.join(" "),
+    })?;
+    Ok((link, rest))
+}
+
+/// `sds link`: exit 0 when every route was equal, 3 otherwise.
+pub fn link(args: &LinkArgs) -> Result<i32> {
+    let (link, _) = link_settings(&args.run.set)?;
+    let mut settings = args.run.request(args.duplicates, None)?;
+    // The link settings are the checker's, not the monitor's.
+    settings.overrides.retain(|(n, _)| !n.starts_with("link."));
+    let target: Target = args.to.parse().map_err(|_| SettingsError::Value {
+        name: "--to",
+        expected: "serial:DEVICE[@BAUD], tcp:HOST:PORT or exec:COMMAND".into(),
+        value: args.to.clone(),
+    })?;
+    let given = args.inject.as_deref().unwrap_or("");
+    let inject: Inject =
+        given
+            .parse()
+            .map_err(
+                |e: monitor_host::live_link::inject::InjectError| SettingsError::Value {
+                    name: "--inject",
+                    expected: e.to_string(),
+                    value: given.to_string(),
+                },
+            )?;
+    let request = LinkRequest {
+        inputs: monitor_host::Inputs {
+            results: args.results.clone(),
+            telemetry: args.telemetry.clone(),
+            route_xml: args.run.routes.clone(),
+            maps: args.run.maps.clone(),
+        },
+        mcap: args.mcap.clone(),
+        topics: crate::log_topics(&args.topics)?,
+        settings,
+        target,
+        pace: match args.pace {
+            PaceArg::Realtime => Pace::Realtime,
+            PaceArg::Fast => Pace::Fast,
+        },
+        inject,
+        link,
+        tap: args.tap.clone(),
+    };
+    let report = request.run().map_err(|e| match e {
+        LinkError::Settings(e) => anyhow::Error::new(e),
+        LinkError::Run(e) => anyhow::Error::new(e),
+        other => anyhow::Error::new(other),
+    })?;
+    let text = serde_json::to_string_pretty(&report)? + "\n";
+    write_output(args.output.as_deref(), text.as_bytes(), &args.results)?;
+    say!(
+        "sds link: {} of {} routes equal to the replay over the accepted frames",
+        report.summary.equal_routes,
+        report.summary.routes
+    );
+    Ok(if report.all_equal() { 0 } else { 3 })
+}
+
+/// `sds checker`: the checker on standard input and output, until the input ends.
+pub fn checker(args: &CheckerArgs) -> Result<i32> {
+    let (link, rest) = link_settings(&args.set)?;
+    if let Some(bad) = rest.first() {
+        anyhow::bail!(SettingsError::Value {
+            name: "--set",
+            expected: "link.max_delta, link.timeout, link.window or link.max_errors".into(),
+            value: bad.clone(),
+        });
+    }
+    monitor_host::live_link::host_checker::run(std::io::stdin(), std::io::stdout().lock(), link)?;
+    Ok(0)
+}

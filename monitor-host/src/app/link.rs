@@ -1,0 +1,170 @@
+//! `sds link` and `sds.link`: play a run (or vehicle logs) to a checker over a byte stream and
+//! report, per route, whether its events equal the replay of the frames it accepted
+//! (docs/SCORE.md, "Live link"). The front ends fill a [`LinkRequest`] and call
+//! [`LinkRequest::run`].
+
+use std::path::PathBuf;
+
+use crate::app::request::RunSettings;
+use crate::app::run::{run_frames, Inputs};
+use crate::input::mcap::Topics;
+use crate::input::results_file::read_results;
+use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
+use crate::live_link::inject::Inject;
+use crate::live_link::transport::{Target, TargetError};
+
+/// One run to play to a checker.
+#[derive(Clone, Debug)]
+pub struct LinkRequest {
+    /// The run's files (as `sds score`), unless `mcap` is given.
+    pub inputs: Inputs,
+    /// Vehicle logs instead (each one route).
+    pub mcap: Vec<PathBuf>,
+    /// The logs' topics.
+    pub topics: Topics,
+    /// The options of a scored run (profile, `--set`).
+    pub settings: RunSettings,
+    /// Where the checker is.
+    pub target: Target,
+    /// How fast.
+    pub pace: Pace,
+    /// Faults to inject.
+    pub inject: Inject,
+    /// The checker's link settings (the doer judges acceptance with the same).
+    pub link: monitor_core::link::LinkConfig,
+    /// Where to copy the bytes sent and received (`sent.bin`, `received.bin`).
+    pub tap: Option<PathBuf>,
+}
+
+/// A route that could not be played (its frames could not be made).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Unplayed {
+    /// The route id, or the source.
+    pub route_id: String,
+    /// Why.
+    pub error: String,
+}
+
+/// The summary of a played run.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct LinkRunSummary {
+    /// Routes played.
+    pub routes: usize,
+    /// Routes whose events and summary equalled the replay's.
+    pub equal_routes: usize,
+    /// The target.
+    pub to: String,
+    /// The pace.
+    pub pace: Pace,
+    /// The faults injected.
+    pub inject: Inject,
+}
+
+/// The report of `sds link`.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct LinkReport {
+    /// Each route played, in input order.
+    pub routes: Vec<RouteLink>,
+    /// Routes whose frames could not be made.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub unplayed: Vec<Unplayed>,
+    /// The summary.
+    pub summary: LinkRunSummary,
+}
+
+impl LinkReport {
+    /// Every route played was equal, and none was left unplayed (`sds link` exits 0, else 3).
+    pub fn all_equal(&self) -> bool {
+        self.unplayed.is_empty() && self.summary.equal_routes == self.summary.routes
+    }
+}
+
+/// Why a link run stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum LinkError {
+    /// The settings.
+    #[error(transparent)]
+    Settings(#[from] crate::settings::SettingsError),
+    /// The inputs.
+    #[error(transparent)]
+    Run(#[from] crate::error::Error),
+    /// The target.
+    #[error(transparent)]
+    Target(#[from] TargetError),
+    /// Playing.
+    #[error(transparent)]
+    Play(#[from] PlayError),
+    /// The tap folder.
+    #[error("--tap: {0}")]
+    Tap(#[source] std::io::Error),
+}
+
+impl LinkRequest {
+    /// Plays every route and compares.
+    ///
+    /// # Errors
+    /// [`LinkError`].
+    pub fn run(&self) -> Result<LinkReport, LinkError> {
+        let settings = self.settings.settings()?;
+        let mut routes: Vec<(String, Result<crate::model::frames::RouteFrames, String>)> =
+            Vec::new();
+        if self.mcap.is_empty() {
+            let mut ids = std::collections::HashMap::new();
+            for path in &self.inputs.results {
+                if let Ok(set) = read_results(path) {
+                    for r in set.records {
+                        if let Ok(rec) = &r.entry {
+                            ids.insert((r.source.clone(), r.index), rec.route_id.clone());
+                        }
+                    }
+                }
+            }
+            for (source, frames) in run_frames(&self.inputs, &settings)? {
+                let id = ids
+                    .get(&(source.file.clone(), source.index))
+                    .cloned()
+                    .unwrap_or_else(|| format!("{}#{}", source.file.display(), source.index));
+                routes.push((id, frames.map_err(|e| crate::error::message(&e))));
+            }
+        } else {
+            for log in &self.mcap {
+                let frames = crate::app::vehicle_logs::log_frames(log, &self.topics, &settings)
+                    .map_err(|e| crate::error::message(&e));
+                routes.push((crate::input::mcap::log_name(log), frames));
+            }
+        }
+        let conn = self.target.connect()?;
+        let mut player = Player::new(conn, self.pace, self.inject, self.link, self.tap.as_deref())
+            .map_err(LinkError::Tap)?;
+        let mut played = Vec::new();
+        let mut unplayed = Vec::new();
+        for (id, frames) in routes {
+            match frames {
+                Ok(rf) => {
+                    let config = monitor_core::Config {
+                        dt: rf.dt,
+                        ..settings.core
+                    };
+                    played.push(player.play(&id, config, &rf.frames)?);
+                }
+                Err(error) => unplayed.push(Unplayed {
+                    route_id: id,
+                    error,
+                }),
+            }
+        }
+        player.close();
+        let equal = played.iter().filter(|r| r.link.equal).count();
+        Ok(LinkReport {
+            summary: LinkRunSummary {
+                routes: played.len(),
+                equal_routes: equal,
+                to: self.target.to_string(),
+                pace: self.pace,
+                inject: self.inject,
+            },
+            routes: played,
+            unplayed,
+        })
+    }
+}

@@ -485,13 +485,17 @@ impl<'a> RerunArgs<'a> {
             .collect()
     }
 
-    /// Before any work: each file's folder exists, the path is not a folder or device, and no
-    /// other output of the run has its path (`-o`, the other rerun file, a table or figure).
-    pub fn check(&self, out: Option<&std::path::Path>, others: &[(&str, Vec<std::path::PathBuf>)]) -> Result<()> {
+    /// Before any work: no other output of the run has the path (`-o`, the other rerun file,
+    /// a table or figure), and its folder exists (or is one the run creates: `dirs`) and the
+    /// path is not a folder or device.
+    pub fn check(
+        &self,
+        out: Option<&std::path::Path>,
+        others: &[(&str, Vec<std::path::PathBuf>)],
+        dirs: &[&std::path::Path],
+    ) -> Result<()> {
         let paths = self.paths();
         for (i, (option, p)) in paths.iter().enumerate() {
-            output::check_folder(p)
-                .map_err(|e| output::BadOutputPath(format!("{option} {}: {}", p.display(), e.0)))?;
             if let Some(out) = out {
                 output::refuse_clash(out, &[p.to_path_buf()], option_file(option))?;
             }
@@ -500,6 +504,15 @@ impl<'a> RerunArgs<'a> {
             }
             for (what, files) in others {
                 output::refuse_named_clash(p, option, files, what)?;
+            }
+            let made = p.parent().is_some_and(|d| {
+                dirs.iter()
+                    .any(|m| output::refuse_clash(d, &[m.to_path_buf()], "").is_err())
+            });
+            if !made {
+                output::check_folder(p).map_err(|e| {
+                    output::BadOutputPath(format!("{option} {}: {}", p.display(), e.0))
+                })?;
             }
         }
         Ok(())
@@ -531,8 +544,8 @@ impl<'a> RerunArgs<'a> {
                 .map(|(id, _)| id.clone())
                 .chain(list.refused.iter().map(|(id, _)| id.clone()))
                 .collect();
-            let (text, absent) = rerun_xml(&bytes, &ids)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", xml.display()))?;
+            let (text, absent) =
+                rerun_xml(&bytes, &ids).map_err(|e| anyhow::anyhow!("{}: {e}", xml.display()))?;
             if !absent.is_empty() {
                 out.warnings.push(format!(
                     "--rerun-xml: {} route(s) to run again are in no <route> of {}: {}",
@@ -599,12 +612,18 @@ fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
             .flat_map(|d| names.iter().map(move |n| d.join(n)))
             .collect()
     };
+    let dirs: Vec<&std::path::Path> = [&args.figures, &args.tables, &args.traces]
+        .into_iter()
+        .flatten()
+        .map(std::path::PathBuf::as_path)
+        .collect();
     RerunArgs::of(args).check(
         args.output.as_deref(),
         &[
             ("a figure", named(&args.figures, &output::FIGURE_NAMES)),
             ("a table", named(&args.tables, &long_tables::TABLE_NAMES)),
         ],
+        &dirs,
     )?;
     if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
         let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
@@ -636,7 +655,7 @@ fn write_all(
         if let Some(out) = &args.output {
             output::refuse_clash(out, &traces, "a trace")?;
         }
-        RerunArgs::of(args).check(None, &[("a trace", traces)])?;
+        RerunArgs::of(args).check(None, &[("a trace", traces)], &[dir])?;
     }
     let rerun = RerunArgs::of(args).files(report)?;
     let tables = match &args.tables {

@@ -41,7 +41,8 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         routes: args.routes.as_deref(),
         timeouts: args.rerun_timeouts,
     };
-    rerun.check(args.output.as_deref(), &[("a table", tables_named)])?;
+    let dirs: Vec<&std::path::Path> = args.tables.iter().map(|d| d.as_path()).collect();
+    rerun.check(args.output.as_deref(), &[("a table", tables_named)], &dirs)?;
     let report = MergeRequest {
         parts: args.parts.clone(),
         duplicates: args

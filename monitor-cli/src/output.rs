@@ -471,8 +471,12 @@ pub fn check_folder(path: &Path) -> Result<(), BadOutputPath> {
 /// replaced kept until [`commit`] and put back by [`roll_back`], as [`place`] does.
 pub fn place_named(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
     let (target, keep_mode) = check_target(path, inputs)?;
-    place_mode(&target, bytes, inputs, keep_mode)
-        .with_context(|| format!("no report written (fix {}, or leave its option out)", path.display()))
+    place_mode(&target, bytes, inputs, keep_mode).with_context(|| {
+        format!(
+            "no report written (fix {}, or leave its option out)",
+            path.display()
+        )
+    })
 }
 
 /// Where `p` is on disk: the file resolved when it exists, else its folder resolved (or, for a

@@ -476,7 +476,9 @@ pub struct MergeArgs {
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
     /// A route id with a record in two parts: `error` (default) names both parts; `first` /
-    /// `last` keep the first / last part's record; `all` scores both.
+    /// `last` keep the first / last part's record; `newest` the latest `save_name` time stamp
+    /// (each row keeps its record's); `all` scores both. The merged `config.duplicates` states
+    /// the rule applied.
     #[arg(long, value_enum)]
     pub duplicates: Option<DuplicatesArg>,
     /// `provenance.host=false` leaves this machine's name out of the merged report (the

@@ -515,11 +515,6 @@ pub fn merge_parts(
         check_inputs(first, p)?;
     }
     let mut settings = first.settings.clone();
-    // The merged report states the rule the merge applied across parts (the default, error,
-    // leaves the parts' own rule).
-    if duplicates != DuplicatePolicy::Error {
-        settings.duplicates = duplicates;
-    }
     // Records in input order (part by part), then the routes no part has a record of.
     let mut records: Vec<(usize, RouteReport)> = Vec::new();
     for (i, p) in parts.iter().enumerate() {
@@ -530,7 +525,12 @@ pub fn merge_parts(
                 .map(|r| (i, r.clone())),
         );
     }
-    let (records, dropped) = deduplicate(records, parts, duplicates)?;
+    let (records, dropped, applied) = deduplicate(records, parts, duplicates)?;
+    // The merged report states the rule the merge applied to records of one route in several
+    // parts; with none, the parts' own rule stands.
+    if applied {
+        settings.duplicates = duplicates;
+    }
     let recorded: std::collections::HashSet<&str> = records
         .iter()
         .filter_map(|r| r.route_id.as_deref())
@@ -651,12 +651,12 @@ pub fn merge_parts(
 }
 
 /// Records of one route id in several parts, under `policy`: the records kept (in input
-/// order) and the copies dropped.
+/// order), the copies dropped, and whether the policy decided any (a route id in two parts).
 fn deduplicate(
     records: Vec<(usize, RouteReport)>,
     parts: &[Part],
     policy: DuplicatePolicy,
-) -> Result<(Vec<RouteReport>, Vec<Dropped>), MergeError> {
+) -> Result<(Vec<RouteReport>, Vec<Dropped>, bool), MergeError> {
     // Per route id, the indices of its records in parts other than the first one holding it.
     let mut by_id: HashMap<&str, Vec<usize>> = HashMap::new();
     for (i, (_, r)) in records.iter().enumerate() {
@@ -672,7 +672,8 @@ fn deduplicate(
         .collect();
     dup.sort_by_key(|(_, ix)| ix[0]);
     if dup.is_empty() || policy == DuplicatePolicy::All {
-        return Ok((records.into_iter().map(|(_, r)| r).collect(), Vec::new()));
+        let applied = !dup.is_empty();
+        return Ok((records.into_iter().map(|(_, r)| r).collect(), Vec::new(), applied));
     }
     if policy == DuplicatePolicy::Error {
         let (id, ix) = &dup[0];
@@ -754,7 +755,7 @@ fn deduplicate(
             r
         })
         .collect();
-    Ok((kept, dropped))
+    Ok((kept, dropped, true))
 }
 
 #[cfg(test)]

@@ -904,3 +904,78 @@ fn r4_08_the_rerun_files_are_inside_the_output_unit() {
     assert_eq!(code, 2, "{err}");
     assert!(!m.exists());
 }
+
+#[test]
+fn i46_1_merge_writes_the_rerun_xml_of_the_parts_own_route_xml() {
+    let Some(b2d) = b2d_fixtures(&["routes/bench2drive220.xml", "tfpp_raw_shards"]) else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let xml = b2d.join("routes/bench2drive220.xml");
+    // Shards 0..6 scored where they are; shards 6 and 7 "died": their routes are to run again.
+    let mut parts = Vec::new();
+    for i in 0..6 {
+        let shard = b2d.join(format!("tfpp_raw_shards/eval_bench2drive220_{i}.json"));
+        let part = dir.join(format!("p{i}.json"));
+        score_to(
+            &part,
+            &[&shard],
+            &["--routes", &s(&xml), "--allow-missing-telemetry"],
+        );
+        parts.push(part);
+    }
+    let p: Vec<&Path> = parts.iter().map(PathBuf::as_path).collect();
+    let (list, rx) = (dir.join("rerun.tsv"), dir.join("rerun.xml"));
+    let out = dir.join("m.json");
+    let (code, err) = merge(
+        &out,
+        &p,
+        &[
+            "--rerun-list",
+            &s(&list),
+            "--routes",
+            &s(&xml),
+            "--rerun-xml",
+            &s(&rx),
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    let ids: Vec<String> = lines(&list).into_iter().map(|(id, _)| id).collect();
+    let died: usize = [6, 7]
+        .iter()
+        .map(|i| {
+            let f = b2d.join(format!("tfpp_raw_shards/eval_bench2drive220_{i}.json"));
+            read(&f)["_checkpoint"]["records"].as_array().unwrap().len()
+        })
+        .sum();
+    assert_eq!(ids.len(), died);
+    let routes = parse_b2d_routes(&std::fs::read_to_string(&rx).unwrap(), &ids).unwrap();
+    assert_eq!(routes.len(), died);
+    // Another route XML than the parts' is refused, naming both hashes; nothing is written.
+    let other = dir.join("other.xml");
+    std::fs::write(
+        &other,
+        std::fs::read_to_string(&xml)
+            .unwrap()
+            .replacen("3672.9", "3672.8", 1),
+    )
+    .unwrap();
+    let out2 = dir.join("m2.json");
+    let (code, err) = merge(
+        &out2,
+        &p,
+        &[
+            "--routes",
+            &s(&other),
+            "--rerun-xml",
+            &s(&dir.join("r2.xml")),
+        ],
+    );
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("other.xml") && err.contains("bench2drive220.xml"),
+        "{err}"
+    );
+    assert!(!out2.exists() && !dir.join("r2.xml").exists());
+}

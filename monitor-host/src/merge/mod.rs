@@ -673,7 +673,11 @@ fn deduplicate(
     dup.sort_by_key(|(_, ix)| ix[0]);
     if dup.is_empty() || policy == DuplicatePolicy::All {
         let applied = !dup.is_empty();
-        return Ok((records.into_iter().map(|(_, r)| r).collect(), Vec::new(), applied));
+        return Ok((
+            records.into_iter().map(|(_, r)| r).collect(),
+            Vec::new(),
+            applied,
+        ));
     }
     if policy == DuplicatePolicy::Error {
         let (id, ix) = &dup[0];

@@ -136,7 +136,8 @@ fn i46_1_rerun_lists_of_the_real_runs_name_no_tickruntime_route_unless_asked() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
     // (file, missing routes, other reasons expected by default)
-    let zoo: [(&str, usize, &[(&str, usize)]); 3] = [
+    type Expected<'a> = (&'a str, usize, &'a [(&'a str, usize)]);
+    let zoo: [Expected; 3] = [
         ("b2dzoo_UniAD-Base_merged.json", 2, &[]),
         ("b2dzoo_VAD_merged.json", 7, &[]),
         (
@@ -265,8 +266,7 @@ fn i46_1_the_watch_crash_figure_counts_the_rerun_classes() {
         assert!(code == 0 || code == 3, "{err}");
         let last: Value = err
             .lines()
-            .filter(|l| l.starts_with('{'))
-            .last()
+            .rfind(|l| l.starts_with('{'))
             .map(|l| serde_json::from_str(l).unwrap())
             .expect("a status line");
         assert_eq!(last["crashes"], want, "{}: {last}", results.display());
@@ -690,7 +690,8 @@ fn i46_6_r4_07_merge_and_compare_refuse_hand_edited_part_rows() {
             *at = x;
         }
     };
-    let cases: Vec<(&str, Box<dyn FnOnce(&mut Value)>, &str)> = vec![
+    type Edit<'a> = Box<dyn FnOnce(&mut Value) + 'a>;
+    let cases: Vec<(&str, Edit, &str)> = vec![
         (
             "composed",
             Box::new(set("score_composed", 40.0.into())),

@@ -9,7 +9,6 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use super::row::{At, FieldError};
-use super::{MergeError, Part};
 use crate::input::route_set::route_set_id;
 use crate::input::stored::{ComputedFigures, InputReport, StoredFigures};
 use crate::pipeline::outcome::RouteState;
@@ -35,7 +34,7 @@ pub(crate) fn check_rows(rows: &[RouteReport], settings: &Settings) -> Result<()
     for (i, r) in rows.iter().enumerate() {
         let name = format!(
             "routes[{i}] ({})",
-            crate::report::escape::printable(r.route_id.as_deref().unwrap_or("no route_id"))
+            r.route_id.as_deref().unwrap_or("no route_id")
         );
         check_row(r, settings).map_err(|e| format!("{name}: {e}"))?;
     }
@@ -211,7 +210,7 @@ fn map_town(file: &Path) -> Option<String> {
 }
 
 /// A digest as an error names it.
-fn named(d: &FileDigest) -> String {
+pub(crate) fn named(d: &FileDigest) -> String {
     format!(
         "sha256 {} ({})",
         d.sha256
@@ -221,31 +220,38 @@ fn named(d: &FileDigest) -> String {
     )
 }
 
-/// The towns whose routes have a record in the part (the towns whose maps it loaded).
-fn towns(p: &Part) -> BTreeSet<&str> {
-    p.rows
-        .iter()
+/// The towns whose routes have a record (the towns whose maps a part loaded).
+fn towns(rows: &[RouteReport]) -> BTreeSet<&str> {
+    rows.iter()
         .filter(|r| matches!(r.state, RouteState::Scored | RouteState::Invalid(_)))
         .filter_map(|r| r.town.as_deref())
         .collect()
 }
 
-/// Two parts scored with the same route XML bytes, the same map of each town both parts'
-/// routes use (a part with a map and one without disagree), and the same label files.
+/// An input two parts were scored with in other contents: what it is, and each part's files
+/// and sha256 (or that it had none).
+pub(crate) struct InputsDiffer {
+    /// `route XML`, `map of Town12`, `label files`.
+    pub input: String,
+    /// The first part's.
+    pub a: String,
+    /// The second's.
+    pub b: String,
+}
+
+/// Two parts (each its scoring inputs, [`scoring_inputs`], and its rows) scored with the same
+/// route XML bytes, the same map of each town both parts' routes use (a part with a map and
+/// one without disagree), and the same label files.
 ///
 /// # Errors
-/// [`MergeError::Inputs`], naming the input, both parts and both hashes.
-pub(crate) fn check_inputs(a: &Part, b: &Part) -> Result<(), MergeError> {
-    let differ = |input: String, x: String, y: String| MergeError::Inputs {
-        first: a.file.clone(),
-        second: b.file.clone(),
-        input,
-        a: x,
-        b: y,
-    };
-    let of_role = |p: &Part, role: &str| -> BTreeMap<Option<String>, FileDigest> {
-        p.digests
-            .iter()
+/// The first input that differs.
+pub(crate) fn check_inputs(
+    a: (&[FileDigest], &[RouteReport]),
+    b: (&[FileDigest], &[RouteReport]),
+) -> Result<(), InputsDiffer> {
+    let differ = |input: String, a: String, b: String| InputsDiffer { input, a, b };
+    let of_role = |d: &[FileDigest], role: &str| -> BTreeMap<Option<String>, FileDigest> {
+        d.iter()
             .filter(|d| d.role == role)
             .map(|d| (d.sha256.clone(), d.clone()))
             .collect()
@@ -261,20 +267,19 @@ pub(crate) fn check_inputs(a: &Part, b: &Part) -> Result<(), MergeError> {
         ("routes", "route XML", "no route XML"),
         ("labels", "label files", "no label file"),
     ] {
-        let (x, y) = (of_role(a, role), of_role(b, role));
+        let (x, y) = (of_role(a.0, role), of_role(b.0, role));
         if x.keys().ne(y.keys()) {
             return Err(differ(input.into(), list(&x, none), list(&y, none)));
         }
     }
-    let maps = |p: &Part| -> BTreeMap<String, FileDigest> {
-        p.digests
-            .iter()
+    let maps = |d: &[FileDigest]| -> BTreeMap<String, FileDigest> {
+        d.iter()
             .filter(|d| d.role == "map")
             .filter_map(|d| map_town(&d.file).map(|t| (t, d.clone())))
             .collect()
     };
-    let (ma, mb) = (maps(a), maps(b));
-    for town in towns(a).intersection(&towns(b)) {
+    let (ma, mb) = (maps(a.0), maps(b.0));
+    for town in towns(a.1).intersection(&towns(b.1)) {
         let (x, y) = (ma.get(*town), mb.get(*town));
         if x.map(|d| &d.sha256) != y.map(|d| &d.sha256) {
             let show = |d: Option<&FileDigest>| {
@@ -284,41 +289,6 @@ pub(crate) fn check_inputs(a: &Part, b: &Part) -> Result<(), MergeError> {
         }
     }
     Ok(())
-}
-
-/// `--routes` of a merge (for `--rerun-xml`) is the route XML the parts were scored with.
-///
-/// # Errors
-/// [`MergeError::RouteXml`] with both hashes; [`MergeError::Read`] when it cannot be read.
-pub fn check_route_xml(report: &crate::Report, file: &Path) -> Result<(), MergeError> {
-    let given = FileDigest::of(file, "routes");
-    let Some(sha) = given.sha256 else {
-        return Err(MergeError::Read {
-            file: file.to_path_buf(),
-            source: std::fs::File::open(file)
-                .err()
-                .unwrap_or_else(|| std::io::Error::other("cannot be read")),
-        });
-    };
-    let mut digests = Vec::new();
-    for p in report.inputs.parts.iter().flatten() {
-        scoring_inputs(&p.inputs, &mut digests);
-    }
-    let theirs: Vec<&FileDigest> = digests.iter().filter(|d| d.role == "routes").collect();
-    if !theirs.is_empty() && theirs.iter().all(|d| d.sha256.as_deref() == Some(&sha)) {
-        return Ok(());
-    }
-    let mut parts: Vec<String> = theirs.iter().map(|d| named(d)).collect();
-    parts.dedup();
-    Err(MergeError::RouteXml {
-        file: file.to_path_buf(),
-        sha,
-        parts: if parts.is_empty() {
-            "no route XML".into()
-        } else {
-            parts.join(", ")
-        },
-    })
 }
 
 /// `inputs.files` of a part (the results files it read, with their stored figures): a merged

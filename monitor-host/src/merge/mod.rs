@@ -41,10 +41,8 @@ use crate::provenance::{sha256_hex, FileDigest, Provenance};
 use crate::route::row::{InfractionCounts, RouteReport};
 use crate::settings::Settings;
 
-use checks::{check_inputs, check_route_set, check_rows, input_files, scoring_inputs};
+use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
-
-pub use checks::check_route_xml;
 
 pub use crate::model::parts::PartInputs;
 
@@ -128,24 +126,8 @@ pub enum MergeError {
     Policy(&'static str),
     /// Two parts were scored with other contents of an input that changes a route's figures
     /// (the route XML's bytes, a town's map, the label files).
-    #[error(
-        "{} and {} were scored with different {input}: {a} in the first, {b} in the second; \
-         score every part with the same {input} (each part's inputs.provenance lists the files \
-         it read and their sha256)",
-        first.display(), second.display()
-    )]
-    Inputs {
-        /// The first part.
-        first: PathBuf,
-        /// The part that differs.
-        second: PathBuf,
-        /// `the route XML`, `map of Town12`, `label files`.
-        input: String,
-        /// The first part's file and sha256 (or that it had none).
-        a: String,
-        /// The second's.
-        b: String,
-    },
+    #[error("{0}")]
+    Inputs(Box<InputsRefusal>),
     /// A part's row is not what `sds score` writes: out of range, its own arithmetic broken,
     /// or the rows not the part's route set (a hand-edited or damaged part).
     #[error(
@@ -189,6 +171,28 @@ pub enum MergeError {
         /// The grouping.
         by: String,
     },
+}
+
+/// Two parts scored with other contents of an input that changes a route's figures
+/// ([`MergeError::Inputs`]).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{} and {} were scored with different {input}: {a} in the first, {b} in the second; \
+     score every part with the same {input} (each part's inputs.provenance lists the files \
+     it read and their sha256)",
+    first.display(), second.display()
+)]
+pub struct InputsRefusal {
+    /// The first part.
+    pub first: PathBuf,
+    /// The part that differs.
+    pub second: PathBuf,
+    /// `route XML`, `map of Town12`, `label files`.
+    pub input: String,
+    /// The first part's file and sha256 (or that it had none).
+    pub a: String,
+    /// The second's.
+    pub b: String,
 }
 
 /// One part, read.
@@ -512,7 +516,15 @@ pub fn merge_parts(
         }
     }
     for p in &parts[1..] {
-        check_inputs(first, p)?;
+        check_inputs((&first.digests, &first.rows), (&p.digests, &p.rows)).map_err(|d| {
+            MergeError::Inputs(Box::new(InputsRefusal {
+                first: first.file.clone(),
+                second: p.file.clone(),
+                input: d.input,
+                a: d.a,
+                b: d.b,
+            }))
+        })?;
     }
     let mut settings = first.settings.clone();
     // Records in input order (part by part), then the routes no part has a record of.
@@ -648,6 +660,41 @@ pub fn merge_parts(
         report.groups = Some(g);
     }
     Ok(report)
+}
+
+/// `--routes` of a merge (for `--rerun-xml`) is the route XML the parts were scored with.
+///
+/// # Errors
+/// [`MergeError::RouteXml`] with both hashes; [`MergeError::Read`] when it cannot be read.
+pub fn check_route_xml(report: &Report, file: &Path) -> Result<(), MergeError> {
+    let given = FileDigest::of(file, "routes");
+    let Some(sha) = given.sha256 else {
+        return Err(MergeError::Read {
+            file: file.to_path_buf(),
+            source: std::fs::File::open(file)
+                .err()
+                .unwrap_or_else(|| std::io::Error::other("cannot be read")),
+        });
+    };
+    let mut digests = Vec::new();
+    for p in report.inputs.parts.iter().flatten() {
+        scoring_inputs(&p.inputs, &mut digests);
+    }
+    let theirs: Vec<&FileDigest> = digests.iter().filter(|d| d.role == "routes").collect();
+    if !theirs.is_empty() && theirs.iter().all(|d| d.sha256.as_deref() == Some(&sha)) {
+        return Ok(());
+    }
+    let mut parts: Vec<String> = theirs.iter().map(|d| named(d)).collect();
+    parts.dedup();
+    Err(MergeError::RouteXml {
+        file: file.to_path_buf(),
+        sha,
+        parts: if parts.is_empty() {
+            "no route XML".into()
+        } else {
+            parts.join(", ")
+        },
+    })
 }
 
 /// Records of one route id in several parts, under `policy`: the records kept (in input

@@ -262,16 +262,14 @@ pub fn rerun_xml(xml: &[u8], ids: &[String]) -> Result<(Vec<u8>, Vec<String>), S
                 }
                 depth += 1;
             }
-            Event::Empty(e) => {
-                if open.is_none() && e.local_name().as_ref() == b"route" {
-                    let keep = route_id(&reader, &e)?.is_some_and(|id| {
-                        let k = ids.contains(&id);
-                        found.insert(id);
-                        k
-                    });
-                    if !keep {
-                        cut.push((start, end));
-                    }
+            Event::Empty(e) if open.is_none() && e.local_name().as_ref() == b"route" => {
+                let keep = route_id(&reader, &e)?.is_some_and(|id| {
+                    let k = ids.contains(&id);
+                    found.insert(id);
+                    k
+                });
+                if !keep {
+                    cut.push((start, end));
                 }
             }
             Event::End(_) => {

@@ -277,11 +277,20 @@ pub struct ScoreArgs {
     /// by step) and `routes.svg` (DS and DS_safe per route, sorted), as the HTML page shows them.
     #[arg(long, value_name = "DIR")]
     pub figures: Option<PathBuf>,
-    /// Also write the routes to run again into FILE (spec v1.4 §13): one route XML id per line
-    /// with the reason after a tab (missing, crashed, invalid record), for the Leaderboard's
-    /// `--routes-subset`. `sds watch` writes it from its final report, when it stops.
+    /// Also write the routes to run again into FILE: one route XML id per line with the reason
+    /// after a tab (missing, simulation-crashed, agent-crashed, agent-setup, failed, invalid;
+    /// Bench2Drive's resume rule), for the Leaderboard's `--routes-subset`. `sds watch` writes
+    /// it from its final report, when it stops.
     #[arg(long, value_name = "FILE")]
     pub rerun_list: Option<PathBuf>,
+    /// Also write the route XML of `--routes` restricted to the routes to run again into FILE
+    /// (each `<route>` element as in the input), for Bench2Drive's `run_evaluation.sh`.
+    #[arg(long, value_name = "FILE", requires = "routes")]
+    pub rerun_xml: Option<PathBuf>,
+    /// List the routes that ran out of their tick budget (`Failed - TickRuntime`: the agent's
+    /// outcome, not a crash) among the routes to run again, as `timeout`.
+    #[arg(long)]
+    pub rerun_timeouts: bool,
     /// Also write the long tables into DIR (spec v1.4 §15): `routes.csv` (one row per route,
     /// every field of the JSON report's route), `events.csv` (one row per event) and
     /// `frames.csv` (one row per frame of each route with telemetry, as `sds frames` prints
@@ -473,7 +482,9 @@ pub struct MergeArgs {
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
     /// A route id with a record in two parts: `error` (default) names both parts; `first` /
-    /// `last` keep the first / last part's record; `all` scores both.
+    /// `last` keep the first / last part's record; `newest` the latest `save_name` time stamp
+    /// (each row keeps its record's); `all` scores both. The merged `config.duplicates` states
+    /// the rule applied.
     #[arg(long, value_enum)]
     pub duplicates: Option<DuplicatesArg>,
     /// `provenance.host=false` leaves this machine's name out of the merged report (the
@@ -484,6 +495,16 @@ pub struct MergeArgs {
     /// after a tab).
     #[arg(long, value_name = "FILE")]
     pub rerun_list: Option<PathBuf>,
+    /// Also write the route XML restricted to the routes to run again into FILE (needs
+    /// `--routes`, the parts' own route XML: its sha256 is checked against theirs).
+    #[arg(long, value_name = "FILE", requires = "routes")]
+    pub rerun_xml: Option<PathBuf>,
+    /// The route XML the parts were scored with, for `--rerun-xml`.
+    #[arg(long, value_name = "FILE", requires = "rerun_xml")]
+    pub routes: Option<PathBuf>,
+    /// List the `Failed - TickRuntime` routes among the routes to run again, as `timeout`.
+    #[arg(long)]
+    pub rerun_timeouts: bool,
     /// Also write the long tables into DIR (`routes.csv`, `events.csv`, from the merged rows;
     /// no `frames.csv`: a merge reads no telemetry); columns in docs/TABLES-SCHEMA.md.
     #[arg(long, value_name = "DIR")]

@@ -352,6 +352,8 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         traces: None,
         figures: None,
         rerun_list: None,
+        rerun_xml: None,
+        rerun_timeouts: false,
         tables: None,
     }
 }
@@ -455,25 +457,177 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     Ok(exit::ROUTE_PROBLEMS)
 }
 
-/// Writes the rerun list (spec v1.4 §13) into `file` and says how many routes it holds.
-fn write_rerun_list(
-    file: &std::path::Path,
-    report: &monitor_host::Report,
-    inputs: &[std::path::PathBuf],
-) -> Result<()> {
-    let text = monitor_host::report::rerun_list::rerun_list(report);
-    write_output(Some(file), text.as_bytes(), inputs)?;
-    say!(
-        "sds: wrote {} route(s) to run again to {}",
-        text.lines().count(),
-        file.display()
-    );
-    Ok(())
+/// The rerun files a run writes (`--rerun-list`, `--rerun-xml`): where the user asked for them.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct RerunArgs<'a> {
+    /// `--rerun-list FILE`.
+    pub list: Option<&'a std::path::Path>,
+    /// `--rerun-xml FILE`.
+    pub xml: Option<&'a std::path::Path>,
+    /// The route XML the routes come from (`--routes`).
+    pub routes: Option<&'a std::path::Path>,
+    /// `--rerun-timeouts`.
+    pub timeouts: bool,
+}
+
+impl<'a> RerunArgs<'a> {
+    fn of(args: &'a ScoreArgs) -> Self {
+        RerunArgs {
+            list: args.rerun_list.as_deref(),
+            xml: args.rerun_xml.as_deref(),
+            routes: args.run.routes.as_deref(),
+            timeouts: args.rerun_timeouts,
+        }
+    }
+
+    /// The paths asked for, each with its option's name.
+    fn paths(&self) -> Vec<(&'static str, &'a std::path::Path)> {
+        [("--rerun-list", self.list), ("--rerun-xml", self.xml)]
+            .into_iter()
+            .filter_map(|(o, p)| p.map(|p| (o, p)))
+            .collect()
+    }
+
+    /// Before any work: no other output of the run has the path (`-o`, the other rerun file,
+    /// a table or figure), and its folder exists (or is one the run creates: `dirs`) and the
+    /// path is not a folder or device.
+    pub fn check(
+        &self,
+        out: Option<&std::path::Path>,
+        others: &[(&str, Vec<std::path::PathBuf>)],
+        dirs: &[&std::path::Path],
+    ) -> Result<()> {
+        let paths = self.paths();
+        for (i, (option, p)) in paths.iter().enumerate() {
+            if let Some(out) = out {
+                output::refuse_clash(out, &[p.to_path_buf()], option_file(option))?;
+            }
+            for (_, q) in &paths[i + 1..] {
+                output::refuse_named_clash(p, option, &[q.to_path_buf()], "the other rerun file")?;
+            }
+            for (what, files) in others {
+                output::refuse_named_clash(p, option, files, what)?;
+            }
+            let made = p.parent().is_some_and(|d| {
+                dirs.iter()
+                    .any(|m| output::refuse_clash(d, &[m.to_path_buf()], "").is_err())
+            });
+            if !made {
+                output::check_folder(p).map_err(|e| {
+                    output::BadOutputPath(format!("{option} {}: {}", p.display(), e.0))
+                })?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The files' bytes, with the warnings to print: ids the list refuses, routes the route XML
+    /// lacks.
+    fn files(&self, report: &monitor_host::Report) -> Result<RerunFiles> {
+        use monitor_host::report::rerun_list::{rerun_xml, RerunList};
+        let list = RerunList::of(report, self.timeouts);
+        let mut out = RerunFiles {
+            routes: list.routes.len(),
+            ..RerunFiles::default()
+        };
+        out.warnings.extend(list.refused_warning());
+        if let Some(p) = self.list {
+            out.files.push((p.to_path_buf(), list.text().into_bytes()));
+        }
+        if let (Some(p), Some(xml)) = (self.xml, self.routes) {
+            let bytes = monitor_host::input::read::read_input(
+                xml,
+                monitor_host::input::read::FileKind::RouteXml,
+            )
+            .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", xml.display()))?;
+            // Every route to run again: an id refused by the list is still the XML's own bytes.
+            let ids: Vec<String> = list
+                .routes
+                .iter()
+                .map(|(id, _)| id.clone())
+                .chain(list.refused.iter().map(|(id, _)| id.clone()))
+                .collect();
+            let (text, absent) =
+                rerun_xml(&bytes, &ids).map_err(|e| anyhow::anyhow!("{}: {e}", xml.display()))?;
+            if !absent.is_empty() {
+                out.warnings.push(format!(
+                    "--rerun-xml: {} route(s) to run again are in no <route> of {}: {}",
+                    absent.len(),
+                    xml.display(),
+                    monitor_host::warning::id_list(&absent)
+                ));
+            }
+            out.files.push((p.to_path_buf(), text));
+        }
+        Ok(out)
+    }
+}
+
+/// The option's file, as a clash names it.
+fn option_file(option: &str) -> &'static str {
+    if option == "--rerun-xml" {
+        "the rerun route XML"
+    } else {
+        "the rerun list"
+    }
+}
+
+/// The rerun files of a run, ready to be placed with the rest of its output.
+#[derive(Debug, Default)]
+pub(crate) struct RerunFiles {
+    /// Each file and its bytes.
+    files: Vec<(std::path::PathBuf, Vec<u8>)>,
+    /// Routes to run again.
+    routes: usize,
+    /// Printed once the run is written.
+    warnings: Vec<String>,
+}
+
+impl RerunFiles {
+    /// Places each file (inside the run's output unit: rolled back with the rest).
+    fn place(&self, inputs: &[std::path::PathBuf]) -> Result<()> {
+        for (p, bytes) in &self.files {
+            output::place_named(p, bytes, inputs)?;
+        }
+        Ok(())
+    }
+
+    /// What was written, once the unit is committed.
+    fn tell(&self) {
+        for w in &self.warnings {
+            say!("sds: warning: {w}");
+        }
+        for (p, _) in &self.files {
+            say!(
+                "sds: wrote {} route(s) to run again to {}",
+                self.routes,
+                p.display()
+            );
+        }
+    }
 }
 
 /// An `-o` among the figures or the long tables is a usage error before any work (`sds score`
 /// and `sds watch`; the traces' names are known once the run is scored, see [`write_all`]).
 fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
+    let named = |dir: &Option<std::path::PathBuf>, names: &[&str]| -> Vec<std::path::PathBuf> {
+        dir.iter()
+            .flat_map(|d| names.iter().map(move |n| d.join(n)))
+            .collect()
+    };
+    let dirs: Vec<&std::path::Path> = [&args.figures, &args.tables, &args.traces]
+        .into_iter()
+        .flatten()
+        .map(std::path::PathBuf::as_path)
+        .collect();
+    RerunArgs::of(args).check(
+        args.output.as_deref(),
+        &[
+            ("a figure", named(&args.figures, &output::FIGURE_NAMES)),
+            ("a table", named(&args.tables, &long_tables::TABLE_NAMES)),
+        ],
+        &dirs,
+    )?;
     if let (Some(out), Some(dir)) = (&args.output, &args.figures) {
         let figures: Vec<_> = output::FIGURE_NAMES.iter().map(|n| dir.join(n)).collect();
         output::refuse_clash(out, &figures, "a figure")?;
@@ -488,19 +642,25 @@ fn refuse_output_clashes(args: &ScoreArgs) -> Result<()> {
     Ok(())
 }
 
-/// Writes the traces, the figures, the long tables and then the report (`write_report`) of
+/// Writes the traces, the figures, the long tables, the rerun files and then the report (`write_report`) of
 /// `sds score` and of `sds watch`'s final round, all or nothing: a file that cannot be written
 /// (or Ctrl-C) stops the run (exit 1, "no report") with every file this run wrote removed and
-/// every file it replaced put back (`output::roll_back`); then the rerun list.
+/// every file it replaced put back (`output::roll_back`). The rerun list and route XML are
+/// written inside the same unit, before the report.
 fn write_all(
     args: &ScoreArgs,
     report: &monitor_host::Report,
     inputs_read: &[std::path::PathBuf],
     write_report: impl FnOnce() -> Result<()>,
 ) -> Result<()> {
-    if let (Some(out), Some(dir)) = (&args.output, &args.traces) {
-        output::refuse_clash(out, &output::trace_paths(dir, report), "a trace")?;
+    if let Some(dir) = &args.traces {
+        let traces = output::trace_paths(dir, report);
+        if let Some(out) = &args.output {
+            output::refuse_clash(out, &traces, "a trace")?;
+        }
+        RerunArgs::of(args).check(None, &[("a trace", traces)], &[dir])?;
     }
+    let rerun = RerunArgs::of(args).files(report)?;
     let tables = match &args.tables {
         Some(_) => Some(request(args)?.long_tables(report).map_err(failed)?),
         None => None,
@@ -518,6 +678,7 @@ fn write_all(
             (Some(dir), Some(files)) => Some((dir, output::place_tables(dir, files, inputs_read)?)),
             _ => None,
         };
+        rerun.place(inputs_read)?;
         write_report()?;
         Ok((traces, figures, tables))
     })();
@@ -544,9 +705,7 @@ fn write_all(
     if let Some((dir, ())) = tables {
         say!("sds: wrote the long tables to {}", dir.display());
     }
-    if let Some(file) = &args.rerun_list {
-        write_rerun_list(file, report, inputs_read)?;
-    }
+    rerun.tell();
     Ok(())
 }
 

@@ -5,7 +5,7 @@ use anyhow::Result;
 
 use super::args::{DuplicatesArg, Format, MergeArgs};
 use super::output::write_output;
-use super::{style, write_rerun_list};
+use super::{style, RerunArgs};
 use monitor_host::app::merged::MergeRequest;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::report::table::{self, TableOptions};
@@ -27,13 +27,22 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
             ),
         }
     }
-    if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
-        let tables: Vec<_> = long_tables::TABLE_NAMES
-            .iter()
-            .map(|n| dir.join(n))
-            .collect();
-        super::output::refuse_clash(out, &tables, "a table")?;
+    let tables_named: Vec<_> = args
+        .tables
+        .iter()
+        .flat_map(|dir| long_tables::TABLE_NAMES.iter().map(move |n| dir.join(n)))
+        .collect();
+    if let Some(out) = &args.output {
+        super::output::refuse_clash(out, &tables_named, "a table")?;
     }
+    let rerun = RerunArgs {
+        list: args.rerun_list.as_deref(),
+        xml: args.rerun_xml.as_deref(),
+        routes: args.routes.as_deref(),
+        timeouts: args.rerun_timeouts,
+    };
+    let dirs: Vec<&std::path::Path> = args.tables.iter().map(|d| d.as_path()).collect();
+    rerun.check(args.output.as_deref(), &[("a table", tables_named)], &dirs)?;
     let report = MergeRequest {
         parts: args.parts.clone(),
         duplicates: args
@@ -76,10 +85,15 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         )),
         None => None,
     };
+    if let Some(xml) = &args.routes {
+        monitor_host::merge::check_route_xml(&report, xml)?;
+    }
+    let rerun = rerun.files(&report)?;
     let written = (|| -> Result<()> {
         if let Some((dir, files)) = tables.clone() {
             super::output::place_tables(dir, files, &report.files_read)?;
         }
+        rerun.place(&report.files_read)?;
         write_output(args.output.as_deref(), &bytes, &report.files_read)
     })();
     match written {
@@ -95,9 +109,7 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
             dir.display()
         );
     }
-    if let Some(file) = &args.rerun_list {
-        write_rerun_list(file, &report, &report.files_read)?;
-    }
+    rerun.tell();
     say!(
         "sds: merged {} part(s): {} routes ({} found, {} missing)",
         args.parts.len(),

@@ -296,6 +296,11 @@ pub fn place_tables(dir: &Path, named: Vec<(&str, Vec<u8>)>, inputs: &[PathBuf])
 /// is not an input. A file replaced is kept as a hard-linked backup until [`commit`], so that
 /// [`roll_back`] can put it back; a file created is removed by [`roll_back`].
 fn place(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
+    place_mode(path, bytes, inputs, None)
+}
+
+/// [`place`], the new file given `keep_mode` (the mode of the file it replaces).
+fn place_mode(path: &Path, bytes: &[u8], inputs: &[PathBuf], keep_mode: Option<u32>) -> Result<()> {
     let existed = match fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => bail!(
             "{}: a symbolic link; sds never writes through a link at a name it chose \
@@ -331,6 +336,9 @@ fn place(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
                 .open(&tmp)
                 .with_context(|| format!("cannot create {}", tmp.display()))?
         };
+        if let Some(mode) = keep_mode {
+            f.set_permissions(fs::Permissions::from_mode(mode))?;
+        }
         f.write_all(bytes)?;
         f.sync_all()?;
         drop(f);
@@ -372,15 +380,17 @@ fn place(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
     Ok(())
 }
 
-/// `-o` names a file the run writes itself (a figure, a trace): the report would be written
-/// over it, or it over the report.
+/// `-o` (or another output option: `option`) names a file the run writes itself (a figure, a
+/// trace, the rerun list): one would be written over the other.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("-o {out}: this is the path of {what} the run writes ({path}); choose another output path")]
+#[error("{option} {out}: this is the path of {what} the run writes ({path}); choose another output path")]
 pub struct OutputClash {
+    /// `-o`, `--rerun-list`, `--rerun-xml`.
+    pub option: &'static str,
     /// The `-o` path.
     pub out: String,
-    /// `a figure` or `a trace`.
-    pub what: &'static str,
+    /// `a figure`, `a trace`, `the rerun list`.
+    pub what: String,
     /// The file it is.
     pub path: String,
 }
@@ -388,6 +398,16 @@ pub struct OutputClash {
 /// Refuses an `-o` that is one of `paths` (the run's own files, `what`): by device and inode
 /// when both exist, else by their folders resolved and their names.
 pub fn refuse_clash(out: &Path, paths: &[PathBuf], what: &'static str) -> Result<(), OutputClash> {
+    refuse_named_clash(out, "-o", paths, what)
+}
+
+/// [`refuse_clash`] for the output of another option than `-o`.
+pub fn refuse_named_clash(
+    out: &Path,
+    option: &'static str,
+    paths: &[PathBuf],
+    what: &str,
+) -> Result<(), OutputClash> {
     let key = place_key(out);
     let meta = fs::metadata(out).ok();
     for p in paths {
@@ -397,13 +417,66 @@ pub fn refuse_clash(out: &Path, paths: &[PathBuf], what: &'static str) -> Result
             .is_some_and(|(a, b)| a.dev() == b.dev() && a.ino() == b.ino());
         if same_file || place_key(p) == key {
             return Err(OutputClash {
+                option,
                 out: out.display().to_string(),
-                what,
+                what: what.to_string(),
                 path: p.display().to_string(),
             });
         }
     }
     Ok(())
+}
+
+/// An output path that cannot be written, found before any work (`--rerun-list` in a folder
+/// that does not exist, or naming a folder or device).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct BadOutputPath(pub String);
+
+/// Checks, before any work, that `path` can be written as a file the user named: its folder
+/// exists and is a folder, and the path is not a folder, device or FIFO.
+pub fn check_folder(path: &Path) -> Result<(), BadOutputPath> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    match fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(m) => {
+            return Err(BadOutputPath(format!(
+                "its folder {} is {}, not a folder",
+                dir.display(),
+                describe(m.file_type())
+            )))
+        }
+        Err(e) => {
+            return Err(BadOutputPath(format!(
+                "its folder {} cannot be used ({e}); create it first, or choose another path",
+                dir.display()
+            )))
+        }
+    }
+    match fs::metadata(path) {
+        Ok(m) if !m.is_file() => Err(BadOutputPath(format!(
+            "{}, not a regular file; sds writes only regular files",
+            describe(m.file_type())
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Writes `bytes` at `path`, a file the user named besides `-o` (the rerun list, the rerun
+/// route XML), inside the run's output unit: refused as `-o` is (not a regular file, one of
+/// the inputs, a dangling link), a link written through to its file as `-o` does, the file
+/// replaced kept until [`commit`] and put back by [`roll_back`], as [`place`] does.
+pub fn place_named(path: &Path, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
+    let (target, keep_mode) = check_target(path, inputs)?;
+    place_mode(&target, bytes, inputs, keep_mode).with_context(|| {
+        format!(
+            "no report written (fix {}, or leave its option out)",
+            path.display()
+        )
+    })
 }
 
 /// Where `p` is on disk: the file resolved when it exists, else its folder resolved (or, for a

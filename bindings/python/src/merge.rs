@@ -20,7 +20,7 @@ pub fn merge<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let policy = DuplicatePolicy::from_name(duplicates).ok_or_else(|| {
         ConfigError::new_err(format!(
-            "duplicates={duplicates:?}: expected \"error\", \"first\", \"last\" or \"all\""
+            "duplicates={duplicates:?}: expected \"error\", \"first\", \"last\", \"newest\" or \"all\""
         ))
     })?;
     let request = MergeRequest {

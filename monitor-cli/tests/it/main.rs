@@ -4,6 +4,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod campaign;
 mod compare;
 mod hostile;
 mod link;

@@ -622,6 +622,7 @@ impl Watcher {
             last_route: last.and_then(|r| r.route_id.clone()),
             last_state: last.map(|r| r.state.to_string()),
             last_ds: last.and_then(|r| r.score_composed),
+            crashes: crate::report::rerun_list::crashes(report),
             seconds_left: p.seconds_left,
             rescored: cache.rescored,
             reused: cache.reused,

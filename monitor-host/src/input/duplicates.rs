@@ -91,7 +91,7 @@ pub fn save_name_stamp(save_name: &str) -> Option<[u32; 5]> {
 }
 
 /// A stamp as written in the `save_name`.
-fn stamp_text(s: [u32; 5]) -> String {
+pub(crate) fn stamp_text(s: [u32; 5]) -> String {
     s.map(|x| format!("{x:02}")).join("_")
 }
 
@@ -499,6 +499,81 @@ pub fn earlier_attempts(
     out
 }
 
+/// What `newest` decides from the copies' stamps alone.
+pub(crate) enum Newest {
+    /// The copy at `pos` (among the copies, in input order), why, and whether input order
+    /// decided (a tie, or a copy without a stamp).
+    Chosen {
+        /// The copy kept.
+        pos: usize,
+        /// The report's text.
+        why: String,
+        /// Input order decided.
+        by_order: bool,
+    },
+    /// The stamps (as written) lie more than half a year apart: they could wrap a year, and
+    /// something else must decide.
+    CouldWrap(Vec<String>),
+}
+
+/// `newest` over the stamps of one route id's copies, in input order: the newest stamp (the
+/// last copy in input order among those that share it); the last copy when one has no stamp.
+pub(crate) fn newest_of(stamps: &[Option<[u32; 5]>]) -> Newest {
+    let n = stamps.len();
+    if stamps.iter().any(Option::is_none) {
+        let bad = stamps.iter().filter(|s| s.is_none()).count();
+        return Newest::Chosen {
+            pos: n - 1,
+            why: format!(
+                "last of {n} copies in input order: {bad} of them have no save_name time stamp \
+                 (mm_dd_HH_MM_SS) to compare"
+            ),
+            by_order: true,
+        };
+    }
+    let known: Vec<[u32; 5]> = stamps.iter().flatten().copied().collect();
+    if stamps_could_wrap_a_year(&known) {
+        return Newest::CouldWrap(known.iter().map(|s| stamp_text(*s)).collect());
+    }
+    let newest = stamps.iter().flatten().max().copied();
+    let tied = stamps.iter().filter(|s| **s == newest).count();
+    // The last copy in input order among those with the newest stamp.
+    let pos = stamps.iter().rposition(|s| *s == newest).unwrap_or(n - 1);
+    let others: Vec<String> = stamps
+        .iter()
+        .enumerate()
+        .filter(|(j, _)| *j != pos)
+        .filter_map(|(_, s)| s.map(stamp_text))
+        .collect();
+    let text = newest.map(stamp_text).unwrap_or_default();
+    if tied > 1 {
+        Newest::Chosen {
+            pos,
+            why: format!(
+                "{tied} of {n} copies share the newest save_name time stamp {text}: the last of \
+                 them in input order"
+            ),
+            by_order: true,
+        }
+    } else {
+        Newest::Chosen {
+            pos,
+            why: format!(
+                "newest save_name time stamp {text} of {n} copies (others {})",
+                others.join(", ")
+            ),
+            by_order: false,
+        }
+    }
+}
+
+/// A stamp as a report writes it (`02_11_09_15_42`), read back.
+pub(crate) fn parse_stamp(text: &str) -> Option<[u32; 5]> {
+    (text.split('_').count() == 5)
+        .then(|| save_name_stamp(&format!("_{text}")))
+        .flatten()
+}
+
 /// The copy of one route id (indices `all`, in input order) a policy keeps: its index, its
 /// stamp, why, and whether input order decided under `newest`.
 fn choose(
@@ -525,58 +600,14 @@ fn choose(
         ),
         DuplicatePolicy::Newest => {
             let stamps: Vec<Option<[u32; 5]>> = all.iter().map(|&i| stamp_of(i)).collect();
-            if stamps.iter().any(Option::is_none) {
-                let bad = stamps.iter().filter(|s| s.is_none()).count();
-                return (
-                    last,
-                    stamp_of(last),
-                    format!(
-                        "last of {n} copies in input order: {bad} of them have no save_name \
-                         time stamp (mm_dd_HH_MM_SS) to compare"
-                    )
-                    .into(),
-                    true,
-                );
-            }
-            let known: Vec<[u32; 5]> = stamps.iter().flatten().copied().collect();
-            if stamps_could_wrap_a_year(&known) {
-                let texts: Vec<String> = known.iter().map(|s| stamp_text(*s)).collect();
-                let (index, why) = newest_by_file_time(records, all, &texts);
-                return (index, stamp_of(index), why, false);
-            }
-            let newest = stamps.iter().flatten().max().copied();
-            let tied = stamps.iter().filter(|s| **s == newest).count();
-            // The last copy in input order among those with the newest stamp.
-            let pos = stamps.iter().rposition(|s| *s == newest).unwrap_or(n - 1);
-            let others: Vec<String> = stamps
-                .iter()
-                .enumerate()
-                .filter(|(j, _)| *j != pos)
-                .filter_map(|(_, s)| s.map(stamp_text))
-                .collect();
-            let text = newest.map(stamp_text).unwrap_or_default();
-            if tied > 1 {
-                (
-                    all[pos],
-                    newest,
-                    format!(
-                        "{tied} of {n} copies share the newest save_name time stamp {text}: the \
-                         last of them in input order"
-                    )
-                    .into(),
-                    true,
-                )
-            } else {
-                (
-                    all[pos],
-                    newest,
-                    format!(
-                        "newest save_name time stamp {text} of {n} copies (others {})",
-                        others.join(", ")
-                    )
-                    .into(),
-                    false,
-                )
+            match newest_of(&stamps) {
+                Newest::Chosen { pos, why, by_order } => {
+                    (all[pos], stamps[pos], why.into(), by_order)
+                }
+                Newest::CouldWrap(texts) => {
+                    let (index, why) = newest_by_file_time(records, all, &texts);
+                    (index, stamp_of(index), why, false)
+                }
             }
         }
         _ => (

@@ -103,9 +103,13 @@ pub fn check_inputs(
                 || "no denominator of N, its records, eval num or 220 fits it".to_string(),
                 |d| format!("a mean over {d}"),
             );
-            // A shard of a run (one of several files, its figure a mean over its own records)
-            // is not a disagreement: `inputs` shows both figures.
-            let shard = files > 1
+            // A shard of a run (one of several files, or a checkpoint whose own `progress`
+            // planned fewer routes than N: one GPU's share scored with the whole route XML),
+            // its figure a mean over its own records, is not a disagreement: `inputs` shows
+            // both figures. A whole run's file that divides by its records instead of N (a
+            // merge output missing crashed routes) is still named.
+            let share = f.progress.is_some_and(|(_, total)| total < n as u64);
+            let shard = (files > 1 || share)
                 && f.records < n
                 && stored.denominator.as_deref() == Some(&format!("its {} records", f.records));
             if let Some(c) = computed.driving_score.filter(|_| !shard) {

@@ -22,6 +22,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod checks;
 pub mod row;
 
 use std::collections::HashMap;
@@ -30,7 +31,9 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::aggregate::groups::GroupBy;
-use crate::input::duplicates::{Dropped, DuplicatePolicy, Kept, Source};
+use crate::input::duplicates::{
+    newest_of, parse_stamp, Dropped, DuplicatePolicy, Kept, Newest, Source,
+};
 use crate::input::warning::Warning;
 use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
 use crate::pipeline::outcome::RouteState;
@@ -38,6 +41,7 @@ use crate::provenance::{sha256_hex, FileDigest, Provenance};
 use crate::route::row::{InfractionCounts, RouteReport};
 use crate::settings::Settings;
 
+use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
 
 pub use crate::model::parts::PartInputs;
@@ -118,8 +122,39 @@ pub enum MergeError {
         copies: usize,
     },
     /// A policy the merge cannot apply.
-    #[error("duplicates = {0}: not available in a merge (first, last, all or error): the save_name stamps are not in the reports")]
+    #[error("duplicates = {0}: not available in a merge")]
     Policy(&'static str),
+    /// Two parts were scored with other contents of an input that changes a route's figures
+    /// (the route XML's bytes, a town's map, the label files).
+    #[error("{0}")]
+    Inputs(Box<InputsRefusal>),
+    /// A part's row is not what `sds score` writes: out of range, its own arithmetic broken,
+    /// or the rows not the part's route set (a hand-edited or damaged part).
+    #[error(
+        "{}: {what}: the part was edited or damaged (sds merge and sds compare take a part's \
+         rows as sds score wrote them); score that shard again",
+        file.display()
+    )]
+    Row {
+        /// The part.
+        file: PathBuf,
+        /// The row (`routes[3] (RouteScenario_1_rep0)`), the field and what is wrong.
+        what: String,
+    },
+    /// `--routes` given to a merge is not the route XML the parts were scored with.
+    #[error(
+        "{}: sha256 {sha}, but the parts were scored with {parts}; give the route XML the parts \
+         were scored with",
+        file.display()
+    )]
+    RouteXml {
+        /// The file given.
+        file: PathBuf,
+        /// Its sha256.
+        sha: String,
+        /// The parts' route XML (files and sha256), or that they had none.
+        parts: String,
+    },
     /// N smaller than the routes counted.
     #[error("expected_routes = {n} but the parts hold {counted} counted routes")]
     TooFewRoutes {
@@ -136,6 +171,28 @@ pub enum MergeError {
         /// The grouping.
         by: String,
     },
+}
+
+/// Two parts scored with other contents of an input that changes a route's figures
+/// ([`MergeError::Inputs`]).
+#[derive(Debug, thiserror::Error)]
+#[error(
+    "{} and {} were scored with different {input}: {a} in the first, {b} in the second; \
+     score every part with the same {input} (each part's inputs.provenance lists the files \
+     it read and their sha256)",
+    first.display(), second.display()
+)]
+pub struct InputsRefusal {
+    /// The first part.
+    pub first: PathBuf,
+    /// The part that differs.
+    pub second: PathBuf,
+    /// `route XML`, `map of Town12`, `label files`.
+    pub input: String,
+    /// The first part's file and sha256 (or that it had none).
+    pub a: String,
+    /// The second's.
+    pub b: String,
 }
 
 /// One part, read.
@@ -165,6 +222,11 @@ pub struct Part {
     pub warnings: Vec<String>,
     /// `groups.by`, when grouped.
     pub group_by: Option<String>,
+    /// The inputs that change a route's figures (route XML, maps, label files), from the
+    /// part's provenance (a merged part: its parts').
+    pub digests: Vec<FileDigest>,
+    /// `inputs.files`: the results files the part read (a merged part: its parts').
+    pub files: Vec<crate::input::stored::InputReport>,
 }
 
 /// Reads one part.
@@ -279,6 +341,15 @@ pub fn read_part(file: &Path) -> Result<Part, MergeError> {
         .pointer("/groups/by")
         .and_then(Value::as_str)
         .map(String::from);
+    let wrong = |what: String| MergeError::Row {
+        file: file.to_path_buf(),
+        what,
+    };
+    check_rows(&rows, &settings).map_err(wrong)?;
+    check_route_set(&rows, &route_set).map_err(wrong)?;
+    let mut digests = Vec::new();
+    scoring_inputs(&inputs, &mut digests);
+    let files = input_files(&inputs).map_err(field)?;
     Ok(Part {
         file: file.to_path_buf(),
         inputs: PartInputs {
@@ -297,6 +368,8 @@ pub fn read_part(file: &Path) -> Result<Part, MergeError> {
         dropped,
         warnings,
         group_by,
+        digests,
+        files,
     })
 }
 
@@ -442,10 +515,18 @@ pub fn merge_parts(
             });
         }
     }
-    if duplicates == DuplicatePolicy::Newest {
-        return Err(MergeError::Policy(duplicates.name()));
+    for p in &parts[1..] {
+        check_inputs((&first.digests, &first.rows), (&p.digests, &p.rows)).map_err(|d| {
+            MergeError::Inputs(Box::new(InputsRefusal {
+                first: first.file.clone(),
+                second: p.file.clone(),
+                input: d.input,
+                a: d.a,
+                b: d.b,
+            }))
+        })?;
     }
-    let settings = first.settings.clone();
+    let mut settings = first.settings.clone();
     // Records in input order (part by part), then the routes no part has a record of.
     let mut records: Vec<(usize, RouteReport)> = Vec::new();
     for (i, p) in parts.iter().enumerate() {
@@ -456,7 +537,12 @@ pub fn merge_parts(
                 .map(|r| (i, r.clone())),
         );
     }
-    let (records, dropped) = deduplicate(records, parts, duplicates)?;
+    let (records, dropped, applied) = deduplicate(records, parts, duplicates)?;
+    // The merged report states the rule the merge applied to records of one route in several
+    // parts; with none, the parts' own rule stands.
+    if applied {
+        settings.duplicates = duplicates;
+    }
     let recorded: std::collections::HashSet<&str> = records
         .iter()
         .filter_map(|r| r.route_id.as_deref())
@@ -491,6 +577,7 @@ pub fn merge_parts(
     };
     let facts = RunFacts {
         n,
+        inputs: parts.iter().flat_map(|p| p.files.iter().cloned()).collect(),
         dropped: parts
             .iter()
             .flat_map(|p| p.dropped.iter().cloned())
@@ -575,13 +662,48 @@ pub fn merge_parts(
     Ok(report)
 }
 
+/// `--routes` of a merge (for `--rerun-xml`) is the route XML the parts were scored with.
+///
+/// # Errors
+/// [`MergeError::RouteXml`] with both hashes; [`MergeError::Read`] when it cannot be read.
+pub fn check_route_xml(report: &Report, file: &Path) -> Result<(), MergeError> {
+    let given = FileDigest::of(file, "routes");
+    let Some(sha) = given.sha256 else {
+        return Err(MergeError::Read {
+            file: file.to_path_buf(),
+            source: std::fs::File::open(file)
+                .err()
+                .unwrap_or_else(|| std::io::Error::other("cannot be read")),
+        });
+    };
+    let mut digests = Vec::new();
+    for p in report.inputs.parts.iter().flatten() {
+        scoring_inputs(&p.inputs, &mut digests);
+    }
+    let theirs: Vec<&FileDigest> = digests.iter().filter(|d| d.role == "routes").collect();
+    if !theirs.is_empty() && theirs.iter().all(|d| d.sha256.as_deref() == Some(&sha)) {
+        return Ok(());
+    }
+    let mut parts: Vec<String> = theirs.iter().map(|d| named(d)).collect();
+    parts.dedup();
+    Err(MergeError::RouteXml {
+        file: file.to_path_buf(),
+        sha,
+        parts: if parts.is_empty() {
+            "no route XML".into()
+        } else {
+            parts.join(", ")
+        },
+    })
+}
+
 /// Records of one route id in several parts, under `policy`: the records kept (in input
-/// order) and the copies dropped.
+/// order), the copies dropped, and whether the policy decided any (a route id in two parts).
 fn deduplicate(
     records: Vec<(usize, RouteReport)>,
     parts: &[Part],
     policy: DuplicatePolicy,
-) -> Result<(Vec<RouteReport>, Vec<Dropped>), MergeError> {
+) -> Result<(Vec<RouteReport>, Vec<Dropped>, bool), MergeError> {
     // Per route id, the indices of its records in parts other than the first one holding it.
     let mut by_id: HashMap<&str, Vec<usize>> = HashMap::new();
     for (i, (_, r)) in records.iter().enumerate() {
@@ -597,7 +719,12 @@ fn deduplicate(
         .collect();
     dup.sort_by_key(|(_, ix)| ix[0]);
     if dup.is_empty() || policy == DuplicatePolicy::All {
-        return Ok((records.into_iter().map(|(_, r)| r).collect(), Vec::new()));
+        let applied = !dup.is_empty();
+        return Ok((
+            records.into_iter().map(|(_, r)| r).collect(),
+            Vec::new(),
+            applied,
+        ));
     }
     if policy == DuplicatePolicy::Error {
         let (id, ix) = &dup[0];
@@ -617,10 +744,31 @@ fn deduplicate(
     let mut kept_of: Vec<Option<Kept>> = vec![None; records.len()];
     let mut dropped = Vec::new();
     for (id, ix) in &dup {
-        let keep = if policy == DuplicatePolicy::First {
-            ix[0]
-        } else {
-            ix[ix.len() - 1]
+        let n = ix.len();
+        let stamp = |i: usize| records[i].1.stamp.clone();
+        let (keep, why) = match policy {
+            DuplicatePolicy::First => (ix[0], format!("first of {n} copies in input order")),
+            DuplicatePolicy::Newest => {
+                let stamps: Vec<Option<[u32; 5]>> = ix
+                    .iter()
+                    .map(|&i| stamp(i).as_deref().and_then(parse_stamp))
+                    .collect();
+                match newest_of(&stamps) {
+                    Newest::Chosen { pos, why, .. } => (ix[pos], why),
+                    // The results files are on the nodes that scored the parts: their
+                    // modification times are not here to decide.
+                    Newest::CouldWrap(texts) => (
+                        ix[n - 1],
+                        format!(
+                            "save_name time stamps {} lie more than half a year apart and carry \
+                             no year, so they could wrap one: kept the last of {n} copies in \
+                             input order (the parts' files are not here to compare)",
+                            texts.join(", ")
+                        ),
+                    ),
+                }
+            }
+            _ => (ix[n - 1], format!("last of {n} copies in input order")),
         };
         let source = |i: usize| {
             records[i].1.source.clone().unwrap_or(Source {
@@ -636,16 +784,11 @@ fn deduplicate(
                 kept: source(keep),
             });
         }
-        let which = if policy == DuplicatePolicy::First {
-            "first"
-        } else {
-            "last"
-        };
         kept_of[keep] = Some(Kept {
             policy: policy.name(),
-            copies: ix.len(),
-            stamp: None,
-            why: format!("{which} of {} copies in input order", ix.len()),
+            copies: n,
+            stamp: stamp(keep),
+            why,
             source: source(keep),
             by_order: false,
             year_wrap: false,
@@ -663,7 +806,7 @@ fn deduplicate(
             r
         })
         .collect();
-    Ok((kept, dropped))
+    Ok((kept, dropped, true))
 }
 
 #[cfg(test)]

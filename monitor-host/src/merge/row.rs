@@ -364,6 +364,12 @@ pub fn row_from_json(v: &Value, path: &str, infractions: InfractionCounts) -> R<
             )?),
         },
         source,
+        stamp: match f("stamp").opt_string()? {
+            Some(s) if crate::input::duplicates::parse_stamp(&s).is_none() => {
+                return f("stamp").err("a save_name time stamp mm_dd_HH_MM_SS")
+            }
+            s => s,
+        },
         collision_events: each(v, path, "collision_events", collision_of)?,
         events: each(v, path, "events", event_of)?,
         penalty_check: match v.get("penalty_check") {

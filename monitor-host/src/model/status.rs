@@ -34,6 +34,10 @@ pub struct RoundStatus {
     pub last_state: Option<String>,
     /// Its DS.
     pub last_ds: Option<f64>,
+    /// Routes whose record says the run broke: the rerun list's classes but `missing` and
+    /// `timeout` ([`crate::report::rerun_list::crashes`]; a `Failed - TickRuntime` route is the
+    /// agent's outcome, not a crash).
+    pub crashes: usize,
     /// Estimated seconds left (`crate::app::watch::WatchStatus::seconds_left`).
     pub seconds_left: Option<f64>,
     /// Routes replayed this round.

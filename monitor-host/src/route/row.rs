@@ -196,6 +196,10 @@ pub struct RouteReport {
     pub reason: Option<String>,
     /// The results file (as found) and record index; null for a missing route.
     pub source: Option<Source>,
+    /// The record's `save_name` time stamp (`mm_dd_HH_MM_SS`); absent when it has none. A
+    /// merge keeps it, so that `duplicates = newest` chooses across parts too.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stamp: Option<String>,
     /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
     /// `copies`, `stamp`, `why`). Absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -391,6 +395,14 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings, facts: RowFacts) -> R
             .map(String::from),
         state: o.state(),
         source: Some(Source::of(&o.loaded)),
+        stamp: o
+            .loaded
+            .entry
+            .as_ref()
+            .ok()
+            .and_then(|r| r.save_name.as_deref())
+            .and_then(crate::input::duplicates::save_name_stamp)
+            .map(crate::input::duplicates::stamp_text),
         kept: None,
         collision_events: o.events.clone(),
         events: route_events(
@@ -454,6 +466,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         state: RouteState::Missing,
         reason: None,
         source: None,
+        stamp: None,
         kept: None,
         collision_events: Vec::new(),
         events: Vec::new(),

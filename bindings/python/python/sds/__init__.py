@@ -256,7 +256,9 @@ def merge(
     Args:
         parts: The parts' JSON files, in input order.
         duplicates: A route recorded in two parts: ``"error"`` (raise, naming both parts),
-            keep the ``"first"`` or ``"last"`` part's record, or score ``"all"``.
+            keep the ``"first"`` or ``"last"`` part's record, the ``"newest"`` (latest
+            ``save_name`` time stamp, which each row keeps), or score ``"all"``; the merged
+            ``config.duplicates`` states the rule applied.
         host: Name this machine in ``inputs.provenance`` (``--set provenance.host=false``).
 
     Returns:
@@ -266,8 +268,10 @@ def merge(
         SdsWarning: Each of the merged report's ``warnings`` (each part's, naming it).
 
     Raises:
-        RefusedError: A part is not an ``sds`` report, parts were scored with different settings
-            or route sets, or a route is recorded in two parts under ``duplicates="error"`` (an
+        RefusedError: A part is not an ``sds`` report, or was edited (a row out of range, its
+            arithmetic broken, rows that are not its route set), parts were scored with
+            different settings, route sets, route XML bytes, maps or label files, or a route is
+            recorded in two parts under ``duplicates="error"`` (an
             :class:`InputError` and a :class:`ConfigError`).
         IoError: A part cannot be read.
         ConfigError: An unknown ``duplicates``.

@@ -98,7 +98,7 @@ class Watch(Iterator[Dict[str, Any]]):
         """The figures of the round that made the last report, with the fields of
         ``sds watch --status-json`` (``round``, ``time``, ``done``, ``n``, ``ds_done``,
         ``ds_n``, ``sds_done``, ``sds_n``, ``last_route``, ``last_state``, ``last_ds``,
-        ``seconds_left``, ``rescored``, ``reused``, ``rescored_routes``, ``changed``,
+        ``crashes``, ``seconds_left``, ``rescored``, ``reused``, ``rescored_routes``, ``changed``,
         ``complete``, ``retries``, ``round_ms``, ``stopped``); None before the first."""
     @property
     def finished(self) -> bool:

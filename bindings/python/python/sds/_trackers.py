@@ -25,8 +25,9 @@ What is logged:
   SVG);
 - each round of a watch (:meth:`Tracker.on_round`): ``watch/ds_done``, ``watch/ds_n`` (the
   running DS over the routes done and over N), ``watch/sds_done``, ``watch/sds_n``,
-  ``watch/done``, ``watch/n``, ``watch/crashes`` (routes whose evaluator status says it
-  crashed), ``watch/rescored``, at the round's number as step.
+  ``watch/done``, ``watch/n``, ``watch/crashes`` (the round's ``crashes``: routes whose
+  record says the run broke, the rerun list's classes but ``missing`` and ``timeout``),
+  ``watch/rescored``, at the round's number as step.
 """
 
 from __future__ import annotations
@@ -125,9 +126,10 @@ def _text(v: Setting) -> str:
     return ("true" if v else "false") if isinstance(v, bool) else str(v)
 
 
-def crashes(report: Mapping[str, Any]) -> int:
-    """Routes whose evaluator status says the agent or the simulation crashed."""
-    return sum(1 for r in report.get("routes", []) if "crash" in str(r.get("status") or "").lower())
+def crashes(status: Mapping[str, Any]) -> int:
+    """The round's crash figure, as the library classifies the routes (one rule with the
+    rerun list: ``Failed - TickRuntime`` is the agent's outcome, not a crash)."""
+    return int(status.get("crashes") or 0)
 
 
 def round_scalars(status: Mapping[str, Any], report: Mapping[str, Any]) -> Dict[str, float]:
@@ -137,7 +139,7 @@ def round_scalars(status: Mapping[str, Any], report: Mapping[str, Any]) -> Dict[
         v = status.get(key)
         if isinstance(v, (int, float)) and not isinstance(v, bool):
             out[f"watch/{key}"] = float(v)
-    out["watch/crashes"] = float(crashes(report))
+    out["watch/crashes"] = float(crashes(status))
     return out
 
 

@@ -44,6 +44,8 @@ def watch(
       the routes not done counting 0 (the two "so far" figures of the status line);
     - ``last_route``, ``last_state``, ``last_ds``: the last route replayed (else the last with a
       record), its state and DS;
+    - ``crashes``: routes whose record says the run broke, the rerun list's classes but
+      ``missing`` and ``timeout`` (a ``Failed - TickRuntime`` route is not a crash);
     - ``complete``: every route of the set has a record (a route XML or ``expected_routes``
       gives the set; without one, every checkpoint's ``progress`` says done);
     - ``seconds_left``: the routes' mean ``meta.duration_system`` times the routes left, or None;

@@ -562,7 +562,7 @@ fn a_signal_during_the_final_write_leaves_no_temporary_file() {
         let child = run_sh(
             "exec \"$0\" \"$@\"",
             &args,
-            &[("SDS_TEST_WRITE_DELAY_MS", "20000")],
+            &[("SDS_TEST_WRITE_HOLD", "1")],
         );
         // Wait until the temporary file is written, then interrupt.
         let start = Instant::now();

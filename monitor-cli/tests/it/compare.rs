@@ -403,7 +403,6 @@ mod bootstrap_and_gate {
             ((i % 10) as f64 * 10.0, false)
         });
         let b = run_of(dir.path(), "big_b", 300, |i| ((i % 7) as f64 * 10.0, false));
-        let started = std::time::Instant::now();
         let (code, _, err) = compare(&["--bootstrap-samples", "1000000"], &[("a", &a), ("b", &b)]);
         assert_eq!(code, Some(2), "{err}");
         assert!(
@@ -413,12 +412,8 @@ mod bootstrap_and_gate {
                 && err.contains("at most 833333 resamples"),
             "{err}"
         );
-        // Refused before drawing: 3e8 draws would take seconds.
-        assert!(
-            started.elapsed().as_secs_f64() < 5.0,
-            "{:?}",
-            started.elapsed()
-        );
+        // Refused before drawing: the message is the budget check's, made before any draw (a
+        // wall-clock bound here raced a busy machine, issue 47 item 13).
         let (code, _, err) = compare(&["--bootstrap-samples", "833333"], &[("a", &a), ("b", &b)]);
         assert_eq!(code, Some(0), "{err}");
     }

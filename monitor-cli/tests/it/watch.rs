@@ -56,6 +56,106 @@ fn wait(child: &mut Child, limit: Duration) -> Output {
     }
 }
 
+/// A watch whose standard error is read line by line while it runs: a test waits for what the
+/// watch said (a status line, a warning) before it acts, instead of sleeping and hoping a round
+/// came in between (issue 47 item 13: such sleeps raced the rounds on a busy machine).
+struct Live {
+    child: Child,
+    lines: std::sync::mpsc::Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Live {
+    fn spawn(args: &[String]) -> Live {
+        let mut child = spawn(args, &[]);
+        let err = child.stderr.take().unwrap();
+        let (tx, lines) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufRead::lines(std::io::BufReader::new(err)) {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Live {
+            child,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits for a line for which `f` holds and returns it (a hang fails after two minutes: a
+    /// guard, never what decides the outcome).
+    fn until(&mut self, what: &str, f: impl Fn(&str) -> bool) -> String {
+        loop {
+            match self.lines.recv_timeout(Duration::from_secs(120)) {
+                Ok(l) => {
+                    self.seen.push(l.clone());
+                    if f(&l) {
+                        return l;
+                    }
+                }
+                Err(e) => {
+                    let _ = self.child.kill();
+                    panic!("no {what} ({e}):\n{}", self.seen.join("\n"));
+                }
+            }
+        }
+    }
+
+    /// Waits for a JSON status line for which `f` holds.
+    fn status(&mut self, what: &str, f: impl Fn(&Value) -> bool) -> Value {
+        let l = self.until(what, |l| {
+            l.starts_with('{') && serde_json::from_str::<Value>(l).is_ok_and(|v| f(&v))
+        });
+        serde_json::from_str(&l).unwrap()
+    }
+
+    /// Asks the watch to stop (SIGINT: it writes its final report).
+    fn interrupt(&self) {
+        #[allow(unsafe_code)]
+        // SAFETY: kill(2) on our own child's pid.
+        unsafe {
+            libc::kill(self.child.id() as i32, libc::SIGINT);
+        }
+    }
+
+    /// Waits for the watch to end (killed after `limit`); its exit status and whole standard
+    /// error.
+    fn finish(mut self, limit: Duration) -> Output {
+        let start = Instant::now();
+        let status = loop {
+            if let Some(st) = self.child.try_wait().unwrap() {
+                break st;
+            }
+            if start.elapsed() > limit {
+                let _ = self.child.kill();
+                panic!("sds watch did not stop within {limit:?}:\n{}", self.seen.join("\n"));
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        // The reader ends at the end of the stream: every line is here.
+        self.seen.extend(self.lines.iter());
+        let mut stderr = self.seen.join("\n").into_bytes();
+        stderr.push(b'\n');
+        Output {
+            status,
+            stdout: Vec::new(),
+            stderr,
+        }
+    }
+}
+
+/// Polls until `f` holds (a state of the files, never a time); two minutes are a guard.
+fn poll_until(what: &str, f: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !f() {
+        assert!(start.elapsed() < Duration::from_secs(120), "no {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// The JSON status lines of a watch's standard error.
 fn json_lines(err: &[u8]) -> Vec<Value> {
     String::from_utf8_lossy(err)
@@ -136,7 +236,7 @@ fn demo_inputs(run: &demo::DemoRun) -> Inputs {
 }
 
 /// Issue 33 item 2: a run without telemetry (every public Bench2Drive file) is played back,
-/// a record every 250 ms; the watch stops by itself within two rounds of the last record, and a
+/// a record at a time; the watch stops by itself within two rounds of the last record, and a
 /// round that found nothing new replayed nothing.
 #[test]
 fn i33_2_no_telemetry_playback_stops_by_itself() {
@@ -165,12 +265,19 @@ fn i33_2_no_telemetry_playback_stops_by_itself() {
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
+    // Paced by the watch's own status lines, not by a clock: each record is written once the
+    // round that read the previous one and a round that found nothing new were said.
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 1);
+    live.status("idle round", |l| l["done"] == 1);
     for k in 2..=n {
-        std::thread::sleep(Duration::from_millis(250));
         rewrite(&results, &checkpoint_bytes(&c, &records[..k], n));
+        live.status("round reading the record", |l| l["done"] == k);
+        if k < n {
+            live.status("idle round", |l| l["done"] == k);
+        }
     }
-    let o = wait(&mut child, Duration::from_secs(90));
+    let o = live.finish(Duration::from_secs(90));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("the route set is complete"), "{err}");
     let lines: Vec<Value> = json_lines(&o.stderr)
@@ -281,18 +388,19 @@ fn i33_2_status_schema_is_the_same_in_retry_rounds() {
         "--status-json",
         "--interval",
         "0.05",
-        "--timeout",
-        "2",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(600));
+    // Each write waits for the round it is meant for (no timer races the rounds).
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 4);
     let more = checkpoint_bytes(&c, &records[..5], n);
     rewrite(&results, &more[..more.len() / 2]);
-    std::thread::sleep(Duration::from_millis(400));
+    live.status("retried round", |l| l.get("retry").is_some());
     rewrite(&results, &more);
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.status("round after the write", |l| l["done"] == 5);
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let lines = json_lines(&o.stderr);
     let keys = |v: &Value| -> Vec<String> {
         let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
@@ -531,16 +639,18 @@ fn r3_05_half_written_at_the_stop_exits_non_zero() {
         &s(&out),
         "--interval",
         "0.05",
-        "--timeout",
-        "1",
+        "--status-json",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(400));
+    // Half-written after the first round, and still so when the watch is stopped (by a signal:
+    // a timeout raced the write on a busy machine).
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 4);
     let more = checkpoint_bytes(&c, &records[..5], n);
     rewrite(&results, &more[..more.len() / 2]);
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
@@ -572,19 +682,22 @@ fn r3_05_unwritable_live_round_warns_and_retries() {
         &s(&out),
         "--interval",
         "0.05",
-        "--timeout",
-        "1.5",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(500));
+    // The folder goes once the first round said it could not write; stopped once a later
+    // round wrote the report (no timer races the rounds).
+    let mut live = Live::spawn(&args);
+    let warning = live.until("warning", |l| l.starts_with("sds: warning: watch round"));
+    assert!(warning.starts_with("sds: warning: watch round 1:"), "{warning}");
     fs::remove_dir(&out).unwrap();
-    let o = wait(&mut child, Duration::from_secs(60));
+    poll_until("live report", || out.is_file());
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("sds: warning: watch round 1:"), "{err}");
     assert!(err.contains("written again next round"), "{err}");
-    assert!(err.contains("watch stopped (--timeout)"), "{err}");
+    assert!(err.contains("watch stopped (interrupted)"), "{err}");
+    assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(out.is_file());
 }
 
@@ -855,17 +968,13 @@ fn i33_2_live_page_says_it_is_live() {
         &s(&out),
         "--interval",
         "0.1",
-        "--timeout",
-        "1",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    let start = Instant::now();
-    while !out.exists() {
-        assert!(start.elapsed() < Duration::from_secs(60), "no live round");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    // Read while the watch runs, then stopped (a 1 s timeout could end it before the live page
+    // was read, on a busy machine).
+    let live = Live::spawn(&args);
+    poll_until("live round", || out.exists());
     let page = fs::read_to_string(&out).unwrap();
     assert!(page.contains("id=\"live\""), "no live banner");
     assert!(page.contains("9 / 12 routes done"));
@@ -873,7 +982,8 @@ fn i33_2_live_page_says_it_is_live() {
     assert!(page.contains("left"));
     let year = monitor_host::watch::utc(std::time::SystemTime::now())[..4].to_string();
     assert!(page.contains(&format!("at {year}-")));
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let reference = dir.path().join("score.html");
     let sc = sds(&[
         "score",

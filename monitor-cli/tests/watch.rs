@@ -454,10 +454,16 @@ fn live_playback_ends_with_the_score_report() {
         if k == 1 {
             // A partial round (2 of 9 routes done) is seen before the run goes on.
             let start = Instant::now();
-            while !lines.lock().unwrap().iter().any(|l| {
-                serde_json::from_str::<Value>(l).is_ok_and(|r| r["done"] == 2)
-            }) {
-                assert!(start.elapsed() < Duration::from_secs(120), "no partial round");
+            while !lines
+                .lock()
+                .unwrap()
+                .iter()
+                .any(|l| serde_json::from_str::<Value>(l).is_ok_and(|r| r["done"] == 2))
+            {
+                assert!(
+                    start.elapsed() < Duration::from_secs(120),
+                    "no partial round"
+                );
                 std::thread::sleep(Duration::from_millis(10));
             }
         }
@@ -468,7 +474,10 @@ fn live_playback_ends_with_the_score_report() {
         if let Some(st) = child.try_wait().unwrap() {
             break st;
         }
-        assert!(start.elapsed() < Duration::from_secs(120), "sds watch did not stop");
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "sds watch did not stop"
+        );
         std::thread::sleep(Duration::from_millis(20));
     };
     reader.join().unwrap();

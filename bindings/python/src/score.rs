@@ -113,7 +113,11 @@ pub(crate) fn follow(py: Python<'_>, progress: Option<&Py<PyAny>>, bars: bool) -
     }
     if bars {
         if let Ok(b) = p.cast::<pyo3::types::PyBool>() {
-            return Ok(if b.is_true() { Follow::Bar } else { Follow::Nothing });
+            return Ok(if b.is_true() {
+                Follow::Bar
+            } else {
+                Follow::Nothing
+            });
         }
     }
     if p.is_callable() {

@@ -190,6 +190,10 @@ def test_protocols_reach_the_report(demo: Demo) -> None:
         sds.score(demo.results, telemetry=demo.telemetry, protocols=["lb3"])
     with pytest.raises(sds.ConfigError):
         sds.score(demo.results, telemetry=demo.telemetry, protocols="all")  # type: ignore[arg-type]
+    # Issue 47 item 12: "all" and "none" stand alone.
+    for both in (["all", "none"], ["all", "all"], ["none", "lb2.1"]):
+        with pytest.raises(sds.ConfigError, match="alone"):
+            sds.score(demo.results, telemetry=demo.telemetry, protocols=both)
 
 
 def test_ctrl_c_stops_the_run_between_routes(sds_bin: Path, tmp_path: Path) -> None:

@@ -1292,3 +1292,23 @@ fn i33_8_families_safe2drive_says_what_the_name_means() {
         report["groups"]
     );
 }
+
+/// Issue 47 item 12: `all` and `none` stand alone in `--protocol` (`all,none`, `all,all` and
+/// `none,lb2.1` were accepted: a regression of round 3's held case); usage error 2 naming the
+/// list. A list of ids still works.
+#[test]
+fn r4_12_protocol_all_or_none_stand_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::demo(dir.path());
+    for list in ["all,none", "all,all", "none,lb2.1", "lb2.1,all"] {
+        let o = crate::common::score_demo(dir.path(), None, &["--protocol", list]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{list}: {err}");
+        assert!(
+            err.contains("protocols") && err.contains("alone") && err.contains(list),
+            "{list}: {err}"
+        );
+    }
+    let o = crate::common::score_demo(dir.path(), None, &["--protocol", "lb2.1,b2d"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -131,7 +131,10 @@ impl Live {
             }
             if start.elapsed() > limit {
                 let _ = self.child.kill();
-                panic!("sds watch did not stop within {limit:?}:\n{}", self.seen.join("\n"));
+                panic!(
+                    "sds watch did not stop within {limit:?}:\n{}",
+                    self.seen.join("\n")
+                );
             }
             std::thread::sleep(Duration::from_millis(20));
         };
@@ -689,7 +692,10 @@ fn r3_05_unwritable_live_round_warns_and_retries() {
     // round wrote the report (no timer races the rounds).
     let mut live = Live::spawn(&args);
     let warning = live.until("warning", |l| l.starts_with("sds: warning: watch round"));
-    assert!(warning.starts_with("sds: warning: watch round 1:"), "{warning}");
+    assert!(
+        warning.starts_with("sds: warning: watch round 1:"),
+        "{warning}"
+    );
     fs::remove_dir(&out).unwrap();
     poll_until("live report", || out.is_file());
     live.interrupt();

@@ -1307,3 +1307,181 @@ fn i35_requests_validate_once_for_every_front_end() {
     .unwrap();
     assert_eq!(s.get("protocols").as_deref(), Some("f2d"));
 }
+
+/// The 8 TransFuser++ shard checkpoints copied into a fresh folder, with `merged.json` beside
+/// them when `merged` (the folder Bench2Drive's merge leaves), and the route XML.
+fn tfpp_shards(dir: &Path, merged: bool, shards: usize) -> Option<PathBuf> {
+    let fx = crate::common::b2d_fixtures(&[
+        "tfpp_raw_shards",
+        "carla_garage_tfpp_b2d_traj_merged.json",
+        "routes/bench2drive220.xml",
+    ])?;
+    let folder = dir.join("tfpp");
+    fs::create_dir_all(&folder).unwrap();
+    for k in 0..shards {
+        let name = format!("eval_bench2drive220_{k}.json");
+        fs::copy(fx.join("tfpp_raw_shards").join(&name), folder.join(&name)).unwrap();
+    }
+    if merged {
+        fs::copy(
+            fx.join("carla_garage_tfpp_b2d_traj_merged.json"),
+            folder.join("merged.json"),
+        )
+        .unwrap();
+    }
+    Some(fx)
+}
+
+/// Issue 46 item 6: a watch without `--routes` of the folder holding the 8 TransFuser++ shards
+/// (all `progress [k, k]`) and `merged.json` never stopped (the merged file, skipped beside its
+/// raw files, has no `progress` and counted as a shard not done); and the stopping round was
+/// printed twice (once live, once with `stopped`). Now it stops by itself once the files are
+/// settled, each round printed once, the last with `stopped: "complete"`.
+#[test]
+fn i46_6_done_shards_beside_merged_json_stop_and_print_each_round_once() {
+    let dir = tempfile::tempdir().unwrap();
+    if tfpp_shards(dir.path(), true, 8).is_none() {
+        return;
+    }
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&dir.path().join("tfpp")),
+        "--allow-missing-telemetry",
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "120",
+        "-o",
+        &s(&dir.path().join("live.json")),
+    ]
+    .map(String::from)
+    .to_vec();
+    let o = wait(&mut spawn(&args, &[]), Duration::from_secs(180));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("watch stopped (the route set is complete)"), "{err}");
+    let lines = json_lines(&o.stderr);
+    let rounds: Vec<u64> = lines.iter().map(|l| l["round"].as_u64().unwrap()).collect();
+    let mut unique = rounds.clone();
+    unique.dedup();
+    assert_eq!(rounds, unique, "a round printed twice: {err}");
+    let last = lines.last().unwrap();
+    assert_eq!(last["stopped"], "complete", "{last}");
+    assert_eq!((last["done"].as_u64(), last["complete"].as_bool()), (Some(220), Some(true)));
+}
+
+/// Issue 46 item 6: 3 of the 8 shards, all done, against the 220-route XML: 136 routes no
+/// shard runs. The time left was "about 0m left" (`seconds_left` 0); it is unknown (null), and
+/// the live page says so.
+#[test]
+fn i46_6_time_left_is_unknown_when_no_shard_runs_the_routes_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(fx) = tfpp_shards(dir.path(), false, 3) else {
+        return;
+    };
+    let page = dir.path().join("live.html");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&dir.path().join("tfpp")),
+        "--routes",
+        &s(&fx.join("routes/bench2drive220.xml")),
+        "--allow-missing-telemetry",
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--format",
+        "html",
+        "-o",
+        &s(&page),
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut live = Live::spawn(&args);
+    let first = live.status("first round", |_| true);
+    assert_eq!((first["done"].as_u64(), first["n"].as_u64()), (Some(84), Some(220)));
+    assert!(first["seconds_left"].is_null(), "{first}");
+    poll_until("live page", || page.exists());
+    let html = fs::read_to_string(&page).unwrap();
+    assert!(html.contains("time left unknown") && !html.contains("0m left"));
+    live.interrupt();
+    live.finish(Duration::from_secs(60));
+}
+
+/// Issue 47 item 12: `meta.duration_system` -100 gave `seconds_left` -300 in `--status-json`.
+/// A negative (or non-finite) duration is no evaluator's: it is left out of the estimate (null
+/// when no route has a usable one), never a negative time.
+#[test]
+fn r4_12_negative_durations_give_no_negative_time_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, mut records) = checkpoint(&run);
+    let results = dir.path().join("results.json");
+    for (half, expect_null) in [(false, true), (true, false)] {
+        for (i, r) in records.iter_mut().enumerate() {
+            let d = if half && i % 2 == 0 { 30.0 } else { -100.0 };
+            r["meta"]["duration_system"] = serde_json::json!(d);
+        }
+        rewrite(&results, &checkpoint_bytes(&c, &records, records.len()));
+        let o = sds(&[
+            "watch",
+            "--results",
+            &s(&results),
+            "--telemetry",
+            &s(&run.telemetry),
+            "--expected-routes",
+            "12",
+            "--once",
+            "--status-json",
+            "-o",
+            &s(&dir.path().join("out.json")),
+        ]);
+        let lines = json_lines(&o.stderr);
+        let left = &lines[0]["seconds_left"];
+        if expect_null {
+            assert!(left.is_null(), "{left}");
+        } else {
+            // 30 s a route (the usable durations) for the 12 - 9 routes left.
+            assert_eq!(left.as_f64(), Some(90.0), "{left}");
+        }
+    }
+}
+
+/// Issue 47 item 12 (round 3's G05, last case): a telemetry file whose modification time is an
+/// hour in the future was never "settled", so its route was replayed every round and the watch
+/// of a complete run never stopped. A time that far ahead is no write under way: the watch
+/// stops by itself.
+#[test]
+fn r4_12_a_file_from_the_future_does_not_keep_the_watch_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let (_, records) = checkpoint(&run);
+    let name = records[0]["save_name"].as_str().unwrap();
+    let file = run.telemetry.join(name).join("metric_info.json");
+    let f = fs::OpenOptions::new().write(true).open(&file).unwrap();
+    f.set_modified(std::time::SystemTime::now() + Duration::from_secs(3600))
+        .unwrap();
+    drop(f);
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "60",
+        "-o",
+        &s(&dir.path().join("out.json")),
+    ]
+    .map(String::from)
+    .to_vec();
+    let o = wait(&mut spawn(&args, &[]), Duration::from_secs(120));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("watch stopped (the route set is complete)"), "{err}");
+}

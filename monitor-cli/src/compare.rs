@@ -73,7 +73,7 @@ pub struct CompareUsage(pub String);
 /// [`monitor_host::settings::SettingsError`] for a `--set` without `=`.
 pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
     let usage = |m: String| CompareUsage(m);
-    let settings = args.run.request(None, None)?;
+    let settings = args.run.request(None, args.route_subset)?;
     let mut runs: Vec<RunSpec> = args
         .runs
         .iter()

@@ -189,3 +189,32 @@ def test_rank_and_seeds_are_the_cli_report(sds_bin: Path, tmp_path: Path) -> Non
     assert sds.compare(runs, bootstrap_samples=1000).get("ranking") is None
     with pytest.raises(sds.ConfigError, match="repro.halfwidth"):
         sds.compare(runs, repro_halfwidth=0.0)
+
+
+def test_i46_6_route_subset_like_the_cli(sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 46 item 6: ``sds.compare(route_subset=...)`` as ``sds compare --route-subset``: a
+    run of 3 of the demo's routes compared over those 3 (``"found"``) or over the route XML's
+    every route (``"all"``, the default)."""
+    demo = _demo(sds_bin, tmp_path)
+    data = json.loads((demo / "results.json").read_text())
+    total = len(data["_checkpoint"]["records"])
+    data["_checkpoint"]["records"] = data["_checkpoint"]["records"][:3]
+    part = tmp_path / "part.json"
+    part.write_text(json.dumps(data))
+    tel, routes = demo / "telemetry", demo / "routes.xml"
+    runs = {"a": (part, tel), "b": (part, tel)}
+    for subset, n in (("found", 3), ("all", total)):
+        c = sds.compare(runs, routes=routes, route_subset=subset, bootstrap_samples=1000)
+        assert c["scope"]["routes"] == n, subset
+        out = tmp_path / f"cli-{subset}.json"
+        code, _, err = run_cli(
+            sds_bin,
+            ["compare", f"a={part}:{tel}", f"b={part}:{tel}", "--routes", str(routes),
+             "--route-subset", subset, "--bootstrap-samples", "1000", "--format", "json",
+             "-o", str(out)],
+        )
+        assert code == 0, err
+        assert c == json.loads(out.read_text())
+    assert sds.compare(runs, routes=routes, bootstrap_samples=1000)["scope"]["routes"] == total
+    with pytest.raises(sds.ConfigError, match="route_subset"):
+        sds.compare(runs, routes=routes, route_subset="some")  # type: ignore[arg-type]

@@ -514,3 +514,65 @@ mod bootstrap_and_gate {
         );
     }
 }
+
+/// Issue 46 item 6: `sds compare --route-subset`, as `sds score` has it. One TransFuser++ shard
+/// (28 of the 220 routes) against Bench2Drive's route XML: `found` compares the 28 routes with
+/// a record and each model's DS is `sds score --route-subset found`'s (89.47); `all` (the
+/// default) compares 220, the 192 without a record counting 0.
+#[test]
+fn i46_6_compare_takes_route_subset() {
+    let Some(fx) = crate::common::b2d_fixtures(&[
+        "tfpp_raw_shards/eval_bench2drive220_0.json",
+        "routes/bench2drive220.xml",
+    ]) else {
+        return;
+    };
+    let shard = fx.join("tfpp_raw_shards/eval_bench2drive220_0.json");
+    let routes = fx.join("routes/bench2drive220.xml");
+    let (a, b) = (
+        format!("a={}", shard.display()),
+        format!("b={}", shard.display()),
+    );
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "compare",
+            &a,
+            &b,
+            "--routes",
+            routes.to_str().unwrap(),
+            "--allow-missing-telemetry",
+            "--bootstrap-samples",
+            "1000",
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let out = crate::common::sds(&args);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{extra:?}: {err}");
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let score = crate::common::sds(&[
+        "score",
+        "--results",
+        shard.to_str().unwrap(),
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--route-subset",
+        "found",
+    ]);
+    let score: serde_json::Value = serde_json::from_slice(&score.stdout).unwrap();
+    let found = run(&["--route-subset", "found"]);
+    assert_eq!(found["scope"]["routes"], 28);
+    assert_eq!(
+        found["models"][0]["driving_score"]["mean"],
+        score["summary"]["driving_score"]
+    );
+    assert!((score["summary"]["driving_score"].as_f64().unwrap() - 89.4677).abs() < 1e-3);
+    let all = run(&[]);
+    assert_eq!(all["scope"]["routes"], 220);
+    assert_eq!(run(&["--route-subset", "all"]), all);
+    // `--set route_subset=found` is the same setting.
+    assert_eq!(run(&["--set", "route_subset=found"]), found);
+}

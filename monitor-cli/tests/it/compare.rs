@@ -576,3 +576,84 @@ fn i46_6_compare_takes_route_subset() {
     // `--set route_subset=found` is the same setting.
     assert_eq!(run(&["--set", "route_subset=found"]), found);
 }
+
+/// Issue 46 item 6: the Traffic Sign bracket and the undecided junction credits that `sds
+/// score`'s table states were missing from `sds compare`'s tables. TransFuser++ and TCP over
+/// the 220 routes without maps: each model's note in compare's tables is its `sds score` note
+/// (TF++ [70.53, 93.68], 22 undecided), in text and Markdown.
+#[test]
+fn i46_6_compare_tables_say_the_traffic_sign_bracket() {
+    let Some(fx) = crate::common::b2d_fixtures(&[
+        "carla_garage_tfpp_b2d_traj_merged.json",
+        "b2dzoo_TCP-only-traj_merged.json",
+        "routes/bench2drive220.xml",
+    ]) else {
+        return;
+    };
+    let routes = fx.join("routes/bench2drive220.xml");
+    let runs = [
+        ("tfpp", fx.join("carla_garage_tfpp_b2d_traj_merged.json")),
+        ("tcp", fx.join("b2dzoo_TCP-only-traj_merged.json")),
+    ];
+    let note_of = |text: &str| -> String {
+        text.lines()
+            .find(|l| l.contains("Traffic_Signs under"))
+            .unwrap_or_else(|| panic!("no Traffic_Signs note: {text}"))
+            .trim()
+            .to_string()
+    };
+    let mut notes = Vec::new();
+    for (name, file) in &runs {
+        let out = crate::common::sds(&[
+            "score",
+            "--results",
+            file.to_str().unwrap(),
+            "--routes",
+            routes.to_str().unwrap(),
+            "--allow-missing-telemetry",
+            "--format",
+            "table",
+        ]);
+        notes.push((*name, note_of(&String::from_utf8_lossy(&out.stdout))));
+    }
+    assert!(
+        notes[0].1.contains("Traffic Sign lies in [70.53, 93.68]"),
+        "{}",
+        notes[0].1
+    );
+    assert!(notes[0].1.contains("22 failed route(s)"), "{}", notes[0].1);
+    let specs: Vec<String> = runs
+        .iter()
+        .map(|(n, f)| format!("{n}={}", f.display()))
+        .collect();
+    let out = crate::common::sds(&[
+        "compare",
+        &specs[0],
+        &specs[1],
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--bootstrap-samples",
+        "1000",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for (name, note) in &notes {
+        assert!(
+            text.lines().any(|l| l.trim() == format!("{name}: {note}")),
+            "{name}: no `{note}` in {text}"
+        );
+    }
+    let md = crate::common::sds(&[
+        "compare",
+        &specs[0],
+        &specs[1],
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--bootstrap-samples",
+        "1000",
+        "--format",
+        "markdown",
+    ]);
+    assert!(String::from_utf8_lossy(&md.stdout).contains("Traffic Sign lies in \\[70.53, 93.68\\]"));
+}

@@ -1360,7 +1360,10 @@ fn i46_6_done_shards_beside_merged_json_stop_and_print_each_round_once() {
     .to_vec();
     let o = wait(&mut spawn(&args, &[]), Duration::from_secs(180));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("watch stopped (the route set is complete)"), "{err}");
+    assert!(
+        err.contains("watch stopped (the route set is complete)"),
+        "{err}"
+    );
     let lines = json_lines(&o.stderr);
     let rounds: Vec<u64> = lines.iter().map(|l| l["round"].as_u64().unwrap()).collect();
     let mut unique = rounds.clone();
@@ -1368,7 +1371,10 @@ fn i46_6_done_shards_beside_merged_json_stop_and_print_each_round_once() {
     assert_eq!(rounds, unique, "a round printed twice: {err}");
     let last = lines.last().unwrap();
     assert_eq!(last["stopped"], "complete", "{last}");
-    assert_eq!((last["done"].as_u64(), last["complete"].as_bool()), (Some(220), Some(true)));
+    assert_eq!(
+        (last["done"].as_u64(), last["complete"].as_bool()),
+        (Some(220), Some(true))
+    );
 }
 
 /// Issue 46 item 6: 3 of the 8 shards, all done, against the 220-route XML: 136 routes no
@@ -1400,7 +1406,10 @@ fn i46_6_time_left_is_unknown_when_no_shard_runs_the_routes_left() {
     .to_vec();
     let mut live = Live::spawn(&args);
     let first = live.status("first round", |_| true);
-    assert_eq!((first["done"].as_u64(), first["n"].as_u64()), (Some(84), Some(220)));
+    assert_eq!(
+        (first["done"].as_u64(), first["n"].as_u64()),
+        (Some(84), Some(220))
+    );
     assert!(first["seconds_left"].is_null(), "{first}");
     poll_until("live page", || page.exists());
     let html = fs::read_to_string(&page).unwrap();
@@ -1483,5 +1492,8 @@ fn r4_12_a_file_from_the_future_does_not_keep_the_watch_running() {
     .to_vec();
     let o = wait(&mut spawn(&args, &[]), Duration::from_secs(120));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("watch stopped (the route set is complete)"), "{err}");
+    assert!(
+        err.contains("watch stopped (the route set is complete)"),
+        "{err}"
+    );
 }

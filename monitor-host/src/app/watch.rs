@@ -733,9 +733,9 @@ impl Watcher {
                 done.len() >= n
             } else {
                 !shards.is_empty()
-                    && shards.iter().all(|p| {
-                        p.is_none_or(|(i, total)| total > 1 && i >= total)
-                    })
+                    && shards
+                        .iter()
+                        .all(|p| p.is_none_or(|(i, total)| total > 1 && i >= total))
             },
             seconds_left,
         }

@@ -208,7 +208,7 @@ pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
                 if matches!(w, Warning::NoMap { .. } | Warning::NoMaps { .. }) {
                     no_maps.push((&r.name, w));
                 } else {
-                    say!("sds: warning: {}: {w}", r.name);
+                    say!("sds: warning: {}: {}", r.name, super::spelling::warning(w));
                 }
             }
             if r.report.has_problems() {

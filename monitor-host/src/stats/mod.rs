@@ -570,11 +570,8 @@ pub fn compare_cancellable(
                 .zip(&aggs)
                 .map(|(r, (name, agg))| {
                     let kept = compared_routes(&r.report, &shared, differs);
-                    let mut b = crate::aggregate::bench2drive::Bench2Drive::new(
-                        agg,
-                        kept.into_iter(),
-                        Vec::new(),
-                    );
+                    let mut b =
+                        crate::aggregate::bench2drive::Bench2Drive::new(agg, kept, Vec::new());
                     b.ability_rule = r.report.config.ability_rule.name();
                     (name.clone(), b)
                 })

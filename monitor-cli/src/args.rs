@@ -342,6 +342,11 @@ pub struct CompareArgs {
     /// DS that `seeds_needed` sizes.
     #[arg(long, value_name = "DS", default_value_t = 1.0)]
     pub repro_halfwidth: f64,
+    /// Which routes of `--routes` make each run's route set: `all` (default: a route without a
+    /// record counts as 0) or those `found` with a record, as `sds score --route-subset`. Also
+    /// `--set route_subset=...`.
+    #[arg(long, value_enum)]
+    pub route_subset: Option<RouteSubsetArg>,
     /// The options `sds score` shares (each run scored with them).
     #[command(flatten)]
     pub run: RunArgs,

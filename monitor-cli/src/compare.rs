@@ -73,7 +73,7 @@ pub struct CompareUsage(pub String);
 /// [`monitor_host::settings::SettingsError`] for a `--set` without `=`.
 pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
     let usage = |m: String| CompareUsage(m);
-    let settings = args.run.request(None, None)?;
+    let settings = args.run.request(None, args.route_subset)?;
     let mut runs: Vec<RunSpec> = args
         .runs
         .iter()
@@ -208,7 +208,7 @@ pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
                 if matches!(w, Warning::NoMap { .. } | Warning::NoMaps { .. }) {
                     no_maps.push((&r.name, w));
                 } else {
-                    say!("sds: warning: {}: {w}", r.name);
+                    say!("sds: warning: {}: {}", r.name, super::spelling::warning(w));
                 }
             }
             if r.report.has_problems() {

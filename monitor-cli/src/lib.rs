@@ -209,7 +209,7 @@ fn run(cli: Cli) -> Result<i32> {
                 }
             };
             for w in &run.warnings {
-                say!("sds: warning: {route_id}: {w}");
+                say!("sds: warning: {route_id}: {}", spelling::warning(w));
             }
             let lines =
                 monitor_host::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
@@ -401,7 +401,7 @@ fn score(args: &ScoreArgs) -> Result<i32> {
 
     // Every warning, the per-route ones included, is in the report; printed here once each.
     for w in &report.warnings {
-        say!("sds: warning: {w}");
+        say!("sds: warning: {}", spelling::warning(w));
     }
     for note in period_notes(&report) {
         say!("sds: note: {note}");

@@ -120,9 +120,21 @@ extern "C" fn check_stdout_at_start() {
 /// Test seam: milliseconds to wait between writing the temporary file and renaming it, so that
 /// the signal tests can interrupt the final write. Not documented for users.
 const DELAY_ENV: &str = "SDS_TEST_WRITE_DELAY_MS";
-/// Test seam: milliseconds to wait after placing each trace or figure, so that the signal tests
-/// can interrupt the traces half-written. Not documented for users.
-const PLACE_DELAY_ENV: &str = "SDS_TEST_PLACE_DELAY_MS";
+/// Test seam: the final write waits here until the process is signalled, so that the signal
+/// tests interrupt it whatever the machine's load (a delay raced the clock). Not documented for
+/// users.
+const HOLD_ENV: &str = "SDS_TEST_WRITE_HOLD";
+/// Test seam: after placing this many traces or figures the run waits until it is signalled, so
+/// that the signal tests interrupt the traces half-written whatever the machine's load. Not
+/// documented for users.
+const PLACE_HOLD_ENV: &str = "SDS_TEST_PLACE_HOLD";
+
+/// Test seams: waits until a signal ends the process.
+fn hold_until_signalled() -> ! {
+    loop {
+        std::thread::sleep(std::time::Duration::from_secs(3600));
+    }
+}
 
 /// Set by [`defer_signals`]: the first SIGINT / SIGTERM only sets [`stop_requested`].
 static DEFER: AtomicBool = AtomicBool::new(false);
@@ -371,11 +383,14 @@ fn place_mode(path: &Path, bytes: &[u8], inputs: &[PathBuf], keep_mode: Option<u
         Ok(())
     })();
     result.with_context(|| format!("cannot write {}", path.display()))?;
-    if let Some(ms) = std::env::var(PLACE_DELAY_ENV)
+    if let Some(n) = std::env::var(PLACE_HOLD_ENV)
         .ok()
-        .and_then(|v| v.parse().ok())
+        .and_then(|v| v.parse::<usize>().ok())
     {
-        std::thread::sleep(std::time::Duration::from_millis(ms));
+        static PLACED: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+        if PLACED.fetch_add(1, Ordering::SeqCst) + 1 >= n {
+            hold_until_signalled();
+        }
     }
     Ok(())
 }
@@ -625,6 +640,9 @@ fn write_temp_then_rename(
     drop(f);
     if let Some(ms) = std::env::var(DELAY_ENV).ok().and_then(|v| v.parse().ok()) {
         std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+    if std::env::var_os(HOLD_ENV).is_some() {
+        hold_until_signalled();
     }
     let mut pending = pending();
     // Checked again just before the rename: a device or FIFO that appeared at the path since

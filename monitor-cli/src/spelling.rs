@@ -1,6 +1,7 @@
 //! The command line's spelling of the options the library's messages name neutrally (by the
 //! setting's or option's name: `expected_routes`, `route_subset = found`): `sds` appends its
-//! flags to an error's message, `(--expected-routes, --route-subset)`.
+//! flags to an error's or a warning's message, `(--expected-routes, --route-subset)`,
+//! `(--set dt=SECONDS)`.
 
 /// The flag of a neutral option name (`None`: the option has no flag of its own; it is then a
 /// setting, given with `--set NAME=VALUE`).
@@ -44,13 +45,30 @@ pub fn suffix(e: &anyhow::Error) -> String {
     } else {
         &[]
     };
+    flags(options)
+}
+
+/// ` (--a, --set b=VALUE)`: `options` as the command line spells them (a setting with its value
+/// when the name carries one, `dt=SECONDS`), or nothing.
+fn flags(options: &[&str]) -> String {
     let flags: Vec<String> = options
         .iter()
-        .map(|o| flag(o).map_or_else(|| format!("--set {o}=..."), str::to_string))
+        .map(|o| match flag(o) {
+            Some(f) => f.to_string(),
+            None if o.contains('=') => format!("--set {o}"),
+            None => format!("--set {o}=..."),
+        })
         .collect();
     if flags.is_empty() {
         String::new()
     } else {
         format!(" ({})", flags.join(", "))
     }
+}
+
+/// A warning as `sds` prints it: the library's text, which names options neutrally (`the
+/// setting dt=SECONDS`, `(maps)`), then the command line's flags for them, as errors get theirs
+/// (`(--set dt=SECONDS)`, `(--maps)`).
+pub fn warning(w: &monitor_host::warning::Warning) -> String {
+    format!("{w}{}", flags(monitor_host::error_kind::warning_options(w)))
 }

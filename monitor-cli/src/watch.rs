@@ -52,6 +52,9 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
     super::refuse_output_clashes(a)?;
     let mut stalled_seen = std::collections::HashSet::new();
     let mut last = None;
+    // The round whose status line was printed last: a stop found by that round is said on that
+    // line (`stopped`), not by printing the round again (issue 46 item 6).
+    let mut printed = None;
     let end = loop {
         // An error no later round can mend (a mistyped --routes, duplicate ids...) stops here,
         // as `sds score` would.
@@ -64,12 +67,20 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
                         status,
                     },
                 ..
-            } => status_retry(args, &status, &reason, failures),
+            } => {
+                status_retry(args, &status, &reason, failures);
+                printed = Some(status.round);
+            }
             Step::Round {
                 outcome: RoundOutcome::Scored { scored, status, .. },
-                ..
+                stops,
             } => {
+                let status = RoundStatus {
+                    stopped: stops.map(|s| s.name().into()),
+                    ..status
+                };
                 status_line(args, &status);
+                printed = Some(status.round);
                 for s in monitor_host::model::shard_stall::newly_stalled(
                     &mut stalled_seen,
                     &status.stalled,
@@ -106,9 +117,11 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         write_round(a, &out, &report, None)
     })?;
     for w in &report.warnings {
-        say!("sds: warning: {w}");
+        say!("sds: warning: {}", super::spelling::warning(w));
     }
-    if args.status_json {
+    // The final reading's line (a timeout, a signal); a round already printed with its stop is
+    // not printed again.
+    if args.status_json && printed != Some(end.status.round) {
         print_line(&end.status.json());
     }
     if let Some(reason) = end.stale {

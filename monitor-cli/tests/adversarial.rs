@@ -559,11 +559,7 @@ fn a_signal_during_the_final_write_leaves_no_temporary_file() {
             &"-o",
             &out,
         ];
-        let child = run_sh(
-            "exec \"$0\" \"$@\"",
-            &args,
-            &[("SDS_TEST_WRITE_DELAY_MS", "20000")],
-        );
+        let child = run_sh("exec \"$0\" \"$@\"", &args, &[("SDS_TEST_WRITE_HOLD", "1")]);
         // Wait until the temporary file is written, then interrupt.
         let start = Instant::now();
         while fs::read_dir(&outdir).unwrap().next().is_none() {

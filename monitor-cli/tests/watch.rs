@@ -422,6 +422,18 @@ fn live_playback_ends_with_the_score_report() {
     let ev = Evaluator::new(dir.path());
     let out = dir.path().join("live.json");
     let mut child = spawn_watch(&ev, &out, &["--interval", "0.03", "--timeout", "120"]);
+    // Its status lines, read as they come: the playback waits for a partial round below
+    // instead of hoping one came between two writes (issue 47 item 13).
+    let lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+    let reader = {
+        let err = child.stderr.take().unwrap();
+        let lines = lines.clone();
+        std::thread::spawn(move || {
+            for l in std::io::BufRead::lines(std::io::BufReader::new(err)).map_while(Result::ok) {
+                lines.lock().unwrap().push(l);
+            }
+        })
+    };
     // The evaluation, time compressed: a route every 80 ms, each checkpoint write paused
     // half-way for 40 ms, a crash and a resume of route 3.
     let mut done: Vec<Value> = Vec::new();
@@ -439,9 +451,41 @@ fn live_playback_ends_with_the_score_report() {
         let rest = ev.write(&done, true);
         std::thread::sleep(Duration::from_millis(40));
         ev.finish(&rest);
+        if k == 1 {
+            // A partial round (2 of 9 routes done) is seen before the run goes on.
+            let start = Instant::now();
+            while !lines
+                .lock()
+                .unwrap()
+                .iter()
+                .any(|l| serde_json::from_str::<Value>(l).is_ok_and(|r| r["done"] == 2))
+            {
+                assert!(
+                    start.elapsed() < Duration::from_secs(120),
+                    "no partial round"
+                );
+                std::thread::sleep(Duration::from_millis(10));
+            }
+        }
         std::thread::sleep(Duration::from_millis(80));
     }
-    let o = wait(&mut child, Duration::from_secs(120));
+    let start = Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break st;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "sds watch did not stop"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    reader.join().unwrap();
+    let o = std::process::Output {
+        status,
+        stdout: Vec::new(),
+        stderr: lines.lock().unwrap().join("\n").into_bytes(),
+    };
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains("sds: error"), "{err}");
     assert!(err.contains("the route set is complete"), "{err}");

@@ -259,6 +259,48 @@ pub fn options(e: &Error) -> &'static [&'static str] {
     }
 }
 
+/// The options a warning's message names, by the library's neutral name, as [`options`] does
+/// for errors: a front end adds its own spelling (`sds` appends `(--maps, --set dt=SECONDS)`).
+/// A setting is named with the value it takes (`dt=SECONDS`).
+///
+/// ```
+/// use monitor_host::error_kind::warning_options;
+/// use monitor_host::warning::Warning;
+/// let w = Warning::StepPeriodUnknown { span: 10, duration_game: 1.0, dt: 0.05 };
+/// assert_eq!(warning_options(&w), ["dt=SECONDS"]);
+/// ```
+pub fn warning_options(w: &crate::warning::Warning) -> &'static [&'static str] {
+    use crate::warning::Warning as W;
+    match w {
+        W::Route { warning, .. } => warning_options(warning),
+        W::DuplicatesScored { .. }
+        | W::DuplicatesDropped { .. }
+        | W::NewestByOrder { .. }
+        | W::NewestYearWrap { .. } => &["duplicates"],
+        W::StepPeriodUnknown { .. } | W::StepPeriodPartial { .. } => &["dt=SECONDS"],
+        W::NoTelemetry { .. } => &["telemetry", "allow_missing_telemetry"],
+        W::AllGaps { .. } => &["gap_max=METRES"],
+        W::NoMap {
+            lane_fallback: true,
+            ..
+        }
+        | W::NoMaps {
+            lane_fallback: true,
+            ..
+        } => &["maps", "lateral_reference=route"],
+        W::NoMap { .. } | W::NoMaps { .. } => &["maps"],
+        W::MapNotServing {
+            lane_fallback: true,
+            ..
+        } => &["lateral_reference=route"],
+        W::LabelsMissKeys { .. } => &["labels"],
+        W::Unmapped { .. } => &["group_by"],
+        W::ForeignRoute { .. } => &["routes"],
+        W::MinSpeedRegrouped { .. } => &["min_speed_grid=lb-4"],
+        _ => &[],
+    }
+}
+
 /// The options a settings error's message names, as [`options`].
 pub fn settings_options(e: &SettingsError) -> &'static [&'static str] {
     match e {

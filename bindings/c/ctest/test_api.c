@@ -207,6 +207,15 @@ static void test_config(void) {
   CHECK_RESULT(sds_monitor_summary(m, &s), SDS_RESULT_OK);
   CHECK(s.frames == 1);
 
+  /* Issue 47 item 11: Autoware's profile with the physical bounds is refused (it judged a
+   * +-1.8 m/s2 drive 20/20 comfortable where `sds --profile autoware` says 0/20). */
+  BAD_CONFIG(c->profile = SDS_PROFILE_AUTOWARE, SDS_RESULT_CONFIG_PROFILE_BOUNDS);
+  CHECK(SDS_RESULT_CONFIG_PROFILE_BOUNDS == 113);
+  CHECK_RESULT(sds_config_profile(SDS_PROFILE_AUTOWARE, NULL), SDS_RESULT_NULL_POINTER);
+  CHECK_RESULT(sds_config_profile(3, &back), SDS_RESULT_CONFIG_PROFILE);
+  CHECK_RESULT(sds_monitor_summary(m, &s), SDS_RESULT_OK);
+  CHECK(s.frames == 1);
+
   /* A valid non-default configuration is taken and read back field by field. */
   c.profile = SDS_PROFILE_B2D_LEGACY;
   c.chunk_len = 10;
@@ -216,6 +225,42 @@ static void test_config(void) {
   CHECK_RESULT(sds_monitor_config(m, &back), SDS_RESULT_OK);
   CHECK(back.profile == SDS_PROFILE_B2D_LEGACY && back.chunk_len == 10 &&
         back.decel_window == 5 && back.factors.critical == 0.5);
+}
+
+/* Issue 47 item 11: a 1.8 m/s2 drive (a 20-frame chunk) under each profile's bounds, from
+ * sds_config_profile: comfortable under the physical bounds, not under Autoware's (|a_lon| >
+ * 1.0), as `sds --profile autoware` judges it. */
+static unsigned comfortable_chunks(sds_profile profile) {
+  sds_config c;
+  sds_monitor *m = (sds_monitor *)&storage;
+  sds_events ev;
+  sds_summary s;
+  unsigned i;
+  CHECK_RESULT(sds_config_profile(profile, &c), SDS_RESULT_OK);
+  CHECK(c.profile == profile);
+  CHECK_RESULT(sds_monitor_init(m, sizeof storage, &c), SDS_RESULT_OK);
+  for (i = 0; i < 20; i++) {
+    sds_frame f = cruise();
+    f.a_lon = 1.8f;
+    f.a_mag = 1.8f;
+    CHECK_RESULT(sds_monitor_push(m, &f, &ev), SDS_RESULT_OK);
+  }
+  CHECK_RESULT(sds_monitor_finish(m, &ev, &s), SDS_RESULT_OK);
+  CHECK(s.comfort.chunks == 1);
+  return s.comfort.comfortable;
+}
+
+static void test_profiles(void) {
+  sds_config c;
+  CHECK_RESULT(sds_config_profile(SDS_PROFILE_AUTOWARE, &c), SDS_RESULT_OK);
+  CHECK(c.bounds.lon_acc_min == -1.0f && c.bounds.lon_acc_max == 1.0f && c.bounds.lat_acc == 1.0f);
+  CHECK(c.bounds.mag_jerk == 1.0f && c.bounds.lon_jerk == 1.0f && c.bounds.yaw_rate == 0.95f);
+  CHECK(c.dt == 0.05f && c.chunk_len == 20 && c.slack == 0.82f);
+  CHECK_RESULT(sds_config_validate(&c), SDS_RESULT_OK);
+  CHECK_RESULT(sds_config_profile(SDS_PROFILE_PHYSICAL, &c), SDS_RESULT_OK);
+  CHECK(c.bounds.lon_acc_max == 2.40f);
+  CHECK(comfortable_chunks(SDS_PROFILE_PHYSICAL) == 1);
+  CHECK(comfortable_chunks(SDS_PROFILE_AUTOWARE) == 0);
 }
 
 /* Pushes one frame with field `field` set to `value`; expects `want` and no change. */
@@ -422,6 +467,7 @@ int main(int argc, char **argv) {
   test_nulls();
   test_buffer();
   test_config();
+  test_profiles();
   test_frames();
   test_verdicts();
   test_snapshot();

@@ -90,6 +90,10 @@ enum sds_result
   // `SDS_CAPACITY` (20) is checked against it when the library is built, so this library
   // never returns it; the code exists so that every core error has one.
   SDS_RESULT_CONFIG_CAPACITY = 112,
+  // `SDS_PROFILE_AUTOWARE` with the physical profile's default bounds: it would judge
+  // Autoware's profile against them; start from `sds_config_profile(SDS_PROFILE_AUTOWARE,
+  // &c)` (Autoware's bounds) or set the bounds.
+  SDS_RESULT_CONFIG_PROFILE_BOUNDS = 113,
   // `a_lon` is NaN or infinite.
   SDS_RESULT_FRAME_A_LON_NOT_FINITE = 200,
   // `a_lat` is NaN or infinite.
@@ -392,8 +396,10 @@ typedef struct sds_monitor_storage {
 // Bench2Drive's published "Driving Smoothness", bugs included.
 #define SDS_PROFILE_B2D_LEGACY 1
 
-// Computed as physical, judged against Autoware's planning envelope (set the bounds with
-// bounds: lon -1.0..1.0, lat 1.0, jerks 1.0; spec v1.4 §16).
+// Computed as physical, judged against Autoware's planning envelope: lon -1.0..1.0 m/s², lat
+// 1.0 m/s², jerks 1.0 m/s³. Start from `sds_config_profile(SDS_PROFILE_AUTOWARE, &c)`, which
+// sets those bounds; with the physical profile's default bounds it is refused
+// (`SDS_RESULT_CONFIG_PROFILE_BOUNDS`).
 #define SDS_PROFILE_AUTOWARE 2
 
 // Not an event (an unused slot).
@@ -428,6 +434,20 @@ extern "C" {
 // c.profile = SDS_PROFILE_B2D_LEGACY;   /* any field, then sds_config_validate */
 // ```
 struct sds_config sds_config_default(void);
+
+// The defaults of a profile: `sds_config_default()` with `profile` set and the bounds the
+// profile judges against (Autoware's planning envelope for `SDS_PROFILE_AUTOWARE`, the spec's
+// for the others), as `sds --profile` sets them. `SDS_RESULT_CONFIG_PROFILE` for an unknown
+// profile, `SDS_RESULT_NULL_POINTER` for a NULL `out` (nothing written on a failure).
+//
+// ```c
+// sds_config c;
+// sds_config_profile(SDS_PROFILE_AUTOWARE, &c);   /* c.bounds.lon_acc_max == 1.0f */
+// ```
+//
+// # Safety
+// `out` is NULL or points to a writable `sds_config`.
+sds_result sds_config_profile(sds_profile profile, struct sds_config *out);
 
 // Checks a configuration with the same rules as the Rust monitor, for a monitor of
 // `SDS_CAPACITY` frames per chunk: `SDS_RESULT_OK` or the `SDS_RESULT_CONFIG_*` code of the

@@ -15,8 +15,10 @@ pub type sds_profile = u32;
 pub const SDS_PROFILE_PHYSICAL: sds_profile = 0;
 /// Bench2Drive's published "Driving Smoothness", bugs included.
 pub const SDS_PROFILE_B2D_LEGACY: sds_profile = 1;
-/// Computed as physical, judged against Autoware's planning envelope (set the bounds with
-/// bounds: lon -1.0..1.0, lat 1.0, jerks 1.0; spec v1.4 §16).
+/// Computed as physical, judged against Autoware's planning envelope: lon -1.0..1.0 m/s², lat
+/// 1.0 m/s², jerks 1.0 m/s³. Start from `sds_config_profile(SDS_PROFILE_AUTOWARE, &c)`, which
+/// sets those bounds; with the physical profile's default bounds it is refused
+/// (`SDS_RESULT_CONFIG_PROFILE_BOUNDS`).
 pub const SDS_PROFILE_AUTOWARE: sds_profile = 2;
 
 /// The six strict comfort bounds (m/s², m/s³, rad/s², rad/s).
@@ -182,6 +184,12 @@ impl sds_config {
             factors: self.factors.into(),
         };
         config.validate(SDS_CAPACITY)?;
+        // `c = sds_config_default(); c.profile = SDS_PROFILE_AUTOWARE;` would judge Autoware's
+        // profile against the physical bounds: 20/20 comfortable where `sds --profile
+        // autoware` says 0/20 (issue 47 item 11). Refused; sds_config_profile gives its bounds.
+        if profile == Profile::Autoware && config.bounds == Bounds::DEFAULT {
+            return Err(sds_result::ConfigProfileBounds);
+        }
         Ok(config)
     }
 }
@@ -195,6 +203,44 @@ impl sds_config {
 #[no_mangle]
 pub extern "C" fn sds_config_default() -> sds_config {
     Config::DEFAULT.into()
+}
+
+/// The defaults of a profile: `sds_config_default()` with `profile` set and the bounds the
+/// profile judges against (Autoware's planning envelope for `SDS_PROFILE_AUTOWARE`, the spec's
+/// for the others), as `sds --profile` sets them. `SDS_RESULT_CONFIG_PROFILE` for an unknown
+/// profile, `SDS_RESULT_NULL_POINTER` for a NULL `out` (nothing written on a failure).
+///
+/// ```c
+/// sds_config c;
+/// sds_config_profile(SDS_PROFILE_AUTOWARE, &c);   /* c.bounds.lon_acc_max == 1.0f */
+/// ```
+///
+/// # Safety
+/// `out` is NULL or points to a writable `sds_config`.
+#[no_mangle]
+pub unsafe extern "C" fn sds_config_profile(
+    profile: sds_profile,
+    out: *mut sds_config,
+) -> sds_result {
+    guard(|| {
+        code((|| {
+            usable(out)?;
+            let profile = match profile {
+                SDS_PROFILE_PHYSICAL => Profile::Physical,
+                SDS_PROFILE_B2D_LEGACY => Profile::B2dLegacy,
+                SDS_PROFILE_AUTOWARE => Profile::Autoware,
+                _ => return Err(sds_result::ConfigProfile),
+            };
+            let config = Config {
+                profile,
+                bounds: Bounds::of(profile),
+                ..Config::DEFAULT
+            };
+            // SAFETY: usable, and the caller promises a writable sds_config.
+            unsafe { out.write(config.into()) };
+            Ok(())
+        })())
+    })
 }
 
 /// Checks a configuration with the same rules as the Rust monitor, for a monitor of
@@ -231,6 +277,40 @@ mod tests {
         assert_eq!(c.to_core(), Ok(Config::DEFAULT));
         // SAFETY: a valid pointer to a local.
         assert_eq!(unsafe { sds_config_validate(&c) }, sds_result::Ok);
+    }
+
+    /// Issue 47 item 11: Autoware's profile gets Autoware's bounds from sds_config_profile,
+    /// and is refused with the physical bounds (it judged a ±1.8 m/s² drive comfortable).
+    #[test]
+    fn r4_11_autoware_takes_its_own_bounds() {
+        let mut c = sds_config_default();
+        // SAFETY: valid pointers to locals throughout.
+        unsafe {
+            assert_eq!(
+                sds_config_profile(SDS_PROFILE_AUTOWARE, &mut c),
+                sds_result::Ok
+            );
+            assert_eq!(c.to_core().map(|k| k.bounds), Ok(Bounds::AUTOWARE));
+            assert_eq!(c.profile, SDS_PROFILE_AUTOWARE);
+            assert_eq!(
+                sds_config_profile(SDS_PROFILE_B2D_LEGACY, &mut c),
+                sds_result::Ok
+            );
+            assert_eq!(c.to_core().map(|k| k.bounds), Ok(Bounds::DEFAULT));
+            let before = c;
+            assert_eq!(sds_config_profile(7, &mut c), sds_result::ConfigProfile);
+            assert_eq!(c, before, "nothing written on a failure");
+            assert_eq!(
+                sds_config_profile(SDS_PROFILE_PHYSICAL, core::ptr::null_mut()),
+                sds_result::NullPointer
+            );
+        }
+        let mut trap = sds_config_default();
+        trap.profile = SDS_PROFILE_AUTOWARE;
+        assert_eq!(trap.to_core(), Err(sds_result::ConfigProfileBounds));
+        // Bounds of the caller's own choosing are the caller's.
+        trap.bounds.lat_acc = 2.0;
+        assert!(trap.to_core().is_ok());
     }
 
     #[test]

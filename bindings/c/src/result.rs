@@ -66,6 +66,10 @@ pub enum sds_result {
     /// `SDS_CAPACITY` (20) is checked against it when the library is built, so this library
     /// never returns it; the code exists so that every core error has one.
     ConfigCapacity = 112,
+    /// `SDS_PROFILE_AUTOWARE` with the physical profile's default bounds: it would judge
+    /// Autoware's profile against them; start from `sds_config_profile(SDS_PROFILE_AUTOWARE,
+    /// &c)` (Autoware's bounds) or set the bounds.
+    ConfigProfileBounds = 113,
     /// `a_lon` is NaN or infinite.
     FrameALonNotFinite = 200,
     /// `a_lat` is NaN or infinite.
@@ -179,6 +183,7 @@ pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
         110 => c"config: stationary_speed must be finite and not negative",
         111 => c"config: factors must lie in 0..=1 and layout must be positive",
         112 => c"config: the monitor capacity must be at most 1024 frames",
+        113 => c"config: SDS_PROFILE_AUTOWARE with the physical default bounds: start from sds_config_profile(SDS_PROFILE_AUTOWARE, &c) or set the bounds",
         200 => c"frame: a_lon is not finite",
         201 => c"frame: a_lat is not finite",
         202 => c"frame: a_mag is not finite",
@@ -224,6 +229,7 @@ mod tests {
             sds_result::ConfigStationarySpeed,
             sds_result::ConfigFactor,
             sds_result::ConfigCapacity,
+            sds_result::ConfigProfileBounds,
             sds_result::FrameALonNotFinite,
             sds_result::FrameALatNotFinite,
             sds_result::FrameAMagNotFinite,

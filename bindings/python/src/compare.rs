@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use monitor_host::app::compare_runs::{CompareRequest, RunSpec, Seeds};
 use monitor_host::error::message;
 use monitor_host::stats::{CompareError, CompareOptions};
-use monitor_host::NoProgress;
+use monitor_host::{NoProgress, Progress};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyInt};
 
@@ -16,6 +16,7 @@ use crate::errors::{score_error, ConfigError};
 use crate::interrupt::with_signals;
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
+use crate::score::{follow, Follow};
 
 /// The keyword arguments of `sds.compare` beyond the shared ones ([`RunKwargs`]).
 #[derive(FromPyObject)]
@@ -34,6 +35,9 @@ struct CompareKwargs<'py> {
     rank: bool,
     /// `--repro-halfwidth`: h of `seeds_needed` (v1.4 §14).
     repro_halfwidth: f64,
+    /// A callable taking `(done, total)` of the run being scored, or None.
+    #[pyo3(default)]
+    progress: Option<Py<PyAny>>,
 }
 
 /// B as the library takes it, or the library's out-of-range error (any int that is not a
@@ -88,9 +92,19 @@ pub fn compare<'py>(
     };
     // Settings refused before any run is scored.
     request.validate().map_err(|e| score_error(&e))?;
-    let compared = py
-        .detach(|| with_signals(&NoProgress, |p| request.compare(p)))?
-        .map_err(|e| score_error(&e))?;
+    let follow = follow(py, kw.progress.as_ref(), false)?;
+    let inner: &dyn Progress = match &follow {
+        Follow::Call(h) => h,
+        _ => &NoProgress,
+    };
+    let compared = py.detach(|| with_signals(inner, |p| request.compare(p)))?;
+    // The callable's exception (it stopped the comparison) before the comparison's own error.
+    if let Follow::Call(h) = &follow {
+        if let Some(e) = h.take_error() {
+            return Err(e);
+        }
+    }
+    let compared = compared.map_err(|e| score_error(&e))?;
     let mut warnings: Vec<String> = (compared.models.iter().flat_map(|m| &m.runs))
         .flat_map(|r| r.report.warnings.iter().map(|w| format!("{}: {w}", r.name)))
         .collect();

@@ -1,10 +1,11 @@
 //! Ctrl-C while the library works: Python runs signal handlers on its main thread only, so the
-//! work runs on a worker thread while the calling thread checks for signals every 50 ms; on
+//! work runs on a worker thread while the calling thread checks for signals every 10 ms; on
 //! one, the work's [`Progress`] says [`Progress::cancelled`] (the library stops between routes,
 //! runs and bootstrap blocks) and the signal's exception (`KeyboardInterrupt`) is raised. Used by
-//! `sds.score` and `sds.compare`.
+//! `sds.score` and `sds.compare`, with their `progress` callables ([`Hook`]).
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
 use std::time::Duration;
 
 use monitor_host::Progress;
@@ -16,7 +17,8 @@ use pyo3::prelude::*;
 /// it looks).
 const SIGNAL_POLL: Duration = Duration::from_millis(10);
 
-/// A [`Progress`] that forwards to another (a bar, or nothing) and is cancelled by a flag.
+/// A [`Progress`] that forwards to another (a bar, a callable, or nothing) and is cancelled by
+/// a flag or by the other.
 struct Cancellable<'a> {
     inner: &'a dyn Progress,
     cancel: &'a AtomicBool,
@@ -30,7 +32,57 @@ impl Progress for Cancellable<'_> {
         self.inner.route_done();
     }
     fn cancelled(&self) -> bool {
-        self.cancel.load(Ordering::Relaxed)
+        self.cancel.load(Ordering::SeqCst) || self.inner.cancelled()
+    }
+}
+
+/// The `progress` callable of `sds.score` / `sds.compare`: called with `(done, total)` after
+/// each route (from the worker threads, the GIL taken for the call); `start` resets the count
+/// (`sds.compare` scores its runs one after the other). An exception it raises stops the run
+/// between routes and is raised by the call ([`Hook::take_error`]).
+pub(crate) struct Hook {
+    callable: Py<PyAny>,
+    done: AtomicUsize,
+    total: AtomicUsize,
+    error: Mutex<Option<PyErr>>,
+}
+
+impl Hook {
+    /// A hook calling `callable`.
+    pub(crate) fn new(callable: Py<PyAny>) -> Self {
+        Hook {
+            callable,
+            done: AtomicUsize::new(0),
+            total: AtomicUsize::new(0),
+            error: Mutex::new(None),
+        }
+    }
+
+    /// The exception the callable raised, if it did (raised instead of the run's result).
+    pub(crate) fn take_error(&self) -> Option<PyErr> {
+        self.error.lock().ok().and_then(|mut e| e.take())
+    }
+}
+
+impl Progress for Hook {
+    fn start(&self, routes: usize) {
+        self.total.store(routes, Ordering::SeqCst);
+        self.done.store(0, Ordering::SeqCst);
+    }
+    fn route_done(&self) {
+        if self.cancelled() {
+            return;
+        }
+        let done = self.done.fetch_add(1, Ordering::SeqCst) + 1;
+        let total = self.total.load(Ordering::SeqCst);
+        if let Err(e) = Python::attach(|py| self.callable.call1(py, (done, total)).map(drop)) {
+            if let Ok(mut slot) = self.error.lock() {
+                slot.get_or_insert(e);
+            }
+        }
+    }
+    fn cancelled(&self) -> bool {
+        self.error.lock().map_or(true, |e| e.is_some())
     }
 }
 
@@ -53,10 +105,13 @@ pub(crate) fn with_signals<T: Send>(
         while !run.is_finished() {
             std::thread::sleep(SIGNAL_POLL);
             if signal.is_none() {
-                if let Err(e) = Python::attach(|py| py.check_signals()) {
-                    cancel.store(true, Ordering::Relaxed);
-                    signal = Some(e);
-                }
+                // The flag is set while the GIL is still held: a `progress` callable that saw
+                // the signal handled (it needs the GIL to go on) finds the run cancelled.
+                signal = Python::attach(|py| {
+                    py.check_signals().err().inspect(|_| {
+                        cancel.store(true, Ordering::SeqCst);
+                    })
+                });
             }
         }
         (run.join(), signal)

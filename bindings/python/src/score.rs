@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{request_error, score_error, ConfigError};
-use crate::interrupt::with_signals;
+use crate::interrupt::{with_signals, Hook};
 use crate::options::RunKwargs;
 use crate::pyser::to_python;
 
@@ -89,9 +89,49 @@ pub(crate) struct ScoreKwargs {
     maps: Option<PathBuf>,
     group_by: Option<String>,
     labels: Option<PathBuf>,
-    /// `sds.score` only (`sds.watch` draws no bar).
+    /// `sds.score` only (`sds.watch` draws no bar): `True` (a bar), a callable ([`Hook`]), or
+    /// `False` / `None`.
     #[pyo3(default)]
-    progress: bool,
+    progress: Option<Py<PyAny>>,
+}
+
+/// What `progress=` asks for.
+pub(crate) enum Follow {
+    Nothing,
+    Bar,
+    Call(Hook),
+}
+
+/// `progress=`: a bool (the bar or nothing), None, or a callable taking `(done, total)`.
+pub(crate) fn follow(py: Python<'_>, progress: Option<&Py<PyAny>>, bars: bool) -> PyResult<Follow> {
+    let Some(p) = progress else {
+        return Ok(Follow::Nothing);
+    };
+    let p = p.bind(py);
+    if p.is_none() {
+        return Ok(Follow::Nothing);
+    }
+    if bars {
+        if let Ok(b) = p.cast::<pyo3::types::PyBool>() {
+            return Ok(if b.is_true() {
+                Follow::Bar
+            } else {
+                Follow::Nothing
+            });
+        }
+    }
+    if p.is_callable() {
+        return Ok(Follow::Call(Hook::new(p.clone().unbind())));
+    }
+    let expected = if bars {
+        "True, False or a callable taking (done, total)"
+    } else {
+        "None or a callable taking (done, total)"
+    };
+    Err(ConfigError::new_err(format!(
+        "progress={}: expected {expected}",
+        p.repr().map_or_else(|_| "?".into(), |r| r.to_string())
+    )))
 }
 
 /// Scores a run (see the Python `sds.score`, which passes its keyword arguments as the dict
@@ -107,13 +147,14 @@ pub fn score<'py>(
     let request = score_request(results, options, &kw)?;
     // Settings refused before the run starts, as before any work.
     request.validate().map_err(|e| request_error(&e))?;
-    let progress = kw.progress;
+    let follow = follow(py, kw.progress.as_ref(), true)?;
     // Ctrl-C stops the run between routes and raises `KeyboardInterrupt` (`interrupt.rs`).
     let scored = py.detach(|| {
-        let bar = progress.then(Bar::new);
-        let inner: &dyn Progress = match &bar {
-            Some(b) => b,
-            None => &NoProgress,
+        let bar = matches!(follow, Follow::Bar).then(Bar::new);
+        let inner: &dyn Progress = match (&bar, &follow) {
+            (Some(b), _) => b,
+            (None, Follow::Call(h)) => h,
+            _ => &NoProgress,
         };
         let r = with_signals(inner, |p| request.score(p));
         if let Some(b) = bar {
@@ -121,6 +162,12 @@ pub fn score<'py>(
         }
         r
     })?;
+    // The callable's exception (it stopped the run) before the run's own error.
+    if let Follow::Call(h) = &follow {
+        if let Some(e) = h.take_error() {
+            return Err(e);
+        }
+    }
     let scored = scored.map_err(|e| score_error(&e))?;
     to_python(py, &scored.report)
 }

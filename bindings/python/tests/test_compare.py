@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any, Dict
+from typing import Any, Dict, List, Tuple
 
 import pytest
 
@@ -115,42 +115,47 @@ def test_no_data_is_a_verdict(sds_bin: Path, tmp_path: Path) -> None:
 
 def test_ctrl_c_stops_compare_between_routes(sds_bin: Path, tmp_path: Path) -> None:
     """Issue 34, finding 6: Ctrl-C in `sds.compare` was honoured only at the end; it now takes
-    `sds.score`'s cancel path (between routes, runs and bootstrap blocks)."""
+    `sds.score`'s cancel path (between routes, runs and bootstrap blocks).
+
+    Issue 47 item 13: no clock decides it. The SIGINT is sent from the `progress` callable
+    after the first route of the first run, which returns only once the signal was handled:
+    the comparison must stop before the next route (one worker)."""
+    import os
     import signal
-    import subprocess
-    import sys
-    import time
+    import threading
 
     run = tmp_path / "large"
-    code, _, err = run_cli(sds_bin, ["demo", str(run), "--large", "--large-routes", "60", "--large-frames", "4000"])
+    code, _, err = run_cli(sds_bin, ["demo", str(run), "--large", "--large-routes", "20", "--large-frames", "400"])
     assert code == 0, err
-    r, t = str(run / "results.json"), str(run / "telemetry")
-    script = (
-        "import sds, sys\n"
-        "print('start', flush=True)\n"
-        f"sds.compare({{'a': ({r!r}, {t!r}), 'b': ({r!r}, {t!r})}}, jobs=1)\n"
-        "print('done', flush=True)\n"
-    )
+    r, t = run / "results.json", run / "telemetry"
+    handled = threading.Event()
+    calls: List[Tuple[int, int]] = []
 
-    def launch() -> "subprocess.Popen[str]":
-        p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        assert p.stdout is not None and p.stdout.readline() == "start\n"
-        return p
+    def on_sigint(signum: int, frame: Any) -> None:
+        handled.set()
+        raise KeyboardInterrupt
 
-    t0 = time.monotonic()
-    p = launch()
-    out, err = p.communicate(timeout=600)
-    whole = time.monotonic() - t0
-    assert p.returncode == 0 and "done" in out, err
-    # Interrupted a fifth into the comparison (in the first run), it must stop long before the end.
-    t0 = time.monotonic()
-    p = launch()
-    time.sleep(whole / 5)
-    p.send_signal(signal.SIGINT)
-    out, err = p.communicate(timeout=600)
-    interrupted = time.monotonic() - t0
-    assert "KeyboardInterrupt" in err and "done" not in out, (out, err)
-    assert interrupted < whole * 0.7, f"stopped after {interrupted:.2f} s of a {whole:.2f} s comparison"
+    def progress(done: int, total: int) -> None:
+        calls.append((done, total))
+        if done == 1 and len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+            assert handled.wait(600), "the SIGINT was never handled"  # a guard, not a decision
+
+    previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sds.compare({"a": (r, t), "b": (r, t)}, jobs=1, progress=progress)
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert calls == [(1, 20)], calls
+    # Uninterrupted, the callable hears every route of each run, the count restarting per run.
+    calls.clear()
+    c = sds.compare({"a": (r, t), "b": (r, t)}, jobs=1, bootstrap_samples=1000,
+                    progress=lambda d, n: calls.append((d, n)))
+    assert c["baseline"] == "a"
+    assert calls == [(k, 20) for k in range(1, 21)] * 2
+    with pytest.raises(sds.ConfigError, match="progress=True"):
+        sds.compare({"a": (r, t), "b": (r, t)}, progress=True)  # type: ignore[arg-type]
 
 
 def test_rank_and_seeds_are_the_cli_report(sds_bin: Path, tmp_path: Path) -> None:
@@ -172,9 +177,10 @@ def test_rank_and_seeds_are_the_cli_report(sds_bin: Path, tmp_path: Path) -> Non
     assert code == 0, err
     assert c == json.loads(out.read_text())
     ranking = c["ranking"]
-    # The same run everywhere: every model ties at rank 1 in every resample; listed by name.
+    # The same run everywhere: every model ties at rank 1 in every resample, sharing the first
+    # place (p_best 1/2 each); listed by name.
     assert [r["model"] for r in ranking] == ["base", "m"]
-    assert all(r["rank"] == 1 and r["rank_ci95"] == [1, 1] and r["p_best"] == 1.0
+    assert all(r["rank"] == 1 and r["rank_ci95"] == [1, 1] and r["p_best"] == 0.5
                for r in ranking)
     m = c["models"][1]
     assert m["seed_std"] == 0.0 and m["seeds_needed"] == 0 and m["flaky_routes"] == []
@@ -183,3 +189,32 @@ def test_rank_and_seeds_are_the_cli_report(sds_bin: Path, tmp_path: Path) -> Non
     assert sds.compare(runs, bootstrap_samples=1000).get("ranking") is None
     with pytest.raises(sds.ConfigError, match="repro.halfwidth"):
         sds.compare(runs, repro_halfwidth=0.0)
+
+
+def test_i46_6_route_subset_like_the_cli(sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 46 item 6: ``sds.compare(route_subset=...)`` as ``sds compare --route-subset``: a
+    run of 3 of the demo's routes compared over those 3 (``"found"``) or over the route XML's
+    every route (``"all"``, the default)."""
+    demo = _demo(sds_bin, tmp_path)
+    data = json.loads((demo / "results.json").read_text())
+    total = len(data["_checkpoint"]["records"])
+    data["_checkpoint"]["records"] = data["_checkpoint"]["records"][:3]
+    part = tmp_path / "part.json"
+    part.write_text(json.dumps(data))
+    tel, routes = demo / "telemetry", demo / "routes.xml"
+    runs = {"a": (part, tel), "b": (part, tel)}
+    for subset, n in (("found", 3), ("all", total)):
+        c = sds.compare(runs, routes=routes, route_subset=subset, bootstrap_samples=1000)
+        assert c["scope"]["routes"] == n, subset
+        out = tmp_path / f"cli-{subset}.json"
+        code, _, err = run_cli(
+            sds_bin,
+            ["compare", f"a={part}:{tel}", f"b={part}:{tel}", "--routes", str(routes),
+             "--route-subset", subset, "--bootstrap-samples", "1000", "--format", "json",
+             "-o", str(out)],
+        )
+        assert code == 0, err
+        assert c == json.loads(out.read_text())
+    assert sds.compare(runs, routes=routes, bootstrap_samples=1000)["scope"]["routes"] == total
+    with pytest.raises(sds.ConfigError, match="route_subset"):
+        sds.compare(runs, routes=routes, route_subset="some")  # type: ignore[arg-type]

@@ -403,7 +403,6 @@ mod bootstrap_and_gate {
             ((i % 10) as f64 * 10.0, false)
         });
         let b = run_of(dir.path(), "big_b", 300, |i| ((i % 7) as f64 * 10.0, false));
-        let started = std::time::Instant::now();
         let (code, _, err) = compare(&["--bootstrap-samples", "1000000"], &[("a", &a), ("b", &b)]);
         assert_eq!(code, Some(2), "{err}");
         assert!(
@@ -413,12 +412,8 @@ mod bootstrap_and_gate {
                 && err.contains("at most 833333 resamples"),
             "{err}"
         );
-        // Refused before drawing: 3e8 draws would take seconds.
-        assert!(
-            started.elapsed().as_secs_f64() < 5.0,
-            "{:?}",
-            started.elapsed()
-        );
+        // Refused before drawing: the message is the budget check's, made before any draw (a
+        // wall-clock bound here raced a busy machine, issue 47 item 13).
         let (code, _, err) = compare(&["--bootstrap-samples", "833333"], &[("a", &a), ("b", &b)]);
         assert_eq!(code, Some(0), "{err}");
     }
@@ -518,4 +513,147 @@ mod bootstrap_and_gate {
             line.len()
         );
     }
+}
+
+/// Issue 46 item 6: `sds compare --route-subset`, as `sds score` has it. One TransFuser++ shard
+/// (28 of the 220 routes) against Bench2Drive's route XML: `found` compares the 28 routes with
+/// a record and each model's DS is `sds score --route-subset found`'s (89.47); `all` (the
+/// default) compares 220, the 192 without a record counting 0.
+#[test]
+fn i46_6_compare_takes_route_subset() {
+    let Some(fx) = crate::common::b2d_fixtures(&[
+        "tfpp_raw_shards/eval_bench2drive220_0.json",
+        "routes/bench2drive220.xml",
+    ]) else {
+        return;
+    };
+    let shard = fx.join("tfpp_raw_shards/eval_bench2drive220_0.json");
+    let routes = fx.join("routes/bench2drive220.xml");
+    let (a, b) = (
+        format!("a={}", shard.display()),
+        format!("b={}", shard.display()),
+    );
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "compare",
+            &a,
+            &b,
+            "--routes",
+            routes.to_str().unwrap(),
+            "--allow-missing-telemetry",
+            "--bootstrap-samples",
+            "1000",
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let out = crate::common::sds(&args);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert_eq!(out.status.code(), Some(0), "{extra:?}: {err}");
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let score = crate::common::sds(&[
+        "score",
+        "--results",
+        shard.to_str().unwrap(),
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--route-subset",
+        "found",
+    ]);
+    let score: serde_json::Value = serde_json::from_slice(&score.stdout).unwrap();
+    let found = run(&["--route-subset", "found"]);
+    assert_eq!(found["scope"]["routes"], 28);
+    assert_eq!(
+        found["models"][0]["driving_score"]["mean"],
+        score["summary"]["driving_score"]
+    );
+    assert!((score["summary"]["driving_score"].as_f64().unwrap() - 89.4677).abs() < 1e-3);
+    let all = run(&[]);
+    assert_eq!(all["scope"]["routes"], 220);
+    assert_eq!(run(&["--route-subset", "all"]), all);
+    // `--set route_subset=found` is the same setting.
+    assert_eq!(run(&["--set", "route_subset=found"]), found);
+}
+
+/// Issue 46 item 6: the Traffic Sign bracket and the undecided junction credits that `sds
+/// score`'s table states were missing from `sds compare`'s tables. TransFuser++ and TCP over
+/// the 220 routes without maps: each model's note in compare's tables is its `sds score` note
+/// (TF++ [70.53, 93.68], 22 undecided), in text and Markdown.
+#[test]
+fn i46_6_compare_tables_say_the_traffic_sign_bracket() {
+    let Some(fx) = crate::common::b2d_fixtures(&[
+        "carla_garage_tfpp_b2d_traj_merged.json",
+        "b2dzoo_TCP-only-traj_merged.json",
+        "routes/bench2drive220.xml",
+    ]) else {
+        return;
+    };
+    let routes = fx.join("routes/bench2drive220.xml");
+    let runs = [
+        ("tfpp", fx.join("carla_garage_tfpp_b2d_traj_merged.json")),
+        ("tcp", fx.join("b2dzoo_TCP-only-traj_merged.json")),
+    ];
+    let note_of = |text: &str| -> String {
+        text.lines()
+            .find(|l| l.contains("Traffic_Signs under"))
+            .unwrap_or_else(|| panic!("no Traffic_Signs note: {text}"))
+            .trim()
+            .to_string()
+    };
+    let mut notes = Vec::new();
+    for (name, file) in &runs {
+        let out = crate::common::sds(&[
+            "score",
+            "--results",
+            file.to_str().unwrap(),
+            "--routes",
+            routes.to_str().unwrap(),
+            "--allow-missing-telemetry",
+            "--format",
+            "table",
+        ]);
+        notes.push((*name, note_of(&String::from_utf8_lossy(&out.stdout))));
+    }
+    assert!(
+        notes[0].1.contains("Traffic Sign lies in [70.53, 93.68]"),
+        "{}",
+        notes[0].1
+    );
+    assert!(notes[0].1.contains("22 failed route(s)"), "{}", notes[0].1);
+    let specs: Vec<String> = runs
+        .iter()
+        .map(|(n, f)| format!("{n}={}", f.display()))
+        .collect();
+    let out = crate::common::sds(&[
+        "compare",
+        &specs[0],
+        &specs[1],
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--bootstrap-samples",
+        "1000",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for (name, note) in &notes {
+        assert!(
+            text.lines().any(|l| l.trim() == format!("{name}: {note}")),
+            "{name}: no `{note}` in {text}"
+        );
+    }
+    let md = crate::common::sds(&[
+        "compare",
+        &specs[0],
+        &specs[1],
+        "--routes",
+        routes.to_str().unwrap(),
+        "--allow-missing-telemetry",
+        "--bootstrap-samples",
+        "1000",
+        "--format",
+        "markdown",
+    ]);
+    assert!(String::from_utf8_lossy(&md.stdout).contains("Traffic Sign lies in \\[70.53, 93.68\\]"));
 }

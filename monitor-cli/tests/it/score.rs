@@ -1292,3 +1292,86 @@ fn i33_8_families_safe2drive_says_what_the_name_means() {
         report["groups"]
     );
 }
+
+/// Issue 47 item 12: `all` and `none` stand alone in `--protocol` (`all,none`, `all,all` and
+/// `none,lb2.1` were accepted: a regression of round 3's held case); usage error 2 naming the
+/// list. A list of ids still works.
+#[test]
+fn r4_12_protocol_all_or_none_stand_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::demo(dir.path());
+    for list in ["all,none", "all,all", "none,lb2.1", "lb2.1,all"] {
+        let o = crate::common::score_demo(dir.path(), None, &["--protocol", list]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{list}: {err}");
+        assert!(
+            err.contains("protocols") && err.contains("alone") && err.contains(list),
+            "{list}: {err}"
+        );
+    }
+    let o = crate::common::score_demo(dir.path(), None, &["--protocol", "lb2.1,b2d"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Issue 46 item 6: warnings named the fix by the library's neutral names ("the setting
+/// dt=SECONDS", "(telemetry)") where the user types `--set dt=SECONDS`, `--telemetry`: `sds`
+/// spells its own flags after a warning as after an error. The report's JSON warnings keep the
+/// neutral text (Python's users read them too).
+#[test]
+fn i46_6_warnings_spell_the_command_line_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::demo(dir.path());
+    // One route's telemetry with a third of its steps gone: its step period is not inferred.
+    let results: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("results.json")).unwrap()).unwrap();
+    let name = results["_checkpoint"]["records"][0]["save_name"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    let file = dir
+        .path()
+        .join("telemetry")
+        .join(&name)
+        .join("metric_info.json");
+    let mut frames: serde_json::Map<String, serde_json::Value> =
+        serde_json::from_slice(&std::fs::read(&file).unwrap()).unwrap();
+    let n = frames.len() as u64;
+    frames.retain(|k, _| {
+        let step: u64 = k.parse().unwrap();
+        !(n / 4..n / 4 + n / 3).contains(&step)
+    });
+    std::fs::write(&file, serde_json::to_vec(&frames).unwrap()).unwrap();
+    let out = dir.path().join("report.json");
+    let o = crate::common::score_demo(dir.path(), None, &["-o", out.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.contains("step period not inferred"))
+        .unwrap_or_else(|| panic!("no step-period warning: {err}"));
+    assert!(line.starts_with("sds: warning: "), "{line}");
+    assert!(line.ends_with(" (--set dt=SECONDS)"), "{line}");
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    let neutral = report["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w.as_str())
+        .find(|w| w.contains("step period not inferred"))
+        .unwrap();
+    assert!(neutral.contains("the setting dt=SECONDS") && !neutral.contains("--set"));
+    // A run without telemetry: the fix names --telemetry and --allow-missing-telemetry.
+    let o = crate::common::sds(&[
+        "score",
+        "--results",
+        dir.path().join("results.json").to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    let line = err
+        .lines()
+        .find(|l| l.contains("no route has telemetry"))
+        .unwrap_or_else(|| panic!("no telemetry warning: {err}"));
+    assert!(
+        line.ends_with(" (--telemetry, --allow-missing-telemetry)"),
+        "{line}"
+    );
+}

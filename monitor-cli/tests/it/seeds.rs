@@ -133,7 +133,8 @@ fn i38_bench2drivezoo_models_ranked() {
 
 /// The spec's ranking worked by a second implementation: one SplitMix64 seeded with
 /// `bootstrap_seed`, n draws per resample, each model's mean over the drawn positions, rank =
-/// 1 + the models with a strictly greater mean; the interval and p_best over B sorted ranks.
+/// 1 + the models with a strictly greater mean; the interval over B sorted ranks, p_best with a
+/// shared first place split.
 #[test]
 fn i38_ranking_matches_a_second_implementation() {
     let dir = tempfile::tempdir().unwrap();
@@ -181,6 +182,8 @@ fn i38_ranking_matches_a_second_implementation() {
     let n = 6;
     let rank = |means: &[f64], i: usize| 1 + means.iter().filter(|m| **m > means[i]).count();
     let mut ranks = vec![Vec::new(); 3];
+    // A first place shared by k models counts 1/k to each (issue 47 item 12).
+    let mut best = [0.0f64; 3];
     for _ in 0..b {
         let idx: Vec<usize> = (0..n)
             .map(|_| (((next() >> 11) as f64 * 2f64.powi(-53)) * n as f64).floor() as usize)
@@ -192,13 +195,19 @@ fn i38_ranking_matches_a_second_implementation() {
         for (m, r) in ranks.iter_mut().enumerate() {
             r.push(rank(&means, m));
         }
+        let k = (0..3).filter(|m| rank(&means, *m) == 1).count();
+        for (m, share) in best.iter_mut().enumerate() {
+            if rank(&means, m) == 1 {
+                *share += 1.0 / k as f64;
+            }
+        }
     }
     let full: Vec<f64> = ds
         .iter()
         .map(|r| r.iter().sum::<f64>() / n as f64)
         .collect();
     for (m, name) in names.iter().enumerate() {
-        let best = ranks[m].iter().filter(|r| **r == 1).count() as f64 / b as f64;
+        let best = best[m] / b as f64;
         ranks[m].sort();
         let ci = [
             ranks[m][(0.025 * b as f64).floor() as usize],
@@ -500,4 +509,56 @@ fn i38_page_draws_the_ranking_in_order_and_the_flaky_strips() {
     assert_eq!(out.status.code(), Some(0));
     let plain = std::fs::read_to_string(&plain).unwrap();
     assert!(!plain.contains("id=\"ranking\"") && !plain.contains("id=\"flaky\""));
+}
+
+/// Issue 47 item 12: `--rank` over runs with no common route (`--common-routes`) ranked every
+/// model 1; there is nothing to rank on: every rank, interval and `p_best` is null, the table
+/// says `-`. Three identical runs split the first place: `p_best` 1/3 each, summing to 1 (was
+/// 3.0).
+#[test]
+fn r4_12_rank_without_common_routes_is_null_and_ties_split() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = write_run(dir.path(), "a", &[("RouteScenario_1_rep0", 50.0, false)]);
+    let b = write_run(dir.path(), "b", &[("RouteScenario_2_rep0", 80.0, false)]);
+    let args: Vec<String> = vec![
+        format!("a={}", a.display()),
+        format!("b={}", b.display()),
+        "--rank".into(),
+        "--common-routes".into(),
+        "--bootstrap-samples".into(),
+        "1000".into(),
+    ];
+    let (_, c, err) = compare(&args);
+    let ranking = c["ranking"].as_array().unwrap_or_else(|| panic!("{err}"));
+    assert_eq!(ranking.len(), 2, "{err}");
+    for r in ranking {
+        assert!(
+            r["rank"].is_null() && r["rank_ci95"].is_null() && r["p_best"].is_null(),
+            "{r}"
+        );
+    }
+    let recs = [
+        ("RouteScenario_1_rep0", 50.0, false),
+        ("RouteScenario_2_rep0", 100.0, true),
+        ("RouteScenario_3_rep0", 20.0, false),
+    ];
+    let mut args = Vec::new();
+    for name in ["x", "y", "z"] {
+        args.push(format!(
+            "{name}={}",
+            write_run(dir.path(), name, &recs).display()
+        ));
+    }
+    args.extend(["--rank", "--bootstrap-samples", "1000"].map(String::from));
+    let (code, c, err) = compare(&args);
+    assert_eq!(code, Some(0), "{err}");
+    let p: Vec<f64> = c["ranking"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["p_best"].as_f64().unwrap())
+        .collect();
+    assert_eq!(p.len(), 3);
+    assert!(p.iter().all(|x| (x - 1.0 / 3.0).abs() < 1e-12), "{p:?}");
+    assert!((p.iter().sum::<f64>() - 1.0).abs() < 1e-12, "{p:?}");
 }

@@ -56,6 +56,109 @@ fn wait(child: &mut Child, limit: Duration) -> Output {
     }
 }
 
+/// A watch whose standard error is read line by line while it runs: a test waits for what the
+/// watch said (a status line, a warning) before it acts, instead of sleeping and hoping a round
+/// came in between (issue 47 item 13: such sleeps raced the rounds on a busy machine).
+struct Live {
+    child: Child,
+    lines: std::sync::mpsc::Receiver<String>,
+    seen: Vec<String>,
+}
+
+impl Live {
+    fn spawn(args: &[String]) -> Live {
+        let mut child = spawn(args, &[]);
+        let err = child.stderr.take().unwrap();
+        let (tx, lines) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufRead::lines(std::io::BufReader::new(err)) {
+                let Ok(line) = line else { break };
+                if tx.send(line).is_err() {
+                    break;
+                }
+            }
+        });
+        Live {
+            child,
+            lines,
+            seen: Vec::new(),
+        }
+    }
+
+    /// Waits for a line for which `f` holds and returns it (a hang fails after two minutes: a
+    /// guard, never what decides the outcome).
+    fn until(&mut self, what: &str, f: impl Fn(&str) -> bool) -> String {
+        loop {
+            match self.lines.recv_timeout(Duration::from_secs(120)) {
+                Ok(l) => {
+                    self.seen.push(l.clone());
+                    if f(&l) {
+                        return l;
+                    }
+                }
+                Err(e) => {
+                    let _ = self.child.kill();
+                    panic!("no {what} ({e}):\n{}", self.seen.join("\n"));
+                }
+            }
+        }
+    }
+
+    /// Waits for a JSON status line for which `f` holds.
+    fn status(&mut self, what: &str, f: impl Fn(&Value) -> bool) -> Value {
+        let l = self.until(what, |l| {
+            l.starts_with('{') && serde_json::from_str::<Value>(l).is_ok_and(|v| f(&v))
+        });
+        serde_json::from_str(&l).unwrap()
+    }
+
+    /// Asks the watch to stop (SIGINT: it writes its final report).
+    fn interrupt(&self) {
+        #[allow(unsafe_code)]
+        // SAFETY: kill(2) on our own child's pid.
+        unsafe {
+            libc::kill(self.child.id() as i32, libc::SIGINT);
+        }
+    }
+
+    /// Waits for the watch to end (killed after `limit`); its exit status and whole standard
+    /// error.
+    fn finish(mut self, limit: Duration) -> Output {
+        let start = Instant::now();
+        let status = loop {
+            if let Some(st) = self.child.try_wait().unwrap() {
+                break st;
+            }
+            if start.elapsed() > limit {
+                let _ = self.child.kill();
+                panic!(
+                    "sds watch did not stop within {limit:?}:\n{}",
+                    self.seen.join("\n")
+                );
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        // The reader ends at the end of the stream: every line is here.
+        self.seen.extend(self.lines.iter());
+        let mut stderr = self.seen.join("\n").into_bytes();
+        stderr.push(b'\n');
+        Output {
+            status,
+            stdout: Vec::new(),
+            stderr,
+        }
+    }
+}
+
+/// Polls until `f` holds (a state of the files, never a time); two minutes are a guard.
+fn poll_until(what: &str, f: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !f() {
+        assert!(start.elapsed() < Duration::from_secs(120), "no {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// The JSON status lines of a watch's standard error.
 fn json_lines(err: &[u8]) -> Vec<Value> {
     String::from_utf8_lossy(err)
@@ -136,7 +239,7 @@ fn demo_inputs(run: &demo::DemoRun) -> Inputs {
 }
 
 /// Issue 33 item 2: a run without telemetry (every public Bench2Drive file) is played back,
-/// a record every 250 ms; the watch stops by itself within two rounds of the last record, and a
+/// a record at a time; the watch stops by itself within two rounds of the last record, and a
 /// round that found nothing new replayed nothing.
 #[test]
 fn i33_2_no_telemetry_playback_stops_by_itself() {
@@ -165,12 +268,19 @@ fn i33_2_no_telemetry_playback_stops_by_itself() {
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
+    // Paced by the watch's own status lines, not by a clock: each record is written once the
+    // round that read the previous one and a round that found nothing new were said.
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 1);
+    live.status("idle round", |l| l["done"] == 1);
     for k in 2..=n {
-        std::thread::sleep(Duration::from_millis(250));
         rewrite(&results, &checkpoint_bytes(&c, &records[..k], n));
+        live.status("round reading the record", |l| l["done"] == k);
+        if k < n {
+            live.status("idle round", |l| l["done"] == k);
+        }
     }
-    let o = wait(&mut child, Duration::from_secs(90));
+    let o = live.finish(Duration::from_secs(90));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("the route set is complete"), "{err}");
     let lines: Vec<Value> = json_lines(&o.stderr)
@@ -281,18 +391,19 @@ fn i33_2_status_schema_is_the_same_in_retry_rounds() {
         "--status-json",
         "--interval",
         "0.05",
-        "--timeout",
-        "2",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(600));
+    // Each write waits for the round it is meant for (no timer races the rounds).
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 4);
     let more = checkpoint_bytes(&c, &records[..5], n);
     rewrite(&results, &more[..more.len() / 2]);
-    std::thread::sleep(Duration::from_millis(400));
+    live.status("retried round", |l| l.get("retry").is_some());
     rewrite(&results, &more);
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.status("round after the write", |l| l["done"] == 5);
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let lines = json_lines(&o.stderr);
     let keys = |v: &Value| -> Vec<String> {
         let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
@@ -531,16 +642,18 @@ fn r3_05_half_written_at_the_stop_exits_non_zero() {
         &s(&out),
         "--interval",
         "0.05",
-        "--timeout",
-        "1",
+        "--status-json",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(400));
+    // Half-written after the first round, and still so when the watch is stopped (by a signal:
+    // a timeout raced the write on a busy machine).
+    let mut live = Live::spawn(&args);
+    live.status("first round", |l| l["done"] == 4);
     let more = checkpoint_bytes(&c, &records[..5], n);
     rewrite(&results, &more[..more.len() / 2]);
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
@@ -572,19 +685,25 @@ fn r3_05_unwritable_live_round_warns_and_retries() {
         &s(&out),
         "--interval",
         "0.05",
-        "--timeout",
-        "1.5",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    std::thread::sleep(Duration::from_millis(500));
+    // The folder goes once the first round said it could not write; stopped once a later
+    // round wrote the report (no timer races the rounds).
+    let mut live = Live::spawn(&args);
+    let warning = live.until("warning", |l| l.starts_with("sds: warning: watch round"));
+    assert!(
+        warning.starts_with("sds: warning: watch round 1:"),
+        "{warning}"
+    );
     fs::remove_dir(&out).unwrap();
-    let o = wait(&mut child, Duration::from_secs(60));
+    poll_until("live report", || out.is_file());
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("sds: warning: watch round 1:"), "{err}");
     assert!(err.contains("written again next round"), "{err}");
-    assert!(err.contains("watch stopped (--timeout)"), "{err}");
+    assert!(err.contains("watch stopped (interrupted)"), "{err}");
+    assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(out.is_file());
 }
 
@@ -855,17 +974,13 @@ fn i33_2_live_page_says_it_is_live() {
         &s(&out),
         "--interval",
         "0.1",
-        "--timeout",
-        "1",
     ]
     .map(String::from)
     .to_vec();
-    let mut child = spawn(&args, &[]);
-    let start = Instant::now();
-    while !out.exists() {
-        assert!(start.elapsed() < Duration::from_secs(60), "no live round");
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    // Read while the watch runs, then stopped (a 1 s timeout could end it before the live page
+    // was read, on a busy machine).
+    let live = Live::spawn(&args);
+    poll_until("live round", || out.exists());
     let page = fs::read_to_string(&out).unwrap();
     assert!(page.contains("id=\"live\""), "no live banner");
     assert!(page.contains("9 / 12 routes done"));
@@ -873,7 +988,8 @@ fn i33_2_live_page_says_it_is_live() {
     assert!(page.contains("left"));
     let year = monitor_host::watch::utc(std::time::SystemTime::now())[..4].to_string();
     assert!(page.contains(&format!("at {year}-")));
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let reference = dir.path().join("score.html");
     let sc = sds(&[
         "score",
@@ -1190,4 +1306,194 @@ fn i35_requests_validate_once_for_every_front_end() {
     .settings()
     .unwrap();
     assert_eq!(s.get("protocols").as_deref(), Some("f2d"));
+}
+
+/// The 8 TransFuser++ shard checkpoints copied into a fresh folder, with `merged.json` beside
+/// them when `merged` (the folder Bench2Drive's merge leaves), and the route XML.
+fn tfpp_shards(dir: &Path, merged: bool, shards: usize) -> Option<PathBuf> {
+    let fx = crate::common::b2d_fixtures(&[
+        "tfpp_raw_shards",
+        "carla_garage_tfpp_b2d_traj_merged.json",
+        "routes/bench2drive220.xml",
+    ])?;
+    let folder = dir.join("tfpp");
+    fs::create_dir_all(&folder).unwrap();
+    for k in 0..shards {
+        let name = format!("eval_bench2drive220_{k}.json");
+        fs::copy(fx.join("tfpp_raw_shards").join(&name), folder.join(&name)).unwrap();
+    }
+    if merged {
+        fs::copy(
+            fx.join("carla_garage_tfpp_b2d_traj_merged.json"),
+            folder.join("merged.json"),
+        )
+        .unwrap();
+    }
+    Some(fx)
+}
+
+/// Issue 46 item 6: a watch without `--routes` of the folder holding the 8 TransFuser++ shards
+/// (all `progress [k, k]`) and `merged.json` never stopped (the merged file, skipped beside its
+/// raw files, has no `progress` and counted as a shard not done); and the stopping round was
+/// printed twice (once live, once with `stopped`). Now it stops by itself once the files are
+/// settled, each round printed once, the last with `stopped: "complete"`.
+#[test]
+fn i46_6_done_shards_beside_merged_json_stop_and_print_each_round_once() {
+    let dir = tempfile::tempdir().unwrap();
+    if tfpp_shards(dir.path(), true, 8).is_none() {
+        return;
+    }
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&dir.path().join("tfpp")),
+        "--allow-missing-telemetry",
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "120",
+        "-o",
+        &s(&dir.path().join("live.json")),
+    ]
+    .map(String::from)
+    .to_vec();
+    let o = wait(&mut spawn(&args, &[]), Duration::from_secs(180));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("watch stopped (the route set is complete)"),
+        "{err}"
+    );
+    let lines = json_lines(&o.stderr);
+    let rounds: Vec<u64> = lines.iter().map(|l| l["round"].as_u64().unwrap()).collect();
+    let mut unique = rounds.clone();
+    unique.dedup();
+    assert_eq!(rounds, unique, "a round printed twice: {err}");
+    let last = lines.last().unwrap();
+    assert_eq!(last["stopped"], "complete", "{last}");
+    assert_eq!(
+        (last["done"].as_u64(), last["complete"].as_bool()),
+        (Some(220), Some(true))
+    );
+}
+
+/// Issue 46 item 6: 3 of the 8 shards, all done, against the 220-route XML: 136 routes no
+/// shard runs. The time left was "about 0m left" (`seconds_left` 0); it is unknown (null), and
+/// the live page says so.
+#[test]
+fn i46_6_time_left_is_unknown_when_no_shard_runs_the_routes_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(fx) = tfpp_shards(dir.path(), false, 3) else {
+        return;
+    };
+    let page = dir.path().join("live.html");
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&dir.path().join("tfpp")),
+        "--routes",
+        &s(&fx.join("routes/bench2drive220.xml")),
+        "--allow-missing-telemetry",
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--format",
+        "html",
+        "-o",
+        &s(&page),
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut live = Live::spawn(&args);
+    let first = live.status("first round", |_| true);
+    assert_eq!(
+        (first["done"].as_u64(), first["n"].as_u64()),
+        (Some(84), Some(220))
+    );
+    assert!(first["seconds_left"].is_null(), "{first}");
+    poll_until("live page", || page.exists());
+    let html = fs::read_to_string(&page).unwrap();
+    assert!(html.contains("time left unknown") && !html.contains("0m left"));
+    live.interrupt();
+    live.finish(Duration::from_secs(60));
+}
+
+/// Issue 47 item 12: `meta.duration_system` -100 gave `seconds_left` -300 in `--status-json`.
+/// A negative (or non-finite) duration is no evaluator's: it is left out of the estimate (null
+/// when no route has a usable one), never a negative time.
+#[test]
+fn r4_12_negative_durations_give_no_negative_time_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(&dir.path().join("src")).unwrap();
+    let (c, mut records) = checkpoint(&run);
+    let results = dir.path().join("results.json");
+    for (half, expect_null) in [(false, true), (true, false)] {
+        for (i, r) in records.iter_mut().enumerate() {
+            let d = if half && i % 2 == 0 { 30.0 } else { -100.0 };
+            r["meta"]["duration_system"] = serde_json::json!(d);
+        }
+        rewrite(&results, &checkpoint_bytes(&c, &records, records.len()));
+        let o = sds(&[
+            "watch",
+            "--results",
+            &s(&results),
+            "--telemetry",
+            &s(&run.telemetry),
+            "--expected-routes",
+            "12",
+            "--once",
+            "--status-json",
+            "-o",
+            &s(&dir.path().join("out.json")),
+        ]);
+        let lines = json_lines(&o.stderr);
+        let left = &lines[0]["seconds_left"];
+        if expect_null {
+            assert!(left.is_null(), "{left}");
+        } else {
+            // 30 s a route (the usable durations) for the 12 - 9 routes left.
+            assert_eq!(left.as_f64(), Some(90.0), "{left}");
+        }
+    }
+}
+
+/// Issue 47 item 12 (round 3's G05, last case): a telemetry file whose modification time is an
+/// hour in the future was never "settled", so its route was replayed every round and the watch
+/// of a complete run never stopped. A time that far ahead is no write under way: the watch
+/// stops by itself.
+#[test]
+fn r4_12_a_file_from_the_future_does_not_keep_the_watch_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let (_, records) = checkpoint(&run);
+    let name = records[0]["save_name"].as_str().unwrap();
+    let file = run.telemetry.join(name).join("metric_info.json");
+    let f = fs::OpenOptions::new().write(true).open(&file).unwrap();
+    f.set_modified(std::time::SystemTime::now() + Duration::from_secs(3600))
+        .unwrap();
+    drop(f);
+    let args: Vec<String> = [
+        "watch",
+        "--results",
+        &s(&run.results),
+        "--telemetry",
+        &s(&run.telemetry),
+        "--routes",
+        &s(&run.routes),
+        "--status-json",
+        "--interval",
+        "0.05",
+        "--timeout",
+        "60",
+        "-o",
+        &s(&dir.path().join("out.json")),
+    ]
+    .map(String::from)
+    .to_vec();
+    let o = wait(&mut spawn(&args, &[]), Duration::from_secs(120));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("watch stopped (the route set is complete)"),
+        "{err}"
+    );
 }

@@ -61,7 +61,11 @@ pub struct Bench2Drive {
 impl Bench2Drive {
     /// The block from the run's aggregates over every counted route (`combined`), the routes
     /// (for the per-route credit lists) and the route-set members without a record.
-    pub fn new(all: &Aggregates, routes: &[RouteReport], missing: Vec<String>) -> Self {
+    pub fn new<'a>(
+        all: &Aggregates,
+        routes: impl IntoIterator<Item = &'a RouteReport>,
+        missing: Vec<String>,
+    ) -> Self {
         let id = |r: &RouteReport| r.route_id.clone().unwrap_or_default();
         let mut undecided = Vec::new();
         let mut marginal = Vec::new();

@@ -31,7 +31,8 @@ pub use crate::model::status::{RoundStatus, MAX_INTERVAL, MAX_TIMEOUT};
 pub use crate::report::status::duration_text;
 
 /// A results file's `progress` `[done, total]`, and the stamp of the file it was read from.
-type Progress = (Option<Stamp>, (u64, u64));
+/// (None: a merged file, complete by itself.)
+type Progress = (Option<Stamp>, Option<(u64, u64)>);
 
 /// What tells a changed file or folder (spec §12): its size, modification and status-change
 /// times, and its inode (a `chmod`, a rename over it or a copy keeping the times all change one
@@ -57,7 +58,10 @@ impl Stamp {
     }
 
     /// Old enough to be trusted unchanged: modified (and its status changed) at least `racy`
-    /// before `now`. An absent path is settled (its absence is what is kept).
+    /// before `now`, or at least `racy` after it: a time that far in the future (a clock set
+    /// wrong, `touch -d`) is not a write under way, and a later write sets it to the writer's
+    /// now, which differs (it kept `sds watch` from ever stopping). An absent path is settled
+    /// (its absence is what is kept).
     fn settled(stamp: Option<&Stamp>, now: SystemTime, racy: Duration) -> bool {
         let Some(s) = stamp else {
             return true;
@@ -68,8 +72,10 @@ impl Stamp {
                 s.status_changed.1.clamp(0, 999_999_999) as u32,
             );
         [s.modified, Some(changed)].iter().all(|t| {
-            t.and_then(|t| now.duration_since(t).ok())
-                .is_some_and(|age| age >= racy)
+            t.is_some_and(|t| match now.duration_since(t) {
+                Ok(age) => age >= racy,
+                Err(ahead) => ahead.duration() >= racy,
+            })
         })
     }
 }
@@ -202,8 +208,16 @@ impl ReplayCache for RouteCache {
         let key = (loaded.source.clone(), loaded.index);
         lock(&self.seen).insert(key.clone());
         if let Ok(r) = &loaded.entry {
-            if let Some(d) = r.meta.duration_system {
-                lock(&self.durations).insert(key.clone(), d);
+            // A duration is the evaluator's wall-clock seconds: a negative or non-finite one (a
+            // hand-edited `meta.duration_system`: -100 gave `seconds_left` -300) is left out of
+            // the estimates (time left, stalled shards); a stale one is dropped.
+            match r.meta.duration_system {
+                Some(d) if d.is_finite() && d >= 0.0 => {
+                    lock(&self.durations).insert(key.clone(), d);
+                }
+                _ => {
+                    lock(&self.durations).remove(&key);
+                }
             }
         }
         if let Some(e) = lock(&self.entries).get(&key) {
@@ -429,15 +443,17 @@ impl Watcher {
             .last_stamps
             .iter()
             .zip(self.file_progress())
-            .map(
-                |((file, stamp), (done, total))| crate::model::shard_stall::Shard {
+            // A merged file is no shard.
+            .filter_map(|((file, stamp), p)| {
+                let (done, total) = p?;
+                Some(crate::model::shard_stall::Shard {
                     file: file.clone(),
                     done,
                     total,
                     last_record: stamp.and_then(|s| s.modified),
                     durations: durations.get(file).cloned().unwrap_or_default(),
-                },
-            )
+                })
+            })
             .collect();
         crate::model::shard_stall::stalled_shards(&shards, SystemTime::now(), self.stall_factor)
     }
@@ -687,7 +703,11 @@ impl Watcher {
         let left = n.saturating_sub(done.len()) as f64;
         // Shards run side by side: the run ends when the one with the most routes left does.
         // (A per-route file, `[1, 1]`, is not a shard.)
-        let checkpoints: Vec<&(u64, u64)> = shards.iter().filter(|(_, total)| *total > 1).collect();
+        let checkpoints: Vec<&(u64, u64)> = shards
+            .iter()
+            .flatten()
+            .filter(|(_, total)| *total > 1)
+            .collect();
         let shard_left = (checkpoints.len() > 1)
             .then(|| {
                 checkpoints
@@ -697,7 +717,10 @@ impl Watcher {
             })
             .flatten()
             .map(|m| (m as f64).min(left));
-        let seconds_left = (!durations.is_empty()).then(|| {
+        // Every shard done with routes still left: no evaluator watched here runs them, so the
+        // time is unknown (it said "about 0m left" with 136 routes not started).
+        let orphans = shard_left == Some(0.0) && left > 0.0;
+        let seconds_left = (!durations.is_empty() && !orphans).then(|| {
             let mean = durations.iter().sum::<f64>() / durations.len() as f64;
             mean * shard_left.unwrap_or(left)
         });
@@ -706,10 +729,14 @@ impl Watcher {
             n,
             over_done: Scores::over(&done, done.len()),
             over_n: Scores::over(&done, n),
+            // A merged file is a finished evaluation's: it never holds routes still to come.
             complete: if known_set {
                 done.len() >= n
             } else {
-                !shards.is_empty() && shards.iter().all(|(i, total)| *total > 1 && i >= total)
+                !shards.is_empty()
+                    && shards
+                        .iter()
+                        .all(|p| p.is_none_or(|(i, total)| total > 1 && i >= total))
             },
             seconds_left,
         }
@@ -720,17 +747,24 @@ impl Watcher {
     /// run is complete when every file is an evaluator's checkpoint of several routes whose
     /// progress says done (a per-route file, `[1, 1]`, says nothing about the routes still to
     /// come); several checkpoints are shards.
-    fn file_progress(&self) -> Vec<(u64, u64)> {
+    fn file_progress(&self) -> Vec<Option<(u64, u64)>> {
         let mut known = lock(&self.progress);
         self.last_stamps
             .iter()
             .map(|(p, stamp)| match known.get(p) {
                 Some((s, progress)) if s == stamp => *progress,
                 _ => {
-                    let progress = read_results(p)
-                        .ok()
-                        .and_then(|set| set.files.first().and_then(|f| f.progress))
-                        .unwrap_or((0, 0));
+                    // None: a merged file (Bench2Drive's merge of a finished run), complete by
+                    // itself; beside its raw files it is skipped, and never kept a watch of
+                    // done shards running (issue 46 item 6).
+                    let progress = match read_results(p) {
+                        Ok(set) if !set.merged_totals.is_empty() => None,
+                        read => Some(
+                            read.ok()
+                                .and_then(|set| set.files.first().and_then(|f| f.progress))
+                                .unwrap_or((0, 0)),
+                        ),
+                    };
                     known.insert(p.clone(), (*stamp, progress));
                     progress
                 }

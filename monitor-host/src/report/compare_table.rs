@@ -107,6 +107,15 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
             .collect();
         b2d.note(format!("ability rules differ: {}", each.join(", ")));
     }
+    // Each run's undecided junction credits and the bracket its Traffic Sign rate lies in, as
+    // `sds score`'s table says them (issue 46 item 6: compare's tables left them out).
+    for m in &c.models {
+        for (run, b) in &m.bench2drive {
+            if let Some(note) = crate::report::table::undecided_note(b) {
+                b2d.note(format!("{run}: {note}"));
+            }
+        }
+    }
     if c.models.iter().all(|m| m.ability.mean.mean.is_none()) {
         b2d.note("no ability rate: abilities need the route XML (routes) and routes of Bench2Drive's scenario types");
     }

@@ -11,11 +11,13 @@ fn num(x: Option<f64>, digits: usize) -> String {
     x.map_or_else(|| "-".into(), |v| format!("{v:.digits$}"))
 }
 
-/// `2 [2, 3]`: the rank and its 95 % interval (the rank alone when there is none).
+/// `2 [2, 3]`: the rank and its 95 % interval (the rank alone when there is none; `-` without
+/// a rank: no compared route).
 pub fn rank_cell(r: &RankRow) -> String {
-    match r.rank_ci95 {
-        Some([lo, hi]) => format!("{} [{lo}, {hi}]", r.rank),
-        None => r.rank.to_string(),
+    match (r.rank, r.rank_ci95) {
+        (Some(rank), Some([lo, hi])) => format!("{rank} [{lo}, {hi}]"),
+        (Some(rank), None) => rank.to_string(),
+        (None, _) => "-".into(),
     }
 }
 

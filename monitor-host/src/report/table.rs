@@ -101,45 +101,8 @@ pub fn bench2drive_table(report: &Report) -> Grid {
             crate::input::warning::id_list(&b.ability_missing)
         ));
     }
-    if !b.ability_undecided.is_empty() {
-        let mut towns: Vec<&str> = b
-            .ability_undecided
-            .iter()
-            .filter_map(|u| u.town.as_deref())
-            .collect();
-        towns.sort_unstable();
-        towns.dedup();
-        // Each undecided route holds one junction credit (its only chance under b2d-0.0.4, its
-        // second count under b2d-0.0.3): the decided rate is a floor, every credit a ceiling.
-        let ts = b.ability_counts.get(crate::route::ability::TRAFFIC_SIGNS);
-        let undecided = b.ability_undecided.len();
-        let bracket = if ts.routes > 0 {
-            let rate = |k: usize| 100.0 * k as f64 / ts.routes as f64;
-            format!(
-                "; Traffic Sign lies in [{:.2}, {:.2}] ({}/{} decided, up to {}/{} with every \
-                 undecided credit)",
-                rate(ts.successes),
-                rate(ts.successes + undecided),
-                ts.successes,
-                ts.routes,
-                ts.successes + undecided,
-                ts.routes
-            )
-        } else {
-            String::new()
-        };
-        g.note(format!(
-            "Traffic_Signs under {}: {undecided} {}route(s) whose junction credit is undecided (no \
-             map; towns {}) count as failed{bracket}; add the towns' maps (maps) to decide them: \
-             see summary.bench2drive.ability_undecided",
-            b.ability_rule,
-            if b.ability_rule == "b2d-0.0.4" {
-                "failed "
-            } else {
-                ""
-            },
-            towns.join(", ")
-        ));
+    if let Some(note) = undecided_note(b) {
+        g.note(note);
     }
     let stuck = &report.summary.scores.motion.stuck_routes;
     if !stuck.is_empty() {
@@ -158,6 +121,53 @@ pub fn bench2drive_table(report: &Report) -> Grid {
         ));
     }
     g
+}
+
+/// The note on the Traffic_Signs routes whose junction credit is undecided (no map): how many,
+/// their towns, and the bracket the Traffic Sign rate lies in (decided successes a floor, every
+/// undecided credit a ceiling). `sds score`'s table and each run of `sds compare`'s say it.
+pub fn undecided_note(b: &crate::aggregate::bench2drive::Bench2Drive) -> Option<String> {
+    if b.ability_undecided.is_empty() {
+        return None;
+    }
+    let mut towns: Vec<&str> = b
+        .ability_undecided
+        .iter()
+        .filter_map(|u| u.town.as_deref())
+        .collect();
+    towns.sort_unstable();
+    towns.dedup();
+    // Each undecided route holds one junction credit (its only chance under b2d-0.0.4, its
+    // second count under b2d-0.0.3): the decided rate is a floor, every credit a ceiling.
+    let ts = b.ability_counts.get(crate::route::ability::TRAFFIC_SIGNS);
+    let undecided = b.ability_undecided.len();
+    let bracket = if ts.routes > 0 {
+        let rate = |k: usize| 100.0 * k as f64 / ts.routes as f64;
+        format!(
+            "; Traffic Sign lies in [{:.2}, {:.2}] ({}/{} decided, up to {}/{} with every \
+             undecided credit)",
+            rate(ts.successes),
+            rate(ts.successes + undecided),
+            ts.successes,
+            ts.routes,
+            ts.successes + undecided,
+            ts.routes
+        )
+    } else {
+        String::new()
+    };
+    Some(format!(
+        "Traffic_Signs under {}: {undecided} {}route(s) whose junction credit is undecided (no \
+         map; towns {}) count as failed{bracket}; add the towns' maps (maps) to decide them: \
+         see summary.bench2drive.ability_undecided",
+        b.ability_rule,
+        if b.ability_rule == "b2d-0.0.4" {
+            "failed "
+        } else {
+            ""
+        },
+        towns.join(", ")
+    ))
 }
 
 /// The note under a column left undefined (`-`) for want of telemetry.

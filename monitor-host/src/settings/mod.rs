@@ -541,20 +541,38 @@ pub fn parse_protocols(text: &str) -> Result<Vec<Protocol>, String> {
     Ok(out)
 }
 
+/// What a list holding `all` or `none` beside other items is told.
+const PROTOCOLS_ALONE: &str =
+    "all or none alone, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d";
+
 /// The `protocols` setting from a list of ids (a front end's typed list, never joined into
-/// text): each item an id, `all` or `none`. In [`Protocol::ALL`] order without repeats.
+/// text): each item an id, or `all` or `none` alone. In [`Protocol::ALL`] order without repeats.
 ///
 /// ```
 /// use monitor_host::settings::{protocols_of, Protocol};
 /// assert_eq!(protocols_of(&["lb2.1", "b2d"])?, [Protocol::B2d, Protocol::Lb21]);
 /// assert_eq!(protocols_of(&["all"])?, Protocol::ALL);
 /// assert!(protocols_of(&["lb3"]).unwrap_err().to_string().contains("\"lb3\""));
+/// assert!(protocols_of(&["all", "none"]).unwrap_err().to_string().contains("alone"));
 /// # Ok::<(), monitor_host::SettingsError>(())
 /// ```
 ///
 /// # Errors
 /// [`SettingsError::Value`] naming the item that is no id.
 pub fn protocols_of<S: AsRef<str>>(ids: &[S]) -> Result<Vec<Protocol>, SettingsError> {
+    // `all` and `none` stand alone: `all,none` or `none,lb2.1` says two things at once (the
+    // text setting refuses them too).
+    if ids.len() > 1
+        && ids
+            .iter()
+            .any(|id| matches!(id.as_ref().trim(), "all" | "none"))
+    {
+        return Err(SettingsError::Value {
+            name: "protocols",
+            expected: PROTOCOLS_ALONE.into(),
+            value: ids.iter().map(AsRef::as_ref).collect::<Vec<_>>().join(","),
+        });
+    }
     let mut out = Vec::new();
     for id in ids {
         let id = id.as_ref();

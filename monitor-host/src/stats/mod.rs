@@ -562,6 +562,20 @@ pub fn compare_cancellable(
                 .collect();
             let seed_ds = aggs.iter().map(|(_, a)| a.scores.driving_score).collect();
             row.seeds = seeds::seed_stats(&runs, &keys, seed_ds, options.repro_halfwidth);
+            // Each run's Bench2Drive block over the compared routes: the tables' Traffic Sign
+            // notes, as `sds score`'s.
+            row.bench2drive = m
+                .runs
+                .iter()
+                .zip(&aggs)
+                .map(|(r, (name, agg))| {
+                    let kept = compared_routes(&r.report, &shared, differs);
+                    let mut b =
+                        crate::aggregate::bench2drive::Bench2Drive::new(agg, kept, Vec::new());
+                    b.ability_rule = r.report.config.ability_rule.name();
+                    (name.clone(), b)
+                })
+                .collect();
             row
         })
         .collect();
@@ -696,19 +710,28 @@ fn check(models: &[Model], options: &CompareOptions) -> Result<(), CompareError>
 /// A run's aggregates over the compared routes: its whole route set (over its own N) when every
 /// run holds the same keys, else the routes of the shared keys (over their number).
 fn aggregate(report: &Report, shared: &HashSet<&str>, common: bool) -> Aggregates {
-    let counted: Vec<&RouteReport> = counted_routes(&report.routes).collect();
+    let kept = compared_routes(report, shared, common);
     if !common {
-        return Aggregates::over(&counted, report.summary.routes.max(counted.len()));
+        return Aggregates::over(&kept, report.summary.routes.max(kept.len()));
     }
-    let kept: Vec<&RouteReport> = counted
-        .into_iter()
-        .filter(|r| {
-            r.route_id
-                .as_deref()
-                .is_some_and(|id| shared.contains(route_key(id)))
-        })
-        .collect();
     Aggregates::over(&kept, kept.len())
+}
+
+/// The counted routes of `report` that are compared: all of them, or with `common` those whose
+/// key every run holds.
+fn compared_routes<'a>(
+    report: &'a Report,
+    shared: &HashSet<&str>,
+    common: bool,
+) -> Vec<&'a RouteReport> {
+    counted_routes(&report.routes)
+        .filter(|r| {
+            !common
+                || r.route_id
+                    .as_deref()
+                    .is_some_and(|id| shared.contains(route_key(id)))
+        })
+        .collect()
 }
 
 /// The paired table and the flips. Each model and metric (a block) draws from its own

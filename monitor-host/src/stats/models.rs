@@ -55,6 +55,11 @@ pub struct ModelRow {
     /// `seeds_needed`.
     #[serde(flatten)]
     pub seeds: SeedStats,
+    /// Each run's Bench2Drive block over the compared routes, for the tables' notes (the
+    /// Traffic Sign bracket and the undecided junction credits `sds score`'s table states);
+    /// not in the JSON report (each run's figures are its `sds score` report's).
+    #[serde(skip)]
+    pub bench2drive: Vec<(String, crate::aggregate::bench2drive::Bench2Drive)>,
 }
 
 /// The five ability rates and their mean, over seeds.
@@ -117,5 +122,6 @@ pub fn model_row(
         mean_stationary_share: stat(&|a| a.scores.motion.mean_stationary_share),
         distance_km: stat(&|a| a.scores.motion.distance_km),
         seeds: SeedStats::default(),
+        bench2drive: Vec::new(),
     }
 }

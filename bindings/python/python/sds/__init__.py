@@ -32,7 +32,7 @@ options: both an :class:`InputError` and a :class:`ConfigError`), :class:`Featur
 
 from __future__ import annotations
 
-from typing import Any, Dict, Literal, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._sds import (
@@ -101,7 +101,7 @@ def score(
     group_by: Optional[str] = None,
     labels: Optional[PathLike] = None,
     jobs: Optional[int] = None,
-    progress: bool = False,
+    progress: Union[bool, Callable[[int, int], Any]] = False,
     protocols: Optional[Sequence[str]] = None,
     route_subset: Optional[Literal["all", "found"]] = None,
 ) -> Dict[str, Any]:
@@ -133,7 +133,10 @@ def score(
             ``"RouteScenario_1711"`` or ``"RouteScenario_1711_rep0"``, e.g. a difficulty or
             train/test split). ``family`` and ``route`` need one.
         jobs: Worker threads (``--jobs``).
-        progress: Draw a progress bar on standard error (when it is a terminal).
+        progress: ``True``: draw a progress bar on standard error (when it is a terminal). A
+            callable: called with ``(done, total)`` after each route (from the worker threads,
+            one call at a time), e.g. to drive a notebook's bar; an exception it raises stops
+            the run between routes and is raised here.
         protocols: Also score every route under these scoring protocols: ids among ``"b2d"``,
             ``"lb2.0"``, ``"lb2.1"``, ``"lead-nds"``, ``"f2d"``, or ``["all"]`` (``--protocol``;
             the report's per-route and summary ``protocols``). The recorded events under other

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Tuple, Union
 
 from . import _sds
 from ._options import PathLike, run_options
@@ -33,6 +33,8 @@ def compare(
     protocols: Optional[Sequence[str]] = None,
     rank: bool = False,
     repro_halfwidth: float = 1.0,
+    progress: Optional[Callable[[int, int], Any]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
 ) -> Dict[str, Any]:
     """Compares runs route by route; returns the ``sds-compare/1`` report as a dict.
 
@@ -71,6 +73,13 @@ def compare(
             with ``bootstrap_seed``) and ``p_best`` (share of resamples where it ranks first).
         repro_halfwidth: h of each model's ``seeds_needed`` (``--repro-halfwidth``): the seeds
             for a 95 % interval of its mean DS no wider than +-h DS points (above 0).
+        route_subset: Which routes of ``routes`` make each run's route set
+            (``--route-subset``): ``"all"`` (a route without a record counts as 0) or
+            ``"found"`` (those with a record), as for :func:`sds.score`. None: the setting
+            ``route_subset`` (default ``"all"``, or from ``settings``).
+        progress: Called with ``(done, total)`` after each route of the run being scored (the
+            count starts again with each run); an exception it raises stops the comparison
+            between routes and is raised here.
 
     Returns:
         ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,
@@ -123,6 +132,7 @@ def compare(
             settings=settings,
             jobs=jobs,
             protocols=protocols,
+            route_subset=route_subset,
         ),
         # The comparison's own.
         "seeds": [(model, list(names)) for model, names in (seeds or {}).items()],
@@ -135,6 +145,7 @@ def compare(
         "bootstrap_seed": int(bootstrap_seed),
         "rank": bool(rank),
         "repro_halfwidth": float(repro_halfwidth),
+        "progress": progress,
     }
     report, warned = _sds.compare(pairs, options)
     warn_each(warned)

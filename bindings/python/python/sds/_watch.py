@@ -48,7 +48,8 @@ def watch(
       ``missing`` and ``timeout`` (a ``Failed - TickRuntime`` route is not a crash);
     - ``complete``: every route of the set has a record (a route XML or ``expected_routes``
       gives the set; without one, every checkpoint's ``progress`` says done);
-    - ``seconds_left``: the routes' mean ``meta.duration_system`` times the routes left, or None;
+    - ``seconds_left``: the routes' mean ``meta.duration_system`` times the routes left, or None
+      (no usable duration: negative ones are left out; or every shard done with routes left);
     - ``changed``, ``rescored``, ``reused``, ``rescored_routes``: whether anything changed since
       the previous report, the routes replayed (and their ids) and those taken from the cache;
     - ``retries``: rounds since the previous report that caught a results file half-written

@@ -140,7 +140,12 @@ pub fn ranking_svg(c: &Comparison) -> Option<String> {
                 y_score(v) - 3.5
             ));
         }
-        if let Some(r) = ranking.iter().find(|r| r.model == m.name) {
+        // No rank (no compared route): nothing to draw on the rank axis.
+        if let Some((r, rank)) = ranking
+            .iter()
+            .find(|r| r.model == m.name)
+            .and_then(|r| Some((r, r.rank?)))
+        {
             if let Some([lo, hi]) = r.rank_ci95 {
                 s.push_str(&format!(
                     "<line x1=\"{0:.1}\" y1=\"{1:.1}\" x2=\"{0:.1}\" y2=\"{2:.1}\" stroke=\"#555\" stroke-width=\"5\" stroke-linecap=\"round\" opacity=\"0.45\"/>\n",
@@ -155,8 +160,8 @@ pub fn ranking_svg(c: &Comparison) -> Option<String> {
             s.push_str(&format!(
                 "<circle cx=\"{:.1}\" cy=\"{:.1}\" r=\"4.5\" fill=\"#222\"><title>{name}: rank {}{ci}, p_best {}</title></circle>\n",
                 x(i),
-                y_rank(r.rank as f64),
-                r.rank,
+                y_rank(rank as f64),
+                rank,
                 r.p_best.map_or_else(|| "-".into(), |p| format!("{p:.3}"))
             ));
         }

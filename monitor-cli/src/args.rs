@@ -333,6 +333,12 @@ pub struct CompareArgs {
     /// DS that `seeds_needed` sizes.
     #[arg(long, value_name = "DS", default_value_t = 1.0)]
     pub repro_halfwidth: f64,
+    /// Score every model at every point of a grid of settings: `NAME=V1,V2,...` (repeatable;
+    /// the grid is the product of the lists, at most 64 points; NAME a setting that changes a
+    /// route's figures). Adds each model's DS_safe, comfort, SDS and rank at every point and
+    /// whether each pair's order holds (docs/USAGE.md, "Do the conclusions survive?").
+    #[arg(long, value_name = "NAME=V1,V2,...")]
+    pub sweep: Vec<String>,
     /// The options `sds score` shares (each run scored with them).
     #[command(flatten)]
     pub run: RunArgs,

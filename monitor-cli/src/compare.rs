@@ -17,6 +17,7 @@ use monitor_host::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
 use monitor_host::report::grid::Style;
 use monitor_host::report::long_tables::{compare_tables, TABLE_NAMES};
 use monitor_host::report::{compare_table, html};
+use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::CompareOptions;
 use monitor_host::{NoProgress, Warning};
 
@@ -105,7 +106,13 @@ pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
             runs: list.split(',').map(|r| r.trim().to_string()).collect(),
         });
     }
+    let sweep = args
+        .sweep
+        .iter()
+        .map(|a| SweepAxis::parse(a).map_err(|e| usage(e.to_string())))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(CompareRequest {
+        sweep,
         runs,
         seeds,
         routes: args.run.routes.clone(),

@@ -11,5 +11,6 @@ mod merge;
 mod perf;
 mod score;
 mod seeds;
+mod sweep;
 mod tables;
 mod watch;

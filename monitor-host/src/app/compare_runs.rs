@@ -346,7 +346,8 @@ fn sweep_report(
                         .filter_map(|r| runs.iter().position(|x| x.name == r.name))
                         .map(|i| figures[i][p])
                         .collect();
-                    let stat = |k: usize| Stat::of(&seeds.iter().map(|f| f[k]).collect::<Vec<_>>()).mean;
+                    let stat =
+                        |k: usize| Stat::of(&seeds.iter().map(|f| f[k]).collect::<Vec<_>>()).mean;
                     [stat(0), stat(1), stat(2)]
                 })
                 .collect();

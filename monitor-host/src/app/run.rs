@@ -304,9 +304,9 @@ fn score_points(
                 }
                 let map = town.and_then(|t| maps.get(t).ok());
                 let o = match (cache, points) {
-                    (Some(c), [_]) => vec![
-                        c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings)),
-                    ],
+                    (Some(c), [_]) => {
+                        vec![c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))]
+                    }
                     (None, [_]) => vec![replay(r, routes.as_ref(), map, telemetry, settings)],
                     _ => replay_points(r, routes.as_ref(), map, telemetry, points),
                 };
@@ -373,73 +373,73 @@ impl RunRead<'_> {
         let set = &self.set;
         let mut warnings = self.warnings.clone();
         warnings.extend(map_warnings(maps, self.towns, settings));
-    for (o, f) in outcomes.iter_mut().zip(self.foreign.iter().copied()) {
-        if f {
-            o.foreign = true;
-            warnings.push(Warning::ForeignRoute {
-                route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
-                routes_file: inputs.route_xml.clone().unwrap_or_default(),
+        for (o, f) in outcomes.iter_mut().zip(self.foreign.iter().copied()) {
+            if f {
+                o.foreign = true;
+                warnings.push(Warning::ForeignRoute {
+                    route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
+                    routes_file: inputs.route_xml.clone().unwrap_or_default(),
+                });
+            }
+        }
+        let without = outcomes
+            .iter()
+            .filter(|o| o.counted() && o.record().is_some())
+            .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
+            .count();
+        let with = outcomes
+            .iter()
+            .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
+            .count();
+        if without > 0 && with == 0 && !settings.allow_missing_telemetry {
+            // With a root given, one route's reason shows what was looked for (and the closest
+            // folder); without one, the message itself says so.
+            let example = inputs.telemetry.as_ref().and_then(|_| {
+                outcomes
+                    .iter()
+                    .find_map(|o| match (&o.telemetry, o.record()) {
+                        (TelemetryState::Missing(why), Some(r)) => {
+                            Some((r.route_id.clone(), why.clone()))
+                        }
+                        _ => None,
+                    })
+            });
+            warnings.push(Warning::NoTelemetry {
+                root: inputs.telemetry.clone(),
+                routes: without,
+                example,
             });
         }
-    }
-    let without = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.record().is_some())
-        .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
-        .count();
-    let with = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
-        .count();
-    if without > 0 && with == 0 && !settings.allow_missing_telemetry {
-        // With a root given, one route's reason shows what was looked for (and the closest
-        // folder); without one, the message itself says so.
-        let example = inputs.telemetry.as_ref().and_then(|_| {
-            outcomes
+        // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
+        let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
+        let rows = route_rows(&outcomes, missing, settings, self.routes, maps);
+        let provenance = Provenance::new(
+            settings,
+            self.files_read
                 .iter()
-                .find_map(|o| match (&o.telemetry, o.record()) {
-                    (TelemetryState::Missing(why), Some(r)) => {
-                        Some((r.route_id.clone(), why.clone()))
-                    }
-                    _ => None,
-                })
-        });
-        warnings.push(Warning::NoTelemetry {
-            root: inputs.telemetry.clone(),
-            routes: without,
-            example,
-        });
-    }
-    // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
-    let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
-    let rows = route_rows(&outcomes, missing, settings, self.routes, maps);
-    let provenance = Provenance::new(
-        settings,
-        self.files_read
-            .iter()
-            .map(|f| (f.as_path(), "results"))
-            .chain(inputs.route_xml.iter().map(|f| (f.as_path(), "routes")))
-            .chain(maps.files().iter().map(|f| (f.as_path(), "map"))),
-    );
-    let facts = RunFacts {
-        provenance,
-        n: self.n,
-        route_set: set.clone(),
-        inputs: self.input_reports.clone(),
-        dropped: self.dropped.clone(),
-        kept: self.kept.clone(),
-        warnings,
-    };
-    let mut report = assemble(rows, &outcomes, settings, facts);
-    // Every input file, for front ends that must never write over one.
-    let mut files = self.files_read.clone();
-    files.extend(inputs.route_xml.iter().cloned());
-    files.extend(maps.files().iter().cloned());
-    files.append(&mut report.files_read);
-    files.sort();
-    files.dedup();
-    report.files_read = files;
-    report
+                .map(|f| (f.as_path(), "results"))
+                .chain(inputs.route_xml.iter().map(|f| (f.as_path(), "routes")))
+                .chain(maps.files().iter().map(|f| (f.as_path(), "map"))),
+        );
+        let facts = RunFacts {
+            provenance,
+            n: self.n,
+            route_set: set.clone(),
+            inputs: self.input_reports.clone(),
+            dropped: self.dropped.clone(),
+            kept: self.kept.clone(),
+            warnings,
+        };
+        let mut report = assemble(rows, &outcomes, settings, facts);
+        // Every input file, for front ends that must never write over one.
+        let mut files = self.files_read.clone();
+        files.extend(inputs.route_xml.iter().cloned());
+        files.extend(maps.files().iter().cloned());
+        files.append(&mut report.files_read);
+        files.sort();
+        files.dedup();
+        report.files_read = files;
+        report
     }
 }
 

@@ -62,7 +62,10 @@ pub fn sweep_tables(c: &Comparison) -> Vec<Grid> {
         if let (Some(lo), Some(hi)) = (r.sds_min, r.sds_max) {
             g.note(format!("{}: SDS {lo:.2} to {hi:.2} over the grid", r.model));
         } else {
-            g.note(format!("{}: no SDS at some point (comfort undefined)", r.model));
+            g.note(format!(
+                "{}: no SDS at some point (comfort undefined)",
+                r.model
+            ));
         }
     }
     for p in &s.pairs {

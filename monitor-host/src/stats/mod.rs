@@ -725,7 +725,11 @@ pub(crate) fn shared_keys(reports: &[&Report]) -> (HashSet<String>, bool) {
 
 /// A run's DS_safe, comfort and SDS as [`compare`]'s model rows aggregate them (`shared`,
 /// `common` from [`shared_keys`]).
-pub(crate) fn run_figures(report: &Report, shared: &HashSet<String>, common: bool) -> [Option<f64>; 3] {
+pub(crate) fn run_figures(
+    report: &Report,
+    shared: &HashSet<String>,
+    common: bool,
+) -> [Option<f64>; 3] {
     let shared: HashSet<&str> = shared.iter().map(String::as_str).collect();
     let s = aggregate(report, &shared, common).scores;
     [s.mean_ds_safe, s.mean_comfort, s.sds]

@@ -315,7 +315,9 @@ pub fn report(
             let all = all.filter(|v| !v.is_empty());
             SweepRange {
                 model: name.clone(),
-                sds_min: all.as_ref().map(|v| v.iter().copied().fold(f64::INFINITY, f64::min)),
+                sds_min: all
+                    .as_ref()
+                    .map(|v| v.iter().copied().fold(f64::INFINITY, f64::min)),
                 sds_max: all.map(|v| v.iter().copied().fold(f64::NEG_INFINITY, f64::max)),
             }
         })
@@ -334,4 +336,43 @@ pub fn values_at(settings: &[String], point: &Settings) -> Vec<(String, Value)> 
         .iter()
         .filter_map(|n| point.value(n).map(|v| (n.clone(), v)))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn axis(name: &str, n: usize) -> SweepAxis {
+        SweepAxis {
+            name: name.into(),
+            values: (0..n).map(|i| format!("0.{}", i + 1)).collect(),
+        }
+    }
+
+    #[test]
+    fn sixty_four_points_are_taken_sixty_five_refused_with_the_count() {
+        let base = Settings::default();
+        let ok = grid(
+            &base,
+            &[axis("factors.critical", 8), axis("factors.anomalous", 8)],
+        );
+        assert_eq!(ok.map(|g| g.len()), Ok(64));
+        let e = grid(&base, &[axis("factors.critical", 5), axis("slack", 13)]).unwrap_err();
+        assert_eq!(
+            e,
+            SweepError::TooManyPoints {
+                points: 65,
+                sizes: vec![5, 13]
+            }
+        );
+    }
+
+    #[test]
+    fn every_listed_setting_changes_a_figure_stage() {
+        // The list comes from the rows: each name is a setting whose row is not `No`.
+        for n in sweep_names() {
+            assert_ne!(defs::def(n).map(|d| d.sweep), Some(Sweep::No), "{n}");
+        }
+        assert!(!sweep_names().contains(&"motion.moving_speed"));
+    }
 }

@@ -151,7 +151,10 @@ pub fn section(c: &Comparison) -> String {
     let verdict = if unstable.is_empty() {
         "every pair of models keeps its order at every point".to_string()
     } else {
-        format!("the order changes over the grid for: {}", unstable.join("; "))
+        format!(
+            "the order changes over the grid for: {}",
+            unstable.join("; ")
+        )
     };
     format!(
         "<h2 id=\"sweep\">Sweep</h2>\n<p class=\"note\">each model's rank by SDS at every point of the grid (rank 1 at the top; 1 + the models with a strictly greater SDS); lines that cross are conclusions that depend on the settings; {verdict}</p>\n<div class=\"fig wide\">{svg}</div>\n<p class=\"note\">{}</p>\n",

@@ -379,7 +379,12 @@ fn i50_4_tables_page_and_long_table() {
         table[0].contains("3 point(s) of factors.critical"),
         "{text}"
     );
-    assert!(table[1].contains("results SDS (rank)") && table[1].contains("results_b SDS (rank)"));
+    assert!(
+        table[1].contains("results DS_safe  results SDS (rank)"),
+        "{}",
+        table[1]
+    );
+    assert!(table[1].contains("results_b SDS (rank)"));
     let rows: Vec<&str> = table[3..6].to_vec();
     assert!(
         rows[0].contains("0.7") && rows[0].ends_with("(1)"),

@@ -38,11 +38,15 @@ pub fn sweep_tables(c: &Comparison) -> Vec<Grid> {
         .unwrap_or_default();
     let header: Vec<String> = std::iter::once("point".to_string())
         .chain(s.settings.iter().cloned())
-        .chain(models.iter().map(|m| format!("{m} SDS (rank)")))
+        .chain(
+            models
+                .iter()
+                .flat_map(|m| [format!("{m} DS_safe"), format!("{m} SDS (rank)")]),
+        )
         .collect();
     let mut g = Grid::new(
         &format!(
-            "Sweep: every model's SDS and rank at each of {} point(s) of {}",
+            "Sweep: every model's DS_safe, SDS and rank at each of {} point(s) of {}",
             s.points.len(),
             s.settings.join(" x ")
         ),
@@ -52,9 +56,14 @@ pub fn sweep_tables(c: &Comparison) -> Vec<Grid> {
         g.row(
             std::iter::once(i.to_string())
                 .chain(p.values.iter().map(|(_, v)| v.text()))
-                .chain(p.models.iter().map(|m| match (m.sds, m.rank) {
-                    (Some(x), Some(r)) => format!("{x:.2} ({r})"),
-                    _ => "-".to_string(),
+                .chain(p.models.iter().flat_map(|m| {
+                    [
+                        m.ds_safe.map_or_else(|| "-".into(), |x| format!("{x:.2}")),
+                        match (m.sds, m.rank) {
+                            (Some(x), Some(r)) => format!("{x:.2} ({r})"),
+                            _ => "-".to_string(),
+                        },
+                    ]
                 })),
         );
     }
@@ -63,12 +72,14 @@ pub fn sweep_tables(c: &Comparison) -> Vec<Grid> {
             g.note(format!("{}: SDS {lo:.2} to {hi:.2} over the grid", r.model));
         } else {
             g.note(format!(
-                "{}: no SDS at some point (comfort undefined)",
+                "{}: no SDS at some point (comfort undefined: it needs telemetry)",
                 r.model
             ));
         }
     }
-    for p in &s.pairs {
+    // Without any SDS (no telemetry, so no comfort) there is no order to hold.
+    let none = s.ranges.iter().all(|r| r.sds_min.is_none());
+    for p in s.pairs.iter().filter(|_| !none) {
         if p.order_stable {
             g.note(format!("{} vs {}: the same order at every point", p.a, p.b));
         } else {
@@ -80,6 +91,11 @@ pub fn sweep_tables(c: &Comparison) -> Vec<Grid> {
                 at.join(", ")
             ));
         }
+    }
+    if none {
+        g.note(
+            "no model has an SDS: the order by SDS is unknown at every point (DS_safe still moves)",
+        );
     }
     g.note("rank = 1 + the models with a strictly greater SDS at that point; the other settings as given");
     vec![g]

@@ -461,6 +461,27 @@ pub fn def(name: &str) -> Option<&'static SettingDef> {
     SETTINGS.iter().find(|d| d.name == name)
 }
 
+/// The sweep's list of docs/SCORE.md: per stage a sweep redoes ([`Sweep`]), the settings of
+/// that stage, from the rows.
+pub fn sweep_markdown() -> String {
+    let stage = |s: Sweep| -> String {
+        SETTINGS
+            .iter()
+            .filter(|d| d.sweep == s)
+            .map(|d| format!("`{}`", d.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "- penalty factors, each route's counts re-used and DS_safe computed again: {}\n\
+         - read by the monitor alone, the prepared frames streamed again: {}\n\
+         - read when the telemetry is prepared, the telemetry read and replayed again: {}\n",
+        stage(Sweep::Factors),
+        stage(Sweep::Monitor),
+        stage(Sweep::Replay)
+    )
+}
+
 /// The settings table of docs/SCORE.md: one row per setting, its default read from
 /// [`Settings::default`].
 pub fn markdown_table() -> String {

@@ -743,6 +743,34 @@ mod tests {
         assert_eq!(defs::SETTINGS.len(), Settings::NAMES.len());
     }
 
+    /// docs/SCORE.md's list of the settings a sweep takes is [`defs::sweep_markdown`], from the
+    /// rows' `sweep` column (`SDS_BLESS=1` rewrites).
+    #[test]
+    fn score_md_sweep_list_is_generated_from_the_table() {
+        const START: &str = "<!-- sweep settings: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n";
+        const END: &str = "<!-- end of sweep settings -->";
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/SCORE.md");
+        let Ok(doc) = std::fs::read_to_string(&path) else {
+            eprintln!(
+                "skipped: {} not found (the crate outside its repository)",
+                path.display()
+            );
+            return;
+        };
+        let a = doc.find(START).expect("the list's start marker") + START.len();
+        let b = a + doc[a..].find(END).expect("the list's end marker");
+        let list = defs::sweep_markdown();
+        if std::env::var_os("SDS_BLESS").is_some() {
+            std::fs::write(&path, format!("{}{list}{}", &doc[..a], &doc[b..])).unwrap();
+            return;
+        }
+        assert_eq!(
+            doc[a..b],
+            list,
+            "docs/SCORE.md's sweep list: rerun with SDS_BLESS=1"
+        );
+    }
+
     #[test]
     fn set_parses_and_validates() {
         let mut s = Settings::default();

@@ -2,7 +2,7 @@
 //! grid of settings, equal to `sds compare` at that point's settings; the refusals; the tables,
 //! page and long table.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde_json::Value;
 
@@ -35,11 +35,7 @@ fn runs(dir: &Path) -> [String; 3] {
         &[("900003", 60.0, 1.0, 60.0), ("900009", 100.0, 0.85, 85.0)],
     );
     edit("results_c.json", &[("900001", 90.0, 1.0, 90.0)]);
-    let tel = dir.join("telemetry");
-    ["results.json", "results_b.json", "results_c.json"].map(|f| {
-        let name = &f[..f.len() - 5];
-        format!("{name}={}:{}", dir.join(f).display(), tel.display())
-    })
+    runs_named(dir)
 }
 
 /// `sds compare` of the three runs (`results_b` and `results_c` as seeds of one model), JSON.

@@ -347,6 +347,12 @@ pub struct CompareArgs {
     /// `--set route_subset=...`.
     #[arg(long, value_enum)]
     pub route_subset: Option<RouteSubsetArg>,
+    /// Score every model at every point of a grid of settings: `NAME=V1,V2,...` (repeatable;
+    /// the grid is the product of the lists, at most 64 points; NAME a setting that changes a
+    /// route's figures). Adds each model's DS_safe, comfort, SDS and rank at every point and
+    /// whether each pair's order holds (docs/USAGE.md, "Do the conclusions survive?").
+    #[arg(long, value_name = "NAME=V1,V2,...")]
+    pub sweep: Vec<String>,
     /// The options `sds score` shares (each run scored with them).
     #[command(flatten)]
     pub run: RunArgs,

@@ -15,8 +15,9 @@ use super::output::write_output;
 use super::style;
 use monitor_host::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
 use monitor_host::report::grid::Style;
-use monitor_host::report::long_tables::{compare_tables, TABLE_NAMES};
+use monitor_host::report::long_tables::{compare_tables, sweep_table, SWEEP_TABLE, TABLE_NAMES};
 use monitor_host::report::{compare_table, html};
+use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::CompareOptions;
 use monitor_host::{NoProgress, Warning};
 
@@ -105,7 +106,13 @@ pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
             runs: list.split(',').map(|r| r.trim().to_string()).collect(),
         });
     }
+    let sweep = args
+        .sweep
+        .iter()
+        .map(|a| SweepAxis::parse(a).map_err(|e| usage(e.to_string())))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(CompareRequest {
+        sweep,
         runs,
         seeds,
         routes: args.run.routes.clone(),
@@ -239,7 +246,11 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         return Ok(EXIT_USAGE);
     };
     if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
-        let tables: Vec<_> = TABLE_NAMES[..2].iter().map(|n| dir.join(n)).collect();
+        let tables: Vec<_> = TABLE_NAMES[..2]
+            .iter()
+            .chain((!args.sweep.is_empty()).then_some(&SWEEP_TABLE))
+            .map(|n| dir.join(n))
+            .collect();
         super::output::refuse_clash(out, &tables, "a table")?;
     }
     let (compared, problems) = match compare_report(args) {
@@ -279,7 +290,8 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
                         .map(move |r| (r.name.as_str(), m.name.as_str(), &r.report))
                 })
                 .collect();
-            let t = compare_tables(&runs).map_err(anyhow::Error::msg)?;
+            let mut t = compare_tables(&runs).map_err(anyhow::Error::msg)?;
+            t.sweep = c.sweep.as_ref().map(sweep_table);
             Some(t.files().map_err(anyhow::Error::msg)?)
         }
         None => None,

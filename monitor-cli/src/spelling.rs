@@ -25,6 +25,7 @@ pub fn flag(option: &str) -> Option<&'static str> {
         "bootstrap_samples" => "--bootstrap-samples",
         "repro.halfwidth" => "--repro-halfwidth",
         "common_routes" => "--common-routes",
+        "sweep" => "--sweep",
         "allow_missing_telemetry" => "--allow-missing-telemetry",
         _ => return None,
     })

@@ -253,6 +253,7 @@ pub fn options(e: &Error) -> &'static [&'static str] {
             }
             CompareError::HalfwidthOutOfRange(_) => &["repro.halfwidth"],
             CompareError::RouteSetsDiffer { .. } => &["common_routes", "routes"],
+            CompareError::Sweep(_) => &["sweep"],
             _ => &[],
         },
         _ => &[],

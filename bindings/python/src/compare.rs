@@ -7,10 +7,11 @@ use std::path::PathBuf;
 
 use monitor_host::app::compare_runs::{CompareRequest, RunSpec, Seeds};
 use monitor_host::error::message;
+use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::{CompareError, CompareOptions};
 use monitor_host::{NoProgress, Progress};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyInt};
+use pyo3::types::{PyBool, PyDict, PyInt};
 
 use crate::errors::{score_error, ConfigError};
 use crate::interrupt::with_signals;
@@ -38,6 +39,33 @@ struct CompareKwargs<'py> {
     /// A callable taking `(done, total)` of the run being scored, or None.
     #[pyo3(default)]
     progress: Option<Py<PyAny>>,
+    /// `--sweep`: a mapping of setting name to its values (v1.5 §18), or None.
+    sweep: Option<Bound<'py, PyAny>>,
+}
+
+/// The sweep's axes from `{name: [v1, v2, ...]}`, each value as the text `--sweep` takes
+/// (`True` → `true`, `0.9` → `0.9`), in the mapping's order.
+fn sweep_axes(sweep: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<SweepAxis>> {
+    let Some(map) = sweep else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for item in map.call_method0("items")?.try_iter()? {
+        let (name, values): (String, Bound<'_, PyAny>) = item?.extract()?;
+        let mut texts = Vec::new();
+        for v in values.try_iter()? {
+            let v = v?;
+            texts.push(match v.cast::<PyBool>() {
+                Ok(b) => b.is_true().to_string(),
+                Err(_) => v.str()?.to_string(),
+            });
+        }
+        out.push(SweepAxis {
+            name,
+            values: texts,
+        });
+    }
+    Ok(out)
 }
 
 /// B as the library takes it, or the library's out-of-range error (any int that is not a
@@ -64,6 +92,7 @@ pub fn compare<'py>(
     let settings = options.extract::<RunKwargs<'_>>()?.request()?;
     let kw: CompareKwargs<'_> = options.extract()?;
     let request = CompareRequest {
+        sweep: sweep_axes(kw.sweep.as_ref())?,
         runs: runs
             .into_iter()
             .map(|(name, results, telemetry)| RunSpec {

@@ -218,3 +218,35 @@ def test_i46_6_route_subset_like_the_cli(sds_bin: Path, tmp_path: Path) -> None:
     assert sds.compare(runs, routes=routes, bootstrap_samples=1000)["scope"]["routes"] == total
     with pytest.raises(sds.ConfigError, match="route_subset"):
         sds.compare(runs, routes=routes, route_subset="some")  # type: ignore[arg-type]
+def test_sweep_is_the_cli_report(sds_bin: Path, tmp_path: Path) -> None:
+    """Issue 50: sds.compare(sweep=...) is `sds compare --sweep`'s report; refusals are
+    ConfigError naming the settings a sweep takes."""
+    demo = _demo(sds_bin, tmp_path)
+    res, tel, routes = demo / "results.json", demo / "telemetry", demo / "routes.xml"
+    c = sds.compare(
+        {"a": (res, tel), "b": (res, tel)},
+        routes=routes,
+        bootstrap_samples=1000,
+        sweep={"factors.critical": [0.8, 0.9], "bounds.lat_acc": ["0.5", 4.89]},
+    )
+    out = tmp_path / "cli.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["compare", f"a={res}:{tel}", f"b={res}:{tel}", "--routes", str(routes),
+         "--bootstrap-samples", "1000", "--sweep", "factors.critical=0.8,0.9",
+         "--sweep", "bounds.lat_acc=0.5,4.89", "--format", "json", "-o", str(out)],
+    )
+    assert code == 0, err
+    assert c == json.loads(out.read_text())
+    assert c["sweep"]["settings"] == ["factors.critical", "bounds.lat_acc"]
+    assert len(c["sweep"]["points"]) == 4
+    assert c["sweep"]["pairs"] == [{"a": "a", "b": "b", "order_stable": True, "flips": []}]
+    with pytest.raises(sds.ConfigError, match="changes no route's figures.*critical_excess"):
+        sds.compare({"a": (res, tel), "b": (res, tel)}, sweep={"protocols": ["all", "none"]})
+    with pytest.raises(sds.ConfigError, match="the grid has 65 points"):
+        sds.compare(
+            {"a": (res, tel), "b": (res, tel)},
+            sweep={"slack": [0.1 * k for k in range(1, 14)], "factors.critical": [0.5, 0.6, 0.7, 0.8, 0.9]},
+        )
+    with pytest.raises(sds.ConfigError, match="expected a list of values"):
+        sds.compare({"a": (res, tel), "b": (res, tel)}, sweep={"slack": "0.5"})

@@ -13,5 +13,6 @@ mod merge;
 mod perf;
 mod score;
 mod seeds;
+mod sweep;
 mod tables;
 mod watch;

@@ -352,15 +352,46 @@ fn tables_schema_names_every_column() {
     let docs = documented();
     assert_eq!(
         docs.keys().collect::<BTreeSet<_>>(),
-        ["events.csv", "frames.csv", "routes.csv"]
+        ["events.csv", "frames.csv", "routes.csv", "sweep.csv"]
             .iter()
             .map(|s| s.to_string())
             .collect::<BTreeSet<_>>()
             .iter()
             .collect()
     );
+    // sweep.csv comes from `sds compare --sweep` (issue 50), in a folder of its own.
+    let run = format!(
+        "a={}:{}",
+        dir.join("results.json").display(),
+        dir.join("telemetry").display()
+    );
+    let b = run.replacen("a=", "b=", 1);
+    let swept = dir.join("swept");
+    let out = sds(&[
+        "compare",
+        &run,
+        &b,
+        "--bootstrap-samples",
+        "1000",
+        "--sweep",
+        "factors.critical=0.8,0.9",
+        "--tables",
+        swept.to_str().unwrap(),
+        "-o",
+        dir.join("compare.json").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     for (file, names) in &docs {
-        let (header, _) = read_csv(&dir.join("tables").join(file));
+        let folder = if file == "sweep.csv" {
+            swept.clone()
+        } else {
+            dir.join("tables")
+        };
+        let (header, _) = read_csv(&folder.join(file));
         for c in &header {
             assert!(
                 names.iter().any(|(n, _)| matches(n, c)),

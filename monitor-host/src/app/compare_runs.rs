@@ -8,6 +8,8 @@ use crate::app::request::{RequestError, ScoreError};
 use crate::app::run::{Inputs, Progress};
 use crate::error::Error;
 use crate::settings::Settings;
+use crate::stats::stat::Stat;
+use crate::stats::sweep::{self, SweepAxis, SweepError};
 use crate::stats::{
     check_options, compare_cancellable, CompareError, CompareOptions, Comparison, Model, NamedRun,
 };
@@ -143,9 +145,67 @@ pub fn compare_runs(
     options: &CompareOptions,
     progress: &dyn Progress,
 ) -> Result<Compared, Error> {
+    compare_runs_swept(runs, seeds, settings, options, &[], progress)
+}
+
+/// [`compare_runs`], and with a sweep (`axes` not empty, v1.5 §18) every model's figures at
+/// every point of the grid ([`crate::stats::sweep`]) in [`Comparison::sweep`]: each run is
+/// scored once at the given settings and at every point ([`crate::app::run::score_run_points`],
+/// which re-uses what a point does not change); the rest of the report is that of the given
+/// settings. The grid is checked before any run is scored.
+///
+/// ```
+/// use monitor_host::compare_runs::{compare_runs_swept, RunInputs};
+/// use monitor_host::stats::{sweep::SweepAxis, CompareOptions};
+/// use monitor_host::{demo, Inputs, NoProgress, Settings};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+/// let runs = ["base", "new"].map(|n| RunInputs { name: n.into(), inputs: inputs.clone() });
+/// let axes = [SweepAxis::parse("critical_excess=0.45,0.65")?];
+/// let c = compare_runs_swept(&runs, &[], &Settings::default(), &CompareOptions::default(),
+///                            &axes, &NoProgress)?;
+/// let sweep = c.comparison.sweep.expect("swept");
+/// assert_eq!(sweep.points.len(), 2);
+/// assert!(sweep.pairs[0].order_stable); // the same run twice: tied everywhere
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`compare_runs`]; [`CompareError::Sweep`] for a refused grid or a run given as a report.
+pub fn compare_runs_swept(
+    runs: &[RunInputs],
+    seeds: &[Seeds],
+    settings: &Settings,
+    options: &CompareOptions,
+    axes: &[SweepAxis],
+    progress: &dyn Progress,
+) -> Result<Compared, Error> {
     check_options(options)?;
+    let grid = if axes.is_empty() {
+        Vec::new()
+    } else {
+        sweep::grid(settings, axes).map_err(|e| Error::Compare(CompareError::Sweep(e)))?
+    };
+    if !grid.is_empty() {
+        if let Some((r, f)) = runs.iter().find_map(|r| match r.inputs.results.as_slice() {
+            [f] if crate::app::scored_by::is_report(f) => Some((r, f)),
+            _ => None,
+        }) {
+            return Err(Error::Compare(CompareError::Sweep(SweepError::Report {
+                run: r.name.clone(),
+                file: f.display().to_string(),
+            })));
+        }
+    }
+    // The given settings first, then every point.
+    let points: Vec<Settings> = std::iter::once(settings.clone())
+        .chain(grid.iter().cloned())
+        .collect();
     let mut scored = Vec::new();
     let mut scored_by = Vec::new();
+    // Per run, its reports at the grid's points, cut to what the figures read.
+    let mut at_points: Vec<Vec<crate::model::report::Report>> = Vec::new();
     for r in runs {
         if progress.cancelled() {
             return Err(Error::Cancelled);
@@ -156,7 +216,16 @@ pub fn compare_runs(
                 name: r.name.clone(),
             }));
         }
-        let scored_here = crate::app::scored_by::score_or_read(&r.inputs, settings, progress);
+        let scored_here = if grid.is_empty() {
+            crate::app::scored_by::score_or_read(&r.inputs, settings, progress)
+        } else {
+            crate::app::run::score_run_points(&r.inputs, &points, progress).map(|mut reports| {
+                let main = reports.remove(0);
+                at_points.push(reports.into_iter().map(sweep_figures_only).collect());
+                let by = crate::app::scored_by::ScoredBy::of(&main);
+                (main, by)
+            })
+        };
         let (report, by) = scored_here.map_err(|e| match e {
             Error::Cancelled => e,
             // `sds compare` has no `--telemetry`: name the way a run's folder is given.
@@ -185,6 +254,9 @@ pub fn compare_runs(
             CompareError::Cancelled => Error::Cancelled,
             e => Error::Compare(e),
         })?;
+    if !grid.is_empty() {
+        comparison.sweep = Some(sweep_report(runs, &models, axes, &grid, at_points));
+    }
     // Runs scored by another sds version or other settings (reports given as runs).
     let by: Vec<(&str, &crate::app::scored_by::ScoredBy)> = runs
         .iter()
@@ -219,6 +291,71 @@ pub fn compare_runs(
         }
     }
     Ok(Compared { comparison, models })
+}
+
+/// A report cut to what a sweep's figures read (its rows without events, chunks or traces): a
+/// sweep keeps every run's report at every point until all runs are scored.
+fn sweep_figures_only(mut report: crate::model::report::Report) -> crate::model::report::Report {
+    for r in &mut report.routes {
+        r.chunks = None;
+        r.events = Vec::new();
+        r.collision_events = Vec::new();
+        r.traces = Vec::new();
+        r.stationary = Vec::new();
+        r.warnings = Vec::new();
+    }
+    report.warnings = Vec::new();
+    report
+}
+
+/// The sweep's report: per point, each model's figures as [`compare_cancellable`]'s model rows
+/// aggregate them (the mean over its seeds, over the compared routes).
+fn sweep_report(
+    runs: &[RunInputs],
+    models: &[Model],
+    axes: &[SweepAxis],
+    grid: &[Settings],
+    at_points: Vec<Vec<crate::model::report::Report>>,
+) -> sweep::SweepReport {
+    let names: Vec<String> = axes.iter().map(|a| a.name.clone()).collect();
+    let main: Vec<&crate::model::report::Report> = models
+        .iter()
+        .flat_map(|m| m.runs.iter().map(|r| &r.report))
+        .collect();
+    let (shared, common) = crate::stats::shared_keys(&main);
+    // Per run (in the order given), its figures at each point.
+    let figures: Vec<Vec<[Option<f64>; 3]>> = at_points
+        .iter()
+        .map(|reports| {
+            reports
+                .iter()
+                .map(|r| crate::stats::run_figures(r, &shared, common))
+                .collect()
+        })
+        .collect();
+    let points = grid
+        .iter()
+        .enumerate()
+        .map(|(p, settings)| {
+            let per_model = models
+                .iter()
+                .map(|m| {
+                    let seeds: Vec<[Option<f64>; 3]> = m
+                        .runs
+                        .iter()
+                        .filter_map(|r| runs.iter().position(|x| x.name == r.name))
+                        .map(|i| figures[i][p])
+                        .collect();
+                    let stat =
+                        |k: usize| Stat::of(&seeds.iter().map(|f| f[k]).collect::<Vec<_>>()).mean;
+                    [stat(0), stat(1), stat(2)]
+                })
+                .collect();
+            (sweep::values_at(&names, settings), per_model)
+        })
+        .collect();
+    let model_names: Vec<String> = models.iter().map(|m| m.name.clone()).collect();
+    sweep::report(&names, &model_names, points)
 }
 
 /// One run of a [`CompareRequest`]: its name, its results and its telemetry root (`None`: the
@@ -263,6 +400,8 @@ pub struct CompareRequest {
     pub settings: crate::app::request::RunSettings,
     /// The comparison's options (`fail_if_worse` names are trimmed).
     pub options: CompareOptions,
+    /// The sweep (`--sweep`, v1.5 §18): each setting and its values; empty for none.
+    pub sweep: Vec<SweepAxis>,
 }
 
 impl CompareRequest {
@@ -274,6 +413,10 @@ impl CompareRequest {
     pub fn validate(&self) -> Result<Settings, ScoreError> {
         let settings = self.settings.settings().map_err(RequestError::from)?;
         check_options(&self.options()).map_err(Error::Compare)?;
+        if !self.sweep.is_empty() {
+            sweep::grid(&settings, &self.sweep)
+                .map_err(|e| Error::Compare(CompareError::Sweep(e)))?;
+        }
         Ok(settings)
     }
 
@@ -317,11 +460,12 @@ impl CompareRequest {
     /// As [`CompareRequest::validate`], then [`compare_runs`]'s.
     pub fn compare(&self, progress: &dyn Progress) -> Result<Compared, ScoreError> {
         let settings = self.validate()?;
-        Ok(compare_runs(
+        Ok(compare_runs_swept(
             &self.run_inputs(),
             &self.seeds,
             &settings,
             &self.options(),
+            &self.sweep,
             progress,
         )?)
     }

@@ -17,7 +17,7 @@ use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
 use crate::model::report::{assemble, Report, RunFacts};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
-use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
+use crate::pipeline::replay::{read_telemetry, replay, replay_points, RouteContext};
 use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::Settings;
@@ -136,7 +136,54 @@ pub fn score_run_cached(
     progress: &dyn Progress,
     cache: Option<&dyn ReplayCache>,
 ) -> Result<Report, Error> {
-    settings.validate()?;
+    let mut reports = score_points(inputs, std::slice::from_ref(settings), progress, cache)?;
+    Ok(reports.remove(0))
+}
+
+/// Scores a run at several points of `sds compare --sweep` (one report per point, in order,
+/// each the report [`score_run`] gives at that point), reading the results, the route XML and
+/// the maps once and each route's telemetry once per distinct input to its preparation
+/// ([`crate::pipeline::replay::replay_points`]). The points may differ only in settings that
+/// change a route's figures ([`crate::settings::defs::sweep_names`]); the first point's decide
+/// the rest (the duplicates policy, the route set, N).
+///
+/// ```
+/// use monitor_host::{demo, Inputs, NoProgress, Settings};
+/// use monitor_host::app::run::{score_run, score_run_points};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
+/// let mut strict = Settings::default();
+/// strict.set("critical_excess", "0.3")?;
+/// let points = [Settings::default(), strict.clone()];
+/// let reports = score_run_points(&inputs, &points, &NoProgress)?;
+/// assert_eq!(reports[1].summary, score_run(&inputs, &strict)?.summary);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+///
+/// # Errors
+/// As [`score_run`] (any point's invalid settings included).
+pub fn score_run_points(
+    inputs: &Inputs,
+    points: &[Settings],
+    progress: &dyn Progress,
+) -> Result<Vec<Report>, Error> {
+    score_points(inputs, points, progress, None)
+}
+
+/// [`score_run_points`], a single point taking its replays from `cache` when given.
+fn score_points(
+    inputs: &Inputs,
+    points: &[Settings],
+    progress: &dyn Progress,
+    cache: Option<&dyn ReplayCache>,
+) -> Result<Vec<Report>, Error> {
+    let Some(settings) = points.first() else {
+        return Ok(Vec::new());
+    };
+    for p in points {
+        p.validate()?;
+    }
     if let Some(root) = &inputs.telemetry {
         check_telemetry_root(root)?;
     }
@@ -245,10 +292,9 @@ pub fn score_run_cached(
             towns.iter().flatten().map(|t| t.to_string()),
         )
     })?;
-    warnings.extend(map_warnings(&maps, &towns, settings));
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let outcomes: Vec<Option<_>> = pool.install(|| {
+    let outcomes: Vec<Option<Vec<_>>> = pool.install(|| {
         records
             .par_iter()
             .zip(&towns)
@@ -257,87 +303,144 @@ pub fn score_run_cached(
                     return None;
                 }
                 let map = town.and_then(|t| maps.get(t).ok());
-                let o = match cache {
-                    Some(c) => {
-                        c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))
+                let o = match (cache, points) {
+                    (Some(c), [_]) => {
+                        vec![c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))]
                     }
-                    None => replay(r, routes.as_ref(), map, telemetry, settings),
+                    (None, [_]) => vec![replay(r, routes.as_ref(), map, telemetry, settings)],
+                    _ => replay_points(r, routes.as_ref(), map, telemetry, points),
                 };
                 progress.route_done();
                 Some(o)
             })
             .collect()
     });
-    let Some(mut outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
+    let Some(outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
         return Err(Error::Cancelled);
     };
-    for (o, f) in outcomes.iter_mut().zip(foreign) {
-        if f {
-            o.foreign = true;
-            warnings.push(Warning::ForeignRoute {
-                route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
-                routes_file: inputs.route_xml.clone().unwrap_or_default(),
-            });
+    // One list of outcomes per point, in record order.
+    let mut per_point: Vec<Vec<RouteOutcome>> = points
+        .iter()
+        .map(|_| Vec::with_capacity(records.len()))
+        .collect();
+    for route in outcomes {
+        for (list, o) in per_point.iter_mut().zip(route) {
+            list.push(o);
         }
     }
-    let without = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.record().is_some())
-        .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
-        .count();
-    let with = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
-        .count();
-    if without > 0 && with == 0 && !settings.allow_missing_telemetry {
-        // With a root given, one route's reason shows what was looked for (and the closest
-        // folder); without one, the message itself says so.
-        let example = inputs.telemetry.as_ref().and_then(|_| {
-            outcomes
-                .iter()
-                .find_map(|o| match (&o.telemetry, o.record()) {
-                    (TelemetryState::Missing(why), Some(r)) => {
-                        Some((r.route_id.clone(), why.clone()))
-                    }
-                    _ => None,
-                })
-        });
-        warnings.push(Warning::NoTelemetry {
-            root: inputs.telemetry.clone(),
-            routes: without,
-            example,
-        });
-    }
-    // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
-    let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
-    let rows = route_rows(&outcomes, missing, settings, routes.as_ref(), &maps);
-    let provenance = Provenance::new(
-        settings,
-        files_read
-            .iter()
-            .map(|f| (f.as_path(), "results"))
-            .chain(inputs.route_xml.iter().map(|f| (f.as_path(), "routes")))
-            .chain(maps.files().iter().map(|f| (f.as_path(), "map"))),
-    );
-    let facts = RunFacts {
-        provenance,
+    let run = RunRead {
+        inputs,
+        files_read,
+        routes: routes.as_ref(),
+        set,
         n,
-        route_set: set,
-        inputs: input_reports,
+        input_reports,
         dropped: kept.dropped,
         kept: kept.kept,
         warnings,
+        maps: &maps,
+        towns: &towns,
+        foreign,
     };
-    let mut report = assemble(rows, &outcomes, settings, facts);
-    // Every input file, for front ends that must never write over one.
-    let mut files = files_read;
-    files.extend(inputs.route_xml.iter().cloned());
-    files.extend(maps.files().iter().cloned());
-    files.append(&mut report.files_read);
-    files.sort();
-    files.dedup();
-    report.files_read = files;
-    Ok(report)
+    Ok(points
+        .iter()
+        .zip(per_point)
+        .map(|(settings, outcomes)| run.report(outcomes, settings))
+        .collect())
+}
+
+/// What a run read before its routes were replayed: the rest of its report, at each point.
+struct RunRead<'a> {
+    inputs: &'a Inputs,
+    files_read: Vec<PathBuf>,
+    routes: Option<&'a crate::input::route_xml::RouteSet>,
+    set: Option<crate::input::route_set::RunRouteSet>,
+    n: usize,
+    input_reports: Vec<crate::input::stored::InputReport>,
+    dropped: Vec<crate::input::duplicates::Dropped>,
+    kept: Vec<Kept>,
+    warnings: Vec<Warning>,
+    maps: &'a TownMaps,
+    towns: &'a [Option<&'a str>],
+    foreign: Vec<bool>,
+}
+
+impl RunRead<'_> {
+    /// The report of the outcomes at one point.
+    fn report(&self, mut outcomes: Vec<RouteOutcome>, settings: &Settings) -> Report {
+        let inputs = self.inputs;
+        let maps = self.maps;
+        let set = &self.set;
+        let mut warnings = self.warnings.clone();
+        warnings.extend(map_warnings(maps, self.towns, settings));
+        for (o, f) in outcomes.iter_mut().zip(self.foreign.iter().copied()) {
+            if f {
+                o.foreign = true;
+                warnings.push(Warning::ForeignRoute {
+                    route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
+                    routes_file: inputs.route_xml.clone().unwrap_or_default(),
+                });
+            }
+        }
+        let without = outcomes
+            .iter()
+            .filter(|o| o.counted() && o.record().is_some())
+            .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
+            .count();
+        let with = outcomes
+            .iter()
+            .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
+            .count();
+        if without > 0 && with == 0 && !settings.allow_missing_telemetry {
+            // With a root given, one route's reason shows what was looked for (and the closest
+            // folder); without one, the message itself says so.
+            let example = inputs.telemetry.as_ref().and_then(|_| {
+                outcomes
+                    .iter()
+                    .find_map(|o| match (&o.telemetry, o.record()) {
+                        (TelemetryState::Missing(why), Some(r)) => {
+                            Some((r.route_id.clone(), why.clone()))
+                        }
+                        _ => None,
+                    })
+            });
+            warnings.push(Warning::NoTelemetry {
+                root: inputs.telemetry.clone(),
+                routes: without,
+                example,
+            });
+        }
+        // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
+        let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
+        let rows = route_rows(&outcomes, missing, settings, self.routes, maps);
+        let provenance = Provenance::new(
+            settings,
+            self.files_read
+                .iter()
+                .map(|f| (f.as_path(), "results"))
+                .chain(inputs.route_xml.iter().map(|f| (f.as_path(), "routes")))
+                .chain(maps.files().iter().map(|f| (f.as_path(), "map"))),
+        );
+        let facts = RunFacts {
+            provenance,
+            n: self.n,
+            route_set: set.clone(),
+            inputs: self.input_reports.clone(),
+            dropped: self.dropped.clone(),
+            kept: self.kept.clone(),
+            warnings,
+        };
+        let mut report = assemble(rows, &outcomes, settings, facts);
+        // Every input file, for front ends that must never write over one.
+        let mut files = self.files_read.clone();
+        files.extend(inputs.route_xml.iter().cloned());
+        files.extend(maps.files().iter().cloned());
+        files.append(&mut report.files_read);
+        files.sort();
+        files.dedup();
+        report.files_read = files;
+        report
+    }
 }
 
 /// A telemetry root that does not exist is a mistyped path, not a run without telemetry.

@@ -405,6 +405,120 @@ pub fn replay(
     out
 }
 
+/// [`replay`] at several points of `sds compare --sweep` (one [`RouteOutcome`] per point, in
+/// order), doing each stage once per distinct input to it ([`crate::settings::defs::Sweep`]): a
+/// point that moves only penalty factors takes an earlier point's counts and computes DS_safe
+/// again; one that moves only what the monitor reads streams an earlier point's prepared frames
+/// again; any other point reads and prepares the telemetry again. Each outcome is the one
+/// [`replay`] gives at that point.
+pub fn replay_points(
+    loaded: &LoadedRecord,
+    routes: Option<&RouteSet>,
+    map: Option<&Map>,
+    telemetry_root: Option<&Path>,
+    points: &[Settings],
+) -> Vec<RouteOutcome> {
+    use crate::settings::defs::Sweep;
+    let Ok(record) = &loaded.entry else {
+        return points.iter().map(|_| unreplayed(loaded)).collect();
+    };
+    let has_route = routes
+        .zip(record.xml_id())
+        .is_some_and(|(set, id)| set.get(id).is_some());
+    // Telemetry read at a point (by index), with what reading it said.
+    type Read = (
+        usize,
+        Result<RouteTelemetry, TelemetryState>,
+        Vec<Warning>,
+        Vec<PathBuf>,
+    );
+    let mut reads: Vec<Read> = Vec::new();
+    let mut outs: Vec<RouteOutcome> = Vec::with_capacity(points.len());
+    for (i, settings) in points.iter().enumerate() {
+        if let Some(j) = (0..i).find(|&j| points[j].sweep_stage(settings) <= Sweep::Factors) {
+            let mut out = outs[j].clone();
+            rescore(&mut out, record, settings);
+            outs.push(out);
+            continue;
+        }
+        let earlier = reads
+            .iter()
+            .find(|(j, ..)| points[*j].sweep_stage(settings) <= Sweep::Monitor);
+        let mut out = match earlier {
+            Some((_, read, warnings, files)) => replay_read(
+                unreplayed(loaded),
+                record,
+                has_route,
+                map.is_some(),
+                settings,
+                |w, f| {
+                    w.extend(warnings.iter().cloned());
+                    f.extend(files.iter().cloned());
+                    // The same frames under this point's monitor settings (the period stays).
+                    read.clone().map(|mut t| {
+                        let dt = t.settings.core.dt;
+                        t.settings = settings.clone();
+                        t.settings.core.dt = dt;
+                        t
+                    })
+                },
+            ),
+            None => {
+                let context = RouteContext {
+                    routes,
+                    map,
+                    telemetry_root,
+                    settings,
+                    keep_lateral: false,
+                };
+                let mut kept = None;
+                let out = replay_read(
+                    unreplayed(loaded),
+                    record,
+                    has_route,
+                    map.is_some(),
+                    settings,
+                    |w, f| {
+                        let (mut warnings, mut files) = (Vec::new(), Vec::new());
+                        let read =
+                            read_telemetry(loaded, record, context, &mut warnings, &mut files);
+                        w.extend(warnings.iter().cloned());
+                        f.extend(files.iter().cloned());
+                        kept = Some((read.clone(), warnings, files));
+                        read
+                    },
+                );
+                if let Some((read, warnings, files)) = kept {
+                    reads.push((i, read, warnings, files));
+                }
+                out
+            }
+        };
+        if matches!(out.telemetry, TelemetryState::Missing(_)) {
+            out.looked_in = discovery::looked_in(
+                telemetry_root,
+                record.save_name.as_deref(),
+                &loaded.source,
+                loaded.records_in_file == 1,
+            );
+        }
+        outs.push(out);
+    }
+    outs
+}
+
+/// DS_safe again under `settings`' penalty factors, from the route's counts.
+fn rescore(out: &mut RouteOutcome, record: &Record, settings: &Settings) {
+    if let Some(s) = &out.summary {
+        let scores = RecordScores {
+            score_route: record.score_route,
+            score_penalty: record.score_penalty,
+            workzone: out.workzone,
+        };
+        out.safe = Some(score::ds_safe(s, &scores, &settings.core.factors));
+    }
+}
+
 /// The part of [`replay`] after the telemetry is located: `read` gives the route's telemetry
 /// (or why there is none), which is streamed, scored and checked. A vehicle log (v1.4 §16)
 /// comes in here with telemetry made from its messages.

@@ -201,5 +201,7 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     let mut out = vec![b2d, t1, paired, flips];
     // v1.4 §14: the ranking, the seeds line and the flaky routes.
     out.extend(crate::report::seeds_table::seed_tables(c));
+    // v1.5 §18: the sweep, one row per point.
+    out.extend(crate::report::sweep_table::sweep_tables(c));
     out
 }

@@ -25,6 +25,9 @@ use crate::RouteFrames;
 /// The file names `--tables DIR` writes.
 pub const TABLE_NAMES: [&str; 3] = ["routes.csv", "events.csv", "frames.csv"];
 
+/// The file `sds compare --sweep --tables DIR` writes beside `routes.csv` and `events.csv`.
+pub const SWEEP_TABLE: &str = "sweep.csv";
+
 /// A JSON value with its object keys in the order of the text (serde_json's own `Value` sorts
 /// them unless its `preserve_order` feature is on, which would change other outputs).
 #[derive(Clone, Debug, PartialEq)]
@@ -420,6 +423,8 @@ pub struct LongTables {
     /// (0-based, the `frame` of the events), `time` (s from the route's first frame), then the
     /// fields of `sds frames`; `None` for a comparison.
     pub frames: Option<Table>,
+    /// With `sds compare --sweep`: one row per point and model ([`sweep_table`]).
+    pub sweep: Option<Table>,
 }
 
 impl LongTables {
@@ -435,6 +440,9 @@ impl LongTables {
         ];
         if let Some(f) = &self.frames {
             files.push((TABLE_NAMES[2], f.csv()?));
+        }
+        if let Some(t) = &self.sweep {
+            files.push((SWEEP_TABLE, t.csv()?));
         }
         Ok(files)
     }
@@ -475,7 +483,68 @@ pub fn compare_tables(runs: &[(&str, &str, &Report)]) -> Result<LongTables, Stri
             &borrow(&events),
         ),
         frames: None,
+        sweep: None,
     })
+}
+
+/// The `sweep` table of `sds compare --sweep` (v1.5 §18): one row per point and model, `point`
+/// (its index in the report's `sweep.points`), each swept setting's value (a column named after
+/// the setting), then `model`, `ds_safe`, `comfort`, `sds`, `rank`; the cells are the JSON's.
+///
+/// ```
+/// use monitor_host::report::long_tables::sweep_table;
+/// use monitor_host::settings::defs::Value;
+/// use monitor_host::stats::sweep::report;
+/// let at = vec![("critical_excess".to_string(), Value::F32(0.5))];
+/// let s = report(&["critical_excess".into()], &["a".into(), "b".into()],
+///     vec![(at, vec![[Some(60.0), Some(0.9), Some(54.0)], [None, None, None]])]);
+/// let t = sweep_table(&s);
+/// assert_eq!(t.columns, ["point", "critical_excess", "model", "ds_safe", "comfort", "sds", "rank"]);
+/// assert_eq!(t.rows[0], ["0", "0.5", "a", "60.0", "0.9", "54.0", "1"]);
+/// assert_eq!(t.rows[1][3..], ["", "", "", ""]);
+/// ```
+pub fn sweep_table(s: &crate::stats::sweep::SweepReport) -> Table {
+    let number = |x: Option<f64>| {
+        x.and_then(serde_json::Number::from_f64)
+            .map_or_else(String::new, |n| n.to_string())
+    };
+    let value = |v: &crate::settings::defs::Value| match serde_json::to_value(v) {
+        Ok(serde_json::Value::String(t)) => csv_cell(&t).into_owned(),
+        Ok(serde_json::Value::Null) | Err(_) => String::new(),
+        Ok(other) => csv_cell(&other.to_string()).into_owned(),
+    };
+    let columns: Vec<String> = ["point"]
+        .into_iter()
+        .map(String::from)
+        .chain(s.settings.iter().cloned())
+        .chain(
+            ["model", "ds_safe", "comfort", "sds", "rank"]
+                .into_iter()
+                .map(String::from),
+        )
+        .collect();
+    let mut rows = Vec::new();
+    for (i, p) in s.points.iter().enumerate() {
+        for m in &p.models {
+            rows.push(
+                std::iter::once(i.to_string())
+                    .chain(p.values.iter().map(|(_, v)| value(v)))
+                    .chain([
+                        csv_cell(&m.model).into_owned(),
+                        number(m.ds_safe),
+                        number(m.comfort),
+                        number(m.sds),
+                        m.rank.map_or_else(String::new, |r| r.to_string()),
+                    ])
+                    .collect(),
+            );
+        }
+    }
+    Table {
+        columns,
+        rows,
+        body: Vec::new(),
+    }
 }
 
 /// The long tables of a run: `report` and the frames of its routes ([`crate::run_frames`],
@@ -524,6 +593,7 @@ pub fn long_tables(
             &borrow(&events),
         ),
         frames: Some(frames),
+        sweep: None,
     })
 }
 

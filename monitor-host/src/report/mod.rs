@@ -37,6 +37,7 @@ pub mod rerun_list;
 pub mod route_chart;
 pub mod seeds_table;
 pub mod status;
+pub mod sweep_table;
 pub mod table;
 pub mod trace_csv;
 pub mod waterfall;

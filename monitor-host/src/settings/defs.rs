@@ -32,6 +32,71 @@ pub struct SettingDef {
     pub(super) get: fn(&Settings) -> Value,
     /// Part of the report's `config` block (`false`: a setting that never changes a number).
     pub in_config: bool,
+    /// What `sds compare --sweep` redoes when only this setting moves ([`Sweep`]); by default
+    /// from the group ([`Sweep::of_group`]).
+    pub sweep: Sweep,
+}
+
+/// What a point of `sds compare --sweep` must redo when a setting moves: the deepest stage of
+/// the replay that reads it. A sweep re-uses every stage above it (docs/SCORE.md, "The sweep").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Sweep {
+    /// Changes no route's DS_safe, comfort or SDS (protocols, aggregates, events, run
+    /// handling): refused as a sweep setting.
+    No,
+    /// A penalty factor: each route's monitor counts stay; only DS_safe is computed again.
+    Factors,
+    /// Read by the monitor alone (comfort bounds, the lateral bands, the deceleration rule):
+    /// the prepared frames stay; they are streamed through the monitor again.
+    Monitor,
+    /// Read when the telemetry is prepared (lateral reference, slack, alignment, chunking of
+    /// the motion figures, step period): the telemetry is read and replayed again.
+    Replay,
+}
+
+impl Sweep {
+    /// The default of a group: `penalty` → [`Sweep::Factors`]; `reference`, `comfort`,
+    /// `collisions` → [`Sweep::Replay`] (a row read by the monitor alone says
+    /// [`Sweep::Monitor`]); every other group → [`Sweep::No`].
+    pub const fn of_group(group: &str) -> Sweep {
+        match group.as_bytes() {
+            b"penalty" => Sweep::Factors,
+            b"reference" | b"comfort" | b"collisions" => Sweep::Replay,
+            _ => Sweep::No,
+        }
+    }
+}
+
+/// A row whose setting only the monitor reads (a sweep streams the prepared frames again).
+const fn monitor_only(d: SettingDef) -> SettingDef {
+    SettingDef {
+        sweep: Sweep::Monitor,
+        ..d
+    }
+}
+
+/// A row whose setting changes the figures although its group does not say so (the step period).
+const fn replayed(d: SettingDef) -> SettingDef {
+    SettingDef {
+        sweep: Sweep::Replay,
+        ..d
+    }
+}
+
+/// The settings `sds compare --sweep` takes, in the table's order: those that change a route's
+/// figures ([`SettingDef::sweep`] not [`Sweep::No`]).
+///
+/// ```
+/// use monitor_host::settings::defs::sweep_names;
+/// assert!(sweep_names().contains(&"critical_excess"));
+/// assert!(!sweep_names().contains(&"protocols"));
+/// ```
+pub fn sweep_names() -> Vec<&'static str> {
+    SETTINGS
+        .iter()
+        .filter(|d| d.sweep != Sweep::No)
+        .map(|d| d.name)
+        .collect()
 }
 
 /// A setting's value, typed: [`Settings::get`] prints it as a person writes it, the `config`
@@ -129,6 +194,7 @@ macro_rules! row {
             set: $set,
             get: $get,
             in_config: true,
+            sweep: Sweep::of_group($group),
         }
     };
     ($name:literal, $group:literal, $unit:literal, $doc:literal, $decision:literal,
@@ -174,35 +240,55 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("align_tie", "collisions", "m",
         "frames this close to the smallest distance tie; the earliest wins",
         "**decision**", f64 align_tie),
-    row!("allow_missing_telemetry", "run", "",
+    replayed(row!("allow_missing_telemetry", "run", "",
         "score routes without telemetry without telemetry terms",
-        "", bool allow_missing_telemetry),
-    row!("anomalous_excess", "reference", "m",
+        "", bool allow_missing_telemetry)),
+    monitor_only(row!("anomalous_excess", "reference", "m",
         "anomalous band's lower edge, exclusive (section 7)",
-        "**decision**: exclusive bands", f32 core.anomalous_excess),
-    row!("bounds.lat_acc", "comfort", "m/s²", "comfort bound `\\|lat\\| < lat_acc` (section 5.4)", "",
+        "**decision**: exclusive bands", f32 core.anomalous_excess)),
+    monitor_only(
+        row!("bounds.lat_acc", "comfort", "m/s²", "comfort bound `\\|lat\\| < lat_acc` (section 5.4)", "",
         f32 core.bounds.lat_acc),
-    row!("bounds.lon_acc_max", "comfort", "m/s²", "comfort bound `lon < lon_acc_max` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.lon_acc_max", "comfort", "m/s²", "comfort bound `lon < lon_acc_max` (section 5.4)", "",
         f32 core.bounds.lon_acc_max),
-    row!("bounds.lon_acc_min", "comfort", "m/s²", "comfort bound `lon_acc_min < lon` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.lon_acc_min", "comfort", "m/s²", "comfort bound `lon_acc_min < lon` (section 5.4)", "",
         f32 core.bounds.lon_acc_min),
-    row!("bounds.lon_jerk", "comfort", "m/s³", "comfort bound `\\|longitudinal jerk\\| < lon_jerk` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.lon_jerk", "comfort", "m/s³", "comfort bound `\\|longitudinal jerk\\| < lon_jerk` (section 5.4)", "",
         f32 core.bounds.lon_jerk),
-    row!("bounds.mag_jerk", "comfort", "m/s³", "comfort bound `\\|jerk magnitude\\| < mag_jerk` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.mag_jerk", "comfort", "m/s³", "comfort bound `\\|jerk magnitude\\| < mag_jerk` (section 5.4)", "",
         f32 core.bounds.mag_jerk),
-    row!("bounds.yaw_acc", "comfort", "rad/s²", "comfort bound `\\|yaw acceleration\\| < yaw_acc` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.yaw_acc", "comfort", "rad/s²", "comfort bound `\\|yaw acceleration\\| < yaw_acc` (section 5.4)", "",
         f32 core.bounds.yaw_acc),
-    row!("bounds.yaw_rate", "comfort", "rad/s", "comfort bound `\\|yaw rate\\| < yaw_rate` (section 5.4)", "",
+    ),
+    monitor_only(
+        row!("bounds.yaw_rate", "comfort", "rad/s", "comfort bound `\\|yaw rate\\| < yaw_rate` (section 5.4)", "",
         f32 core.bounds.yaw_rate),
+    ),
     row!("chunk_len", "comfort", "frames", "chunk length (section 4); at most 20", "",
         u16 core.chunk_len),
-    row!("critical_excess", "reference", "m", "critical above this (section 7)",
+    monitor_only(
+        row!("critical_excess", "reference", "m", "critical above this (section 7)",
         "**decision**: exclusive bands", f32 core.critical_excess),
-    row!("decel_threshold", "collisions", "m/s²", "`a_lon` at or below this is deceleration",
+    ),
+    monitor_only(
+        row!("decel_threshold", "collisions", "m/s²", "`a_lon` at or below this is deceleration",
         "**decision**", f32 core.decel_threshold),
-    row!("decel_window", "collisions", "frames", "frames before a collision searched (section 6.2); at most 20", "",
+    ),
+    monitor_only(
+        row!("decel_window", "collisions", "frames", "frames before a collision searched (section 6.2); at most 20", "",
         u16 core.decel_window),
-    row!(@ "dt", "run", "s",
+    ),
+    replayed(row!(@ "dt", "run", "s",
         "step period where none is inferred; setting it fixes the period of every route (and turns `dt_inference` off)",
         "(20 Hz CARLA ticks; section 14.2)",
         |s, k, v| {
@@ -211,10 +297,10 @@ pub const SETTINGS: &[SettingDef] = &[
             s.dt_inference = false;
             Ok(())
         },
-        |s| Value::F32(s.core.dt)),
-    row!("dt_inference", "run", "",
+        |s| Value::F32(s.core.dt))),
+    replayed(row!("dt_inference", "run", "",
         "infer each route's step period from its record (section 14.2); setting `dt` turns it off",
-        "**decision**", bool dt_inference),
+        "**decision**", bool dt_inference)),
     row!("duplicates", "run", "",
         "which copy of a duplicated route id is scored: `error`, `first`, `last`, `newest`, `all` (section 14.1)",
         "**decision**", named DuplicatePolicy duplicates),
@@ -270,8 +356,10 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("lateral_reference", "reference", "",
         "`route` (junction gaps filled by the map) or `lane` (nearest lane; needs a map) (section 14.3)",
         "**decision**", named LateralReference lateral_reference),
-    row!("legacy_jerk_spacing", "comfort", "s", "jerk spacing of `b2d-legacy`",
+    monitor_only(
+        row!("legacy_jerk_spacing", "comfort", "s", "jerk spacing of `b2d-legacy`",
         "reproduces Bench2Drive", f32 core.legacy_jerk_spacing),
+    ),
     row!("lookahead", "reference", "m", "forward-search window of `lat_err` (section 3)",
         "**decision**: bounded forward search", f64 lookahead),
     row!("min_chunk", "comfort", "frames", "fewest frames with a comfort chunk; at least 7",
@@ -285,10 +373,14 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("motion.stationary_speed", "aggregates", "m/s",
         "a frame slower than this stands still (`stationary_share`, section 10.0)",
         "**decision**", f64 motion.stationary_speed),
-    row!("penalty_flavour", "penalty", "",
-        "factors of the penalty check (section 9.2): `bench2drive` or `leaderboard20`", "",
-        named PenaltyFlavour penalty_flavour),
-    row!(@ "profile", "comfort", "",
+    SettingDef {
+        // The penalty check only reports; it never changes a score.
+        sweep: Sweep::No,
+        ..row!("penalty_flavour", "penalty", "",
+            "factors of the penalty check (section 9.2): `bench2drive` or `leaderboard20`", "",
+            named PenaltyFlavour penalty_flavour)
+    },
+    monitor_only(row!(@ "profile", "comfort", "",
         "comfort profile (section 5): `physical`, `b2d-legacy` or `autoware` (section 5.3a)",
         "**decision**: physical units by default",
         |s, k, v| {
@@ -306,7 +398,7 @@ pub const SETTINGS: &[SettingDef] = &[
             c.profile = profile;
             Ok(())
         },
-        |s| Value::Name(s.core.profile.name())),
+        |s| Value::Name(s.core.profile.name()))),
     row!(@ "protocols", "protocols", "",
         "scoring protocols added to the report: `all`, `none`, or ids of `b2d`, `lb2.0`, `lb2.1`, `lead-nds`, `f2d` ([PROTOCOLS.md](PROTOCOLS.md))",
         "",
@@ -338,8 +430,10 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("slack", "reference", "m",
         "lane half width − ego half width (section 3) where no map gives the lane",
         "**decision**: \"excess\" = how far the ego's side left its lane", f32 core.slack),
-    row!("stationary_speed", "collisions", "m/s", "a collision below this speed is exempt",
+    monitor_only(
+        row!("stationary_speed", "collisions", "m/s", "a collision below this speed is exempt",
         "**decision**", f32 core.stationary_speed),
+    ),
 ];
 
 /// What the `protocols` setting takes.
@@ -365,6 +459,27 @@ pub(super) const NAMES: [&str; SETTINGS.len()] = {
 /// The row of a setting.
 pub fn def(name: &str) -> Option<&'static SettingDef> {
     SETTINGS.iter().find(|d| d.name == name)
+}
+
+/// The sweep's list of docs/SCORE.md: per stage a sweep redoes ([`Sweep`]), the settings of
+/// that stage, from the rows.
+pub fn sweep_markdown() -> String {
+    let stage = |s: Sweep| -> String {
+        SETTINGS
+            .iter()
+            .filter(|d| d.sweep == s)
+            .map(|d| format!("`{}`", d.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    format!(
+        "- penalty factors, each route's counts re-used and DS_safe computed again: {}\n\
+         - read by the monitor alone, the prepared frames streamed again: {}\n\
+         - read when the telemetry is prepared, the telemetry read and replayed again: {}\n",
+        stage(Sweep::Factors),
+        stage(Sweep::Monitor),
+        stage(Sweep::Replay)
+    )
 }
 
 /// The settings table of docs/SCORE.md: one row per setting, its default read from

@@ -252,6 +252,43 @@ impl Settings {
         defs::def(name).map(|d| (d.get)(self).text())
     }
 
+    /// The deepest stage of a route's replay that differs between `self` and `other`
+    /// ([`defs::Sweep`], from each row's `sweep`): [`defs::Sweep::No`] when no setting differs;
+    /// a differing setting that changes no figure counts as [`defs::Sweep::Replay`] (nothing is
+    /// re-used across it).
+    ///
+    /// ```
+    /// use monitor_host::settings::defs::Sweep;
+    /// use monitor_host::Settings;
+    /// let a = Settings::default();
+    /// let mut b = a.clone();
+    /// b.set("factors.critical", "0.8")?;
+    /// assert_eq!(a.sweep_stage(&b), Sweep::Factors);
+    /// b.set("critical_excess", "0.5")?;
+    /// assert_eq!(a.sweep_stage(&b), Sweep::Monitor);
+    /// b.set("gap_max", "6")?;
+    /// assert_eq!(a.sweep_stage(&b), Sweep::Replay);
+    /// # Ok::<(), monitor_host::SettingsError>(())
+    /// ```
+    pub fn sweep_stage(&self, other: &Settings) -> defs::Sweep {
+        use defs::Sweep;
+        let rows = defs::SETTINGS
+            .iter()
+            .filter(|d| (d.get)(self) != (d.get)(other))
+            .map(|d| match d.sweep {
+                Sweep::No => Sweep::Replay,
+                s => s,
+            });
+        // The worker threads are no row: they never change a number.
+        rows.max().unwrap_or(Sweep::No)
+    }
+
+    /// The value of a setting, typed (as the report's `config` block writes it), or `None` for
+    /// an unknown name.
+    pub fn value(&self, name: &str) -> Option<defs::Value> {
+        defs::def(name).map(|d| (d.get)(self))
+    }
+
     /// Checks the whole: the core's [`Config::validate`] for the default monitor capacity, and
     /// the host's distances.
     ///
@@ -722,6 +759,34 @@ mod tests {
             "docs/SCORE.md's settings table: rerun with SDS_BLESS=1"
         );
         assert_eq!(defs::SETTINGS.len(), Settings::NAMES.len());
+    }
+
+    /// docs/SCORE.md's list of the settings a sweep takes is [`defs::sweep_markdown`], from the
+    /// rows' `sweep` column (`SDS_BLESS=1` rewrites).
+    #[test]
+    fn score_md_sweep_list_is_generated_from_the_table() {
+        const START: &str = "<!-- sweep settings: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n";
+        const END: &str = "<!-- end of sweep settings -->";
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/SCORE.md");
+        let Ok(doc) = std::fs::read_to_string(&path) else {
+            eprintln!(
+                "skipped: {} not found (the crate outside its repository)",
+                path.display()
+            );
+            return;
+        };
+        let a = doc.find(START).expect("the list's start marker") + START.len();
+        let b = a + doc[a..].find(END).expect("the list's end marker");
+        let list = defs::sweep_markdown();
+        if std::env::var_os("SDS_BLESS").is_some() {
+            std::fs::write(&path, format!("{}{list}{}", &doc[..a], &doc[b..])).unwrap();
+            return;
+        }
+        assert_eq!(
+            doc[a..b],
+            list,
+            "docs/SCORE.md's sweep list: rerun with SDS_BLESS=1"
+        );
     }
 
     #[test]

@@ -37,6 +37,7 @@ pub mod route_values;
 pub mod seeds;
 pub mod splitmix;
 pub mod stat;
+pub mod sweep;
 
 use std::collections::HashSet;
 
@@ -200,6 +201,9 @@ pub enum CompareError {
         /// Per run, how many of those keys it lacks.
         per_run: Vec<(String, usize)>,
     },
+    /// A sweep refused (`--sweep`): its setting, a value, or the grid's size.
+    #[error("{0}")]
+    Sweep(sweep::SweepError),
 }
 
 /// One line of the paired table.
@@ -260,6 +264,10 @@ pub struct Comparison {
     /// rank, ties by name.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ranking: Option<Vec<rank::RankRow>>,
+    /// With `--sweep` (v1.5 §18): every model's figures at every point of the grid, the range
+    /// of its SDS, and whether each pair's order holds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sweep: Option<sweep::SweepReport>,
     /// The settings of the comparison.
     pub config: CompareOptions,
     /// What a reader should know (grouping, one-seed intervals, left-out routes).
@@ -642,6 +650,7 @@ pub fn compare_cancellable(
         routes: route_rows,
         metrics,
         ranking,
+        sweep: None,
         config: options.clone(),
         notes,
         warnings,
@@ -705,6 +714,39 @@ fn check(models: &[Model], options: &CompareOptions) -> Result<(), CompareError>
         }
     }
     Ok(())
+}
+
+/// The route keys every report holds, and whether some report holds others (then, under
+/// `common_routes`, each run is aggregated over the shared keys only): as [`compare`] decides.
+pub(crate) fn shared_keys(reports: &[&Report]) -> (HashSet<String>, bool) {
+    let sets: Vec<HashSet<&str>> = reports
+        .iter()
+        .map(|r| {
+            counted_routes(&r.routes)
+                .filter_map(|r| r.route_id.as_deref().map(route_key))
+                .collect()
+        })
+        .collect();
+    let all: HashSet<&str> = sets.iter().flatten().copied().collect();
+    let shared: HashSet<String> = all
+        .iter()
+        .filter(|k| sets.iter().all(|s| s.contains(*k)))
+        .map(|k| k.to_string())
+        .collect();
+    let differs = shared.len() != all.len();
+    (shared, differs)
+}
+
+/// A run's DS_safe, comfort and SDS as [`compare`]'s model rows aggregate them (`shared`,
+/// `common` from [`shared_keys`]).
+pub(crate) fn run_figures(
+    report: &Report,
+    shared: &HashSet<String>,
+    common: bool,
+) -> [Option<f64>; 3] {
+    let shared: HashSet<&str> = shared.iter().map(String::as_str).collect();
+    let s = aggregate(report, &shared, common).scores;
+    [s.mean_ds_safe, s.mean_comfort, s.sds]
 }
 
 /// A run's aggregates over the compared routes: its whole route set (over its own N) when every

@@ -35,6 +35,7 @@ def compare(
     repro_halfwidth: float = 1.0,
     progress: Optional[Callable[[int, int], Any]] = None,
     route_subset: Optional[Literal["all", "found"]] = None,
+    sweep: Optional[Mapping[str, Sequence[Union[str, int, float, bool]]]] = None,
 ) -> Dict[str, Any]:
     """Compares runs route by route; returns the ``sds-compare/1`` report as a dict.
 
@@ -80,6 +81,13 @@ def compare(
         progress: Called with ``(done, total)`` after each route of the run being scored (the
             count starts again with each run); an exception it raises stops the comparison
             between routes and is raised here.
+        sweep: Setting name -> its values (``--sweep NAME=V1,V2,...``): every model is scored
+            at every point of the grid (the product of the lists, at most 64 points; a setting
+            that changes a route's figures, e.g. ``{"critical_excess": [0.5, 0.65, 0.8]}``).
+            The report's ``sweep`` holds ``settings``, ``points`` (each point's ``values`` and
+            every model's ``ds_safe``, ``comfort``, ``sds``, ``rank``), ``pairs`` (``a``,
+            ``b``, ``order_stable``, ``flips``: point indices) and ``ranges`` (each model's
+            ``sds_min``, ``sds_max``).
 
     Returns:
         ``schema``, ``baseline``, ``models`` (mean and std over seeds), ``paired`` (``model``,
@@ -87,8 +95,8 @@ def compare(
         ``scope``, ``routes`` (per route key, each model's values), ``config``, ``notes``,
         ``warnings``; each model also has its seeds' figures (``routes`` with ``ds_mean``,
         ``ds_std``, ``ds_min``, ``ds_max``, ``success_share`` per route, ``flaky_routes``,
-        ``seed_ds``, ``seed_std``, ``seeds_needed``), and with ``rank`` the report has
-        ``ranking``.
+        ``seed_ds``, ``seed_std``, ``seeds_needed``), with ``rank`` the report has
+        ``ranking``, and with ``sweep`` it has ``sweep``.
 
     Warns:
         SdsWarning: Each warning ``sds compare`` prints: each run's report's (``"<run>: ..."``;
@@ -96,7 +104,9 @@ def compare(
             ``warnings``, at the caller's line.
 
     Raises:
-        ConfigError: Fewer than two models, a bad name in ``seeds`` or ``baseline``, an
+        ConfigError: A ``sweep`` setting that does not exist or changes no route's figures
+            (the message lists those that do), a value it refuses, more than 64 points;
+            fewer than two models, a bad name in ``seeds`` or ``baseline``, an
             unknown metric, route sets that differ without ``common_routes``,
             ``bootstrap_samples`` out of range, a ``repro_halfwidth`` not above 0; an invalid
             ``profile``, ``settings`` or ``protocols``.
@@ -109,11 +119,18 @@ def compare(
         >>> [p["verdict"] for p in c["paired"] if p["metric"] == "ds"]  # doctest: +SKIP
         >>> c = sds.compare({"ep10": "ep10/", "ep20": "ep20/", "ep30": "ep30/"}, rank=True)
         >>> [(r["model"], r["rank"], r["rank_ci95"]) for r in c["ranking"]]  # doctest: +SKIP
+        >>> c = sds.compare({"a": "a/", "b": "b/"}, sweep={"critical_excess": [0.5, 0.65]})
+        >>> [p["order_stable"] for p in c["sweep"]["pairs"]]  # doctest: +SKIP
     """
     if isinstance(fail_if_worse, str):
         raise ConfigError(
             f"fail_if_worse={fail_if_worse!r}: expected a list of metrics, e.g. ['ds']"
         )
+    for name, values in (sweep or {}).items():
+        if isinstance(values, (str, bytes)):
+            raise ConfigError(
+                f"sweep[{name!r}]={values!r}: expected a list of values, e.g. [0.5, 0.65]"
+            )
     pairs: List[Tuple[str, str, Optional[str]]] = []
     for name, run in runs.items():
         if isinstance(run, tuple):
@@ -146,6 +163,7 @@ def compare(
         "rank": bool(rank),
         "repro_halfwidth": float(repro_halfwidth),
         "progress": progress,
+        "sweep": None if sweep is None else {k: list(v) for k, v in sweep.items()},
     }
     report, warned = _sds.compare(pairs, options)
     warn_each(warned)

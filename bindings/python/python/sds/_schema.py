@@ -137,7 +137,14 @@ TYPES: Dict[str, Dict[str, str]] = {'routes': {'run': 'string',
             'host.lat_err': 'float',
             'host.reference': 'string',
             'host.slack': 'float',
-            'host.step': 'int'}}
+            'host.step': 'int'},
+ 'sweep': {'point': 'int',
+           '<setting>': 'string',
+           'model': 'string',
+           'ds_safe': 'float',
+           'comfort': 'float',
+           'sds': 'float',
+           'rank': 'int'}}
 
 
 def column_type(table: str, column: str) -> Optional[str]:

@@ -72,6 +72,7 @@ pub fn compare_page(c: &Comparison, models: &[Model]) -> String {
     body.push_str(&forest::svg(c));
     body.push_str("</div>\n");
     body.push_str(&super::seeds::section(c));
+    body.push_str(&super::sweep::section(c));
     per_route(&mut body, c, models);
     body.push_str("<h2>Runs</h2>\n");
     for m in models {

@@ -14,6 +14,7 @@ mod page;
 mod pictures;
 mod routes;
 pub mod seeds;
+pub mod sweep;
 mod timeline;
 
 use crate::report::table::{self, TableOptions};

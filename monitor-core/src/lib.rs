@@ -1,7 +1,7 @@
 //! # monitor-core
 //!
 //! A `#![no_std]`, allocation-free streaming monitor for the **SafeDriving Score** (SDS) of the
-//! Safe2Drive paper, exactly as `SDS-SPEC.md` v1.2 defines it. It consumes one telemetry frame at
+//! Safe2Drive paper, exactly as the project's definition (v1.5, explained in `docs/SCORE.md`) gives it. It consumes one telemetry frame at
 //! a time in fixed memory and bounded time, so the same code runs next to a vehicle stack on a
 //! Cortex-M microcontroller and inside the host replay tool.
 //!

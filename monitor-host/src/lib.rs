@@ -3,7 +3,7 @@
 //! The library behind the `sds` tool: reads real Bench2Drive / CARLA Leaderboard 2.0 artifacts,
 //! turns each route's telemetry into [`monitor_core::Frame`]s, streams them through
 //! [`monitor_core::Monitor`], checks every route against a batch reference, and reports per-route
-//! and benchmark scores as `SDS-SPEC.md` v1.2 defines them.
+//! and benchmark scores as the project's definition (v1.5, `docs/SCORE.md`) gives them.
 //!
 //! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress);
 //! the front ends call the typed requests of [`app`] around it. The `sds` binary, the tests and

@@ -15,11 +15,13 @@ use crate::input::results_file::{read_results, InputFile, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
 use crate::input::stored::check_inputs;
-use crate::model::report::{assemble, Report, RunFacts};
+use crate::model::report::{assemble_rows, Report, RunFacts};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
 use crate::provenance::Provenance;
-use crate::route::row::route_rows;
+use crate::geometry::town_maps::TownMaps as Maps;
+use crate::input::route_xml::RouteSet;
+use crate::route::row::{outcome_row, route_rows, RouteReport};
 use crate::settings::Settings;
 
 use crate::input::warning::Warning;
@@ -226,6 +228,10 @@ pub fn score_run_cached(
         });
     }
     let input_reports = check_inputs(&sets, &all, n, &mut warnings);
+    // Every copy of the records but the kept ones is done with: a run's memory holds one record
+    // per route while it replays.
+    drop(all);
+    drop(sets);
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.worker_threads(records.len()))
@@ -248,60 +254,51 @@ pub fn score_run_cached(
     warnings.extend(map_warnings(&maps, &towns, settings));
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let outcomes: Vec<Option<_>> = pool.install(|| {
+    let xml = routes.as_ref();
+    let done: Vec<Option<Done>> = pool.install(|| {
         records
             .par_iter()
             .zip(&towns)
-            .map(|(r, town)| {
+            .zip(&foreign)
+            .map(|((r, town), &foreign)| {
                 if progress.cancelled() {
                     return None;
                 }
                 let map = town.and_then(|t| maps.get(t).ok());
-                let o = match cache {
-                    Some(c) => {
-                        c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))
-                    }
-                    None => replay(r, routes.as_ref(), map, telemetry, settings),
+                let mut o = match cache {
+                    Some(c) => c.replay(r, &|| replay(r, xml, map, telemetry, settings)),
+                    None => replay(r, xml, map, telemetry, settings),
                 };
+                o.foreign = foreign;
+                // The route's row now, and the outcome dropped: what a run holds per route is
+                // its row, not its timeline or record.
+                let done = Done::of(o, settings, xml, &maps);
+                release_freed_pages();
                 progress.route_done();
-                Some(o)
+                Some(done)
             })
             .collect()
     });
-    let Some(mut outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
+    drop(towns);
+    drop(records);
+    let Some(done) = done.into_iter().collect::<Option<Vec<_>>>() else {
         return Err(Error::Cancelled);
     };
-    for (o, f) in outcomes.iter_mut().zip(foreign) {
-        if f {
-            o.foreign = true;
-            warnings.push(Warning::ForeignRoute {
-                route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
-                routes_file: inputs.route_xml.clone().unwrap_or_default(),
-            });
-        }
+    for d in done.iter().filter(|d| d.foreign) {
+        warnings.push(Warning::ForeignRoute {
+            route: d.route_id.clone().unwrap_or_default(),
+            routes_file: inputs.route_xml.clone().unwrap_or_default(),
+        });
     }
-    let without = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.record().is_some())
-        .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
-        .count();
-    let with = outcomes
-        .iter()
-        .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
-        .count();
+    let without = done.iter().filter(|d| !d.foreign && d.missing.is_some()).count();
+    let with = done.iter().filter(|d| d.telemetry_ok).count();
     if without > 0 && with == 0 && !settings.allow_missing_telemetry {
         // With a root given, one route's reason shows what was looked for (and the closest
         // folder); without one, the message itself says so.
-        let example = inputs.telemetry.as_ref().and_then(|_| {
-            outcomes
-                .iter()
-                .find_map(|o| match (&o.telemetry, o.record()) {
-                    (TelemetryState::Missing(why), Some(r)) => {
-                        Some((r.route_id.clone(), why.clone()))
-                    }
-                    _ => None,
-                })
-        });
+        let example = inputs
+            .telemetry
+            .as_ref()
+            .and_then(|_| done.iter().find_map(|d| d.missing.clone()));
         warnings.push(Warning::NoTelemetry {
             root: inputs.telemetry.clone(),
             routes: without,
@@ -310,7 +307,13 @@ pub fn score_run_cached(
     }
     // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
     let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
-    let rows = route_rows(&outcomes, missing, settings, routes.as_ref(), &maps);
+    let mut rows = Vec::with_capacity(done.len() + missing.len());
+    let mut route_files = Vec::new();
+    for d in done {
+        rows.push(d.row);
+        route_files.extend(d.files_read);
+    }
+    rows.extend(route_rows(&[], missing, settings, routes.as_ref(), &maps));
     let provenance = Provenance::new(
         settings,
         files_read
@@ -328,16 +331,74 @@ pub fn score_run_cached(
         kept: kept.kept,
         warnings,
     };
-    let mut report = assemble(rows, &outcomes, settings, facts);
+    let mut report = assemble_rows(rows, settings, facts);
     // Every input file, for front ends that must never write over one.
     let mut files = files_read;
     files.extend(inputs.route_xml.iter().cloned());
     files.extend(maps.files().iter().cloned());
-    files.append(&mut report.files_read);
+    files.append(&mut route_files);
     files.sort();
     files.dedup();
     report.files_read = files;
     Ok(report)
+}
+
+/// Gives the pages a finished route freed back to the system, every [`TRIM_EVERY`] routes of a
+/// thread. A route's transient buffers (its telemetry file, its frames) are freed between the
+/// small allocations of the rows kept: the allocator's heap cannot shrink past those, so without
+/// this a run's resident memory grows with its routes although what it holds does not.
+fn release_freed_pages() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        use std::cell::Cell;
+        thread_local!(static ROUTES: Cell<u32> = const { Cell::new(0) });
+        let n = ROUTES.with(|c| {
+            c.set(c.get().wrapping_add(1));
+            c.get()
+        });
+        if n % TRIM_EVERY == 0 {
+            // SAFETY: malloc_trim only returns free memory to the system; it takes no pointer.
+            #[allow(unsafe_code)]
+            unsafe {
+                libc::malloc_trim(0);
+            }
+        }
+    }
+}
+
+/// Routes of a thread between two [`release_freed_pages`] calls.
+const TRIM_EVERY: u32 = 16;
+
+/// What a run keeps of a replayed route: its row, and the few facts the run's warnings and file
+/// list need. The outcome itself is dropped when its route is done.
+struct Done {
+    row: RouteReport,
+    files_read: Vec<PathBuf>,
+    route_id: Option<String>,
+    foreign: bool,
+    /// Counted, and its telemetry was replayed.
+    telemetry_ok: bool,
+    /// A valid record without telemetry found: its route id and why.
+    missing: Option<(String, String)>,
+}
+
+impl Done {
+    fn of(o: RouteOutcome, settings: &Settings, xml: Option<&RouteSet>, maps: &Maps) -> Done {
+        let missing = match (&o.telemetry, o.record()) {
+            (TelemetryState::Missing(why), Some(r)) => {
+                Some((r.route_id.clone(), why.clone()))
+            }
+            _ => None,
+        };
+        Done {
+            row: outcome_row(&o, settings, xml, maps),
+            route_id: route_id_of(&o.loaded).map(String::from),
+            foreign: o.foreign,
+            telemetry_ok: o.counted() && o.telemetry == TelemetryState::Ok,
+            missing,
+            files_read: o.files_read,
+        }
+    }
 }
 
 /// A telemetry root that does not exist is a mistyped path, not a run without telemetry.

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::error::Error;
+use crate::geometry::town_maps::TownMaps as Maps;
 use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{
     deduplicate, earlier_attempts, save_name_stamp, Deduplicated, DuplicatePolicy, Kept, Source,
@@ -14,13 +15,12 @@ use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, InputFile, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
+use crate::input::route_xml::RouteSet;
 use crate::input::stored::check_inputs;
 use crate::model::report::{assemble_rows, Report, RunFacts};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, RouteContext};
 use crate::provenance::Provenance;
-use crate::geometry::town_maps::TownMaps as Maps;
-use crate::input::route_xml::RouteSet;
 use crate::route::row::{outcome_row, route_rows, RouteReport};
 use crate::settings::Settings;
 
@@ -252,19 +252,22 @@ pub fn score_run_cached(
         )
     })?;
     warnings.extend(map_warnings(&maps, &towns, settings));
+    drop(towns);
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
     let xml = routes.as_ref();
     let done: Vec<Option<Done>> = pool.install(|| {
+        // Each record is moved into its route's task and dropped with it.
         records
-            .par_iter()
-            .zip(&towns)
+            .into_par_iter()
             .zip(&foreign)
-            .map(|((r, town), &foreign)| {
+            .map(|(r, &foreign)| {
                 if progress.cancelled() {
                     return None;
                 }
+                let town = r.entry.as_ref().ok().and_then(|rec| town_of(rec, xml));
                 let map = town.and_then(|t| maps.get(t).ok());
+                let r = &r;
                 let mut o = match cache {
                     Some(c) => c.replay(r, &|| replay(r, xml, map, telemetry, settings)),
                     None => replay(r, xml, map, telemetry, settings),
@@ -279,8 +282,6 @@ pub fn score_run_cached(
             })
             .collect()
     });
-    drop(towns);
-    drop(records);
     let Some(done) = done.into_iter().collect::<Option<Vec<_>>>() else {
         return Err(Error::Cancelled);
     };
@@ -290,7 +291,10 @@ pub fn score_run_cached(
             routes_file: inputs.route_xml.clone().unwrap_or_default(),
         });
     }
-    let without = done.iter().filter(|d| !d.foreign && d.missing.is_some()).count();
+    let without = done
+        .iter()
+        .filter(|d| !d.foreign && d.missing.is_some())
+        .count();
     let with = done.iter().filter(|d| d.telemetry_ok).count();
     if without > 0 && with == 0 && !settings.allow_missing_telemetry {
         // With a root given, one route's reason shows what was looked for (and the closest
@@ -385,9 +389,7 @@ struct Done {
 impl Done {
     fn of(o: RouteOutcome, settings: &Settings, xml: Option<&RouteSet>, maps: &Maps) -> Done {
         let missing = match (&o.telemetry, o.record()) {
-            (TelemetryState::Missing(why), Some(r)) => {
-                Some((r.route_id.clone(), why.clone()))
-            }
+            (TelemetryState::Missing(why), Some(r)) => Some((r.route_id.clone(), why.clone())),
             _ => None,
         };
         Done {

@@ -33,3 +33,13 @@ impl std::io::Write for Counted {
         Ok(())
     }
 }
+
+/// [`json`], written to `out` as it is rendered (the same bytes), so that a large report is
+/// never held whole as text.
+///
+/// # Errors
+/// What `out` returns.
+pub fn write(report: &Report, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+    serde_json::to_writer_pretty(&mut *out, report)?;
+    out.write_all(b"\n")
+}

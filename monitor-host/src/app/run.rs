@@ -360,7 +360,7 @@ fn release_freed_pages() {
             c.set(c.get().wrapping_add(1));
             c.get()
         });
-        if n % TRIM_EVERY == 0 {
+        if n.is_multiple_of(TRIM_EVERY) {
             // SAFETY: malloc_trim only returns free memory to the system; it takes no pointer.
             #[allow(unsafe_code)]
             unsafe {

@@ -406,10 +406,17 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for note in period_notes(&report) {
         say!("sds: note: {note}");
     }
-    let bytes = render(args, &report)?;
+    // JSON is streamed to its file: a large run's text is never held beside its report.
+    let bytes = match args.format {
+        Format::Json => None,
+        _ => Some(render(args, &report)?),
+    };
     let inputs_read = request(args)?.inputs_read(&report);
-    write_all(args, &report, &inputs_read, || {
-        write_output(args.output.as_deref(), &bytes, &inputs_read)
+    write_all(args, &report, &inputs_read, || match &bytes {
+        Some(bytes) => write_output(args.output.as_deref(), bytes, &inputs_read),
+        None => output::write_output_with(args.output.as_deref(), &inputs_read, &|w| {
+            json::write(&report, w)
+        }),
     })?;
 
     // The exit status comes from the report's data, never from its rendering.

@@ -588,8 +588,18 @@ fn check_target(path: &Path, inputs: &[PathBuf]) -> Result<(PathBuf, Option<u32>
 /// Writes `bytes` to `path` atomically (a temporary file in the same folder, then a rename), or
 /// to standard output. `inputs` are the run's input files: `path` must not be one of them.
 pub fn write_output(path: Option<&Path>, bytes: &[u8], inputs: &[PathBuf]) -> Result<()> {
+    write_output_with(path, inputs, &|w| w.write_all(bytes))
+}
+
+/// [`write_output`] of what `write` writes, streamed through a buffer: a large report (a
+/// 10,000-route run's JSON) is never held whole beside the report it renders.
+pub fn write_output_with(
+    path: Option<&Path>,
+    inputs: &[PathBuf],
+    write: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
     let Some(path) = path else {
-        return write_stdout(bytes);
+        return write_stdout(write);
     };
     let (target, keep_mode) = check_target(path, inputs)?;
     let dir = target
@@ -604,7 +614,7 @@ pub fn write_output(path: Option<&Path>, bytes: &[u8], inputs: &[PathBuf]) -> Re
         name.to_string_lossy(),
         std::process::id()
     ));
-    let result = write_temp_then_rename(&tmp, &target, bytes, keep_mode);
+    let result = write_temp_then_rename(&tmp, &target, write, keep_mode);
     if result.is_err() {
         let mut pending = pending();
         let _ = fs::remove_file(&tmp);
@@ -618,7 +628,7 @@ pub fn write_output(path: Option<&Path>, bytes: &[u8], inputs: &[PathBuf]) -> Re
 fn write_temp_then_rename(
     tmp: &Path,
     target: &Path,
-    bytes: &[u8],
+    write: &dyn Fn(&mut dyn Write) -> std::io::Result<()>,
     keep_mode: Option<u32>,
 ) -> Result<()> {
     let mut f = {
@@ -635,7 +645,10 @@ fn write_temp_then_rename(
     if let Some(mode) = keep_mode {
         f.set_permissions(fs::Permissions::from_mode(mode))?;
     }
-    f.write_all(bytes)?;
+    let mut buffered = std::io::BufWriter::new(&mut f);
+    write(&mut buffered)?;
+    buffered.flush()?;
+    drop(buffered);
     f.sync_all()?;
     drop(f);
     if let Some(ms) = std::env::var(DELAY_ENV).ok().and_then(|v| v.parse().ok()) {
@@ -662,12 +675,12 @@ fn write_temp_then_rename(
 }
 
 /// Standard output, refusing a closed one (Rust's standard library would swallow the EBADF).
-fn write_stdout(bytes: &[u8]) -> Result<()> {
+fn write_stdout(write: &dyn Fn(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     if STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed) {
         bail!("standard output is closed: the report cannot be written (use -o FILE)");
     }
-    let mut out = std::io::stdout().lock();
-    out.write_all(bytes)
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    write(&mut out)
         .and_then(|()| out.flush())
         .context("cannot write the report to standard output")
 }

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use crate::error::Error;
+use crate::geometry::town_maps::TownMaps as Maps;
 use crate::geometry::town_maps::{town_of, TownMaps};
 use crate::input::duplicates::{
     deduplicate, earlier_attempts, save_name_stamp, Deduplicated, DuplicatePolicy, Kept, Source,
@@ -14,12 +15,13 @@ use crate::input::record::{InvalidRecord, LoadedRecord};
 use crate::input::results_file::{read_results, InputFile, ResultSet};
 use crate::input::route_set::{benchmark_size, route_set, route_subset};
 use crate::input::route_xml::read_route_xml;
+use crate::input::route_xml::RouteSet;
 use crate::input::stored::check_inputs;
-use crate::model::report::{assemble, Report, RunFacts};
+use crate::model::report::{assemble_rows, Report, RunFacts};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::replay::{read_telemetry, replay, replay_points, RouteContext};
 use crate::provenance::Provenance;
-use crate::route::row::route_rows;
+use crate::route::row::{outcome_row, route_rows, RouteReport};
 use crate::settings::Settings;
 
 use crate::input::warning::Warning;
@@ -273,6 +275,10 @@ fn score_points(
         });
     }
     let input_reports = check_inputs(&sets, &all, n, &mut warnings);
+    // Every copy of the records but the kept ones is done with: a run's memory holds one record
+    // per route while it replays.
+    drop(all);
+    drop(sets);
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.worker_threads(records.len()))
@@ -292,46 +298,68 @@ fn score_points(
             towns.iter().flatten().map(|t| t.to_string()),
         )
     })?;
+    // Each point's map warnings now: `towns` borrows the records, which move into their tasks.
+    let point_warnings: Vec<Vec<Warning>> = points
+        .iter()
+        .map(|p| map_warnings(&maps, &towns, p))
+        .collect();
+    drop(towns);
     progress.start(records.len());
     let telemetry = inputs.telemetry.as_deref();
-    let outcomes: Vec<Option<Vec<_>>> = pool.install(|| {
+    let xml = routes.as_ref();
+    // Per route, one `Done` per point, in point order.
+    let done: Vec<Option<Vec<Done>>> = pool.install(|| {
+        // Each record is moved into its route's task and dropped with it.
         records
-            .par_iter()
-            .zip(&towns)
-            .map(|(r, town)| {
+            .into_par_iter()
+            .zip(&foreign)
+            .map(|(r, &foreign)| {
                 if progress.cancelled() {
                     return None;
                 }
+                let town = r.entry.as_ref().ok().and_then(|rec| town_of(rec, xml));
                 let map = town.and_then(|t| maps.get(t).ok());
-                let o = match (cache, points) {
+                let r = &r;
+                let outcomes = match (cache, points) {
                     (Some(c), [_]) => {
-                        vec![c.replay(r, &|| replay(r, routes.as_ref(), map, telemetry, settings))]
+                        vec![c.replay(r, &|| replay(r, xml, map, telemetry, settings))]
                     }
-                    (None, [_]) => vec![replay(r, routes.as_ref(), map, telemetry, settings)],
-                    _ => replay_points(r, routes.as_ref(), map, telemetry, points),
+                    (None, [_]) => vec![replay(r, xml, map, telemetry, settings)],
+                    _ => replay_points(r, xml, map, telemetry, points),
                 };
+                // The route's rows now, and its outcomes dropped: what a run holds per route is
+                // its row at each point, not its timeline or record.
+                let rows = outcomes
+                    .into_iter()
+                    .zip(points)
+                    .map(|(mut o, p)| {
+                        o.foreign = foreign;
+                        Done::of(o, p, xml, &maps)
+                    })
+                    .collect();
+                release_freed_pages();
                 progress.route_done();
-                Some(o)
+                Some(rows)
             })
             .collect()
     });
-    let Some(outcomes) = outcomes.into_iter().collect::<Option<Vec<_>>>() else {
+    let Some(done) = done.into_iter().collect::<Option<Vec<_>>>() else {
         return Err(Error::Cancelled);
     };
-    // One list of outcomes per point, in record order.
-    let mut per_point: Vec<Vec<RouteOutcome>> = points
+    // One list of rows per point, in record order.
+    let mut per_point: Vec<Vec<Done>> = points
         .iter()
-        .map(|_| Vec::with_capacity(records.len()))
+        .map(|_| Vec::with_capacity(done.len()))
         .collect();
-    for route in outcomes {
-        for (list, o) in per_point.iter_mut().zip(route) {
-            list.push(o);
+    for route in done {
+        for (list, d) in per_point.iter_mut().zip(route) {
+            list.push(d);
         }
     }
     let run = RunRead {
         inputs,
         files_read,
-        routes: routes.as_ref(),
+        routes: xml,
         set,
         n,
         input_reports,
@@ -339,13 +367,12 @@ fn score_points(
         kept: kept.kept,
         warnings,
         maps: &maps,
-        towns: &towns,
-        foreign,
     };
     Ok(points
         .iter()
         .zip(per_point)
-        .map(|(settings, outcomes)| run.report(outcomes, settings))
+        .zip(point_warnings)
+        .map(|((settings, done), map_warnings)| run.report(done, settings, map_warnings))
         .collect())
 }
 
@@ -353,7 +380,7 @@ fn score_points(
 struct RunRead<'a> {
     inputs: &'a Inputs,
     files_read: Vec<PathBuf>,
-    routes: Option<&'a crate::input::route_xml::RouteSet>,
+    routes: Option<&'a RouteSet>,
     set: Option<crate::input::route_set::RunRouteSet>,
     n: usize,
     input_reports: Vec<crate::input::stored::InputReport>,
@@ -361,49 +388,34 @@ struct RunRead<'a> {
     kept: Vec<Kept>,
     warnings: Vec<Warning>,
     maps: &'a TownMaps,
-    towns: &'a [Option<&'a str>],
-    foreign: Vec<bool>,
 }
 
 impl RunRead<'_> {
-    /// The report of the outcomes at one point.
-    fn report(&self, mut outcomes: Vec<RouteOutcome>, settings: &Settings) -> Report {
+    /// The report of the routes' rows at one point.
+    fn report(&self, done: Vec<Done>, settings: &Settings, map_warnings: Vec<Warning>) -> Report {
         let inputs = self.inputs;
         let maps = self.maps;
         let set = &self.set;
         let mut warnings = self.warnings.clone();
-        warnings.extend(map_warnings(maps, self.towns, settings));
-        for (o, f) in outcomes.iter_mut().zip(self.foreign.iter().copied()) {
-            if f {
-                o.foreign = true;
-                warnings.push(Warning::ForeignRoute {
-                    route: route_id_of(&o.loaded).unwrap_or_default().to_string(),
-                    routes_file: inputs.route_xml.clone().unwrap_or_default(),
-                });
-            }
+        warnings.extend(map_warnings);
+        for d in done.iter().filter(|d| d.foreign) {
+            warnings.push(Warning::ForeignRoute {
+                route: d.route_id.clone().unwrap_or_default(),
+                routes_file: inputs.route_xml.clone().unwrap_or_default(),
+            });
         }
-        let without = outcomes
+        let without = done
             .iter()
-            .filter(|o| o.counted() && o.record().is_some())
-            .filter(|o| matches!(o.telemetry, TelemetryState::Missing(_)))
+            .filter(|d| !d.foreign && d.missing.is_some())
             .count();
-        let with = outcomes
-            .iter()
-            .filter(|o| o.counted() && o.telemetry == TelemetryState::Ok)
-            .count();
+        let with = done.iter().filter(|d| d.telemetry_ok).count();
         if without > 0 && with == 0 && !settings.allow_missing_telemetry {
             // With a root given, one route's reason shows what was looked for (and the closest
             // folder); without one, the message itself says so.
-            let example = inputs.telemetry.as_ref().and_then(|_| {
-                outcomes
-                    .iter()
-                    .find_map(|o| match (&o.telemetry, o.record()) {
-                        (TelemetryState::Missing(why), Some(r)) => {
-                            Some((r.route_id.clone(), why.clone()))
-                        }
-                        _ => None,
-                    })
-            });
+            let example = inputs
+                .telemetry
+                .as_ref()
+                .and_then(|_| done.iter().find_map(|d| d.missing.clone()));
             warnings.push(Warning::NoTelemetry {
                 root: inputs.telemetry.clone(),
                 routes: without,
@@ -412,7 +424,13 @@ impl RunRead<'_> {
         }
         // The per-route stage (rows, traces, abilities), then the aggregates over its rows.
         let missing = set.as_ref().map_or(&[][..], |s| &s.missing[..]);
-        let rows = route_rows(&outcomes, missing, settings, self.routes, maps);
+        let mut rows = Vec::with_capacity(done.len() + missing.len());
+        let mut route_files = Vec::new();
+        for d in done {
+            rows.push(d.row);
+            route_files.extend(d.files_read);
+        }
+        rows.extend(route_rows(&[], missing, settings, self.routes, maps));
         let provenance = Provenance::new(
             settings,
             self.files_read
@@ -430,16 +448,72 @@ impl RunRead<'_> {
             kept: self.kept.clone(),
             warnings,
         };
-        let mut report = assemble(rows, &outcomes, settings, facts);
+        let mut report = assemble_rows(rows, settings, facts);
         // Every input file, for front ends that must never write over one.
         let mut files = self.files_read.clone();
         files.extend(inputs.route_xml.iter().cloned());
         files.extend(maps.files().iter().cloned());
-        files.append(&mut report.files_read);
+        files.append(&mut route_files);
         files.sort();
         files.dedup();
         report.files_read = files;
         report
+    }
+}
+
+/// Gives the pages a finished route freed back to the system, every [`TRIM_EVERY`] routes of a
+/// thread. A route's transient buffers (its telemetry file, its frames) are freed between the
+/// small allocations of the rows kept: the allocator's heap cannot shrink past those, so without
+/// this a run's resident memory grows with its routes although what it holds does not.
+fn release_freed_pages() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        use std::cell::Cell;
+        thread_local!(static ROUTES: Cell<u32> = const { Cell::new(0) });
+        let n = ROUTES.with(|c| {
+            c.set(c.get().wrapping_add(1));
+            c.get()
+        });
+        if n.is_multiple_of(TRIM_EVERY) {
+            // SAFETY: malloc_trim only returns free memory to the system; it takes no pointer.
+            #[allow(unsafe_code)]
+            unsafe {
+                libc::malloc_trim(0);
+            }
+        }
+    }
+}
+
+/// Routes of a thread between two [`release_freed_pages`] calls.
+const TRIM_EVERY: u32 = 16;
+
+/// What a run keeps of a replayed route: its row, and the few facts the run's warnings and file
+/// list need. The outcome itself is dropped when its route is done.
+struct Done {
+    row: RouteReport,
+    files_read: Vec<PathBuf>,
+    route_id: Option<String>,
+    foreign: bool,
+    /// Counted, and its telemetry was replayed.
+    telemetry_ok: bool,
+    /// A valid record without telemetry found: its route id and why.
+    missing: Option<(String, String)>,
+}
+
+impl Done {
+    fn of(o: RouteOutcome, settings: &Settings, xml: Option<&RouteSet>, maps: &Maps) -> Done {
+        let missing = match (&o.telemetry, o.record()) {
+            (TelemetryState::Missing(why), Some(r)) => Some((r.route_id.clone(), why.clone())),
+            _ => None,
+        };
+        Done {
+            row: outcome_row(&o, settings, xml, maps),
+            route_id: route_id_of(&o.loaded).map(String::from),
+            foreign: o.foreign,
+            telemetry_ok: o.counted() && o.telemetry == TelemetryState::Ok,
+            missing,
+            files_read: o.files_read,
+        }
     }
 }
 

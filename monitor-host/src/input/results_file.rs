@@ -38,9 +38,10 @@ use std::collections::HashMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use serde::de::{DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 use serde_json::{Map, Value};
 
-use crate::input::record::{expected, kind, LoadedRecord, Record};
+use crate::input::record::{expected, kind, InvalidRecord, LoadedRecord, Record};
 use crate::input::warning::Warning;
 use crate::input::{discovery, json_keys};
 
@@ -184,7 +185,7 @@ pub fn read_results(path: &Path) -> Result<ResultSet, ResultsError> {
 
 /// A parsed checkpoint file, before record validation.
 struct CheckpointFile {
-    records: Vec<Value>,
+    records: Vec<Result<Record, InvalidRecord>>,
     merged: bool,
     entry_status: Option<String>,
     progress: Option<Vec<Value>>,
@@ -211,7 +212,17 @@ fn parse_file(path: &Path) -> Parsed {
             })
         }
     };
-    let value: Value = match serde_json::from_slice(&bytes) {
+    // The records are read one at a time as the text is parsed: a file of 10,000 records is
+    // never held as one JSON tree (4 KB a record) beside its records.
+    let mut records_read = None;
+    let mut de = serde_json::Deserializer::from_slice(&bytes);
+    let parsed = Reading {
+        place: Place::Top,
+        records: &mut records_read,
+    }
+    .deserialize(&mut de)
+    .and_then(|v| de.end().map(|()| v));
+    let value: Value = match parsed {
         Ok(v) => v,
         Err(e) => {
             let err = if e.classify() == serde_json::error::Category::Eof {
@@ -264,7 +275,8 @@ fn parse_file(path: &Path) -> Parsed {
     let mut checkpoint = checkpoint;
     let records = match checkpoint.remove("records") {
         None => return Parsed::Broken(format("_checkpoint.records", "missing".to_string())),
-        Some(Value::Array(a)) => a,
+        // The array's records were read as it was parsed; its place holds an empty array.
+        Some(Value::Array(_)) => records_read.unwrap_or_default(),
         Some(v) => return Parsed::Broken(format("_checkpoint.records", expected("an array", &v))),
     };
     let progress = match checkpoint.remove("progress") {
@@ -286,6 +298,109 @@ fn parse_file(path: &Path) -> Parsed {
         global_score,
         top,
     })
+}
+
+/// Where a value sits in a results file: `_checkpoint.records` is read record by record.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Place {
+    Top,
+    Checkpoint,
+    Records,
+    Other,
+}
+
+/// Parses a JSON value as `serde_json::Value` does, except that the elements of the
+/// `_checkpoint.records` array become records as each is parsed (into `records`; the array is
+/// left empty in the value).
+struct Reading<'a> {
+    place: Place,
+    records: &'a mut Option<Vec<Result<Record, InvalidRecord>>>,
+}
+
+impl<'de> DeserializeSeed<'de> for Reading<'_> {
+    type Value = Value;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Value, D::Error> {
+        d.deserialize_any(self)
+    }
+}
+
+impl<'de> Visitor<'de> for Reading<'_> {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any valid JSON value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+
+    fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+        Ok(serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+        Ok(Value::String(v.to_string()))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<Value, E> {
+        Ok(Value::String(v))
+    }
+
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+
+    fn visit_none<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        if self.place == Place::Records {
+            let mut records = Vec::new();
+            while let Some(v) = seq.next_element::<Value>()? {
+                records.push(Record::from_value(&v));
+            }
+            *self.records = Some(records);
+            return Ok(Value::Array(Vec::new()));
+        }
+        let mut out = Vec::new();
+        while let Some(v) = seq.next_element::<Value>()? {
+            out.push(v);
+        }
+        Ok(Value::Array(out))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let records = self.records;
+        let mut out = Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let place = match (self.place, key.as_str()) {
+                (Place::Top, "_checkpoint") => Place::Checkpoint,
+                (Place::Checkpoint, "records") => Place::Records,
+                _ => Place::Other,
+            };
+            let v = if place == Place::Other {
+                map.next_value::<Value>()?
+            } else {
+                map.next_value_seed(Reading {
+                    place,
+                    records: &mut *records,
+                })?
+            };
+            out.insert(key, v);
+        }
+        Ok(Value::Object(out))
+    }
 }
 
 /// serde_json appends " at line L column C"; the error variants carry those separately.
@@ -348,8 +463,7 @@ fn add_file(set: &mut ResultSet, path: &Path, file: CheckpointFile) {
             }),
         }
     }
-    for (index, value) in file.records.iter().enumerate() {
-        let entry = Record::from_value(value);
+    for (index, entry) in file.records.into_iter().enumerate() {
         if let Ok(r) = &entry {
             if r.composed_mismatch() {
                 set.warnings.push(Warning::ComposedScore {

@@ -497,7 +497,7 @@ pub fn route_rows(
 ) -> Vec<RouteReport> {
     let mut routes: Vec<RouteReport> = outcomes
         .iter()
-        .map(|o| route_report(o, settings, row_facts(o, settings, xml, maps)))
+        .map(|o| outcome_row(o, settings, xml, maps))
         .collect();
     let asked = &settings.protocols;
     routes.extend(missing.iter().map(|m| RouteReport {
@@ -505,6 +505,18 @@ pub fn route_rows(
         ..missing_report(m)
     }));
     routes
+}
+
+/// The row of one outcome, built once with its [`RowFacts`]: what [`route_rows`] makes of each
+/// outcome. A run builds it as soon as the route is replayed, so that the outcome (its timeline,
+/// the frames kept for its traces, its record) is dropped when the route is done.
+pub fn outcome_row(
+    o: &RouteOutcome,
+    settings: &Settings,
+    xml: Option<&RouteSet>,
+    maps: &TownMaps,
+) -> RouteReport {
+    route_report(o, settings, row_facts(o, settings, xml, maps))
 }
 
 /// The name of a row in the run's warnings: its route id, else its source.

@@ -271,16 +271,15 @@ impl Settings {
     /// # Ok::<(), monitor_host::SettingsError>(())
     /// ```
     pub fn sweep_stage(&self, other: &Settings) -> defs::Sweep {
-        use defs::Sweep;
         let rows = defs::SETTINGS
             .iter()
             .filter(|d| (d.get)(self) != (d.get)(other))
             .map(|d| match d.sweep {
-                Sweep::No => Sweep::Replay,
+                defs::Sweep::No => defs::Sweep::Replay,
                 s => s,
             });
         // The worker threads are no row: they never change a number.
-        rows.max().unwrap_or(Sweep::No)
+        rows.max().unwrap_or(defs::Sweep::No)
     }
 
     /// The value of a setting, typed (as the report's `config` block writes it), or `None` for

@@ -2,7 +2,7 @@
 //! work runs on a worker thread while the calling thread checks for signals every 50 ms; on
 //! one, the work's [`Progress`] says [`Progress::cancelled`] (the library stops between routes,
 //! runs and bootstrap blocks) and the signal's exception (`KeyboardInterrupt`) is raised. Used by
-//! `sds.score` and `sds.compare`.
+//! `sds.score`, `sds.compare` and `sds.merge`.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;

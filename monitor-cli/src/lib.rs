@@ -104,7 +104,11 @@ fn run(cli: Cli) -> Result<i32> {
         }
         Command::Compare(args) => compare::compare(&args),
         Command::Watch(args) => {
-            log_options(args.score.mcap.is_empty(), &args.score.topics, Some("sds watch"))?;
+            log_options(
+                args.score.mcap.is_empty(),
+                &args.score.topics,
+                Some("sds watch"),
+            )?;
             watch::watch(&args)
         }
         Command::Merge(args) => merge::merge(&args),

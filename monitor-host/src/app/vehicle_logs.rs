@@ -170,6 +170,7 @@ fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome
                     Ok(prepared(&log, &route, settings, false))
                 },
             );
+            out.segments = Some(log.telemetry.segments.len().max(1) as u64);
             // The path stands where a route XML would.
             if route.reference.is_none() {
                 out.reference = Some(ReferenceKind::None);
@@ -181,7 +182,6 @@ fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome
             record.source = path.to_path_buf();
             let mut out = unreplayed(&record);
             out.telemetry = TelemetryState::Invalid(e.to_string());
-            out.files_read.push(path.to_path_buf());
             out
         }
     }

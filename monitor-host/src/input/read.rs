@@ -76,7 +76,7 @@ impl FileKind {
             FileKind::Labels => "label file",
             FileKind::Map => "map",
             FileKind::Report => "report",
-            FileKind::McapLog => "MCAP log",
+            FileKind::McapLog => "MCAP file",
         }
     }
 

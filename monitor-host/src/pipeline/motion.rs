@@ -175,7 +175,8 @@ pub fn measure_segments(
         out.moving.extend(&m.moving);
         if i < last && chunk_len > 0 {
             let chunks = r.len().div_ceil(chunk_len);
-            out.moving.resize(out.moving.len() + chunks - m.moving.len(), false);
+            out.moving
+                .resize(out.moving.len() + chunks - m.moving.len(), false);
         }
     }
     out.stationary_share = (n > 0).then(|| standing as f64 / n as f64);

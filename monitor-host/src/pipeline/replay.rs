@@ -152,9 +152,7 @@ pub fn stream_logged(
         add(&mut total, &done.summary);
         add_comfort(
             &mut legacy,
-            monitor
-                .second_comfort()
-                .unwrap_or(&done.summary.comfort),
+            monitor.second_comfort().unwrap_or(&done.summary.comfort),
         );
         chunks_before += (range.len() as u32).div_ceil(chunk_len);
     }
@@ -621,6 +619,7 @@ pub fn unreplayed(loaded: &LoadedRecord) -> RouteOutcome {
         foreign: false,
         frames: 0,
         gaps: 0,
+        segments: None,
         summary: None,
         safe: None,
         legacy_comfort: None,

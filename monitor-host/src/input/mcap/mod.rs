@@ -109,7 +109,11 @@ impl Topics {
         let mut given: Vec<(String, &String)> = Vec::new();
         for spec in specs {
             topics.set(spec)?;
-            let name = spec.split_once('=').map_or("", |(n, _)| n).trim().to_string();
+            let name = spec
+                .split_once('=')
+                .map_or("", |(n, _)| n)
+                .trim()
+                .to_string();
             if let Some((_, first)) = given.iter().find(|(n, _)| *n == name) {
                 return Err(format!(
                     "--topic {name}=... is given twice ({first:?}, then {spec:?}): a signal is \
@@ -602,28 +606,28 @@ pub fn read_log(
                 t: m.log_time,
                 source,
             };
-            let decoded = match t {
-                RosType::Odometry | RosType::PoseStamped => {
-                    messages::decode_pose(t, m.data).map(|p| {
-                        poses.push(PoseSample {
+            let decoded =
+                match t {
+                    RosType::Odometry | RosType::PoseStamped => messages::decode_pose(t, m.data)
+                        .map(|p| {
+                            poses.push(PoseSample {
+                                t: m.log_time,
+                                position: p.position,
+                                yaw: messages::yaw(p.orientation),
+                                twist: p.twist,
+                            })
+                        }),
+                    RosType::Imu => messages::decode_imu(m.data).map(|i| {
+                        imu.push(MotionSample {
                             t: m.log_time,
-                            position: p.position,
-                            yaw: messages::yaw(p.orientation),
-                            twist: p.twist,
+                            acc: i.acc,
+                            world: false,
+                            yaw_rate: i.yaw_rate,
                         })
-                    })
-                }
-                RosType::Imu => messages::decode_imu(m.data).map(|i| {
-                    imu.push(MotionSample {
-                        t: m.log_time,
-                        acc: i.acc,
-                        world: false,
-                        yaw_rate: i.yaw_rate,
-                    })
-                }),
-                RosType::Path => messages::decode_path(m.data)
-                    .map(|p| path_msgs = (path_msgs.0 + 1, Some(p))),
-            };
+                    }),
+                    RosType::Path => messages::decode_path(m.data)
+                        .map(|p| path_msgs = (path_msgs.0 + 1, Some(p))),
+                };
             decoded.map_err(|e| {
                 failure = Some(decode_err(e));
                 String::new()
@@ -740,19 +744,18 @@ pub fn read_log(
     } else {
         imu
     };
-    let framed = frames::frames(&poses, &motion, dt_ns, hold_ns).map_err(|source| {
-        McapError::Frames {
+    let framed =
+        frames::frames(&poses, &motion, dt_ns, hold_ns).map_err(|source| McapError::Frames {
             file: first.clone(),
             source,
-        }
-    })?;
+        })?;
     let (telemetry, times) = (framed.telemetry, framed.times);
     if !framed.gaps.is_empty() {
         notes.push(format!(
             "{} gap(s) longer than mcap.max_hold = {max_hold} s between pose messages (the \
-             recorder paused, a topic stopped): the log is cut into {} segment(s), each scored \
-             as a fresh start; {} of {} ticks at {dt} s fall in gaps (nothing is held across a \
-             gap)",
+             recorder paused, a topic stopped): no tick is made inside a gap and nothing is held \
+             across it; the frames form {} segment(s), each scored as a fresh start; {} of {} \
+             ticks at {dt} s fall in gaps",
             framed.gaps.len(),
             telemetry.segments.len().max(1),
             telemetry.gaps,
@@ -803,9 +806,7 @@ pub fn read_log(
             // it (the event came after its segment's last tick).
             let k = times.partition_point(|&x| x < t);
             let after = times.get(k).filter(|&&x| x - t <= hold_ns).map(|_| k);
-            let before = k
-                .checked_sub(1)
-                .filter(|&j| t - times[j] < dt_ns);
+            let before = k.checked_sub(1).filter(|&j| t - times[j] < dt_ns);
             LogEvent {
                 t,
                 frame: after.or(before),

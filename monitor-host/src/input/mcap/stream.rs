@@ -319,12 +319,7 @@ struct Kept {
 
 impl<F: FnMut(&Message<'_>) -> Result<(), String>> State<'_, F> {
     /// Handles one record outside chunks; `true` at the end of the data section.
-    fn record(
-        &mut self,
-        opcode: u8,
-        data: &[u8],
-        hold: Option<Hold>,
-    ) -> Result<bool, StreamError> {
+    fn record(&mut self, opcode: u8, data: &[u8], hold: Option<Hold>) -> Result<bool, StreamError> {
         if opcode == op::MESSAGE_INDEX {
             if let (Some(p), Ok(::mcap::records::Record::MessageIndex(m))) =
                 (self.pending.as_mut(), ::mcap::parse_record(opcode, data))

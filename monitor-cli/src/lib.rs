@@ -444,15 +444,16 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
             continue;
         }
-        say!(
-            "sds: {} ({}): {}",
-            r.route_id.as_deref().unwrap_or("<no route_id>"),
-            r.source.as_ref().map_or_else(
-                || "-".into(),
-                |s| format!("{}#{}", s.file.display(), s.index)
-            ),
-            r.state
-        );
+        let state = r.state.to_string();
+        let id = r.route_id.as_deref().unwrap_or("<no route_id>");
+        match &r.source {
+            // A vehicle log's reason names its file already: not twice.
+            Some(s) if state.contains(&s.file.display().to_string()) => {
+                say!("sds: {id}: {state}")
+            }
+            Some(s) => say!("sds: {id} ({}#{}): {state}", s.file.display(), s.index),
+            None => say!("sds: {id} (-): {state}"),
+        }
     }
     let s = &report.summary;
     if !s.batch_disagreements.is_empty() {

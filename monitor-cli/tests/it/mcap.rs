@@ -1698,4 +1698,11 @@ fn r4_12_log_warnings_name_the_file_once() {
         !stderr.contains(&format!("{name}: vehicle logs have no Leaderboard")),
         "{stderr}"
     );
+    // An invalid log's line names it once too.
+    let bad = tmp.path().join("bad.mcap");
+    fs::write(&bad, "not a log").unwrap();
+    let out = score_log(&bad, &[]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    let line = stderr.lines().find(|l| l.contains("invalid")).unwrap();
+    assert_eq!(line.matches("bad.mcap").count(), 1, "{line}");
 }

@@ -126,7 +126,7 @@ impl Telemetry {
     /// ```
     pub fn ranges(segments: &[usize], n: usize) -> Vec<std::ops::Range<usize>> {
         if segments.is_empty() {
-            return vec![0..n];
+            return std::iter::once(0..n).collect();
         }
         segments
             .iter()

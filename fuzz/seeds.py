@@ -10,6 +10,8 @@ import json
 import math
 import os
 import pathlib
+import struct
+import zlib
 
 ROOT = pathlib.Path(__file__).resolve().parent
 FIX = ROOT.parent.parent / "shared" / "fixtures" / "b2d"
@@ -156,5 +158,103 @@ def map_seeds():
     put("json_keys", "[" * 200 + "]" * 200)
 
 
+# --- mcap: hand-made ROS 2 logs (records as the MCAP format defines them), issue 47.
+def _rec(op, body):
+    return bytes([op]) + struct.pack("<Q", len(body)) + body
+
+
+def _str(s):
+    b = s.encode()
+    return struct.pack("<I", len(b)) + b
+
+
+ODOM_DEF = ("std_msgs/Header header\nstring child_frame_id\n"
+            "geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n")
+IMU_DEF = ("std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n"
+           "float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n"
+           "float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n"
+           "float64[9] linear_acceleration_covariance\n")
+
+
+def _cdr_header(t):
+    # CDR_LE, stamp, frame_id "map": 16 bytes after the encapsulation, so f64s align.
+    return b"\x00\x01\x00\x00" + struct.pack("<II", t // 10**9, t % 10**9) + _str("map\0")
+
+
+def _odom(t, x):
+    return (_cdr_header(t) + _str("base\0") + b"\x00" * 7
+            + struct.pack("<7d", x, 0, 0, 0, 0, 0, 1) + struct.pack("<36d", *[0] * 36)
+            + struct.pack("<6d", 5, 0, 0, 0, 0, 0) + struct.pack("<36d", *[0] * 36))
+
+
+def _imu(t, ax):
+    return (_cdr_header(t) + struct.pack("<4d", 0, 0, 0, 1) + struct.pack("<9d", *[0] * 9)
+            + struct.pack("<3d", 0, 0, 0) + struct.pack("<9d", *[0] * 9)
+            + struct.pack("<3d", ax, 0, 0) + struct.pack("<9d", *[0] * 9))
+
+
+def _msg(ch, t, data):
+    return _rec(0x05, struct.pack("<HIQQ", ch, 0, t, t) + data)
+
+
+def _chunk(records, t0, t1, crc=True):
+    c = zlib.crc32(records) if crc else 0
+    return _rec(0x06, struct.pack("<QQQI", t0, t1, len(records), c) + _str("")
+                + struct.pack("<Q", len(records)) + records)
+
+
+def mcap_log(chunks, stray=None):
+    out = b"\x89MCAP0\r\n" + _rec(0x01, _str("") + _str("seeds"))
+    out += _rec(0x03, struct.pack("<H", 1) + _str("nav_msgs/msg/Odometry") + _str("ros2msg") + _str(ODOM_DEF))
+    out += _rec(0x03, struct.pack("<H", 2) + _str("sensor_msgs/msg/Imu") + _str("ros2msg") + _str(IMU_DEF))
+    out += _rec(0x04, struct.pack("<HH", 1, 1) + _str("/odom") + _str("cdr") + struct.pack("<I", 0))
+    out += _rec(0x04, struct.pack("<HH", 2, 2) + _str("/imu") + _str("cdr") + struct.pack("<I", 0))
+    if stray is not None:
+        out += _msg(1, stray, _odom(stray, 0.0))
+    for records, t0, t1, crc in chunks:
+        out += _chunk(records, t0, t1, crc)
+    out += _rec(0x0F, struct.pack("<I", 0)) + _rec(0x02, b"\x00" * 20) + b"\x89MCAP0\r\n"
+    return out
+
+
+def drive_chunk(second, n=6, ax=0.1, t_same=False):
+    t0 = 1_700_000_000 * 10**9 + second * 10**9
+    r = b""
+    for i in range(n):
+        t = t0 if t_same else t0 + i * 50_000_000
+        r += _msg(1, t, _odom(t, 0.25 * i)) + _msg(2, t, _imu(t, ax))
+    return r, t0, t0 + (n - 1) * 50_000_000
+
+
+def mcap_seeds():
+    good = [drive_chunk(s) + (True,) for s in range(2)]
+    put("mcap", mcap_log(good))
+    cut = list(good)
+    cut[0] = (good[0][0][:-40],) + good[0][1:3] + (False,)
+    put("mcap", mcap_log(cut))                      # a chunk ending mid-record
+    zeros = list(good)
+    zeros[0] = (b"\x00" * 1000,) + good[0][1:3] + (False,)
+    put("mcap", mcap_log(zeros))                    # 1,000 zero bytes as the first chunk
+    flipped = mcap_log(good)
+    at = flipped.index(good[1][0]) + len(good[1][0]) - 96
+    put("mcap", flipped[:at + 6] + b"\x20\x40" + flipped[at + 8:])   # CRC no longer holds
+    put("mcap", b"\x89MCAP0\r\n" + b"\x00" * 4096)  # the magic, then zeros
+    put("mcap", mcap_log(good, stray=0))            # a pose stamped 0 before the drive
+    put("mcap", mcap_log([drive_chunk(0, t_same=True) + (True,)]))   # poses at one time
+    put("mcap", mcap_log([drive_chunk(0) + (True,), drive_chunk(3) + (True,)]))  # a gap
+
+
+def merge_part_seeds():
+    put("merge_part", "{}")
+    put("merge_part", '{"schema": "sds-report/1"}')
+    put("merge_part", "")
+    put("merge_part", "\x00" * 64)
+    report = ROOT / "corpus-src" / "part.json"
+    if report.exists():
+        put("merge_part", report.read_bytes())
+
+
 if __name__ == "__main__":
     main()
+    mcap_seeds()
+    merge_part_seeds()

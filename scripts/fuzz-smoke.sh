@@ -4,14 +4,14 @@
 # temporary folder). Needs a nightly toolchain and cargo-fuzz; without them it prints a loud
 # skip and exits 0. Exits non-zero if a target crashes (the input is kept in fuzz/artifacts/).
 #
-#   bash scripts/fuzz-smoke.sh                 # all nine targets, 20 s each
+#   bash scripts/fuzz-smoke.sh                 # all eleven targets, 20 s each
 #   FUZZ_SECONDS=600 FUZZ_SEED=0 bash scripts/fuzz-smoke.sh metric_info   # seed 0: a random one
 # CI uses the fixed seed 1 so a run is repeatable; a crash found by a longer run goes into the corpus.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 TARGETS=("$@")
-[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(decode_frame metric_info results collision labels settings json_keys map table)
+[ ${#TARGETS[@]} -gt 0 ] || TARGETS=(decode_frame metric_info results collision labels settings json_keys map table mcap merge_part)
 SECONDS_EACH="${FUZZ_SECONDS:-20}"
 
 skip() {

@@ -99,9 +99,19 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
-        Command::Score(args) => score(&args),
+        Command::Score(args) => {
+            log_options(args.mcap.is_empty(), &args.topics, None)?;
+            score(&args)
+        }
         Command::Compare(args) => compare::compare(&args),
-        Command::Watch(args) => watch::watch(&args),
+        Command::Watch(args) => {
+            log_options(
+                args.score.mcap.is_empty(),
+                &args.score.topics,
+                Some("sds watch"),
+            )?;
+            watch::watch(&args)
+        }
         Command::Merge(args) => merge::merge(&args),
         Command::Link(args) => link::link(&args),
         Command::Checker(args) => link::checker(&args),
@@ -181,6 +191,7 @@ fn run(cli: Cli) -> Result<i32> {
             route_id,
             output,
         } => {
+            log_options(mcap.is_none(), &topics, None)?;
             let inputs = Inputs {
                 results,
                 telemetry,
@@ -300,17 +311,30 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     request.score(progress).map_err(failed)
 }
 
-/// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16).
+/// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16): a signal named
+/// twice, or one topic for two signals, is refused (exit 2).
 fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
-    let mut topics = monitor_host::input::mcap::Topics::default();
-    for s in specs {
-        topics.set(s).map_err(|_| SettingsError::Value {
-            name: "--topic",
-            expected: "NAME=TOPIC with NAME one of pose, imu, event, path".into(),
-            value: s.clone(),
-        })?;
+    use monitor_host::input::mcap::{McapError, Topics};
+    Topics::parse(specs).map_err(|m| monitor_host::Error::from(McapError::Options(m)).into())
+}
+
+/// Refuses (exit 2) `--topic` without a log to read it from, and `--mcap` where `command`
+/// (`sds watch`) reads no logs.
+fn log_options(no_log: bool, topics: &[String], command: Option<&str>) -> Result<()> {
+    use monitor_host::input::mcap::McapError;
+    let refuse = |m: String| Err(monitor_host::Error::from(McapError::Options(m)).into());
+    match command {
+        Some(c) if !no_log => refuse(format!(
+            "{c} follows an evaluation's results files while they are written; a vehicle log \
+             (--mcap) is a finished file: score it with sds score --mcap"
+        )),
+        _ if no_log && !topics.is_empty() => refuse(format!(
+            "--topic {} names a vehicle log's topic, but no log is given: add --mcap FILE, or \
+             leave --topic out",
+            topics[0]
+        )),
+        _ => Ok(()),
     }
-    Ok(topics)
 }
 
 fn style(format: Format) -> Option<Style> {
@@ -432,15 +456,16 @@ fn score(args: &ScoreArgs) -> Result<i32> {
         if no_telemetry && matches!(r.telemetry, TelemetryState::Missing(_)) {
             continue;
         }
-        say!(
-            "sds: {} ({}): {}",
-            r.route_id.as_deref().unwrap_or("<no route_id>"),
-            r.source.as_ref().map_or_else(
-                || "-".into(),
-                |s| format!("{}#{}", s.file.display(), s.index)
-            ),
-            r.state
-        );
+        let state = r.state.to_string();
+        let id = r.route_id.as_deref().unwrap_or("<no route_id>");
+        match &r.source {
+            // A vehicle log's reason names its file already: not twice.
+            Some(s) if state.contains(&s.file.display().to_string()) => {
+                say!("sds: {id}: {state}")
+            }
+            Some(s) => say!("sds: {id} ({}#{}): {state}", s.file.display(), s.index),
+            None => say!("sds: {id} (-): {state}"),
+        }
     }
     let s = &report.summary;
     if !s.batch_disagreements.is_empty() {

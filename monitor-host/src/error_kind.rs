@@ -80,10 +80,11 @@ impl Error {
             Error::NoRoute { .. }
             | Error::AmbiguousRoute { .. }
             | Error::InvalidRecord { .. }
-            | Error::Telemetry { .. }
-            // A vehicle log that cannot be read is an input of the run (its route is listed
-            // invalid, with the file, topic and fix).
-            | Error::VehicleLog(_) => ErrorKind::Input,
+            | Error::Telemetry { .. } => ErrorKind::Input,
+            // A log that cannot be opened is an I/O error, two logs of one name a refusal; any
+            // other problem of a log is an input's (its route is listed invalid, with the
+            // file, topic and fix).
+            Error::VehicleLog(e) => e.kind(),
             Error::Duplicates(_) | Error::TooFewRoutes { .. } => ErrorKind::Refused,
             Error::TelemetryRoot { .. } | Error::MapsFolder { .. } => ErrorKind::MissingFolder,
             Error::EmptyRun { .. } => ErrorKind::EmptyRun,

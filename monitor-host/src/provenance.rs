@@ -61,7 +61,11 @@ impl FileDigest {
     /// 10 % of the peak heap).
     pub fn of(file: &Path, role: &str) -> FileDigest {
         let digest = || -> std::io::Result<(u64, String)> {
-            let mut f = std::fs::File::open(file)?;
+            // As inputs are opened: a FIFO or a device named as a file is not read.
+            let mut f = crate::input::read::open_nonblocking(file)?;
+            if !f.metadata()?.is_file() {
+                return Err(std::io::ErrorKind::InvalidInput.into());
+            }
             let mut h = Sha256::new();
             let mut buf = vec![0u8; 1 << 16];
             let mut size = 0u64;

@@ -2,7 +2,7 @@
 //! work runs on a worker thread while the calling thread checks for signals every 10 ms; on
 //! one, the work's [`Progress`] says [`Progress::cancelled`] (the library stops between routes,
 //! runs and bootstrap blocks) and the signal's exception (`KeyboardInterrupt`) is raised. Used by
-//! `sds.score` and `sds.compare`, with their `progress` callables ([`Hook`]).
+//! `sds.score`, `sds.compare` (with their `progress` callables, [`Hook`]) and `sds.merge`.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;

@@ -4,13 +4,16 @@ use std::path::PathBuf;
 
 use monitor_host::app::merged::MergeRequest;
 use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::NoProgress;
 use pyo3::prelude::*;
 
 use crate::errors::{merge_error, ConfigError};
+use crate::interrupt::with_signals;
 use crate::pyser::to_python;
 
 /// Merges `sds score` JSON reports (see the Python `sds.merge`); returns the merged report as
-/// Python objects. The GIL is released while reading and merging.
+/// Python objects. The GIL is released while reading and merging; Ctrl-C raises
+/// `KeyboardInterrupt`.
 #[pyfunction]
 pub fn merge<'py>(
     py: Python<'py>,
@@ -28,6 +31,10 @@ pub fn merge<'py>(
         host,
         ..MergeRequest::new(parts)
     };
-    let report = py.detach(|| request.merge()).map_err(|e| merge_error(&e))?;
+    // The parts are read on a worker thread while this one looks for signals: Ctrl-C raises
+    // `KeyboardInterrupt` (`interrupt.rs`); each read is bounded, so the worker ends soon.
+    let report = py
+        .detach(|| with_signals(&NoProgress, |_| request.merge()))?
+        .map_err(|e| merge_error(&e))?;
     to_python(py, &report)
 }

@@ -65,5 +65,8 @@ def test_merge_refusals_raise(demo: Demo, tmp_path: Path) -> None:
         sds.merge([demo.results])
     with pytest.raises(sds.IoError):
         sds.merge([tmp_path / "absent.json"])
+    # `newest` works across parts (each row keeps its record's stamp): one copy of each route.
+    newest = sds.merge([part, part], duplicates="newest")
+    assert len(newest["dropped"]) == len(demo.records())
     with pytest.raises(sds.ConfigError):
-        sds.merge([part], duplicates="newest")
+        sds.merge([part], duplicates="sometimes")

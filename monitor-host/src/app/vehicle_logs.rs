@@ -152,7 +152,7 @@ fn notes(log: &VehicleLog) -> Vec<Warning> {
 /// names the file, topic and fix).
 fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome {
     let dt = decimal(settings.core.dt);
-    match read_log(path, topics, dt) {
+    match read_log(path, topics, dt, settings.mcap.max_hold) {
         Ok(log) => {
             let route = log_route(&log);
             let Ok(record) = &route.loaded.entry else {
@@ -170,6 +170,7 @@ fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome
                     Ok(prepared(&log, &route, settings, false))
                 },
             );
+            out.segments = Some(log.telemetry.segments.len().max(1) as u64);
             // The path stands where a route XML would.
             if route.reference.is_none() {
                 out.reference = Some(ReferenceKind::None);
@@ -181,7 +182,6 @@ fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome
             record.source = path.to_path_buf();
             let mut out = unreplayed(&record);
             out.telemetry = TelemetryState::Invalid(e.to_string());
-            out.files_read.push(path.to_path_buf());
             out
         }
     }
@@ -223,6 +223,25 @@ pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Res
     if logs.is_empty() {
         return Err(Error::EmptyRun { inputs: Vec::new() });
     }
+    // As for results files: a log that is not there stops the run (exit 1), and two logs of one
+    // name would be two routes of one id (exit 2, as duplicate ids of --results are).
+    let mut names: Vec<(String, &PathBuf)> = Vec::with_capacity(logs.len());
+    for log in logs {
+        std::fs::metadata(log).map_err(|source| McapError::Unreadable {
+            file: log.clone(),
+            source,
+        })?;
+        let name = crate::input::mcap::log_name(log);
+        if let Some((_, first)) = names.iter().find(|(n, _)| *n == name) {
+            return Err(McapError::Duplicate {
+                name,
+                first: (*first).clone(),
+                second: log.clone(),
+            }
+            .into());
+        }
+        names.push((name, log));
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(settings.worker_threads(logs.len()))
         .build()?;
@@ -245,8 +264,9 @@ pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Res
         inputs: Vec::new(),
         dropped: Vec::new(),
         kept: Vec::new(),
+        // About the run, not a file: no file named.
         warnings: vec![Warning::VehicleLog {
-            file: logs[0].clone(),
+            file: PathBuf::new(),
             text: NO_LEADERBOARD.to_string(),
         }],
     };
@@ -299,7 +319,12 @@ fn without_leaderboard(report: &mut Report) {
 /// [`Error::VehicleLog`] naming the file, topic and fix; invalid settings.
 pub fn log_frames(path: &Path, topics: &Topics, settings: &Settings) -> Result<RouteFrames, Error> {
     settings.validate()?;
-    let log = read_log(path, topics, decimal(settings.core.dt))?;
+    let log = read_log(
+        path,
+        topics,
+        decimal(settings.core.dt),
+        settings.mcap.max_hold,
+    )?;
     let route = log_route(&log);
     let tel = prepared(&log, &route, settings, true);
     Ok(RouteFrames {

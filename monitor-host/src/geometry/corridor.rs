@@ -295,6 +295,12 @@ impl<'a> Corridor<'a> {
         self.measure(loc, z, rest)
     }
 
+    /// [`Corridor::sample`] searching the whole rest of the route (§2, v1.4): the first frame
+    /// of a vehicle log's segment (spec v1.5 §16), whatever its step.
+    pub fn sample_reacquiring(&mut self, loc: [f64; 2], z: f64) -> Option<LateralSample> {
+        self.measure(loc, z, true)
+    }
+
     /// One frame's sample; `rest`: search the whole rest of the route.
     fn measure(&mut self, loc: [f64; 2], z: f64, rest: bool) -> Option<LateralSample> {
         let search = |t: &mut LateralTracker<'a>| {

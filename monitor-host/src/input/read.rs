@@ -1,5 +1,7 @@
 //! The one way an input file is read: regular files only, never more than a size bound per file
-//! kind. Every reader of `input/` goes through [`read_input`]; none opens files itself.
+//! kind, its magic checked first where the kind has one. Every reader of `input/` (and the
+//! merge's parts) goes through [`read_input`], or [`open_input`] for a file that is streamed
+//! (an MCAP log); none opens files itself.
 //!
 //! Why: a FIFO named `metric_info.json` would block the tool forever, and a link to `/dev/zero`
 //! would be read until memory runs out. The file is opened without blocking (`O_NONBLOCK`), its
@@ -37,6 +39,10 @@ pub enum FileKind {
     Labels,
     /// An OpenDRIVE map.
     Map,
+    /// A JSON report read back as a part of `sds merge`.
+    Report,
+    /// An MCAP vehicle log: streamed, never read whole ([`open_input`]).
+    McapLog,
 }
 
 const MIB: u64 = 1 << 20;
@@ -53,6 +59,10 @@ impl FileKind {
             FileKind::RouteXml => 256 * MIB,
             FileKind::Labels => 16 * MIB,
             FileKind::Map => 1024 * MIB,
+            FileKind::Report => 256 * MIB,
+            // Streamed in bounded memory: the bound stops a runaway file, not a long drive
+            // (a day of camera-less driving logs at 100 Hz is a few GB).
+            FileKind::McapLog => 1 << 40,
         }
     }
 
@@ -65,6 +75,16 @@ impl FileKind {
             FileKind::RouteXml => "route XML file",
             FileKind::Labels => "label file",
             FileKind::Map => "map",
+            FileKind::Report => "report",
+            FileKind::McapLog => "MCAP file",
+        }
+    }
+
+    /// The bytes a file of this kind starts with, checked before anything else is read.
+    pub const fn magic(self) -> Option<&'static [u8]> {
+        match self {
+            FileKind::McapLog => Some(b"\x89MCAP0\r\n"),
+            _ => None,
         }
     }
 }
@@ -202,6 +222,118 @@ pub fn read_input_held(path: &Path, kind: FileKind) -> io::Result<HeldBytes> {
         out.held = len;
     }
     Ok(out)
+}
+
+/// An input file opened for streaming: a regular file (opened without blocking), at most its
+/// kind's [`FileKind::max_bytes`] long, starting with its kind's [`FileKind::magic`]. The
+/// reader reads from the start (the magic included); [`OpenedInput::take`] bounds what it reads
+/// to the limit + 1, whatever the file does after the check.
+///
+/// ```
+/// use monitor_host::input::read::{open_input, FileKind};
+/// let dir = tempfile::tempdir()?;
+/// let p = dir.path().join("drive.mcap");
+/// std::fs::write(&p, b"TOPSECRET")?;
+/// let e = open_input(&p, FileKind::McapLog).unwrap_err();
+/// // The file's bytes are never printed: only what was expected.
+/// assert!(!e.to_string().contains("TOP"), "{e}");
+/// # Ok::<(), std::io::Error>(())
+/// ```
+///
+/// # Errors
+/// As [`read_input`]; a file that does not start with the magic is
+/// [`io::ErrorKind::InvalidData`], with a hint when it is a sqlite3 file (a rosbag2 `.db3`).
+pub fn open_input(path: &Path, kind: FileKind) -> io::Result<OpenedInput> {
+    let mut file = open_regular(path)?;
+    let size = file.metadata()?.len();
+    let limit = kind.max_bytes();
+    if size > limit {
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidInput,
+            format!(
+                "{size} bytes, over the {} MiB limit for a {}",
+                limit / MIB,
+                kind.name()
+            ),
+        ));
+    }
+    if let Some(magic) = kind.magic() {
+        use std::io::{Seek, SeekFrom};
+        let mut head = vec![0u8; magic.len().max(16)];
+        let got = read_up_to(&mut file, &mut head)?;
+        if !head[..got].starts_with(magic) {
+            let hint = if head[..got].starts_with(b"SQLite format 3") {
+                ": it is a sqlite3 database (rosbag2's .db3 storage); convert it with \
+                 `ros2 bag convert` to MCAP"
+            } else {
+                ""
+            };
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!(
+                    "not an {}: it does not start with the magic {}{hint}",
+                    kind.name(),
+                    magic
+                        .iter()
+                        .map(|b| format!("{b:02x}"))
+                        .collect::<Vec<_>>()
+                        .join(" ")
+                ),
+            ));
+        }
+        file.seek(SeekFrom::Start(0))?;
+    }
+    Ok(OpenedInput { file, size, limit })
+}
+
+/// A file opened by [`open_input`].
+#[derive(Debug)]
+pub struct OpenedInput {
+    file: File,
+    /// Its size when opened, bytes.
+    pub size: u64,
+    limit: u64,
+}
+
+impl OpenedInput {
+    /// The file, reading at most its kind's limit + 1 bytes (a file that grows after the check
+    /// is cut there, and the reader sees a file over the limit).
+    pub fn take(self) -> io::Take<File> {
+        self.file.take(self.limit + 1)
+    }
+}
+
+/// Reads until `buf` is full or the end of the file; returns the bytes read.
+pub(crate) fn read_up_to(r: &mut impl Read, buf: &mut [u8]) -> io::Result<usize> {
+    let mut got = 0;
+    while got < buf.len() {
+        match r.read(&mut buf[got..]) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(got)
+}
+
+/// Bytes of the run's [`BYTES_IN_FLIGHT`] held by a streaming reader (an MCAP log's chunk)
+/// until dropped.
+#[derive(Debug)]
+pub struct Hold(u64);
+
+impl Hold {
+    /// Waits until `n` bytes fit in the run's budget with what other workers hold, and holds
+    /// them.
+    pub fn take(n: u64) -> Hold {
+        Hold(BUDGET.take(n))
+    }
+}
+
+impl Drop for Hold {
+    fn drop(&mut self) {
+        BUDGET.give_back(self.0);
+    }
 }
 
 /// Opens `path` for reading without blocking and refuses anything but a regular file.

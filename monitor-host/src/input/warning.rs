@@ -324,7 +324,7 @@ pub enum Warning {
     /// A vehicle log's note (spec v1.4 §16): messages lost to a cut, sorted out of order,
     /// clock gaps, the IMU replaced by the odometry twist, no Leaderboard record.
     VehicleLog {
-        /// The MCAP file (or rosbag2 folder).
+        /// The MCAP file (or rosbag2 folder); empty for a note about every log of the run.
         file: PathBuf,
         /// What happened and what it means.
         text: String,
@@ -668,6 +668,7 @@ impl std::fmt::Display for Warning {
             ),
             Warning::Recorded(text) => f.write_str(text),
             Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
+            Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
             Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
             Warning::F2dUnfinished { routes } => write!(
                 f,

@@ -42,6 +42,7 @@ use crate::route::row::{InfractionCounts, RouteReport};
 use crate::settings::Settings;
 
 use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
+use crate::input::read::{read_input, FileKind};
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
 
 pub use crate::model::parts::PartInputs;
@@ -234,7 +235,8 @@ pub struct Part {
 /// # Errors
 /// [`MergeError::Read`], [`MergeError::NotAReport`].
 pub fn read_part(file: &Path) -> Result<Part, MergeError> {
-    let bytes = std::fs::read(file).map_err(|source| MergeError::Read {
+    // Regular files only, opened without blocking, bounded (a FIFO or /dev/zero as a part).
+    let bytes = read_input(file, FileKind::Report).map_err(|source| MergeError::Read {
         file: file.to_path_buf(),
         source,
     })?;

@@ -267,6 +267,7 @@ pub fn row_from_json(v: &Value, path: &str, infractions: InfractionCounts) -> R<
         },
         frames: f("frames").u32()?,
         gaps: f("gaps").u64()?,
+        segments: f("segments").opt_u64()?,
         infractions,
         distance_m: f("distance_m").opt_f64()?,
         stationary_share: f("stationary_share").opt_f64()?,

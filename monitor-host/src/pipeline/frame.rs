@@ -46,6 +46,11 @@ impl FrameBuilder {
         self.prev.map(|p| p.step)
     }
 
+    /// Starts a new segment (spec v1.5 §16): the next frame has no predecessor (speed 0).
+    pub fn restart(&mut self) {
+        self.prev = None;
+    }
+
     /// Builds the next frame of the route.
     pub fn push(
         &mut self,

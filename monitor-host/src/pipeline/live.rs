@@ -144,6 +144,8 @@ pub fn load_map(path: &Path, town: Option<&str>) -> Result<Map, LiveError> {
 pub struct LiveFrames<'a> {
     builder: FrameBuilder,
     corridor: Corridor<'a>,
+    /// The next frame starts a segment ([`LiveFrames::start_segment`]).
+    fresh: bool,
 }
 
 /// Where a [`LiveFrames`] was, to go back to when the monitor refuses the frame just built.
@@ -151,6 +153,7 @@ pub struct LiveFrames<'a> {
 pub struct Checkpoint {
     builder: FrameBuilder,
     corridor: Option<usize>,
+    fresh: bool,
 }
 
 impl LiveFrames<'static> {
@@ -178,6 +181,7 @@ impl<'a> LiveFrames<'a> {
         LiveFrames {
             builder: FrameBuilder::new(dt),
             corridor,
+            fresh: false,
         }
     }
 
@@ -236,9 +240,21 @@ impl<'a> LiveFrames<'a> {
             .push(&t, lat_err.or(sample.map(|s| s.value)), collisions))
     }
 
-    /// The corridor's sample of the next frame: after a gap in the steps, or at a first step
-    /// that is not 0, the route search re-acquires the reference (§2, v1.4).
+    /// Starts a segment of a vehicle log (spec v1.5 §16): the next frame is a fresh start, its
+    /// speed 0 (no predecessor) and its lateral reference acquired anew over the whole rest of
+    /// the route, whatever its step.
+    pub fn start_segment(&mut self) {
+        self.builder.restart();
+        self.fresh = true;
+    }
+
+    /// The corridor's sample of the next frame: after a gap in the steps, at a first step that
+    /// is not 0, or at a segment's first frame, the route search re-acquires the reference (§2,
+    /// v1.4).
     fn measure(&mut self, t: &TelemetryFrame) -> Option<LateralSample> {
+        if std::mem::take(&mut self.fresh) {
+            return self.corridor.sample_reacquiring(t.location, t.z);
+        }
         let previous = self.builder.last_step();
         self.corridor.sample_at(t.location, t.z, t.step, previous)
     }
@@ -248,6 +264,7 @@ impl<'a> LiveFrames<'a> {
         Checkpoint {
             builder: self.builder.clone(),
             corridor: self.corridor.position(),
+            fresh: self.fresh,
         }
     }
 
@@ -256,5 +273,6 @@ impl<'a> LiveFrames<'a> {
     pub fn rewind(&mut self, c: Checkpoint) {
         self.builder = c.builder;
         self.corridor.rewind(c.corridor);
+        self.fresh = c.fresh;
     }
 }

@@ -76,7 +76,8 @@ pub fn measure(
 ) -> Motion {
     let n = locations.len().min(steps.len());
     let gap = |i: usize| step_length(locations[i - 1], locations[i]);
-    let distance_m = (1..n).map(gap).sum();
+    // `+ 0.0`: an empty f64 sum is -0.0, which a one-frame route would report.
+    let distance_m = (1..n).map(gap).sum::<f64>() + 0.0;
     // speed_i (§2) in double precision; frame 0 takes speed_1.
     let speed = |i: usize| {
         let span = steps[i].saturating_sub(steps[i - 1]) as f64 * dt;
@@ -118,6 +119,68 @@ pub fn measure(
         moving,
         stationary: stretches(&stationary),
     }
+}
+
+/// [`measure`] over a vehicle log's segments (spec v1.5 §16; `segments`: the index of each
+/// segment's first frame, empty for one run of frames): each segment is measured as a route of
+/// its own (no distance across a gap, its first frame taking its second's speed), and the
+/// figures added up. `moving` is indexed as the monitor numbers the chunks of a segmented route
+/// (each segment's chunks after the `ceil(n / chunk_len)` of the segments before it); a chunk
+/// with no comfort verdict (a segment's trailing partial chunk) is not moving.
+///
+/// ```
+/// use monitor_host::pipeline::motion::{measure_segments, MotionSettings};
+/// // Two segments of 25 frames at 2 m/s (20 Hz), 100 m apart: no distance across the gap.
+/// let steps: Vec<u64> = (0..25).chain(1000..1025).collect();
+/// let locations: Vec<[f64; 2]> = (0..50)
+///     .map(|i| [if i < 25 { 0.1 * i as f64 } else { 100.0 + 0.1 * i as f64 }, 0.0])
+///     .collect();
+/// let m = measure_segments(&locations, &steps, &[0, 25], 0.05, &MotionSettings::default(), 20, 7);
+/// assert!((m.distance_m - 4.8).abs() < 1e-9);
+/// assert_eq!(m.stationary_share, Some(0.0));
+/// assert_eq!(m.moving, vec![true, false, true]);
+/// ```
+pub fn measure_segments(
+    locations: &[[f64; 2]],
+    steps: &[u64],
+    segments: &[usize],
+    dt: f64,
+    settings: &MotionSettings,
+    chunk_len: usize,
+    min_chunk: usize,
+) -> Motion {
+    let n = locations.len().min(steps.len());
+    if segments.is_empty() {
+        return measure(locations, steps, dt, settings, chunk_len, min_chunk);
+    }
+    let ranges = crate::input::telemetry::Telemetry::ranges(segments, n);
+    let last = ranges.len().saturating_sub(1);
+    let mut out = Motion::default();
+    let mut standing = 0u64;
+    for (i, r) in ranges.into_iter().enumerate() {
+        let m = measure(
+            &locations[r.clone()],
+            &steps[r.clone()],
+            dt,
+            settings,
+            chunk_len,
+            min_chunk,
+        );
+        out.distance_m += m.distance_m;
+        let offset = r.start as u32;
+        for &(a, b) in &m.stationary {
+            standing += u64::from(b - a);
+            out.stationary.push((a + offset, b + offset));
+        }
+        out.moving.extend(&m.moving);
+        if i < last && chunk_len > 0 {
+            let chunks = r.len().div_ceil(chunk_len);
+            out.moving
+                .resize(out.moving.len() + chunks - m.moving.len(), false);
+        }
+    }
+    out.stationary_share = (n > 0).then(|| standing as f64 / n as f64);
+    out
 }
 
 /// Comfort over the moving chunks of a route.

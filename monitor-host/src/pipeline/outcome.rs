@@ -160,6 +160,8 @@ pub struct RouteOutcome {
     pub frames: u32,
     /// Missing step numbers.
     pub gaps: u64,
+    /// A vehicle log's segments (spec v1.5 §16); `None` for telemetry.
+    pub segments: Option<u64>,
     /// The frames and the monitor's per-chunk verdicts; `None` when not replayed.
     pub timeline: Option<RouteTimeline>,
     /// Telemetry terms; `None` when the route could not be scored.

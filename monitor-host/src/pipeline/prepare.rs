@@ -71,6 +71,9 @@ pub struct PreparedRoute {
     /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
     /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
     pub lateral: Vec<Option<LateralSample>>,
+    /// The index of each segment's first frame (a vehicle log cut at its gaps, spec v1.5 §16:
+    /// each segment streams through a fresh monitor); empty for one run of frames.
+    pub segments: Vec<usize>,
 }
 
 /// Builds the monitor's frames: signals from the raw vectors (f32 kernels), speed, lateral error
@@ -155,9 +158,10 @@ pub fn prepare_on(
         events.push(ev);
     }
 
-    let motion = motion::measure(
+    let motion = motion::measure_segments(
         &locations,
         &steps,
+        &tel.segments,
         decimal(settings.core.dt),
         &settings.motion,
         usize::from(settings.core.chunk_len),
@@ -174,11 +178,17 @@ pub fn prepare_on(
     ));
     let mut live = LiveFrames::with_corridor(corridor, settings.core.dt);
     let mut lateral = Vec::with_capacity(if keep_lateral { n } else { 0 });
+    let mut starts = tel.segments.iter().peekable();
     let frames: Vec<Frame> = tel
         .frames
         .iter()
         .zip(collisions)
-        .map(|(f, c)| {
+        .enumerate()
+        .map(|(i, (f, c))| {
+            // A vehicle log's segment starts afresh (spec v1.5 §16).
+            if starts.next_if(|&&s| s == i).is_some() {
+                live.start_segment();
+            }
             let (frame, sample) = live.build(f, c);
             if keep_lateral {
                 lateral.push(sample);
@@ -198,5 +208,6 @@ pub fn prepare_on(
         lateral,
         motion,
         placed,
+        segments: tel.segments.clone(),
     }
 }

@@ -89,7 +89,10 @@ pub fn smoothness_profile(config: &Config) -> Option<Profile> {
 }
 
 /// [`stream`], keeping the monitor's per-chunk verdicts in `log`, and counting Bench2Drive's
-/// smoothness beside the run's comfort ([`Streamed`]).
+/// smoothness beside the run's comfort ([`Streamed`]). A vehicle log's segments
+/// ([`PreparedRoute::segments`], spec v1.5 §16) each stream through a fresh monitor, and their
+/// counts are added up; the verdicts keep the route's frame indices, and chunks are numbered
+/// on across segments (each segment's after the `ceil(n / chunk_len)` chunks of those before).
 ///
 /// # Errors
 /// As [`stream`].
@@ -98,31 +101,61 @@ pub fn stream_logged(
     config: &Config,
     log: &mut ChunkLog,
 ) -> Result<Streamed, Refused> {
-    let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
-    if let Some(profile) = smoothness_profile(config) {
-        monitor = monitor.with_second_profile(profile);
-    }
+    // Checked once, before any frame, as a route without frames would be.
+    Monitor::<{ monitor_core::DEFAULT_CAPACITY }>::new(*config).map_err(Refused::Config)?;
+    let n = prepared.frames.len();
+    let ranges = crate::input::telemetry::Telemetry::ranges(&prepared.segments, n);
+    let chunk_len = u32::from(config.chunk_len.max(1));
     let mut verdicts = Vec::new();
-    for (index, f) in prepared.frames.iter().enumerate() {
-        let events = monitor
-            .push(f)
-            .map_err(|error| Refused::Frame { index, error })?;
-        // Most frames have no event.
-        if events.is_empty() {
-            continue;
+    let mut total = RouteSummary::ZERO;
+    let mut legacy = ComfortSummary::ZERO;
+    let mut chunks_before = 0u32;
+    for range in ranges {
+        let offset = range.start;
+        let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
+        if let Some(profile) = smoothness_profile(config) {
+            monitor = monitor.with_second_profile(profile);
         }
-        log.record(&events);
-        for e in &events {
-            if let Event::Collision(v) = e {
-                verdicts.push(*v);
+        let mut keep = |events: &monitor_core::Events| {
+            for e in events {
+                match *e {
+                    Event::Collision(mut v) => {
+                        v.frame += offset as u32;
+                        verdicts.push(v);
+                    }
+                    Event::Comfort(mut c) => {
+                        c.chunk += chunks_before;
+                        log.comfort.push(c);
+                    }
+                    Event::Lateral(mut l) => {
+                        l.chunk += chunks_before;
+                        log.lateral.push(l);
+                    }
+                }
+            }
+        };
+        for (index, f) in prepared.frames[range.clone()].iter().enumerate() {
+            let events = monitor.push(f).map_err(|error| Refused::Frame {
+                index: offset + index,
+                error,
+            })?;
+            // Most frames have no event.
+            if !events.is_empty() {
+                keep(&events);
             }
         }
+        let done = monitor.finish().map_err(|error| Refused::Frame {
+            index: range.end,
+            error,
+        })?;
+        keep(&done.events);
+        add(&mut total, &done.summary);
+        add_comfort(
+            &mut legacy,
+            monitor.second_comfort().unwrap_or(&done.summary.comfort),
+        );
+        chunks_before += (range.len() as u32).div_ceil(chunk_len);
     }
-    let done = monitor.finish().map_err(|error| Refused::Frame {
-        index: prepared.frames.len(),
-        error,
-    })?;
-    log.record(&done.events);
     for ev in &mut prepared.events {
         if let Some(k) = ev.frame {
             if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
@@ -132,12 +165,53 @@ pub fn stream_logged(
         }
     }
     Ok(Streamed {
-        summary: done.summary,
-        legacy_comfort: monitor
-            .second_comfort()
-            .copied()
-            .unwrap_or(done.summary.comfort),
+        summary: total,
+        legacy_comfort: legacy,
     })
+}
+
+/// Adds a segment's counts to a route's (spec v1.5 §16: a route's figures are its segments'
+/// together).
+pub fn add(total: &mut RouteSummary, s: &RouteSummary) {
+    total.frames += s.frames;
+    add_comfort(&mut total.comfort, &s.comfort);
+    let (l, m) = (&mut total.lateral, &s.lateral);
+    l.chunks += m.chunks;
+    l.scored_chunks += m.scored_chunks;
+    l.anomalous += m.anomalous;
+    l.critical += m.critical;
+    let (c, d) = (&mut total.collisions, &s.collisions);
+    c.aligned += d.aligned;
+    c.exempt += d.exempt;
+    c.nodecel += d.nodecel;
+}
+
+/// Adds a segment's comfort counts to a route's.
+pub fn add_comfort(total: &mut ComfortSummary, s: &ComfortSummary) {
+    total.chunks += s.chunks;
+    total.comfortable += s.comfortable;
+    let (f, g) = (&mut total.failed, &s.failed);
+    f.lon_acc += g.lon_acc;
+    f.lat_acc += g.lat_acc;
+    f.mag_jerk += g.mag_jerk;
+    f.lon_jerk += g.lon_jerk;
+    f.yaw_acc += g.yaw_acc;
+    f.yaw_rate += g.yaw_rate;
+}
+
+/// The batch reference of a route's frames (§9), segment by segment as the monitor streams
+/// them ([`stream_logged`]): the counts added up, and Bench2Drive's smoothness beside them.
+pub fn batch_reference(prepared: &PreparedRoute, core: &Config) -> (RouteSummary, ComfortSummary) {
+    let ranges =
+        crate::input::telemetry::Telemetry::ranges(&prepared.segments, prepared.frames.len());
+    let mut total = RouteSummary::ZERO;
+    let mut legacy = ComfortSummary::ZERO;
+    for r in ranges {
+        let b = batch::compute_with(&prepared.frames[r], core, smoothness_profile(core));
+        add(&mut total, &b.summary);
+        add_comfort(&mut legacy, &b.second_comfort.unwrap_or(b.summary.comfort));
+    }
+    (total, legacy)
 }
 
 /// Why the monitor refused a frame, said in the file's own fields: the frame's numbers are
@@ -559,15 +633,11 @@ pub fn replay_read(
                     legacy_comfort,
                 }) => {
                     // §9 for every count, Bench2Drive's smoothness included.
-                    let core = &route_settings.core;
-                    let reference =
-                        batch::compute_with(&prepared.frames, core, smoothness_profile(core));
-                    let legacy_reference = reference
-                        .second_comfort
-                        .unwrap_or(reference.summary.comfort);
+                    let (reference, legacy_reference) =
+                        batch_reference(&prepared, &route_settings.core);
                     out.legacy_comfort = Some(legacy_comfort);
                     out.batch_agrees =
-                        Some(reference.summary == summary && legacy_reference == legacy_comfort);
+                        Some(reference == summary && legacy_reference == legacy_comfort);
                     out.telemetry = TelemetryState::Ok;
                     out.moving = Some(MovingComfort::count(
                         &prepared.motion.moving,
@@ -588,8 +658,17 @@ pub fn replay_read(
                         chunks,
                     );
                     let chunk_len = usize::from(route_settings.core.chunk_len.max(1));
-                    timeline.chunk_steps =
-                        prepared.steps.iter().step_by(chunk_len).copied().collect();
+                    // Each segment's chunks start at its own first frame (v1.5 §16).
+                    let n = prepared.steps.len();
+                    let starts: Vec<usize> =
+                        crate::input::telemetry::Telemetry::ranges(&prepared.segments, n)
+                            .into_iter()
+                            .flat_map(|r| r.step_by(chunk_len))
+                            .collect();
+                    timeline.chunk_steps = starts.iter().map(|&k| prepared.steps[k]).collect();
+                    if !prepared.segments.is_empty() {
+                        timeline.chunk_frames = starts;
+                    }
                     out.timeline = Some(timeline);
                     Some(summary)
                 }
@@ -654,6 +733,7 @@ pub fn unreplayed(loaded: &LoadedRecord) -> RouteOutcome {
         foreign: false,
         frames: 0,
         gaps: 0,
+        segments: None,
         summary: None,
         safe: None,
         legacy_comfort: None,

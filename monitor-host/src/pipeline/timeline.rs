@@ -66,6 +66,9 @@ pub struct RouteTimeline {
     /// The step of each chunk's first frame (chunk `c` starts at frame `c × chunk_len`), for the
     /// route's `events` (filled by the replay).
     pub chunk_steps: Vec<u64>,
+    /// The index of each chunk's first frame, when it is not `c × chunk_len` (a vehicle log's
+    /// segments, spec v1.5 §16); empty otherwise.
+    pub chunk_frames: Vec<usize>,
 }
 
 impl RouteTimeline {
@@ -117,6 +120,7 @@ impl RouteTimeline {
             dt,
             chunks,
             chunk_steps: Vec::new(),
+            chunk_frames: Vec::new(),
         }
     }
 

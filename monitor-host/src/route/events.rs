@@ -135,7 +135,11 @@ pub fn route_events(
     if let Some(t) = timeline {
         let len = usize::from(chunk_len.max(1));
         let place = |chunk: u32| {
-            let frame = chunk as usize * len;
+            let frame = t
+                .chunk_frames
+                .get(chunk as usize)
+                .copied()
+                .unwrap_or(chunk as usize * len);
             let step = t.chunk_steps.get(chunk as usize).copied();
             (
                 step.map(|_| frame),

@@ -155,6 +155,10 @@ pub struct RouteReport {
     pub frames: u32,
     /// Missing steps.
     pub gaps: u64,
+    /// A vehicle log's segments (spec v1.5 §16): 1 + its gaps longer than `mcap.max_hold`, each
+    /// monitored as a fresh start. Left out for telemetry, whose frames are one run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub segments: Option<u64>,
     /// Entries per infraction list (all 12 lists and any unknown ones).
     pub infractions: InfractionCounts,
     /// Distance driven, m (§8.5: the 2-D path through the frames); null without frames.
@@ -328,6 +332,7 @@ pub fn route_report(o: &RouteOutcome, settings: &Settings, facts: RowFacts) -> R
         dt_source: o.period.map(|p| p.source),
         frames: o.frames,
         gaps: o.gaps,
+        segments: o.segments,
         infractions: InfractionCounts::of(rec.map(|r| &r.infractions)),
         collisions: CollisionCounts {
             pedestrian: count("collisions_pedestrian"),
@@ -448,6 +453,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
         dt_source: None,
         frames: 0,
         gaps: 0,
+        segments: None,
         infractions: InfractionCounts::of(None),
         distance_m: None,
         stationary_share: None,

@@ -123,6 +123,8 @@ pub struct Settings {
     /// How the route's `events` place the evaluator's other infractions and stationary
     /// stretches on the frame axis.
     pub events: EventSettings,
+    /// How vehicle logs are cut at their gaps (spec v1.5 §16).
+    pub mcap: McapSettings,
     /// Scoring protocols to add (§8.4; default none).
     pub protocols: Vec<Protocol>,
     /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
@@ -157,6 +159,7 @@ impl Default for Settings {
             threads: None,
             motion: MotionSettings::default(),
             events: EventSettings::default(),
+            mcap: McapSettings::default(),
             protocols: Vec::new(),
             ability_rule: AbilityRule::B2d004,
             min_speed_grid: MinSpeedGridSetting::Auto,
@@ -347,6 +350,12 @@ impl Settings {
                 self.events.signal_reach >= 0.0,
             ),
             (
+                "mcap.max_hold",
+                self.mcap.max_hold,
+                "in 0.001..=60 s",
+                (1e-3..=60.0).contains(&self.mcap.max_hold),
+            ),
+            (
                 "motion.moving_speed",
                 self.motion.moving_speed,
                 "finite and not negative",
@@ -493,6 +502,22 @@ impl Default for EventSettings {
             signal_reach: 30.0,
             min_standing: 2.0,
         }
+    }
+}
+
+/// How vehicle logs are framed (spec v1.5 §16; setting `mcap.max_hold`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct McapSettings {
+    /// Two consecutive pose messages further apart than this make a gap, s (0.25)
+    /// **\[decision\]**: no tick is made inside it, nothing is held across it, and the log is
+    /// cut into segments there, each monitored as a fresh start. A 10 Hz log's poses are 0.1 s
+    /// apart; a pause of a recorder, seconds.
+    pub max_hold: f64,
+}
+
+impl Default for McapSettings {
+    fn default() -> Self {
+        McapSettings { max_hold: 0.25 }
     }
 }
 

@@ -6,11 +6,11 @@
 //! | the file, streamed in bounded memory; cuts recovered | [`stream`] |
 //! | CDR, the messages' encoding | [`cdr`] |
 //! | the ROS 2 types: names, definitions checked, decoding | [`messages`] |
-//! | ticks at a fixed period, zero-order hold | [`frames`](mod@frames) |
+//! | ticks at a fixed period, zero-order hold, segments cut at gaps | [`frames`](mod@frames) |
 //!
 //! ```no_run
 //! use monitor_host::input::mcap::{read_log, Topics};
-//! let log = read_log("drive.mcap".as_ref(), &Topics::default(), 0.05)?;
+//! let log = read_log("drive.mcap".as_ref(), &Topics::default(), 0.05, 0.25)?;
 //! println!("{}: {} frames, {} events", log.name, log.telemetry.frames.len(), log.events.len());
 //! # Ok::<(), monitor_host::input::mcap::McapError>(())
 //! ```
@@ -88,14 +88,80 @@ impl Topics {
     }
 }
 
+impl Topics {
+    /// The topics of `--topic NAME=TOPIC` options, over the defaults: a signal named twice, or
+    /// one topic read as two signals (`event=/imu` beside the default `imu=/imu`: every IMU
+    /// message would be a collision), is refused.
+    ///
+    /// ```
+    /// use monitor_host::input::mcap::Topics;
+    /// let t = Topics::parse(&["pose=/pose".into(), "imu=/odom".into()])?;
+    /// assert_eq!((t.pose.as_str(), t.imu.as_str()), ("/pose", "/odom"));
+    /// assert!(Topics::parse(&["pose=/a".into(), "pose=/b".into()]).unwrap_err().contains("twice"));
+    /// assert!(Topics::parse(&["event=/imu".into()]).unwrap_err().contains("both imu and event"));
+    /// # Ok::<(), String>(())
+    /// ```
+    ///
+    /// # Errors
+    /// A sentence naming the option and the fix.
+    pub fn parse(specs: &[String]) -> Result<Topics, String> {
+        let mut topics = Topics::default();
+        let mut given: Vec<(String, &String)> = Vec::new();
+        for spec in specs {
+            topics.set(spec)?;
+            let name = spec
+                .split_once('=')
+                .map_or("", |(n, _)| n)
+                .trim()
+                .to_string();
+            if let Some((_, first)) = given.iter().find(|(n, _)| *n == name) {
+                return Err(format!(
+                    "--topic {name}=... is given twice ({first:?}, then {spec:?}): a signal is \
+                     read from one topic; give it once"
+                ));
+            }
+            given.push((name, spec));
+        }
+        let signals: [(&str, Option<&String>); 4] = [
+            ("pose", Some(&topics.pose)),
+            ("imu", Some(&topics.imu)),
+            ("event", topics.event.as_ref()),
+            ("path", topics.path.as_ref()),
+        ];
+        for (i, (a, ta)) in signals.iter().enumerate() {
+            for (b, tb) in &signals[i + 1..] {
+                if let (Some(ta), Some(tb)) = (ta, tb) {
+                    if ta == tb {
+                        return Err(format!(
+                            "--topic: {ta} would be read as both {a} and {b}; a topic is one \
+                             signal: name another topic with --topic {a}=TOPIC or --topic \
+                             {b}=TOPIC"
+                        ));
+                    }
+                }
+            }
+        }
+        Ok(topics)
+    }
+
+    /// Whether messages of `topic` are read (one of the four signals).
+    pub fn reads(&self, topic: &str) -> bool {
+        topic == self.pose
+            || topic == self.imu
+            || self.event.as_deref() == Some(topic)
+            || self.path.as_deref() == Some(topic)
+    }
+}
+
 /// One event of the event topic: its log time and the frame it falls on (the first frame at
 /// or after it), if any.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LogEvent {
     /// Log time, ns.
     pub t: u64,
-    /// Index of the frame (into the telemetry's frames), `None` when no frame follows within
-    /// [`frames::STALE_NS`].
+    /// Index of the frame (into the telemetry's frames): the first at or after it within
+    /// `mcap.max_hold`, else the last before it within one period; `None` when the event lies
+    /// in a gap.
     pub frame: Option<usize>,
     /// The message's schema name (`std_msgs/msg/Empty`, ...).
     pub kind: String,
@@ -125,7 +191,8 @@ pub struct VehicleLog {
     pub messages: u64,
     /// Bytes of the files.
     pub bytes: u64,
-    /// What the reader noted: cuts, messages out of order, clock gaps, the IMU fallback.
+    /// What the reader noted: cuts, corrupt chunks, messages out of order, gaps, the IMU
+    /// fallback. A note does not repeat the log's path (the warning names it).
     pub notes: Vec<String>,
 }
 
@@ -254,45 +321,123 @@ pub enum McapError {
         /// The period asked.
         dt: f64,
     },
+    /// `--topic` options that cannot be (a signal named twice, one topic for two signals,
+    /// topics without a log, a log where none is read).
+    #[error("{0}")]
+    Options(String),
+    /// `mcap.max_hold` outside its range.
+    #[error("mcap.max_hold {max_hold} s is outside 0.001..60 s (--set mcap.max_hold=SECONDS)")]
+    MaxHold {
+        /// The hold asked.
+        max_hold: f64,
+    },
+    /// A log that does not exist or cannot be opened: nothing is scored (as a results file that
+    /// cannot be read).
+    #[error("{}: cannot read: {source}", file.display())]
+    Unreadable {
+        /// The file (or folder) given.
+        file: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// Two logs with one route name (the file stem): their routes would share an id.
+    #[error("logs {} and {} are both route {name}: a route id is scored once (the same log given \
+             twice, or two logs with one file name); give each log once, renamed apart if they \
+             are different drives", first.display(), second.display())]
+    Duplicate {
+        /// The route name.
+        name: String,
+        /// The first log.
+        first: PathBuf,
+        /// The second.
+        second: PathBuf,
+    },
+    /// Every pose at one log time: no drive.
+    #[error("{}: its {poses} pose message(s) on {topic} all have log time {t} ns: a drive needs \
+             poses at two times at least; check the recorder's clock or the pose topic \
+             (--topic pose=TOPIC)", file.display())]
+    NoDrive {
+        /// The file.
+        file: PathBuf,
+        /// The pose topic.
+        topic: String,
+        /// Pose messages.
+        poses: usize,
+        /// Their one time, ns.
+        t: u64,
+    },
+}
+
+impl McapError {
+    /// The kind of the error: a log that cannot be opened [`ErrorKind::Io`](crate::ErrorKind),
+    /// two logs of one name [`ErrorKind::Refused`](crate::ErrorKind), a setting out of range
+    /// [`ErrorKind::Option`](crate::ErrorKind), else [`ErrorKind::Input`](crate::ErrorKind).
+    pub fn kind(&self) -> crate::ErrorKind {
+        match self {
+            McapError::Unreadable { .. } => crate::ErrorKind::Io,
+            McapError::Duplicate { .. } => crate::ErrorKind::Refused,
+            McapError::Period { .. } | McapError::MaxHold { .. } | McapError::Options(_) => {
+                crate::ErrorKind::Option
+            }
+            _ => crate::ErrorKind::Input,
+        }
+    }
 }
 
 /// Whether a log time goes back by more than this (in one topic, in file order) is a clock
 /// jump rather than recording jitter (chunks written out of order) **\[decision\]**.
 pub const CLOCK_BACK_NS: u64 = 1_000_000_000;
 
-/// One topic's messages as read: the channel's type, then the samples.
-#[derive(Default)]
-struct TopicSeen {
-    type_name: String,
-    encoding: String,
-    messages: u64,
-}
-
-/// The MCAP files of `path`: the file itself, or a rosbag2 folder's `*.mcap` files in name order.
-fn files_of(path: &Path) -> Result<Vec<PathBuf>, McapError> {
-    if !path.is_dir() {
+/// The MCAP files of `path`: the file itself, or a rosbag2 folder's `*.mcap` files in name
+/// order. Only regular files inside the folder are read: a link (to a file outside it, say) is
+/// left out with a note, and its target is never opened.
+fn files_of(path: &Path, notes: &mut Vec<String>) -> Result<Vec<PathBuf>, McapError> {
+    let meta = std::fs::metadata(path).map_err(|source| McapError::Unreadable {
+        file: path.to_path_buf(),
+        source,
+    })?;
+    if !meta.is_dir() {
         return Ok(vec![path.to_path_buf()]);
     }
     let io = |e: std::io::Error| McapError::Stream {
         file: path.to_path_buf(),
         source: e.into(),
     };
-    let mut all: Vec<PathBuf> = std::fs::read_dir(path)
+    let mut all: Vec<(PathBuf, std::fs::FileType)> = std::fs::read_dir(path)
         .map_err(io)?
-        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter_map(|e| e.ok().and_then(|e| Some((e.path(), e.file_type().ok()?))))
         .collect();
-    all.sort();
-    let mcaps: Vec<PathBuf> = all
-        .iter()
-        .filter(|p| p.extension().is_some_and(|e| e == "mcap"))
-        .cloned()
-        .collect();
+    all.sort_by(|a, b| a.0.cmp(&b.0));
+    let is_mcap = |p: &Path| p.extension().is_some_and(|e| e == "mcap");
+    let mut mcaps = Vec::new();
+    for (p, kind) in &all {
+        if !is_mcap(p) {
+            continue;
+        }
+        if kind.is_file() {
+            mcaps.push(p.clone());
+        } else {
+            let what = if kind.is_symlink() {
+                "a symbolic link"
+            } else {
+                "not a regular file"
+            };
+            notes.push(format!(
+                "{} is {what}: left out (sds reads only the regular files inside a rosbag2 \
+                 folder)",
+                p.file_name().unwrap_or_default().to_string_lossy()
+            ));
+        }
+    }
     if mcaps.is_empty() {
         let hint = if all
             .iter()
-            .any(|p| p.extension().is_some_and(|e| e == "db3"))
+            .any(|(p, _)| p.extension().is_some_and(|e| e == "db3"))
         {
             ": it holds sqlite3 (.db3) storage; convert it with `ros2 bag convert` to MCAP"
+        } else if !notes.is_empty() {
+            ": its .mcap entries are links or not regular files, which sds does not follow"
         } else {
             ""
         };
@@ -347,67 +492,80 @@ fn order<T>(
     Ok(late)
 }
 
+/// A pose gap longer than this is said as a message far from the rest (a clock that was not
+/// set, a stray stamp) **\[decision\]**: its ticks still count as gaps.
+pub const FAR_NS: u64 = 3_600_000_000_000;
+
 /// Reads the log at `path` (an `.mcap` file or a rosbag2 folder) and makes its frames at the
-/// period `dt` (s), as spec v1.4 §16 defines them.
+/// period `dt` (s), cut into segments at gaps longer than `max_hold` (s), as spec v1.5 §16
+/// defines them.
 ///
 /// # Errors
 /// [`McapError`] naming the file, the topic and the fix.
-pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, McapError> {
+pub fn read_log(
+    path: &Path,
+    topics: &Topics,
+    dt: f64,
+    max_hold: f64,
+) -> Result<VehicleLog, McapError> {
     if !(1e-3..=1.0).contains(&dt) {
         return Err(McapError::Period { dt });
     }
+    if !(1e-3..=60.0).contains(&max_hold) {
+        return Err(McapError::MaxHold { max_hold });
+    }
     let dt_ns = (dt * 1e9).round() as u64;
-    let files = files_of(path)?;
-    let mut seen: BTreeMap<String, TopicSeen> = BTreeMap::new();
+    let hold_ns = (max_hold * 1e9).round() as u64;
+    let mut notes = Vec::new();
+    let files = files_of(path, &mut notes)?;
+    // A note names a file inside a rosbag2 folder; a single file is the log the warning names.
+    let folder = files.len() > 1 || files.first().is_some_and(|f| f != path);
+    let label = |f: &Path| {
+        if folder {
+            format!("{}: ", f.file_name().unwrap_or_default().to_string_lossy())
+        } else {
+            String::new()
+        }
+    };
+    let mut seen: BTreeMap<String, stream::TopicCount> = BTreeMap::new();
     let mut poses: Vec<PoseSample> = Vec::new();
     let mut imu: Vec<MotionSample> = Vec::new();
     let mut events: Vec<(u64, String)> = Vec::new();
     let mut path_msgs: (u64, Option<Vec<[f64; 3]>>) = (0, None);
-    let mut notes = Vec::new();
     let (mut messages, mut bytes) = (0u64, 0u64);
-    // Checked once per channel: (channel id, file index) → type.
+    let wanted = |t: &str| topics.reads(t);
     for file in &files {
+        // Checked once per channel (ids are per file).
         let mut checked: BTreeMap<u16, RosType> = BTreeMap::new();
+        let mut index: BTreeMap<u16, u64> = BTreeMap::new();
         let mut failure: Option<McapError> = None;
-        let streamed = stream::stream(file, |m| {
-            let ch = &m.channel;
-            let (type_name, encoding, schema_enc, schema_data) = match &ch.schema {
-                Some(s) => (
-                    s.name.as_str(),
-                    ch.message_encoding.as_str(),
-                    s.encoding.as_str(),
-                    &s.data[..],
-                ),
-                None => ("", ch.message_encoding.as_str(), "", &[][..]),
+        let streamed = stream::stream(file, &wanted, |m| {
+            let ch = m.channel;
+            let (type_name, schema_enc, schema_data) = match &ch.schema {
+                Some(s) => (s.name.as_str(), s.encoding.as_str(), &s.data[..]),
+                None => ("", "", &[][..]),
             };
-            let entry = seen.entry(ch.topic.clone()).or_default();
-            entry.messages += 1;
-            if entry.type_name.is_empty() {
-                entry.type_name = type_name.to_string();
-                entry.encoding = encoding.to_string();
-            }
-            let index = entry.messages - 1;
-            type Signal = (&'static str, &'static [RosType], &'static str);
-            let signal: Option<Signal> = if ch.topic == topics.pose {
-                Some((
-                    "pose",
-                    &[RosType::Odometry, RosType::PoseStamped],
-                    "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
-                ))
-            } else if ch.topic == topics.imu {
-                Some(("imu", &[RosType::Imu], "sensor_msgs/msg/Imu"))
-            } else if Some(&ch.topic) == topics.path.as_ref() {
-                Some(("path", &[RosType::Path], "nav_msgs/msg/Path"))
-            } else {
-                None
-            };
+            let encoding = ch.message_encoding.as_str();
+            let i = index.entry(ch.id).or_default();
+            let at = *i;
+            *i += 1;
             if Some(&ch.topic) == topics.event.as_ref() {
                 events.push((m.log_time, type_name.to_string()));
                 return Ok(());
             }
-            let Some((signal, accepted, expected)) = signal else {
-                return Ok(());
+            type Signal = (&'static str, &'static [RosType], &'static str);
+            let signal: Signal = if ch.topic == topics.pose {
+                (
+                    "pose",
+                    &[RosType::Odometry, RosType::PoseStamped],
+                    "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
+                )
+            } else if ch.topic == topics.imu {
+                ("imu", &[RosType::Imu], "sensor_msgs/msg/Imu")
+            } else {
+                ("path", &[RosType::Path], "nav_msgs/msg/Path")
             };
+            let (signal, accepted, expected) = signal;
             let t = match checked.get(&ch.id) {
                 Some(t) => *t,
                 None => {
@@ -444,46 +602,36 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
                 file: file.clone(),
                 topic: ch.topic.clone(),
                 type_name: type_name.into(),
-                index,
+                index: at,
                 t: m.log_time,
                 source,
             };
-            match t {
-                RosType::Odometry | RosType::PoseStamped => {
-                    match messages::decode_pose(t, &m.data) {
-                        Ok(p) => poses.push(PoseSample {
-                            t: m.log_time,
-                            position: p.position,
-                            yaw: messages::yaw(p.orientation),
-                            twist: p.twist,
+            let decoded =
+                match t {
+                    RosType::Odometry | RosType::PoseStamped => messages::decode_pose(t, m.data)
+                        .map(|p| {
+                            poses.push(PoseSample {
+                                t: m.log_time,
+                                position: p.position,
+                                yaw: messages::yaw(p.orientation),
+                                twist: p.twist,
+                            })
                         }),
-                        Err(e) => {
-                            failure = Some(decode_err(e));
-                            return Err(String::new());
-                        }
-                    }
-                }
-                RosType::Imu => match messages::decode_imu(&m.data) {
-                    Ok(i) => imu.push(MotionSample {
-                        t: m.log_time,
-                        acc: i.acc,
-                        world: false,
-                        yaw_rate: i.yaw_rate,
+                    RosType::Imu => messages::decode_imu(m.data).map(|i| {
+                        imu.push(MotionSample {
+                            t: m.log_time,
+                            acc: i.acc,
+                            world: false,
+                            yaw_rate: i.yaw_rate,
+                        })
                     }),
-                    Err(e) => {
-                        failure = Some(decode_err(e));
-                        return Err(String::new());
-                    }
-                },
-                RosType::Path => match messages::decode_path(&m.data) {
-                    Ok(p) => path_msgs = (path_msgs.0 + 1, Some(p)),
-                    Err(e) => {
-                        failure = Some(decode_err(e));
-                        return Err(String::new());
-                    }
-                },
-            }
-            Ok(())
+                    RosType::Path => messages::decode_path(m.data)
+                        .map(|p| path_msgs = (path_msgs.0 + 1, Some(p))),
+                };
+            decoded.map_err(|e| {
+                failure = Some(decode_err(e));
+                String::new()
+            })
         });
         let streamed = match (streamed, failure) {
             (_, Some(f)) => return Err(f),
@@ -497,12 +645,35 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
         };
         messages += streamed.messages;
         bytes += streamed.bytes;
+        for (topic, c) in streamed.topics {
+            let entry = seen.entry(topic).or_default();
+            if entry.type_name.is_empty() {
+                entry.type_name = c.type_name;
+                entry.encoding = c.encoding;
+            }
+            entry.messages += c.messages;
+        }
+        for c in &streamed.corrupt_chunks {
+            let lost = c
+                .messages
+                .map_or_else(String::new, |n| format!(" ({n} messages)"));
+            notes.push(format!(
+                "{}chunk {} (byte {}, log time {}..{} ns) is corrupt: {}; its messages{lost} are \
+                 left out, the chunks after it are read",
+                label(file),
+                c.index,
+                c.offset,
+                c.times.0,
+                c.times.1,
+                c.reason
+            ));
+        }
         if let Some(cut) = streamed.truncated {
             notes.push(format!(
-                "{}: {}: {} messages recovered; the last {} bytes are lost (about {} messages, \
+                "{}{}: {} messages recovered; the last {} bytes are lost (about {} messages, \
                  estimated from the mean message size: the index that would count them was in \
                  the lost end of the file)",
-                file.display(),
+                label(file),
                 cut.reason,
                 streamed.messages,
                 cut.lost_bytes,
@@ -544,6 +715,16 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
             ));
         }
     }
+    if let (Some(a), Some(b)) = (poses.first(), poses.last()) {
+        if a.t == b.t {
+            return Err(McapError::NoDrive {
+                file: first,
+                topic: topics.pose.clone(),
+                poses: poses.len(),
+                t: a.t,
+            });
+        }
+    }
     events.sort_by_key(|e| e.0);
     let motion = if imu.is_empty() {
         if poses.iter().all(|p| p.twist.is_none()) {
@@ -559,22 +740,42 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
              the odometry twist on {} (name an IMU with --topic imu=TOPIC)",
             topics.imu, topics.pose
         ));
-        frames::twist_motion(&poses)
+        frames::twist_motion(&poses, hold_ns)
     } else {
         imu
     };
-    let (telemetry, times) =
-        frames::frames(&poses, &motion, dt_ns).map_err(|source| McapError::Frames {
+    let framed =
+        frames::frames(&poses, &motion, dt_ns, hold_ns).map_err(|source| McapError::Frames {
             file: first.clone(),
             source,
         })?;
-    if telemetry.gaps > 0 {
+    let (telemetry, times) = (framed.telemetry, framed.times);
+    if !framed.gaps.is_empty() {
         notes.push(format!(
-            "{} of {} ticks at {dt} s have no frame: a signal's newest message was more than \
-             {} s old (the recorder paused or a topic stopped); they count as gaps",
+            "{} gap(s) longer than mcap.max_hold = {max_hold} s between pose messages (the \
+             recorder paused, a topic stopped): no tick is made inside a gap and nothing is held \
+             across it; the frames form {} segment(s), each scored as a fresh start; {} of {} \
+             ticks at {dt} s fall in gaps",
+            framed.gaps.len(),
+            telemetry.segments.len().max(1),
             telemetry.gaps,
             telemetry.gaps + telemetry.frames.len() as u64,
-            frames::STALE_NS as f64 * 1e-9
+        ));
+    } else if telemetry.gaps > 0 {
+        notes.push(format!(
+            "{} of {} ticks at {dt} s have no IMU message within mcap.max_hold = {max_hold} s: \
+             they count as gaps, and the log is cut into {} segment(s) there",
+            telemetry.gaps,
+            telemetry.gaps + telemetry.frames.len() as u64,
+            telemetry.segments.len().max(1),
+        ));
+    }
+    for &(a, b) in framed.gaps.iter().filter(|(a, b)| b - a > FAR_NS) {
+        notes.push(format!(
+            "pose messages at log time {a} ns and {b} ns lie {:.0} s apart: a message far from \
+             the rest (a clock that was not set? a stray time stamp?); the ticks between count as \
+             gaps",
+            (b - a) as f64 * 1e-9
         ));
     }
     if path_msgs.0 > 1 {
@@ -601,12 +802,16 @@ pub fn read_log(path: &Path, topics: &Topics, dt: f64) -> Result<VehicleLog, Mca
     let events = events
         .into_iter()
         .map(|(t, kind)| {
+            // The first tick at or after the event, within the hold; else the tick just before
+            // it (the event came after its segment's last tick).
             let k = times.partition_point(|&x| x < t);
-            let frame = times
-                .get(k)
-                .filter(|&&x| x - t <= frames::STALE_NS)
-                .map(|_| k);
-            LogEvent { t, frame, kind }
+            let after = times.get(k).filter(|&&x| x - t <= hold_ns).map(|_| k);
+            let before = k.checked_sub(1).filter(|&j| t - times[j] < dt_ns);
+            LogEvent {
+                t,
+                frame: after.or(before),
+                kind,
+            }
         })
         .collect();
     Ok(VehicleLog {

@@ -180,7 +180,11 @@ fn finish(mut frames: Vec<TelemetryFrame>, sorted: bool) -> Result<Telemetry, Te
     // Steps are unique and sorted, so last - first >= n - 1 (written to never overflow).
     let n = frames.len() as u64;
     let gaps = (frames[frames.len() - 1].step - frames[0].step) - (n - 1);
-    Ok(Telemetry { frames, gaps })
+    Ok(Telemetry {
+        frames,
+        gaps,
+        segments: Vec::new(),
+    })
 }
 
 #[cfg(test)]

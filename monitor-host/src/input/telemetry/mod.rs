@@ -104,12 +104,35 @@ pub struct Telemetry {
     pub frames: Vec<TelemetryFrame>,
     /// `last_step - first_step + 1 - frames.len()` (`SDS-SPEC.md` §1.2).
     pub gaps: u64,
+    /// The index of each segment's first frame, for a vehicle log cut at its gaps (spec v1.5
+    /// §16: each segment is monitored as a fresh start); empty for a telemetry file, whose
+    /// frames are one run chunked consecutively across missing steps (§1.2).
+    pub segments: Vec<usize>,
 }
 
 impl Telemetry {
     /// The step numbers, in frame order (for [`crate::pipeline::align::align_events`]).
     pub fn steps(&self) -> Vec<u64> {
         self.frames.iter().map(|f| f.step).collect()
+    }
+
+    /// The frame ranges of the segments of `n` frames whose first frames are `segments` (one
+    /// range of every frame when `segments` is empty).
+    ///
+    /// ```
+    /// use monitor_host::input::telemetry::Telemetry;
+    /// assert_eq!(Telemetry::ranges(&[], 5), vec![0..5]);
+    /// assert_eq!(Telemetry::ranges(&[0, 3], 5), vec![0..3, 3..5]);
+    /// ```
+    pub fn ranges(segments: &[usize], n: usize) -> Vec<std::ops::Range<usize>> {
+        if segments.is_empty() {
+            return std::iter::once(0..n).collect();
+        }
+        segments
+            .iter()
+            .zip(segments.iter().skip(1).chain([&n]))
+            .map(|(&a, &b)| a..b)
+            .collect()
     }
 
     /// The 2-D locations, in frame order (for [`crate::pipeline::align::nearest_frame`]).

@@ -121,6 +121,22 @@ impl crate::app::request::ScoreError {
     }
 }
 
+impl crate::input::mcap::McapError {
+    /// The kind of the error: a log that cannot be opened [`ErrorKind::Io`],
+    /// two logs of one name [`ErrorKind::Refused`], a setting out of range
+    /// [`ErrorKind::Option`], else [`ErrorKind::Input`].
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            crate::input::mcap::McapError::Unreadable { .. } => ErrorKind::Io,
+            crate::input::mcap::McapError::Duplicate { .. } => ErrorKind::Refused,
+            crate::input::mcap::McapError::Period { .. }
+            | crate::input::mcap::McapError::MaxHold { .. }
+            | crate::input::mcap::McapError::Options(_) => ErrorKind::Option,
+            _ => ErrorKind::Input,
+        }
+    }
+}
+
 impl ResultsError {
     /// [`ErrorKind::Io`] for a file that cannot be read, else [`ErrorKind::Input`].
     pub fn kind(&self) -> ErrorKind {

@@ -41,8 +41,8 @@ use crate::provenance::{sha256_hex, FileDigest, Provenance};
 use crate::route::row::{InfractionCounts, RouteReport};
 use crate::settings::Settings;
 
-use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
 use crate::input::read::{read_input, FileKind};
+use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
 use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
 
 pub use crate::model::parts::PartInputs;

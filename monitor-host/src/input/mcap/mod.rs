@@ -369,22 +369,6 @@ pub enum McapError {
     },
 }
 
-impl McapError {
-    /// The kind of the error: a log that cannot be opened [`ErrorKind::Io`](crate::ErrorKind),
-    /// two logs of one name [`ErrorKind::Refused`](crate::ErrorKind), a setting out of range
-    /// [`ErrorKind::Option`](crate::ErrorKind), else [`ErrorKind::Input`](crate::ErrorKind).
-    pub fn kind(&self) -> crate::ErrorKind {
-        match self {
-            McapError::Unreadable { .. } => crate::ErrorKind::Io,
-            McapError::Duplicate { .. } => crate::ErrorKind::Refused,
-            McapError::Period { .. } | McapError::MaxHold { .. } | McapError::Options(_) => {
-                crate::ErrorKind::Option
-            }
-            _ => crate::ErrorKind::Input,
-        }
-    }
-}
-
 /// Whether a log time goes back by more than this (in one topic, in file order) is a clock
 /// jump rather than recording jitter (chunks written out of order) **\[decision\]**.
 pub const CLOCK_BACK_NS: u64 = 1_000_000_000;

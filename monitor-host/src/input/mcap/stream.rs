@@ -322,7 +322,7 @@ impl<F: FnMut(&Message<'_>) -> Result<(), String>> State<'_, F> {
     fn record(&mut self, opcode: u8, data: &[u8], hold: Option<Hold>) -> Result<bool, StreamError> {
         if opcode == op::MESSAGE_INDEX {
             if let (Some(p), Ok(::mcap::records::Record::MessageIndex(m))) =
-                (self.pending.as_mut(), ::mcap::parse_record(opcode, data))
+                (self.pending.as_mut(), parse_record(opcode, data))
             {
                 *p.indexed.entry(m.channel_id).or_default() += m.records.len() as u64;
             }
@@ -342,7 +342,7 @@ impl<F: FnMut(&Message<'_>) -> Result<(), String>> State<'_, F> {
             }
             op::DATA_END => return Ok(true),
             op::CHUNK => {
-                let (header, body) = match ::mcap::parse_record(opcode, data) {
+                let (header, body) = match parse_record(opcode, data) {
                     Ok(::mcap::records::Record::Chunk { header, data }) => (header, data),
                     Ok(_) => unreachable!("a chunk's opcode parses as a chunk"),
                     Err(e) => {
@@ -410,7 +410,7 @@ impl<F: FnMut(&Message<'_>) -> Result<(), String>> State<'_, F> {
 
     /// Registers a schema or channel record.
     fn define(&mut self, opcode: u8, data: &[u8]) -> Result<(), String> {
-        match ::mcap::parse_record(opcode, data).map_err(|e| e.to_string())? {
+        match parse_record(opcode, data)? {
             ::mcap::records::Record::Schema { header, data } => {
                 self.schemas.insert(
                     header.id,
@@ -560,7 +560,7 @@ impl<F: FnMut(&Message<'_>) -> Result<(), String>> State<'_, F> {
                     }
                     let mut data = vec![0u8; len as usize];
                     r.read_exact(&mut data).map_err(io)?;
-                    match ::mcap::parse_record(opcode, &data).map_err(|e| e.to_string())? {
+                    match parse_record(opcode, &data)? {
                         ::mcap::records::Record::Schema { header, data: d } => {
                             local_schemas.insert(
                                 header.id,
@@ -692,5 +692,126 @@ impl<R: Read> Read for Hashing<R> {
         self.hasher.update(&buf[..n]);
         self.read += n as u64;
         Ok(n)
+    }
+}
+
+/// [`::mcap::parse_record`], after checking that every length inside the record (a string's, a
+/// byte array's, a map's) fits in what is left of it: the mcap crate reserves a field's length
+/// before it reads it, so a length of 4 GiB in a 40-byte record asked for 4 GiB (found by the
+/// `mcap` fuzz target).
+fn parse_record(opcode: u8, data: &[u8]) -> Result<::mcap::records::Record<'_>, String> {
+    if !lengths_fit(opcode, data) {
+        return Err("a length inside the record runs past its end".into());
+    }
+    ::mcap::parse_record(opcode, data).map_err(|e| e.to_string())
+}
+
+/// Whether the length-prefixed fields of a record of the opcodes read here fit in it.
+fn lengths_fit(opcode: u8, data: &[u8]) -> bool {
+    let mut at = Fields { data, at: 0 };
+    match opcode {
+        // id, name, encoding, data
+        op::SCHEMA => at.skip(2) && at.string() && at.string() && at.bytes32(),
+        // id, schema id, topic, message encoding, metadata (a map of strings)
+        op::CHANNEL => at.skip(4) && at.string() && at.string() && at.map(),
+        // start, end, uncompressed size, uncompressed crc, compression, records
+        op::CHUNK => at.skip(28) && at.string() && at.bytes64(),
+        // channel id, entries
+        op::MESSAGE_INDEX => at.skip(2) && at.bytes32(),
+        _ => true,
+    }
+}
+
+/// A cursor over a record's fields.
+struct Fields<'a> {
+    data: &'a [u8],
+    at: usize,
+}
+
+impl Fields<'_> {
+    fn skip(&mut self, n: usize) -> bool {
+        match self.at.checked_add(n) {
+            Some(end) if end <= self.data.len() => {
+                self.at = end;
+                true
+            }
+            _ => false,
+        }
+    }
+    fn len32(&mut self) -> Option<usize> {
+        let b = self.data.get(self.at..self.at.checked_add(4)?)?;
+        self.at += 4;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+    }
+    fn string(&mut self) -> bool {
+        self.len32().is_some_and(|n| self.skip(n))
+    }
+    fn bytes32(&mut self) -> bool {
+        self.string()
+    }
+    fn bytes64(&mut self) -> bool {
+        let Some(b) = self
+            .at
+            .checked_add(8)
+            .and_then(|e| self.data.get(self.at..e))
+        else {
+            return false;
+        };
+        let mut n = [0u8; 8];
+        n.copy_from_slice(b);
+        self.at += 8;
+        usize::try_from(u64::from_le_bytes(n)).is_ok_and(|n| self.skip(n))
+    }
+    /// A map of strings: its byte length, then key and value strings that fill it exactly.
+    fn map(&mut self) -> bool {
+        let Some(n) = self.len32() else {
+            return false;
+        };
+        let Some(end) = self.at.checked_add(n).filter(|&e| e <= self.data.len()) else {
+            return false;
+        };
+        let mut inner = Fields {
+            data: &self.data[..end],
+            at: self.at,
+        };
+        while inner.at < end {
+            if !(inner.string() && inner.string()) {
+                return false;
+            }
+        }
+        self.at = end;
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 40-byte chunk record whose compression string claims 4 GiB is refused before the mcap
+    /// crate reserves the 4 GiB (the `mcap` fuzz target's out-of-memory input).
+    #[test]
+    fn a_length_past_the_record_is_refused_before_it_is_reserved() {
+        let mut chunk = vec![0u8; 28];
+        chunk.extend_from_slice(&u32::MAX.to_le_bytes());
+        chunk.extend_from_slice(&[0u8; 8]);
+        assert!(!lengths_fit(op::CHUNK, &chunk));
+        assert!(parse_record(op::CHUNK, &chunk).is_err());
+        // The same record with an empty compression and no records fits and parses.
+        let mut ok = vec![0u8; 28];
+        ok.extend_from_slice(&0u32.to_le_bytes());
+        ok.extend_from_slice(&0u64.to_le_bytes());
+        assert!(lengths_fit(op::CHUNK, &ok));
+        assert!(parse_record(op::CHUNK, &ok).is_ok());
+        // A channel whose metadata map holds a string running past the map.
+        let mut channel = vec![0u8; 4];
+        channel.extend_from_slice(&1u32.to_le_bytes());
+        channel.push(b'/');
+        channel.extend_from_slice(&3u32.to_le_bytes());
+        channel.extend_from_slice(b"cdr");
+        channel.extend_from_slice(&8u32.to_le_bytes());
+        channel.extend_from_slice(&100u32.to_le_bytes());
+        channel.extend_from_slice(&[0u8; 4]);
+        assert!(!lengths_fit(op::CHANNEL, &channel));
     }
 }

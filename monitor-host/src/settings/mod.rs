@@ -756,12 +756,9 @@ mod tests {
         assert_eq!(s.get("nope"), None);
     }
 
-    /// docs/SCORE.md's settings table is [`defs::markdown_table`]: a setting added, renamed or
-    /// re-documented in the table of settings changes the docs with it (`SDS_BLESS=1` rewrites).
-    #[test]
-    fn score_md_settings_table_is_generated_from_the_table() {
-        const START: &str = "<!-- settings table: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n";
-        const END: &str = "<!-- end of settings table -->";
+    /// Checks that the block of docs/SCORE.md between `start` and `end` is `generated`
+    /// (`SDS_BLESS=1` rewrites it); skips, saying so, outside the repository.
+    fn check_generated_block(start: &str, end: &str, generated: &str, what: &str) {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/SCORE.md");
         let Ok(doc) = std::fs::read_to_string(&path) else {
             eprintln!(
@@ -770,17 +767,28 @@ mod tests {
             );
             return;
         };
-        let a = doc.find(START).expect("the table's start marker") + START.len();
-        let b = a + doc[a..].find(END).expect("the table's end marker");
-        let table = defs::markdown_table();
+        let a = doc.find(start).expect("the block's start marker") + start.len();
+        let b = a + doc[a..].find(end).expect("the block's end marker");
         if std::env::var_os("SDS_BLESS").is_some() {
-            std::fs::write(&path, format!("{}{table}{}", &doc[..a], &doc[b..])).unwrap();
+            std::fs::write(&path, format!("{}{generated}{}", &doc[..a], &doc[b..])).unwrap();
             return;
         }
         assert_eq!(
             doc[a..b],
-            table,
-            "docs/SCORE.md's settings table: rerun with SDS_BLESS=1"
+            *generated,
+            "docs/SCORE.md's {what}: rerun with SDS_BLESS=1"
+        );
+    }
+
+    /// docs/SCORE.md's settings table is [`defs::markdown_table`]: a setting added, renamed or
+    /// re-documented in the table of settings changes the docs with it (`SDS_BLESS=1` rewrites).
+    #[test]
+    fn score_md_settings_table_is_generated_from_the_table() {
+        check_generated_block(
+            "<!-- settings table: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n",
+            "<!-- end of settings table -->",
+            &defs::markdown_table(),
+            "settings table",
         );
         assert_eq!(defs::SETTINGS.len(), Settings::NAMES.len());
     }
@@ -789,27 +797,11 @@ mod tests {
     /// rows' `sweep` column (`SDS_BLESS=1` rewrites).
     #[test]
     fn score_md_sweep_list_is_generated_from_the_table() {
-        const START: &str = "<!-- sweep settings: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n";
-        const END: &str = "<!-- end of sweep settings -->";
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/SCORE.md");
-        let Ok(doc) = std::fs::read_to_string(&path) else {
-            eprintln!(
-                "skipped: {} not found (the crate outside its repository)",
-                path.display()
-            );
-            return;
-        };
-        let a = doc.find(START).expect("the list's start marker") + START.len();
-        let b = a + doc[a..].find(END).expect("the list's end marker");
-        let list = defs::sweep_markdown();
-        if std::env::var_os("SDS_BLESS").is_some() {
-            std::fs::write(&path, format!("{}{list}{}", &doc[..a], &doc[b..])).unwrap();
-            return;
-        }
-        assert_eq!(
-            doc[a..b],
-            list,
-            "docs/SCORE.md's sweep list: rerun with SDS_BLESS=1"
+        check_generated_block(
+            "<!-- sweep settings: generated from monitor-host/src/settings/defs.rs; a test checks it (SDS_BLESS=1 rewrites it) -->\n",
+            "<!-- end of sweep settings -->",
+            &defs::sweep_markdown(),
+            "sweep list",
         );
     }
 

@@ -85,6 +85,30 @@ impl ComfortSummary {
         }
         self.failed.add(failed);
     }
+
+    /// Adds another span's counts to these (saturating): a route's figures are its segments'
+    /// together (docs/SCORE.md §2.4).
+    ///
+    /// ```
+    /// use monitor_core::{ComfortSummary, Failures};
+    /// let (mut a, mut b) = (ComfortSummary::ZERO, ComfortSummary::ZERO);
+    /// a.count(&Failures::default());
+    /// b.count(&Failures { lat_acc: true, ..Default::default() });
+    /// a.merge(&b);
+    /// assert_eq!((a.chunks, a.comfortable, a.failed.lat_acc), (2, 1, 1));
+    /// ```
+    pub fn merge(&mut self, other: &ComfortSummary) {
+        let add = |a: &mut u32, b: u32| *a = a.saturating_add(b);
+        add(&mut self.chunks, other.chunks);
+        add(&mut self.comfortable, other.comfortable);
+        let (f, g) = (&mut self.failed, &other.failed);
+        add(&mut f.lon_acc, g.lon_acc);
+        add(&mut f.lat_acc, g.lat_acc);
+        add(&mut f.mag_jerk, g.mag_jerk);
+        add(&mut f.lon_jerk, g.lon_jerk);
+        add(&mut f.yaw_acc, g.yaw_acc);
+        add(&mut f.yaw_rate, g.yaw_rate);
+    }
 }
 
 /// Lateral counts (spec section 6).
@@ -152,6 +176,30 @@ impl RouteSummary {
             nodecel: 0,
         },
     };
+
+    /// Adds another span's counts to these (saturating): a route's figures are its segments'
+    /// together (docs/SCORE.md §2.4), on the host as on the link's checker.
+    ///
+    /// ```
+    /// use monitor_core::RouteSummary;
+    /// let mut a = RouteSummary { frames: 40, ..RouteSummary::ZERO };
+    /// a.merge(&RouteSummary { frames: u32::MAX, ..RouteSummary::ZERO });
+    /// assert_eq!(a.frames, u32::MAX);
+    /// ```
+    pub fn merge(&mut self, other: &RouteSummary) {
+        let add = |a: &mut u32, b: u32| *a = a.saturating_add(b);
+        add(&mut self.frames, other.frames);
+        self.comfort.merge(&other.comfort);
+        let (l, m) = (&mut self.lateral, &other.lateral);
+        add(&mut l.chunks, m.chunks);
+        add(&mut l.scored_chunks, m.scored_chunks);
+        add(&mut l.anomalous, m.anomalous);
+        add(&mut l.critical, m.critical);
+        let (c, d) = (&mut self.collisions, &other.collisions);
+        add(&mut c.aligned, d.aligned);
+        add(&mut c.exempt, d.exempt);
+        add(&mut c.nodecel, d.nodecel);
+    }
 
     /// `C_route = comfortable / chunks`; `None` when the route has no comfort chunk
     /// (fewer than `min_chunk` frames).

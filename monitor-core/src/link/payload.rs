@@ -194,26 +194,8 @@ impl LinkSummary {
     /// assert_eq!((s.route.frames, s.segments), (10, 2));
     /// ```
     pub fn add_segment(&mut self, seg: &RouteSummary) {
-        let r = &mut self.route;
-        let add = |a: &mut u32, b: u32| *a = a.saturating_add(b);
-        add(&mut r.frames, seg.frames);
-        add(&mut r.comfort.chunks, seg.comfort.chunks);
-        add(&mut r.comfort.comfortable, seg.comfort.comfortable);
-        let (f, g) = (&mut r.comfort.failed, &seg.comfort.failed);
-        add(&mut f.lon_acc, g.lon_acc);
-        add(&mut f.lat_acc, g.lat_acc);
-        add(&mut f.mag_jerk, g.mag_jerk);
-        add(&mut f.lon_jerk, g.lon_jerk);
-        add(&mut f.yaw_acc, g.yaw_acc);
-        add(&mut f.yaw_rate, g.yaw_rate);
-        add(&mut r.lateral.chunks, seg.lateral.chunks);
-        add(&mut r.lateral.scored_chunks, seg.lateral.scored_chunks);
-        add(&mut r.lateral.anomalous, seg.lateral.anomalous);
-        add(&mut r.lateral.critical, seg.lateral.critical);
-        add(&mut r.collisions.aligned, seg.collisions.aligned);
-        add(&mut r.collisions.exempt, seg.collisions.exempt);
-        add(&mut r.collisions.nodecel, seg.collisions.nodecel);
-        add(&mut self.segments, 1);
+        self.route.merge(seg);
+        self.segments = self.segments.saturating_add(1);
     }
 }
 

@@ -149,11 +149,8 @@ pub fn stream_logged(
             error,
         })?;
         keep(&done.events);
-        add(&mut total, &done.summary);
-        add_comfort(
-            &mut legacy,
-            monitor.second_comfort().unwrap_or(&done.summary.comfort),
-        );
+        total.merge(&done.summary);
+        legacy.merge(monitor.second_comfort().unwrap_or(&done.summary.comfort));
         chunks_before += (range.len() as u32).div_ceil(chunk_len);
     }
     for ev in &mut prepared.events {
@@ -170,35 +167,6 @@ pub fn stream_logged(
     })
 }
 
-/// Adds a segment's counts to a route's (spec v1.5 §16: a route's figures are its segments'
-/// together).
-pub fn add(total: &mut RouteSummary, s: &RouteSummary) {
-    total.frames += s.frames;
-    add_comfort(&mut total.comfort, &s.comfort);
-    let (l, m) = (&mut total.lateral, &s.lateral);
-    l.chunks += m.chunks;
-    l.scored_chunks += m.scored_chunks;
-    l.anomalous += m.anomalous;
-    l.critical += m.critical;
-    let (c, d) = (&mut total.collisions, &s.collisions);
-    c.aligned += d.aligned;
-    c.exempt += d.exempt;
-    c.nodecel += d.nodecel;
-}
-
-/// Adds a segment's comfort counts to a route's.
-pub fn add_comfort(total: &mut ComfortSummary, s: &ComfortSummary) {
-    total.chunks += s.chunks;
-    total.comfortable += s.comfortable;
-    let (f, g) = (&mut total.failed, &s.failed);
-    f.lon_acc += g.lon_acc;
-    f.lat_acc += g.lat_acc;
-    f.mag_jerk += g.mag_jerk;
-    f.lon_jerk += g.lon_jerk;
-    f.yaw_acc += g.yaw_acc;
-    f.yaw_rate += g.yaw_rate;
-}
-
 /// The batch reference of a route's frames (§9), segment by segment as the monitor streams
 /// them ([`stream_logged`]): the counts added up, and Bench2Drive's smoothness beside them.
 pub fn batch_reference(prepared: &PreparedRoute, core: &Config) -> (RouteSummary, ComfortSummary) {
@@ -208,8 +176,8 @@ pub fn batch_reference(prepared: &PreparedRoute, core: &Config) -> (RouteSummary
     let mut legacy = ComfortSummary::ZERO;
     for r in ranges {
         let b = batch::compute_with(&prepared.frames[r], core, smoothness_profile(core));
-        add(&mut total, &b.summary);
-        add_comfort(&mut legacy, &b.second_comfort.unwrap_or(b.summary.comfort));
+        total.merge(&b.summary);
+        legacy.merge(&b.second_comfort.unwrap_or(b.summary.comfort));
     }
     (total, legacy)
 }

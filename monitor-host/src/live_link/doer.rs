@@ -390,7 +390,8 @@ impl Player {
         accepted: &mut Vec<(u16, usize)>,
         sent_at: &mut HashMap<u16, Instant>,
     ) -> Result<(), PlayError> {
-        for (bytes, _) in pieces {
+        // Each piece carries its frame's counter when it goes out intact (the injector knows).
+        for (bytes, counter) in pieces {
             let newly = self.send(bytes)?;
             if newly > 0 {
                 let c = self.shadow.status().last_counter;
@@ -399,9 +400,8 @@ impl Player {
             if self.pace == Pace::Realtime {
                 self.writer.flush().map_err(PlayError::Write)?;
             }
-            let c = last_counter_of(bytes);
-            if let Some(c) = c {
-                sent_at.insert(c, Instant::now());
+            if let Some(c) = counter {
+                sent_at.insert(*c, Instant::now());
             }
         }
         Ok(())
@@ -415,20 +415,6 @@ impl Player {
             let _ = c.wait();
         }
     }
-}
-
-/// The counter in a piece's header when it is a frame message that decodes.
-fn last_counter_of(bytes: &[u8]) -> Option<u16> {
-    let mut rx = Deframer::new();
-    let mut last = None;
-    for &b in bytes {
-        if let Some(Ok(m)) = rx.push(b) {
-            if let Ok((h, Message::Frame(_))) = link::decode(m) {
-                last = Some(h.counter);
-            }
-        }
-    }
-    last
 }
 
 /// The replay over the accepted frames cut at the checker's segments, and the comparison.

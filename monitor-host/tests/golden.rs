@@ -74,3 +74,93 @@ fn a_changed_setting_changes_the_report() {
     let want = std::fs::read_to_string(GOLDEN).unwrap_or_default();
     assert_ne!(other, want);
 }
+
+/// A report written and read back by the types that write it: the same bytes again, and the
+/// typed states (whose reasons the row states once) the same.
+fn reads_back(report: &monitor_host::Report, what: &str) {
+    let bytes = report::json::json(report).unwrap();
+    let back = monitor_host::Report::from_json(&bytes).unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert_eq!(
+        String::from_utf8(report::json::json(&back).unwrap()).unwrap(),
+        String::from_utf8(bytes).unwrap(),
+        "{what}: written again differently"
+    );
+    assert_eq!(back.summary, report.summary, "{what}");
+    assert_eq!(back.groups, report.groups, "{what}");
+    assert_eq!(back.config, report.config, "{what}");
+    for (a, b) in back.routes.iter().zip(&report.routes) {
+        assert_eq!((&a.state, &a.telemetry), (&b.state, &b.telemetry), "{what}");
+        assert_eq!(a.kept, b.kept, "{what}");
+        assert_eq!(a.events, b.events, "{what}");
+    }
+}
+
+#[test]
+fn i48_2_every_golden_report_reads_back_byte_for_byte() {
+    let dir = Path::new(GOLDEN).parent().unwrap();
+    let mut read = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|x| x != "json") {
+            continue;
+        }
+        let bytes = std::fs::read(&path).unwrap();
+        let back = monitor_host::Report::read(&path).unwrap_or_else(|e| panic!("{e}"));
+        let again = report::json::json(&back).unwrap();
+        assert!(
+            again == bytes,
+            "{}: read back and written again, it differs",
+            path.display()
+        );
+        reads_back(&back, &path.display().to_string());
+        read += 1;
+    }
+    assert!(read >= 1, "no golden report in {}", dir.display());
+}
+
+#[test]
+fn i48_2_reports_of_every_shape_read_back() {
+    use monitor_host::aggregate::groups::GroupBy;
+    use monitor_host::input::duplicates::DuplicatePolicy;
+    let dir = tempfile::tempdir().unwrap();
+    let run = demo::write(dir.path()).unwrap();
+    let inputs = Inputs {
+        telemetry: Some(run.telemetry.clone()),
+        route_xml: Some(run.routes.clone()),
+        maps: Some(run.maps.clone()),
+        ..Inputs::new([run.results.clone()])
+    };
+    // Every protocol (per-route and summary `protocols`, `min_speed_grid`), a breakdown by
+    // group, and the legacy profile with a route count N beyond the routes found.
+    let mut all = Settings::default();
+    all.apply_pairs([
+        ("protocols", "all"),
+        ("profile", "b2d-legacy"),
+        ("expected_routes", "40"),
+    ])
+    .unwrap();
+    let mut grouped = score_run(&inputs, &all).unwrap();
+    grouped.group(GroupBy::Scenario, None).unwrap();
+    reads_back(&grouped, "protocols, groups, b2d-legacy");
+    // Without telemetry: missing telemetry, its reasons.
+    let mut bare = Settings::default();
+    bare.allow_missing_telemetry = true;
+    let no_telemetry = score_run(&Inputs::new([run.results.clone()]), &bare).unwrap();
+    assert!(no_telemetry
+        .routes
+        .iter()
+        .any(|r| r.telemetry.reason().is_some_and(|r| !r.is_empty())));
+    reads_back(&no_telemetry, "no telemetry");
+    // A merged report (its parts' inputs) of two copies of the run: `kept`, `dropped`.
+    let part = dir.path().join("part.json");
+    std::fs::write(
+        &part,
+        report::json::json(&score_run(&inputs, &Settings::default()).unwrap()).unwrap(),
+    )
+    .unwrap();
+    let merged =
+        monitor_host::merge::merge(&[part.clone(), part], DuplicatePolicy::Last, false).unwrap();
+    assert!(!merged.dropped.is_empty());
+    assert!(merged.routes.iter().any(|r| r.kept.is_some()));
+    reads_back(&merged, "a merge with duplicates = last");
+}

@@ -8,7 +8,7 @@
 //! assert_eq!((a.routes, a.scores.driving_score, a.ability), (0, None, None));
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 pub use crate::aggregate::counts::Counts;
 use crate::aggregate::decomposition::Decomposition;
@@ -19,7 +19,7 @@ use crate::route::decomposition::Losses;
 use crate::route::row::RouteReport;
 
 /// Rates of the five abilities (0..1, null when no route counts in one) and their mean.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct AbilityRates {
     /// Overtaking.
     #[serde(rename = "Overtaking")]
@@ -54,7 +54,7 @@ impl AbilityRates {
 }
 
 /// Successes and routes of one ability.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AbilityCount {
     /// Routes counting in the ability.
     pub routes: usize,
@@ -64,7 +64,7 @@ pub struct AbilityCount {
 
 /// The §8.1 scores of a set of routes over N: the numbers the run's summary, every breakdown
 /// group, the `combined` row and every compared run share (one computation: [`Scores::over`]).
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Scores {
     /// Routes with defined comfort.
     pub comfort_routes: usize,
@@ -89,7 +89,7 @@ pub struct Scores {
 }
 
 /// Every §8.1 and §8.2 aggregate over a set of routes, with `N = routes`.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Aggregates {
     /// N.
     pub routes: usize,

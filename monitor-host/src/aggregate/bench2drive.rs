@@ -3,14 +3,14 @@
 //! ability rates could not count (`ability_missing`), could not decide (`ability_undecided`) or
 //! decided close to the threshold (`ability_marginal`).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::aggregate::aggregates::{AbilityCount, AbilityRates, Aggregates, Counts};
 use crate::route::ability::JunctionCredit;
 use crate::route::row::RouteReport;
 
 /// A route decided within [`crate::route::ability::MARGINAL_BAND`] of its threshold.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Marginal {
     /// The route.
     pub route_id: String,
@@ -23,7 +23,7 @@ pub struct Marginal {
 }
 
 /// A route whose junction credit could not be decided.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Undecided {
     /// The route.
     pub route_id: String,
@@ -34,7 +34,7 @@ pub struct Undecided {
 }
 
 /// `summary.bench2drive` of the report (§8.2, §10.1).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Bench2Drive {
     /// §8.1's driving score (Bench2Drive's merge rule).
     pub driving_score: Option<f64>,
@@ -55,8 +55,11 @@ pub struct Bench2Drive {
     /// Routes whose `score_route / 100` is within 0.15 of their `junction_completion`.
     pub ability_marginal: Vec<Marginal>,
     /// The Traffic_Signs counting rule (`ability_rule`, §8.2): `b2d-0.0.4` or `b2d-0.0.3`.
-    pub ability_rule: &'static str,
+    #[serde(deserialize_with = "rule_name")]
+    pub ability_rule: crate::named::Name,
 }
+
+name_field!(rule_name, crate::settings::AbilityRule::NAMES);
 
 impl Bench2Drive {
     /// The block from the run's aggregates over every counted route (`combined`), the routes

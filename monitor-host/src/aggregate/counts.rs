@@ -33,3 +33,10 @@ impl<T: Serialize> Serialize for Counts<T> {
         s.collect_map(self.0.iter().map(|(k, v)| (k, v)))
     }
 }
+
+impl<'de, T: serde::Deserialize<'de>> serde::Deserialize<'de> for Counts<T> {
+    /// In the file's key order (the order is the report's).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        crate::named::pairs(d).map(Counts)
+    }
+}

@@ -11,12 +11,12 @@
 //! assert_eq!((d.comfort, d.sds), (Some(30.0), Some(30.0)));
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::route::decomposition::Losses;
 
 /// The steps from DS to SDS of a set of routes (the summary, a group, `combined`).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Decomposition {
     /// DS: Σ score_composed / N.
     pub ds: f64,

@@ -15,7 +15,7 @@
 
 use std::collections::BTreeMap;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::aggregate::aggregates::Aggregates;
 pub use crate::input::labels::Labels;
@@ -116,24 +116,37 @@ pub struct NeedsLabels {
 }
 
 /// One group of the breakdown.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GroupRow {
     /// The group's key or label.
     pub label: String,
     /// The keys a weather label map put in this group (the weather ids of `ClearNoon`), when
     /// they are not just the label; absent otherwise.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub keys: Vec<String>,
     /// Its aggregates (N = its routes).
     #[serde(flatten)]
     pub aggregates: Aggregates,
 }
 
+name_field!(
+    by_name,
+    [
+        GroupBy::Scenario,
+        GroupBy::Family,
+        GroupBy::Town,
+        GroupBy::Weather,
+        GroupBy::Route
+    ]
+    .map(GroupBy::name)
+);
+
 /// The report's `groups` (§10.1).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Groups {
     /// The grouping's name.
-    pub by: &'static str,
+    #[serde(deserialize_with = "by_name")]
+    pub by: crate::named::Name,
     /// One row per group, in key order (numbers by value), `(unmapped)` and `(unknown)` last.
     pub rows: Vec<GroupRow>,
     /// The same aggregates over all counted routes.

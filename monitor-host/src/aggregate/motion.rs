@@ -9,7 +9,7 @@
 //! assert!(m.stuck_routes.is_empty());
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::aggregate::counts::Counts;
 use crate::input::record::KNOWN_LISTS;
@@ -19,7 +19,7 @@ use crate::route::row::RouteReport;
 pub const STUCK_SHARE: f64 = 0.5;
 
 /// The §8.5 aggregates.
-#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct MotionAggregates {
     /// Distance driven over the routes with frames, km; null when none has frames.
     pub distance_km: Option<f64>,

@@ -1,7 +1,7 @@
 //! The run's summary (`SDS-SPEC.md` v1.2 §8.1, §10.1): the §8.1 scores over N and the counts
 //! behind them (routes found, missing, foreign; problems).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::aggregate::aggregates::Scores;
 use crate::aggregate::bench2drive::Bench2Drive;
@@ -9,7 +9,7 @@ use crate::pipeline::outcome::{RouteState, TelemetryState};
 use crate::route::row::RouteReport;
 
 /// Benchmark aggregates (spec section 8).
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Summary {
     /// N (spec section 1.5): `--expected-routes`, else the route set's size, else the routes
     /// kept.

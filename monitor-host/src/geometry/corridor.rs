@@ -96,6 +96,22 @@ impl serde::Serialize for ReferenceKind {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for ReferenceKind {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let all = [
+            ReferenceKind::MapRoute,
+            ReferenceKind::Xml,
+            ReferenceKind::MapLane,
+            ReferenceKind::None,
+        ];
+        let name = crate::named::one_of(d, &all.map(ReferenceKind::name))?;
+        Ok(all
+            .into_iter()
+            .find(|k| k.name() == name)
+            .unwrap_or(ReferenceKind::None))
+    }
+}
+
 /// The reference polyline of a route (§1.3, §1.4): its waypoints, each junction gap (a segment
 /// longer than `gap_max`) replaced by the map's lane chain from P to Q when there is one. A gap
 /// without a chain stays a straight segment, which [`LateralTracker`] treats as a gap.

@@ -38,10 +38,11 @@ named_enum! {
 
 /// Which copy of a duplicated route was scored and why (`first`, `last`, `newest`): the
 /// report's per-route `kept`.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Kept {
     /// The policy that chose.
-    pub policy: &'static str,
+    #[serde(deserialize_with = "policy_name")]
+    pub policy: crate::named::Name,
     /// Copies of the route id found.
     pub copies: usize,
     /// The kept copy's `save_name` time stamp (`mm_dd_HH_MM_SS`), when it has one.
@@ -122,8 +123,10 @@ pub fn stamps_could_wrap_a_year(stamps: &[[u32; 5]]) -> bool {
     hi > lo && hi - lo > HALF_YEAR
 }
 
+name_field!(policy_name, DuplicatePolicy::NAMES);
+
 /// A copy of a route left out by the `first` / `last` / `newest` policy.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Dropped {
     /// The route id.
     pub route_id: String,

@@ -85,7 +85,7 @@ impl RunRouteSet {
 /// `inputs.route_set`): how many routes are counted, and the SHA-256 of their ids sorted
 /// byte-wise and joined with `\n`, so two reports show at a glance whether they ran the same
 /// routes.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct RouteSetId {
     /// Counted route ids.
     pub routes: usize,

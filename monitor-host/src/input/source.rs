@@ -11,7 +11,7 @@ pub const IDS_SHOWN: usize = 10;
 
 /// Where a record came from: the file as it was found (the input argument, or the argument
 /// joined with the path inside a directory) and its index in that file.
-#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Source {
     /// The results file.
     pub file: PathBuf,

@@ -4,17 +4,18 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::input::record::LoadedRecord;
 use crate::input::results_file::ResultSet;
 use crate::input::warning::Warning;
 
 /// What a file stores.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StoredFigures {
     /// `merged` (a Bench2Drive merge output) or `global_record` (a raw evaluator file).
-    pub from: &'static str,
+    #[serde(deserialize_with = "from_name")]
+    pub from: crate::named::Name,
     /// Stored driving score (0..100).
     pub driving_score: f64,
     /// Stored success rate in percent (a merge output stores a fraction; null for a
@@ -26,8 +27,10 @@ pub struct StoredFigures {
     pub denominator: Option<String>,
 }
 
+name_field!(from_name, ["merged", "global_record"]);
+
 /// The same figures computed over the file's records.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ComputedFigures {
     /// Σ score_composed / N.
     pub driving_score: Option<f64>,
@@ -38,7 +41,7 @@ pub struct ComputedFigures {
 }
 
 /// One input file of the report's `inputs`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct InputReport {
     /// The file as it was found.
     pub file: PathBuf,

@@ -707,3 +707,10 @@ impl serde::Serialize for Warning {
         s.collect_str(self)
     }
 }
+
+impl<'de> serde::Deserialize<'de> for Warning {
+    /// A report's warning reads back as its text ([`Warning::Recorded`]).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        <String as serde::Deserialize>::deserialize(d).map(Warning::Recorded)
+    }
+}

@@ -4,13 +4,11 @@
 //! (route XML, each town's map, label files) alike in every part.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use serde_json::Value;
 
-use super::row::{At, FieldError};
 use crate::input::route_set::route_set_id;
-use crate::input::stored::{ComputedFigures, InputReport, StoredFigures};
 use crate::pipeline::outcome::RouteState;
 use crate::provenance::FileDigest;
 use crate::route::row::{counted_routes, RouteReport};
@@ -289,72 +287,4 @@ pub(crate) fn check_inputs(
         }
     }
     Ok(())
-}
-
-/// `inputs.files` of a part (the results files it read, with their stored figures): a merged
-/// part's are its parts'.
-///
-/// # Errors
-/// The first entry that is not what a report writes.
-pub(crate) fn input_files(inputs: &Value) -> Result<Vec<InputReport>, FieldError> {
-    let Some(files) = inputs.get("files") else {
-        return Ok(Vec::new());
-    };
-    let files = At::new(files, "inputs.files").array()?;
-    files
-        .iter()
-        .enumerate()
-        .map(|(i, f)| input_file(f, &format!("inputs.files[{i}]")))
-        .collect()
-}
-
-fn input_file(f: &Value, path: &str) -> Result<InputReport, FieldError> {
-    let err = |key: &str, expected: &'static str| FieldError {
-        path: format!("{path}.{key}"),
-        expected,
-    };
-    let num = |v: &Value, key: &str| v.get(key).and_then(Value::as_f64);
-    let file: PathBuf = f
-        .get("file")
-        .and_then(Value::as_str)
-        .ok_or_else(|| err("file", "a string"))?
-        .into();
-    let records = f
-        .get("records")
-        .and_then(Value::as_u64)
-        .ok_or_else(|| err("records", "a whole number"))? as usize;
-    let stored = match f.get("stored") {
-        None | Some(Value::Null) => None,
-        Some(s) => Some(StoredFigures {
-            from: match s.get("from").and_then(Value::as_str) {
-                Some("merged") => "merged",
-                Some("global_record") => "global_record",
-                _ => return Err(err("stored.from", "merged or global_record")),
-            },
-            driving_score: num(s, "driving_score")
-                .ok_or_else(|| err("stored.driving_score", "a number"))?,
-            success_rate: num(s, "success_rate"),
-            eval_num: s.get("eval_num").and_then(Value::as_u64),
-            denominator: s
-                .get("denominator")
-                .and_then(Value::as_str)
-                .map(String::from),
-        }),
-    };
-    let computed = match f.get("computed") {
-        None | Some(Value::Null) => None,
-        Some(c) => Some(ComputedFigures {
-            driving_score: num(c, "driving_score"),
-            success_rate: num(c, "success_rate"),
-            n: c.get("n")
-                .and_then(Value::as_u64)
-                .ok_or_else(|| err("computed.n", "a whole number"))? as usize,
-        }),
-    };
-    Ok(InputReport {
-        file,
-        records,
-        stored,
-        computed,
-    })
 }

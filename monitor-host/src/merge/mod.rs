@@ -1,6 +1,6 @@
 //! Merging reports scored where the files are (`SDS-SPEC.md` v1.4 §13): each node scores its
 //! shard with `sds score`; [`merge`] reads the parts' JSON reports back into the rows `sds
-//! score` aggregated ([`row::row_from_json`]) and builds the report with the same code
+//! score` aggregated ([`Report::from_json`]: the types that wrote them) and builds the report with the same code
 //! ([`crate::model::report::assemble_rows`]), so the merge equals `sds score` over the union
 //! of the parts' inputs (every field but `inputs` and `warnings`), and a merge of merges equals
 //! the merge of all parts.
@@ -23,7 +23,6 @@
 //! ```
 
 mod checks;
-pub mod row;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -35,15 +34,14 @@ use crate::input::duplicates::{
     newest_of, parse_stamp, Dropped, DuplicatePolicy, Kept, Newest, Source,
 };
 use crate::input::warning::Warning;
-use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport, SCHEMA};
+use crate::model::report::{assemble_rows, Report, RunFacts, SubsetReport};
 use crate::pipeline::outcome::RouteState;
 use crate::provenance::{sha256_hex, FileDigest, Provenance};
-use crate::route::row::{InfractionCounts, RouteReport};
+use crate::route::row::RouteReport;
 use crate::settings::Settings;
 
 use crate::input::read::{read_input, FileKind};
-use checks::{check_inputs, check_route_set, check_rows, input_files, named, scoring_inputs};
-use row::{required_source, row_from_json, At, FieldError, RoutesInfractions};
+use checks::{check_inputs, check_route_set, check_rows, named, scoring_inputs};
 
 pub use crate::model::parts::PartInputs;
 
@@ -230,10 +228,13 @@ pub struct Part {
     pub files: Vec<crate::input::stored::InputReport>,
 }
 
-/// Reads one part.
+/// Reads one part: the report read back by the types that wrote it ([`Report::from_json`]),
+/// then checked as `sds score` writes a part (each row's own arithmetic, the rows against the
+/// part's route set).
 ///
 /// # Errors
-/// [`MergeError::Read`], [`MergeError::NotAReport`].
+/// [`MergeError::Read`], [`MergeError::NotAReport`] (naming the field's JSON path),
+/// [`MergeError::Row`].
 pub fn read_part(file: &Path) -> Result<Part, MergeError> {
     // Regular files only, opened without blocking, bounded (a FIFO or /dev/zero as a part).
     let bytes = read_input(file, FileKind::Report).map_err(|source| MergeError::Read {
@@ -244,120 +245,42 @@ pub fn read_part(file: &Path) -> Result<Part, MergeError> {
         file: file.to_path_buf(),
         why,
     };
-    let field = |e: FieldError| not(e.to_string());
-    let v: Value = serde_json::from_slice(&bytes).map_err(|e| not(format!("not JSON: {e}")))?;
-    match v.get("schema").and_then(Value::as_str) {
-        Some(SCHEMA) => {}
-        Some(s) => return Err(not(format!("schema {s}, not {SCHEMA}"))),
-        None => return Err(not(format!("no \"schema\": \"{SCHEMA}\""))),
-    }
-    let config = v.get("config").cloned().unwrap_or(Value::Null);
-    let settings = settings_of(&config).map_err(not)?;
-    let inputs = v.get("inputs").cloned().unwrap_or(Value::Null);
-    let provenance: Option<Provenance> = inputs
-        .get("provenance")
-        .and_then(|p| serde_json::from_value(p.clone()).ok());
-    let rs = inputs.get("route_set").unwrap_or(&Value::Null);
-    let route_set = (
-        rs.get("routes").and_then(Value::as_u64).unwrap_or(0),
-        At::new(
-            rs.get("sha256").unwrap_or(&Value::Null),
-            "inputs.route_set.sha256",
-        )
-        .str()
-        .map_err(field)?
-        .to_string(),
-    );
+    let report = Report::from_json(&bytes).map_err(|e| not(e.to_string()))?;
+    let value = |v: Result<Value, serde_json::Error>| v.map_err(|e| not(e.to_string()));
+    let config = value(serde_json::to_value(&report.config))?;
+    let inputs = value(serde_json::to_value(&report.inputs))?;
+    let provenance = &report.inputs.provenance;
+    let routes_file = |files: &[FileDigest]| files.iter().any(|f| f.role == "routes");
     // A merged part was scored with a route XML when its parts were.
-    let with_xml = provenance
-        .as_ref()
-        .is_some_and(|p| p.files.iter().any(|f| f.role == "routes"))
-        || v.get("routes")
-            .and_then(Value::as_array)
-            .is_some_and(|r| r.iter().any(|r| r.get("state") == Some(&"missing".into())))
-        || inputs
-            .get("parts")
-            .and_then(Value::as_array)
-            .is_some_and(|ps| {
-                ps.iter().any(|p| {
-                    p.pointer("/inputs/provenance/files")
-                        .and_then(Value::as_array)
-                        .is_some_and(|fs| {
-                            fs.iter().any(|f| f.get("role") == Some(&"routes".into()))
-                        })
-                })
-            });
-    let subset = match v.get("route_subset") {
-        None | Some(Value::Null) => None,
-        Some(s) => Some(SubsetReport {
-            subset: "found",
-            routes: s.get("routes").and_then(Value::as_u64).unwrap_or(0) as usize,
-            of: s.get("of").and_then(Value::as_u64).unwrap_or(0) as usize,
-        }),
-    };
-    let ordered: RoutesInfractions =
-        serde_json::from_slice(&bytes).map_err(|e| not(format!("routes: {e}")))?;
-    let routes = At::new(v.get("routes").unwrap_or(&Value::Null), "routes")
-        .array()
-        .map_err(field)?;
-    let rows = routes
-        .iter()
-        .zip(ordered.routes)
-        .enumerate()
-        .map(|(i, (r, inf))| {
-            row_from_json(
-                r,
-                &format!("routes[{i}]"),
-                InfractionCounts(inf.infractions),
-            )
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(field)?;
-    let dropped = At::new(v.get("dropped").unwrap_or(&Value::Null), "dropped")
-        .array()
-        .map_err(field)?
-        .iter()
-        .enumerate()
-        .map(|(i, d)| {
-            let p = format!("dropped[{i}]");
-            Ok(Dropped {
-                route_id: At::new(d.get("route_id").unwrap_or(&Value::Null), &p)
-                    .str()?
-                    .to_string(),
-                source: required_source(d.get("source").unwrap_or(&Value::Null), &p)?,
-                kept: required_source(d.get("kept").unwrap_or(&Value::Null), &p)?,
-            })
-        })
-        .collect::<Result<Vec<_>, FieldError>>()
-        .map_err(field)?;
-    let warnings = v
-        .get("warnings")
-        .and_then(Value::as_array)
-        .map(|w| {
-            w.iter()
-                .filter_map(|w| w.as_str().map(String::from))
-                .collect()
-        })
-        .unwrap_or_default();
-    let group_by = v
-        .pointer("/groups/by")
-        .and_then(Value::as_str)
-        .map(String::from);
+    let with_xml = routes_file(&provenance.files)
+        || report.routes.iter().any(|r| r.state == RouteState::Missing)
+        || report.inputs.parts.iter().flatten().any(|p| {
+            p.inputs
+                .pointer("/provenance/files")
+                .and_then(|f| serde_json::from_value::<Vec<FileDigest>>(f.clone()).ok())
+                .is_some_and(|f| routes_file(&f))
+        });
+    let route_set = (
+        report.inputs.route_set.routes as u64,
+        report.inputs.route_set.sha256.clone(),
+    );
+    let settings = report.config.clone();
     let wrong = |what: String| MergeError::Row {
         file: file.to_path_buf(),
         what,
     };
-    check_rows(&rows, &settings).map_err(wrong)?;
-    check_route_set(&rows, &route_set).map_err(wrong)?;
+    check_rows(&report.routes, &settings).map_err(wrong)?;
+    check_route_set(&report.routes, &route_set).map_err(wrong)?;
     let mut digests = Vec::new();
     scoring_inputs(&inputs, &mut digests);
-    let files = input_files(&inputs).map_err(field)?;
+    // A report written before provenance (v1.4) reads with an empty one: no version.
+    let sds_version = Some(provenance.sds_version.clone()).filter(|v| !v.is_empty());
     Ok(Part {
         file: file.to_path_buf(),
         inputs: PartInputs {
             file: file.to_path_buf(),
             sha256: sha256_hex(&bytes),
-            sds_version: provenance.map(|p| p.sds_version),
+            sds_version,
             inputs,
         },
         size: bytes.len() as u64,
@@ -365,57 +288,14 @@ pub fn read_part(file: &Path) -> Result<Part, MergeError> {
         settings,
         with_xml,
         route_set,
-        subset,
-        rows,
-        dropped,
-        warnings,
-        group_by,
+        subset: report.route_subset,
+        warnings: report.warnings.iter().map(ToString::to_string).collect(),
+        group_by: report.groups.map(|g| g.by.to_string()),
+        files: report.inputs.files,
+        dropped: report.dropped,
+        rows: report.routes,
         digests,
-        files,
     })
-}
-
-/// The settings a report's `config` states: each value set by name, then checked to write the
-/// same `config` back.
-fn settings_of(config: &Value) -> Result<Settings, String> {
-    let Some(map) = config.as_object() else {
-        return Err("no \"config\" object".into());
-    };
-    let mut pairs = Vec::new();
-    for (k, v) in map {
-        match v {
-            Value::Object(group) => {
-                for (g, x) in group {
-                    pairs.push((format!("{k}.{g}"), text(x)));
-                }
-            }
-            _ => pairs.push((k.clone(), text(v))),
-        }
-    }
-    let mut s = Settings::default();
-    s.apply_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())))
-        .map_err(|e| format!("config: {e}"))?;
-    let back = serde_json::to_value(&s).map_err(|e| format!("config: {e}"))?;
-    match first_difference(config, &back, "") {
-        None => Ok(s),
-        Some((key, _, _)) => Err(format!(
-            "config.{key} is not a value sds writes (a report of another sds version?)"
-        )),
-    }
-}
-
-/// A config value as `--set` reads it.
-fn text(v: &Value) -> String {
-    match v {
-        Value::String(s) => s.clone(),
-        Value::Array(a) if a.is_empty() => "none".into(),
-        Value::Array(a) => a
-            .iter()
-            .map(|x| x.as_str().map_or_else(|| x.to_string(), String::from))
-            .collect::<Vec<_>>()
-            .join(","),
-        v => v.to_string(),
-    }
 }
 
 /// The first key (in the report's order) whose value differs, with both values (also
@@ -814,30 +694,6 @@ fn deduplicate(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn settings_read_back_from_config_are_the_settings() {
-        let mut s = Settings::default();
-        s.apply_pairs([
-            ("protocols", "all"),
-            ("dt", "0.1"),
-            ("lane_width", "3.2"),
-            ("slack", "0.7"),
-            ("bounds.yaw_rate", "1.1"),
-            ("expected_routes", "220"),
-            ("duplicates", "last"),
-        ])
-        .unwrap();
-        for s in [Settings::default(), s] {
-            let config = serde_json::to_value(&s).unwrap();
-            let back = settings_of(&config).unwrap();
-            assert_eq!(serde_json::to_value(&back).unwrap(), config);
-        }
-        // A value sds never writes is named.
-        let mut config = serde_json::to_value(Settings::default()).unwrap();
-        config["bounds"]["nope"] = 1.into();
-        assert!(settings_of(&config).unwrap_err().contains("bounds.nope"));
-    }
 
     #[test]
     fn the_first_difference_is_named_with_both_values() {

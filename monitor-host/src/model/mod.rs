@@ -7,6 +7,7 @@
 pub mod duration;
 pub mod frames;
 pub mod parts;
+pub mod read;
 pub mod report;
 pub mod shard_stall;
 pub mod status;

@@ -3,7 +3,7 @@
 //! into text. Field order is the JSON report's key order. [`assemble`] aggregates the rows
 //! [`crate::route::row::route_rows`] built; [`Report::group`] adds the breakdown by group.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::aggregate::aggregates::{Aggregates, Scores};
 use crate::aggregate::bench2drive::Bench2Drive;
@@ -22,13 +22,16 @@ use crate::settings::Settings;
 /// The report's schema name.
 pub const SCHEMA: &str = "sds-report/1";
 
-/// The whole report.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+/// The whole report: written by its `Serialize` ([`crate::report::json`]) and read back by its
+/// `Deserialize` ([`Report::read`]), field for field.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Report {
     /// `sds-report/1`.
-    pub schema: &'static str,
-    /// `physical` or `b2d-legacy`.
-    pub profile: &'static str,
+    #[serde(deserialize_with = "schema_name")]
+    pub schema: crate::named::Name,
+    /// `physical`, `b2d-legacy` or `autoware`.
+    #[serde(deserialize_with = "profile_name")]
+    pub profile: crate::named::Name,
     /// Every threshold and default.
     pub config: Settings,
     /// Every results file read, with the figures it stores beside the computed ones (§1.5),
@@ -41,6 +44,7 @@ pub struct Report {
     /// Copies of duplicated routes left out by `duplicates: first|last|newest` (§1.5).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
+    #[serde(deserialize_with = "rows")]
     pub routes: Vec<RouteReport>,
     /// Aggregates.
     pub summary: Summary,
@@ -58,14 +62,32 @@ pub struct Report {
     pub route_set: Option<RunRouteSet>,
 }
 
+name_field!(schema_name, [SCHEMA]);
+name_field!(
+    profile_name,
+    monitor_core::Profile::ALL.map(monitor_core::Profile::name)
+);
+
+/// The rows read back, each with what it states once put back ([`RouteReport`]).
+fn rows<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<RouteReport>, D::Error> {
+    let mut rows = Vec::<RouteReport>::deserialize(d)?;
+    for r in &mut rows {
+        r.restore();
+    }
+    Ok(rows)
+}
+
 /// The report's `inputs`: the files read and the route set's fingerprint.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ReportInputs {
     /// Every results file read, with its stored and computed figures (§1.5).
+    #[serde(default)]
     pub files: Vec<InputReport>,
     /// The counted routes' fingerprint (`{"routes", "sha256"}`, v1.3 §10.3).
     pub route_set: RouteSetId,
-    /// The `sds` version, settings hash, input files' sha256 and size, host (v1.4 §13).
+    /// The `sds` version, settings hash, input files' sha256 and size, host (v1.4 §13). A
+    /// report written before provenance reads back with an empty one.
+    #[serde(default)]
     pub provenance: Provenance,
     /// A merged report's parts (v1.4 §13): each part's file, sha256, `sds` version and inputs;
     /// absent for `sds score`.
@@ -74,15 +96,18 @@ pub struct ReportInputs {
 }
 
 /// The route set of `route_subset: found`, as the report states it.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SubsetReport {
     /// `found`.
-    pub subset: &'static str,
+    #[serde(deserialize_with = "subset_name")]
+    pub subset: crate::named::Name,
     /// Routes in the set (the route XML's routes with a record).
     pub routes: usize,
     /// Routes of the whole route XML.
     pub of: usize,
 }
+
+name_field!(subset_name, ["found"]);
 
 impl SubsetReport {
     /// The sentence the tables print under their figures.

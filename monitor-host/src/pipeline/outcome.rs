@@ -2,6 +2,7 @@
 //! v1.2 §10). Typed here; the report turns them into text.
 
 use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
+use serde::Deserialize as _;
 
 use crate::geometry::corridor::ReferenceKind;
 use crate::input::collision::CollisionList;
@@ -27,6 +28,24 @@ pub enum TelemetryState {
 impl serde::Serialize for TelemetryState {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_str(self)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for TelemetryState {
+    /// `ok`, `missing` (its reason is the row's `reason`, which the reader of the row puts
+    /// back) or `invalid: <reason>`.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        match s.as_str() {
+            "ok" => Ok(TelemetryState::Ok),
+            "missing" => Ok(TelemetryState::Missing(String::new())),
+            t => match t.strip_prefix("invalid: ") {
+                Some(r) => Ok(TelemetryState::Invalid(r.to_string())),
+                None => Err(serde::de::Error::custom(format!(
+                    "unknown telemetry state {t:?}; expected ok, missing or invalid: <reason>"
+                ))),
+            },
+        }
     }
 }
 
@@ -84,6 +103,20 @@ impl serde::Serialize for RouteState {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for RouteState {
+    /// By [`RouteState::name`]; an invalid route's reason is the row's `reason`, which the
+    /// reader of the row puts back.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let names = ["scored", "missing", "foreign", "invalid"];
+        Ok(match crate::named::one_of(d, &names)? {
+            "scored" => RouteState::Scored,
+            "missing" => RouteState::Missing,
+            "foreign" => RouteState::Foreign,
+            _ => RouteState::Invalid(String::new()),
+        })
+    }
+}
+
 impl TelemetryState {
     /// Why the telemetry is missing or invalid.
     pub fn reason(&self) -> Option<&str> {
@@ -107,10 +140,10 @@ impl std::fmt::Display for TelemetryState {
 /// One entry of a collision list and what the replay made of it: the one host type of a
 /// collision event, from parsing to the report (its JSON form is the report's
 /// `collision_events` entry; the string and location it came from are not printed).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CollisionEvent {
     /// The list it came from.
-    #[serde(serialize_with = "list_name")]
+    #[serde(serialize_with = "list_name", deserialize_with = "list_of_name")]
     pub list: CollisionList,
     /// `type=` of the collision string (`None` when the string does not parse).
     pub type_id: Option<String>,
@@ -131,7 +164,7 @@ pub struct CollisionEvent {
     /// Exempt (standing ego); `None` when unaligned.
     pub exempt: Option<bool>,
     /// Why the collision string did not parse.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub parse_error: Option<String>,
     /// The evaluator's string (matched against LEAD's `infractions.json` messages).
     #[serde(skip)]
@@ -143,6 +176,12 @@ pub struct CollisionEvent {
 
 fn list_name<S: serde::Serializer>(list: &CollisionList, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(list.name())
+}
+
+fn list_of_name<'de, D: serde::Deserializer<'de>>(d: D) -> Result<CollisionList, D::Error> {
+    let name = String::deserialize(d)?;
+    CollisionList::from_name(&name)
+        .ok_or_else(|| serde::de::Error::custom(format!("unknown collision list {name:?}")))
 }
 
 /// Everything known about one route after the replay.

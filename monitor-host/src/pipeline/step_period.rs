@@ -24,7 +24,7 @@ const TICK: f64 = 0.05;
 const MIN_SPAN: u64 = 20;
 
 /// Where a route's `dt` came from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum DtSource {
     /// From `meta.duration_game` / step span.

@@ -10,7 +10,7 @@
 //! assert_eq!(ABILITIES.len(), 5);
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::geometry::junctions::JunctionSamples;
 use crate::input::record::Record;
@@ -115,20 +115,23 @@ pub fn abilities_of(scenario_type: &str) -> Vec<&'static str> {
 }
 
 /// One ability a route counts in, and whether it counts as a success there.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct AbilityEntry {
     /// The ability.
-    pub ability: &'static str,
+    #[serde(deserialize_with = "ability_name")]
+    pub ability: crate::named::Name,
     /// A success for this ability (the §8.1 rule, or the junction credit for Traffic_Signs).
     pub success: bool,
     /// Under `ability_rule = b2d-0.0.3`, the second count of a Traffic_Signs route (its
     /// junction credit alone); see [`crate::route::protocol::ability_rule`].
-    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub second_count: bool,
 }
 
+name_field!(ability_name, ABILITIES.map(|(name, _)| name));
+
 /// The junction credit of a failed Traffic_Signs route with no red-light or stop infraction.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum JunctionCredit {
     /// Decided with the route's dense route on its town's map.
@@ -151,7 +154,7 @@ pub enum JunctionCredit {
 }
 
 /// What a route contributes to the ability rates.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RouteAbility {
     /// The scenario type of the route's XML entry.
     pub scenario_type: String,

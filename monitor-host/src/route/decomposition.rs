@@ -17,7 +17,7 @@
 //! ```
 
 use monitor_core::Factors;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// How often each SDS factor applies on a route (`N_wz`, `N_nodecel`, `N_anom`, `N_crit`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -34,7 +34,7 @@ pub struct Applied {
 
 /// A route's (or, summed over N, a set's) loss from DS to DS_safe, step by step. The steps sum
 /// exactly: `ds − rounding − workzone − nodecel − anomalous − critical = ds_safe`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Losses {
     /// The recorded `score_composed` minus `score_route × score_penalty`: the evaluator's
     /// rounding, not a factor.

@@ -13,20 +13,21 @@
 //! ```
 
 use monitor_core::{Band, Failures};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::pipeline::outcome::CollisionEvent;
 use crate::pipeline::placement::{unplaced_reason, PlacedBy, PlacedEvent};
 use crate::pipeline::timeline::RouteTimeline;
 
 /// One event of a route.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RouteEvent {
     /// `collision`; an infraction's kind (`red_light`, `stop_sign`, `blocked`,
     /// `route_deviation`, `outside_lanes`, `min_speed`, `yield_emergency_vehicle`,
     /// `scenario_timeout`, `route_timeout`, `other`); `lateral_anomalous`, `lateral_critical`,
     /// `uncomfortable` (chunks) or `stationary` (a stretch).
-    pub kind: &'static str,
+    #[serde(deserialize_with = "kind_name")]
+    pub kind: crate::named::Name,
     /// The results file's infraction list it comes from; null for what the monitor found.
     pub list: Option<String>,
     /// The frame (0-based): the collision's aligned frame, an infraction's placed frame, a
@@ -41,7 +42,8 @@ pub struct RouteEvent {
     /// How it was placed: `infractions.json`, `nearest` (§5's rule on the ego position in the
     /// message), `closest_approach` (to a traffic light or stop sign), `chunk`, `motion`;
     /// null when unplaced.
-    pub placed_by: Option<&'static str>,
+    #[serde(default, deserialize_with = "placed_by_name")]
+    pub placed_by: Option<crate::named::Name>,
     /// From the placed frame to the position in the message, m (placed by position, except
     /// collisions, whose distance §5 bounds by `align_max_dist`).
     pub distance_m: Option<f64>,
@@ -50,6 +52,40 @@ pub struct RouteEvent {
     /// What happened: the evaluator's message, or the chunk and what it failed.
     pub message: String,
 }
+
+/// Every event kind (`RouteEvent::kind`), as the report writes them.
+pub const KINDS: [&str; 15] = [
+    "collision",
+    "red_light",
+    "stop_sign",
+    "blocked",
+    "route_deviation",
+    "outside_lanes",
+    "min_speed",
+    "yield_emergency_vehicle",
+    "scenario_timeout",
+    "route_timeout",
+    "other",
+    "lateral_anomalous",
+    "lateral_critical",
+    "uncomfortable",
+    "stationary",
+];
+
+/// Every way an event is placed (`RouteEvent::placed_by`): a collision's alignment
+/// ([`crate::pipeline::align::AlignedBy`]), an infraction's or a stretch's placement
+/// ([`PlacedBy`]), or its chunk.
+pub const PLACED_BY: [&str; 6] = [
+    "infractions.json",
+    "nearest",
+    "log time",
+    "closest_approach",
+    "motion",
+    "chunk",
+];
+
+name_field!(kind_name, KINDS);
+name_field!(opt placed_by_name, PLACED_BY);
 
 /// Whether a chunk failed a bound.
 pub(crate) type Test = fn(&Failures) -> bool;

@@ -6,7 +6,7 @@
 //! [`crate::aggregate::aggregates::Scores`] (§8.1: the summary, groups and comparisons get them)
 //! or [`crate::aggregate::aggregates::Aggregates`] (§8.2, per group and comparison).
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::junctions::junction_samples;
@@ -31,7 +31,7 @@ use crate::route::trace::{collision_traces, CollisionTrace};
 use crate::settings::Settings;
 
 /// Collision counts of a route.
-#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 pub struct CollisionCounts {
     /// Entries of `collisions_pedestrian`.
     pub pedestrian: u32,
@@ -50,7 +50,7 @@ pub struct CollisionCounts {
 }
 
 /// Lateral counts of a route.
-#[derive(Clone, Debug, Default, Serialize, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq, Eq)]
 pub struct LateralReport {
     /// Chunks, the trailing partial one included.
     pub chunks: u32,
@@ -66,7 +66,7 @@ pub struct LateralReport {
 }
 
 /// Comfort of a route.
-#[derive(Clone, Debug, Default, Serialize, PartialEq)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize, PartialEq)]
 pub struct ComfortReport {
     /// Comfort chunks.
     pub chunks: u32,
@@ -85,7 +85,7 @@ pub struct ComfortReport {
 }
 
 /// The penalty re-check of a route.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct PenaltyReport {
     /// Penalty recomputed from the infraction lists.
     pub recomputed: f64,
@@ -126,8 +126,18 @@ impl Serialize for InfractionCounts {
     }
 }
 
-/// One route of the report.
-#[derive(Clone, Debug, Serialize, PartialEq)]
+impl<'de> Deserialize<'de> for InfractionCounts {
+    /// In the file's key order: the report's order is part of the row.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        crate::named::pairs(d).map(InfractionCounts)
+    }
+}
+
+/// One route of the report. Read back by [`crate::model::report::Report::read`], which puts
+/// what the row states once where the type holds it again (an invalid route's reason, a kept
+/// copy's source); what the JSON report leaves out (traces, chunk verdicts, stretches) reads
+/// back empty.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct RouteReport {
     /// `RouteScenario_<id>_rep<k>` (null when the record has none).
     pub route_id: Option<String>,
@@ -202,7 +212,11 @@ pub struct RouteReport {
     pub source: Option<Source>,
     /// The record's `save_name` time stamp (`mm_dd_HH_MM_SS`); absent when it has none. A
     /// merge keeps it, so that `duplicates = newest` chooses across parts too.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "stamp"
+    )]
     pub stamp: Option<String>,
     /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
     /// `copies`, `stamp`, `why`). Absent otherwise.
@@ -218,7 +232,7 @@ pub struct RouteReport {
     /// The batch reference agreed with the streaming monitor; null when not replayed.
     pub batch_agrees: Option<bool>,
     /// Problems that did not stop the route from being scored.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<Warning>,
     /// The traces of its aligned collisions (§10.2): rendered as CSV and SVG files and in the
     /// HTML report, not in the JSON report.
@@ -236,6 +250,37 @@ pub struct RouteReport {
     /// with a record (`infractions_per_km`, §8.5); in the JSON report so that a merge of
     /// reports (v1.4 §13) recomputes `infractions_per_km`.
     pub driven_km: Option<f64>,
+}
+
+/// A `save_name` time stamp (`mm_dd_HH_MM_SS`) or null: a merge chooses the newest copy by it.
+fn stamp<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    let s = Option::<String>::deserialize(d)?;
+    match s {
+        Some(t) if crate::input::duplicates::parse_stamp(&t).is_none() => {
+            Err(serde::de::Error::custom(format!(
+                "{t:?} is not a save_name time stamp mm_dd_HH_MM_SS"
+            )))
+        }
+        s => Ok(s),
+    }
+}
+
+impl RouteReport {
+    /// After reading a row back: what the JSON states once is put where the type holds it
+    /// again: the `reason` of an invalid route or of missing telemetry, the `source` of a kept
+    /// copy.
+    pub(crate) fn restore(&mut self) {
+        let reason = self.reason.clone().unwrap_or_default();
+        if let TelemetryState::Missing(r) = &mut self.telemetry {
+            r.clone_from(&reason);
+        }
+        if let RouteState::Invalid(r) = &mut self.state {
+            *r = reason;
+        }
+        if let Some(k) = &mut self.kept {
+            k.source = self.source.clone().unwrap_or_default();
+        }
+    }
 }
 
 /// What a row holds beyond its outcome, known before the row is built: its collision traces,

@@ -137,6 +137,41 @@ impl Value {
     }
 }
 
+impl Value {
+    /// The text [`SettingDef`]'s parser reads from a `config` block's JSON value of a setting
+    /// whose value is of this kind (the inverse of [`serde::Serialize`] below), or what the
+    /// kind takes.
+    pub(super) fn text_of_json(&self, json: &serde_json::Value) -> Result<String, &'static str> {
+        use serde_json::Value as J;
+        match (self, json) {
+            (Value::F32(_) | Value::F64(_), J::Number(n)) if n.as_f64().is_some() => {
+                Ok(n.to_string())
+            }
+            (Value::F32(_) | Value::F64(_), _) => Err("a number"),
+            (Value::U16(_) | Value::U64(_), J::Number(n)) if n.as_u64().is_some() => {
+                Ok(n.to_string())
+            }
+            (Value::U16(_) | Value::U64(_), _) => Err("a whole number"),
+            (Value::Bool(_), J::Bool(b)) => Ok(b.to_string()),
+            (Value::Bool(_), _) => Err("true or false"),
+            (Value::Name(_), J::String(s)) => Ok(s.clone()),
+            (Value::Name(_), _) => Err("a name (a string)"),
+            (Value::Count(_), J::Null) => Ok("null".into()),
+            (Value::Count(_), J::Number(n)) if n.as_u64().is_some() => Ok(n.to_string()),
+            (Value::Count(_), _) => Err("a route count or null"),
+            (Value::Protocols(_), J::Array(ids)) => {
+                let ids: Option<Vec<&str>> = ids.iter().map(J::as_str).collect();
+                match ids {
+                    Some(ids) if ids.is_empty() => Ok("none".into()),
+                    Some(ids) => Ok(ids.join(",")),
+                    None => Err("a list of protocol ids"),
+                }
+            }
+            (Value::Protocols(_), _) => Err("a list of protocol ids"),
+        }
+    }
+}
+
 impl serde::Serialize for Value {
     /// As the `config` block writes it: an f32 as the decimal a person writes ([`decimal`]).
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {

@@ -51,6 +51,10 @@ pub enum SettingsError {
     /// The core's configuration is inconsistent.
     #[error("invalid configuration: {0}")]
     Config(ConfigError),
+    /// A report's `config` block states no settings this version writes
+    /// ([`Settings::from_config`]): the message names the key (`config.slack: ...`).
+    #[error("{0}")]
+    ConfigBlock(String),
     /// A host setting is out of its range.
     #[error("invalid configuration: {name} must be {rule}")]
     Range {
@@ -446,6 +450,94 @@ impl serde::Serialize for Settings {
     }
 }
 
+impl<'de> serde::Deserialize<'de> for Settings {
+    /// A report's `config` block, read back ([`Settings::from_config`]).
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let config = <serde_json::Value as serde::Deserialize>::deserialize(d)?;
+        Settings::from_config(&config).map_err(serde::de::Error::custom)
+    }
+}
+
+impl Settings {
+    /// The settings a report's `config` block states: the inverse of `Serialize for Settings`,
+    /// through the same rows of [`defs::SETTINGS`] (each value read as its row's kind, parsed
+    /// and checked as `--set` parses and checks it), then written back to check that it is the
+    /// block this version writes. Settings outside the block (`threads`, `provenance.host`)
+    /// keep their defaults.
+    ///
+    /// ```
+    /// use monitor_host::Settings;
+    /// let mut s = Settings::default();
+    /// s.apply_pairs([("slack", "0.7"), ("protocols", "all"), ("bounds.yaw_rate", "1.1")])?;
+    /// let config = serde_json::to_value(&s)?;
+    /// assert_eq!(Settings::from_config(&config)?, s);
+    /// let mut edited = config.clone();
+    /// edited["slack"] = "wide".into();
+    /// let e = Settings::from_config(&edited).unwrap_err().to_string();
+    /// assert!(e.contains("config.slack: expected a number"), "{e}");
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`SettingsError::ConfigBlock`] naming the first key that is absent, not a setting of
+    /// this version, of the wrong kind, refused by its row, or not written back as given.
+    pub fn from_config(config: &serde_json::Value) -> Result<Settings, SettingsError> {
+        let err = |why: String| SettingsError::ConfigBlock(why);
+        let other = "(a report of another sds version?)";
+        let Some(block) = config.as_object() else {
+            return Err(err(format!(
+                "config: expected an object of settings, got {config}"
+            )));
+        };
+        let rows = || defs::SETTINGS.iter().filter(|d| d.in_config);
+        let known = |name: &str| rows().any(|d| d.name == name);
+        for (key, value) in block {
+            match value.as_object() {
+                Some(members) if !known(key) => {
+                    if let Some(m) = members.keys().find(|m| !known(&format!("{key}.{m}"))) {
+                        return Err(err(format!("config.{key}.{m}: not a setting {other}")));
+                    }
+                }
+                _ if !known(key) => {
+                    return Err(err(format!("config.{key}: not a setting {other}")));
+                }
+                _ => {}
+            }
+        }
+        let at = |name: &str| match name.split_once('.') {
+            Some((group, member)) => block.get(group).and_then(|g| g.get(member)),
+            None => block.get(name),
+        };
+        // The profile first: it brings its own bounds, which the block then states one by one.
+        let (profile, rest): (Vec<_>, Vec<_>) = rows().partition(|d| d.name == "profile");
+        let defaults = Settings::default();
+        let mut s = Settings::default();
+        for d in profile.iter().chain(&rest) {
+            let Some(json) = at(d.name) else {
+                return Err(err(format!("config.{}: absent {other}", d.name)));
+            };
+            let text = (d.get)(&defaults).text_of_json(json).map_err(|expected| {
+                err(format!(
+                    "config.{}: expected {expected}, got {json}",
+                    d.name
+                ))
+            })?;
+            (d.set)(&mut s, d.name, &text).map_err(|e| err(format!("config.{}: {e}", d.name)))?;
+        }
+        s.validate().map_err(|e| err(format!("config: {e}")))?;
+        for d in rows() {
+            let back = serde_json::to_value((d.get)(&s)).unwrap_or_default();
+            if let Some(json) = at(d.name).filter(|j| **j != back) {
+                return Err(err(format!(
+                    "config.{}: {json} is not a value sds writes (it reads as {back}) {other}",
+                    d.name
+                )));
+            }
+        }
+        Ok(s)
+    }
+}
+
 /// One top-level entry of the `config` block.
 enum Entry {
     Value(defs::Value),
@@ -560,6 +652,16 @@ impl Protocol {
     /// The protocol of an id.
     pub fn from_id(id: &str) -> Option<Protocol> {
         Protocol::ALL.into_iter().find(|p| p.id() == id)
+    }
+
+    /// The protocol of a report's key (a `protocols` object read back), or an error naming it.
+    pub(crate) fn of_key<E: serde::de::Error>(id: &str) -> Result<Protocol, E> {
+        Protocol::from_id(id).ok_or_else(|| {
+            E::custom(format!(
+                "unknown protocol {id:?}; expected {}",
+                crate::named::choices(&Protocol::ALL.map(Protocol::id))
+            ))
+        })
     }
 
     /// A name for the tables (`CARLA Leaderboard 2.1`, ...).
@@ -715,6 +817,52 @@ named_enum! {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn i48_4_settings_read_back_from_config_are_the_settings() {
+        let mut s = Settings::default();
+        s.apply_pairs([
+            ("protocols", "all"),
+            ("dt", "0.1"),
+            ("lane_width", "3.2"),
+            ("slack", "0.7"),
+            ("bounds.yaw_rate", "1.1"),
+            ("expected_routes", "220"),
+            ("duplicates", "last"),
+            ("profile", "autoware"),
+        ])
+        .unwrap();
+        for s in [Settings::default(), s] {
+            let config = serde_json::to_value(&s).unwrap();
+            let back = Settings::from_config(&config).unwrap();
+            assert_eq!(back, s);
+            assert_eq!(serde_json::to_value(&back).unwrap(), config);
+        }
+        // What sds never writes is named, with its JSON path.
+        let config = serde_json::to_value(Settings::default()).unwrap();
+        let refused = |edit: &dyn Fn(&mut serde_json::Value)| {
+            let mut c = config.clone();
+            edit(&mut c);
+            Settings::from_config(&c).unwrap_err().to_string()
+        };
+        assert!(refused(&|c| c["bounds"]["nope"] = 1.into())
+            .contains("config.bounds.nope: not a setting"));
+        assert!(refused(&|c| c["nope"] = 1.into()).contains("config.nope: not a setting"));
+        assert!(refused(&|c| {
+            c.as_object_mut().unwrap().remove("gap_max");
+        })
+        .contains("config.gap_max: absent"));
+        assert!(refused(&|c| c["gap_max"] = "wide".into())
+            .contains("config.gap_max: expected a number"));
+        assert!(refused(&|c| c["gap_max"] = (-1.0).into())
+            .contains("gap_max must be finite and positive"));
+        assert!(refused(&|c| c["duplicates"] = "twice".into()).contains(
+            "config.duplicates: setting duplicates: expected error, first, last, newest or all"
+        ));
+        assert!(refused(&|c| c["slack"] = 0.123_456_789_123.into())
+            .contains("config.slack: 0.123456789123 is not a value sds writes"));
+        assert!(refused(&|c| *c = serde_json::json!([1])).contains("config: expected an object"));
+    }
 
     #[test]
     fn every_name_round_trips() {

@@ -24,13 +24,13 @@
 //! assert_eq!(harmonic_mean(0.0, 50.0), 0.0);
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::route::protocol::route::RouteProtocols;
 use crate::route::protocol::Protocol;
 
 /// One protocol's aggregates over a set of routes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ProtocolAggregate {
     /// Σ score / N (0..100).
     pub driving_score: Option<f64>,
@@ -131,5 +131,15 @@ impl ProtocolScores {
 impl Serialize for ProtocolScores {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(p, a)| (p.id(), a)))
+    }
+}
+
+impl<'de> Deserialize<'de> for ProtocolScores {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        crate::named::pairs(d)?
+            .into_iter()
+            .map(|(id, a)| Ok((Protocol::of_key(&id)?, a)))
+            .collect::<Result<_, _>>()
+            .map(ProtocolScores)
     }
 }

@@ -36,7 +36,7 @@
 //! assert!(e.percents.is_empty());
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::input::message::{min_speed_percent_text, percent_of, Percent};
 use crate::settings::MinSpeedGridSetting;
@@ -52,7 +52,7 @@ pub const GROUP: usize = 5;
 pub const LB_MAX_ENTRIES: usize = 5;
 
 /// The checkpoint grid a record's min-speed entries were logged on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum MinSpeedGrid {
     /// Bench2Drive's 20 checkpoints, every one logged (`b2d-20`).
     #[serde(rename = "b2d-20")]

@@ -16,7 +16,7 @@
 //! # Ok::<(), monitor_host::input::record::InvalidRecord>(())
 //! ```
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::input::message::{outside_lanes_percent_text, percent_of, Percent};
 use crate::input::record::{Record, MIN_SPEED_LIST};
@@ -30,7 +30,7 @@ use crate::route::protocol::Protocol;
 use crate::settings::MinSpeedGridSetting;
 
 /// A route under one protocol.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RouteScore {
     /// The protocol's penalty (0..1); null for a route without a valid record.
     pub penalty: Option<f64>,
@@ -78,6 +78,16 @@ impl RouteProtocols {
 impl Serialize for RouteProtocols {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.collect_map(self.0.iter().map(|(p, r)| (p.id(), r)))
+    }
+}
+
+impl<'de> Deserialize<'de> for RouteProtocols {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        crate::named::pairs(d)?
+            .into_iter()
+            .map(|(id, s)| Ok((Protocol::of_key(&id)?, s)))
+            .collect::<Result<_, _>>()
+            .map(RouteProtocols)
     }
 }
 

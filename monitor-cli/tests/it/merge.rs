@@ -705,3 +705,95 @@ fn i36_compare_says_when_runs_were_scored_by_other_versions_or_settings() {
         alike["models"][1]["driving_score"]
     );
 }
+
+#[test]
+fn i48_2_real_reports_read_back_byte_for_byte() {
+    // Every real results set scored as a report (every protocol, the route XML, a breakdown by
+    // scenario), then read back by the types that wrote it: written again, the same bytes.
+    let Some(b2d) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml", "tfpp_raw_shards"])
+    else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let xml = s(&b2d.join("routes/bench2drive220.xml"));
+    let inputs = [
+        "b2dzoo_UniAD-Base_merged.json",
+        "b2dzoo_VAD_merged.json",
+        "carla_garage_pdm_lite_b2d_traj_merged.json",
+        "simlingo_bench2drive220_targetpoint_checkpoint.json",
+        "lead_tfv6_per_route",
+        "tfpp_raw_shards",
+    ];
+    for (i, name) in inputs.iter().enumerate() {
+        let out = tmp.path().join(format!("r{i}.json"));
+        let mut extra = vec![
+            "--routes",
+            &xml,
+            "--allow-missing-telemetry",
+            "--protocol",
+            "all",
+        ];
+        // One with the duplicates policy's `kept` and `dropped` (LEAD's per-route files hold
+        // no duplicates; the shards, read twice, do).
+        let shards = s(&b2d.join("tfpp_raw_shards"));
+        if *name == "tfpp_raw_shards" {
+            extra.extend(["--results", &shards, "--duplicates", "last"]);
+        } else {
+            extra.extend(["--group-by", "scenario"]);
+        }
+        score_to(&out, &[&b2d.join(name)], &extra);
+        let bytes = std::fs::read(&out).unwrap();
+        let back = monitor_host::Report::read(&out).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let again = monitor_host::report::json::json(&back).unwrap();
+        assert!(
+            again == bytes,
+            "{name}: read back and written again, it differs"
+        );
+        if *name == "tfpp_raw_shards" {
+            assert!(!back.dropped.is_empty() && back.routes.iter().any(|r| r.kept.is_some()));
+        } else {
+            assert!(back.groups.is_some(), "{name}");
+        }
+        assert!(back.summary.protocols.is_some(), "{name}");
+    }
+}
+
+#[test]
+fn i48_2_collisions_placed_by_log_time_merge() {
+    // A vehicle log's collisions are aligned by `log time` (`sds score --mcap`); the hand reader
+    // that merge had knew every other way an event is placed but not this one, and refused such
+    // a part. The demo's collisions, placed as a log places them:
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let scored = dir.join("scored.json");
+    let mut v = score_to(&scored, &[&dir.join("results.json")], &extra);
+    let mut placed = 0;
+    for r in v["routes"].as_array_mut().unwrap() {
+        for e in r["collision_events"].as_array_mut().unwrap() {
+            if !e["aligned_by"].is_null() {
+                e["aligned_by"] = "log time".into();
+            }
+        }
+        for e in r["events"].as_array_mut().unwrap() {
+            if e["kind"] == "collision" && !e["placed_by"].is_null() {
+                e["placed_by"] = "log time".into();
+                placed += 1;
+            }
+        }
+    }
+    assert!(placed > 0, "the demo has aligned collisions");
+    let part = dir.join("log-part.json");
+    std::fs::write(&part, v.to_string()).unwrap();
+    let merged = merge_to(&dir.join("m.json"), &[&part], &[]);
+    let kept = merged["routes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r["events"].as_array().unwrap())
+        .filter(|e| e["placed_by"] == "log time")
+        .count();
+    assert_eq!(kept, placed);
+}

@@ -30,6 +30,8 @@ pub struct SettingDef {
     pub(super) set: fn(&mut Settings, &'static str, &str) -> Result<(), SettingsError>,
     /// The value.
     pub(super) get: fn(&Settings) -> Value,
+    /// What the value must be beyond its type ([`Settings::validate`] checks every row's).
+    pub check: Check,
     /// Part of the report's `config` block (`false`: a setting that never changes a number).
     pub in_config: bool,
     /// What `sds compare --sweep` redoes when only this setting moves ([`Sweep`]); by default
@@ -65,6 +67,52 @@ impl Sweep {
             _ => Sweep::No,
         }
     }
+}
+
+/// What a setting's value must be beyond its type: checked by [`Settings::validate`] from the
+/// row, so that a setting's name, parsing, check and writing live in one place.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Check {
+    /// Nothing beyond its type (or the core checks it: `monitor_core::Config::validate`).
+    Any,
+    /// Finite and positive.
+    Positive,
+    /// Finite and not negative.
+    NotNegative,
+    /// Finite and within `lo..=hi`, with the rule as an error states it.
+    Within(f64, f64, &'static str),
+}
+
+impl Check {
+    /// Whether `value` passes.
+    pub fn holds(self, value: &Value) -> bool {
+        let x = match *value {
+            Value::F64(x) => x,
+            Value::F32(x) => f64::from(x),
+            _ => return true,
+        };
+        match self {
+            Check::Any => true,
+            Check::Positive => x.is_finite() && x > 0.0,
+            Check::NotNegative => x.is_finite() && x >= 0.0,
+            Check::Within(lo, hi, _) => x.is_finite() && (lo..=hi).contains(&x),
+        }
+    }
+
+    /// The rule as an error states it (`finite and positive`).
+    pub fn rule(self) -> &'static str {
+        match self {
+            Check::Any => "anything of its type",
+            Check::Positive => "finite and positive",
+            Check::NotNegative => "finite and not negative",
+            Check::Within(_, _, rule) => rule,
+        }
+    }
+}
+
+/// A row whose value is checked by `check`.
+const fn checked(check: Check, d: SettingDef) -> SettingDef {
+    SettingDef { check, ..d }
 }
 
 /// A row whose setting only the monitor reads (a sweep streams the prepared frames again).
@@ -228,6 +276,7 @@ macro_rules! row {
             decision: $decision,
             set: $set,
             get: $get,
+            check: Check::Any,
             in_config: true,
             sweep: Sweep::of_group($group),
         }
@@ -269,12 +318,18 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("ability_rule", "protocols", "",
         "Bench2Drive's Traffic_Signs counting rule (section 10.1, \"Rule versions\"): `b2d-0.0.4` or `b2d-0.0.3`",
         "**[decision]**", named AbilityRule ability_rule),
-    row!("align_max_dist", "collisions", "m",
+    checked(
+        Check::NotNegative,
+        row!("align_max_dist", "collisions", "m",
         "farthest a collision may be from its frame, inclusive (section 6.1)",
         "**decision**", f64 align_max_dist),
-    row!("align_tie", "collisions", "m",
+    ),
+    checked(
+        Check::NotNegative,
+        row!("align_tie", "collisions", "m",
         "frames this close to the smallest distance tie; the earliest wins",
         "**decision**", f64 align_tie),
+    ),
     replayed(row!("allow_missing_telemetry", "run", "",
         "score routes without telemetry without telemetry terms",
         "", bool allow_missing_telemetry)),
@@ -339,7 +394,9 @@ pub const SETTINGS: &[SettingDef] = &[
     row!("duplicates", "run", "",
         "which copy of a duplicated route id is scored: `error`, `first`, `last`, `newest`, `all` (section 14.1)",
         "**decision**", named DuplicatePolicy duplicates),
-    row!(@ "ego_half_width", "reference", "m",
+    checked(
+        Check::NotNegative,
+        row!(@ "ego_half_width", "reference", "m",
         "half the ego's width: the slack is `lane_width / 2 − ego_half_width`; setting it sets `slack` (section 14.3)",
         "**decision**",
         |s, k, v| {
@@ -348,12 +405,19 @@ pub const SETTINGS: &[SettingDef] = &[
             Ok(())
         },
         |s| Value::F64(s.ego_half_width)),
-    row!("events.min_standing", "events", "s",
+    ),
+    checked(
+        Check::NotNegative,
+        row!("events.min_standing", "events", "s",
         "a stationary stretch at least this long is an event (section 13.1); changes no score",
         "**decision**", f64 events.min_standing),
-    row!("events.signal_reach", "events", "m",
+    ),
+    checked(
+        Check::NotNegative,
+        row!("events.signal_reach", "events", "m",
         "a red light or stop sign is placed at the ego's closest approach to its position if that frame is this near (section 13.1); changes no score",
         "**decision**", f64 events.signal_reach),
+    ),
     row!(@ "expected_routes", "aggregates", "",
         "`N` (section 10); `null`: the route set's size, or the routes found",
         "",
@@ -376,10 +440,15 @@ pub const SETTINGS: &[SettingDef] = &[
         f64 core.factors.nodecel),
     row!("factors.workzone", "penalty", "", "factor of a work-zone contact (section 8)",
         "**decision**", f64 core.factors.workzone),
-    row!("gap_max", "reference", "m",
+    checked(
+        Check::Positive,
+        row!("gap_max", "reference", "m",
         "longer reference segments are junction gaps (section 2.3)",
         "**decision**", f64 gap_max),
-    row!(@ "lane_width", "reference", "m",
+    ),
+    checked(
+        Check::Positive,
+        row!(@ "lane_width", "reference", "m",
         "lane width where no map gives one: the slack is `lane_width / 2 − ego_half_width`; setting it sets `slack` (section 14.3)",
         "**decision**",
         |s, k, v| {
@@ -388,6 +457,7 @@ pub const SETTINGS: &[SettingDef] = &[
             Ok(())
         },
         |s| Value::F64(s.lane_width)),
+    ),
     row!("lateral_reference", "reference", "",
         "`route` (junction gaps filled by the map) or `lane` (nearest lane; needs a map) (section 14.3)",
         "**decision**", named LateralReference lateral_reference),
@@ -395,22 +465,34 @@ pub const SETTINGS: &[SettingDef] = &[
         row!("legacy_jerk_spacing", "comfort", "s", "jerk spacing of `b2d-legacy`",
         "reproduces Bench2Drive", f32 core.legacy_jerk_spacing),
     ),
-    row!("lookahead", "reference", "m", "forward-search window of `lat_err` (section 3)",
+    checked(
+        Check::NotNegative,
+        row!("lookahead", "reference", "m", "forward-search window of `lat_err` (section 3)",
         "**decision**: bounded forward search", f64 lookahead),
-    row!("mcap.max_hold", "run", "s",
+    ),
+    checked(
+        Check::Within(1e-3, 60.0, "in 0.001..=60 s"),
+        row!("mcap.max_hold", "run", "s",
         "vehicle logs: pose messages further apart than this make a gap; the log is cut into segments there, each monitored as a fresh start (section 16)",
         "**decision**", f64 mcap.max_hold),
+    ),
     row!("min_chunk", "comfort", "frames", "fewest frames with a comfort chunk; at least 7",
         "**decision**: shorter routes have undefined comfort", u16 core.min_chunk),
     row!("min_speed_grid", "protocols", "",
         "the checkpoint grid of a record's min-speed entries under `lb2.0`, `lb2.1`, `lead-nds`: `auto`, `b2d-20` (regrouped by 5 at their harmonic mean) or `lb-4` ([PROTOCOLS.md](PROTOCOLS.md), \"The min-speed grid\")",
         "**[decision]**", named MinSpeedGridSetting min_speed_grid),
-    row!("motion.moving_speed", "aggregates", "m/s",
+    checked(
+        Check::NotNegative,
+        row!("motion.moving_speed", "aggregates", "m/s",
         "a comfort chunk at least this fast on average moved (`comfort.moving_*`, section 10.0)",
         "**decision**", f64 motion.moving_speed),
-    row!("motion.stationary_speed", "aggregates", "m/s",
+    ),
+    checked(
+        Check::NotNegative,
+        row!("motion.stationary_speed", "aggregates", "m/s",
         "a frame slower than this stands still (`stationary_share`, section 10.0)",
         "**decision**", f64 motion.stationary_speed),
+    ),
     SettingDef {
         // The penalty check only reports; it never changes a score.
         sweep: Sweep::No,

@@ -304,77 +304,13 @@ impl Settings {
         self.core
             .validate(monitor_core::DEFAULT_CAPACITY)
             .map_err(SettingsError::Config)?;
-        let checks = [
-            (
-                "gap_max",
-                self.gap_max,
-                "finite and positive",
-                self.gap_max > 0.0,
-            ),
-            (
-                "lookahead",
-                self.lookahead,
-                "finite and not negative",
-                self.lookahead >= 0.0,
-            ),
-            (
-                "lane_width",
-                self.lane_width,
-                "finite and positive",
-                self.lane_width > 0.0,
-            ),
-            (
-                "ego_half_width",
-                self.ego_half_width,
-                "finite and not negative",
-                self.ego_half_width >= 0.0,
-            ),
-            (
-                "align_max_dist",
-                self.align_max_dist,
-                "finite and not negative",
-                self.align_max_dist >= 0.0,
-            ),
-            (
-                "align_tie",
-                self.align_tie,
-                "finite and not negative",
-                self.align_tie >= 0.0,
-            ),
-            (
-                "events.min_standing",
-                self.events.min_standing,
-                "finite and not negative",
-                self.events.min_standing >= 0.0,
-            ),
-            (
-                "events.signal_reach",
-                self.events.signal_reach,
-                "finite and not negative",
-                self.events.signal_reach >= 0.0,
-            ),
-            (
-                "mcap.max_hold",
-                self.mcap.max_hold,
-                "in 0.001..=60 s",
-                (1e-3..=60.0).contains(&self.mcap.max_hold),
-            ),
-            (
-                "motion.moving_speed",
-                self.motion.moving_speed,
-                "finite and not negative",
-                self.motion.moving_speed >= 0.0,
-            ),
-            (
-                "motion.stationary_speed",
-                self.motion.stationary_speed,
-                "finite and not negative",
-                self.motion.stationary_speed >= 0.0,
-            ),
-        ];
-        for (name, x, rule, ok) in checks {
-            if !(ok && x.is_finite()) {
-                return Err(SettingsError::Range { name, rule });
+        // Each row's own check (defs.rs): the rule lives beside the setting it bounds.
+        for d in defs::SETTINGS {
+            if !d.check.holds(&(d.get)(self)) {
+                return Err(SettingsError::Range {
+                    name: d.name,
+                    rule: d.check.rule(),
+                });
             }
         }
         if self.threads == Some(0) {

@@ -143,8 +143,10 @@ fn i48_2_reports_of_every_shape_read_back() {
     grouped.group(GroupBy::Scenario, None).unwrap();
     reads_back(&grouped, "protocols, groups, b2d-legacy");
     // Without telemetry: missing telemetry, its reasons.
-    let mut bare = Settings::default();
-    bare.allow_missing_telemetry = true;
+    let bare = Settings {
+        allow_missing_telemetry: true,
+        ..Settings::default()
+    };
     let no_telemetry = score_run(&Inputs::new([run.results.clone()]), &bare).unwrap();
     assert!(no_telemetry
         .routes

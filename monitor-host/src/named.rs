@@ -82,7 +82,7 @@ pub fn choices(names: &[&str]) -> String {
 // (infraction counts, per-ability counts) in the file's order.
 
 /// A report field holding a name of a fixed vocabulary (`&'static str`: an event's kind, an
-/// ability), read back by [`one_of`]. Spelled through this alias so that serde's derive does not
+/// ability), read back through `name_field!`. Spelled through this alias so that serde's derive does not
 /// take the field for text borrowed from its input.
 pub type Name = &'static str;
 

@@ -1,7 +1,8 @@
 //! Enums named once (pydantic-core's `serialization_mode!` pattern): one `named_enum!` gives
 //! an enum its variants' names, and from them `ALL`, `NAMES`, `name`, `from_name`, `choices`
-//! (the names as a message lists them, `a, b or c`) and `Deserialize` (by name). A front end that lists the choices (an
-//! error, `--help`, a Python exception) reads them from here, never from a copy.
+//! (the names as a message lists them, `a, b or c`) and `Deserialize` (by name). A front end
+//! that lists the choices (an error, `--help`, a Python exception) reads them from here, never
+//! from a copy.
 
 /// Declares an enum whose every variant has a name (`Variant = "name"`), with:
 /// - `ALL`: every variant, in declaration order; `NAMES`: their names, in the same order;
@@ -82,8 +83,8 @@ pub fn choices(names: &[&str]) -> String {
 // (infraction counts, per-ability counts) in the file's order.
 
 /// A report field holding a name of a fixed vocabulary (`&'static str`: an event's kind, an
-/// ability), read back through `name_field!`. Spelled through this alias so that serde's derive does not
-/// take the field for text borrowed from its input.
+/// ability), read back through `name_field!`. Spelled through this alias so that serde's derive
+/// does not take the field for text borrowed from its input.
 pub type Name = &'static str;
 
 /// `s` as the name of `names` it is, or an error listing them.

@@ -40,7 +40,7 @@ pub enum ReadError {
 
 /// What is wrong with a report's JSON: the field's JSON path and the problem.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{}{why}{}", if path.is_empty() { String::new() } else { format!("{path}: ") }, version_note(written_by.as_deref()))]
+#[error("{}{why}{}", at(path), version_note(written_by.as_deref()))]
 pub struct FormatError {
     /// The field's JSON path (`routes[3].comfort.score`); empty for the whole file.
     pub path: String,
@@ -49,6 +49,15 @@ pub struct FormatError {
     /// The `sds` version that wrote the report (`inputs.provenance.sds_version`), when it can
     /// be read and is not this one.
     pub written_by: Option<String>,
+}
+
+/// `path: `, or nothing for the whole file.
+fn at(path: &str) -> String {
+    if path.is_empty() {
+        String::new()
+    } else {
+        format!("{path}: ")
+    }
 }
 
 fn version_note(written_by: Option<&str>) -> String {

@@ -110,7 +110,38 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
 /// assert_eq!(route.second_comfort.unwrap().comfortable, 0); // 40 "rad/s"
 /// ```
 pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) -> BatchRoute {
+    compute_part(&[], frames, config, second)
+}
+
+/// [`compute_with`] over part of a route: `frames` start at a chunk boundary of the route, and
+/// `before` holds the route's frames before them (the last `decel_window` at least; empty when
+/// `frames` start the route). The counts of consecutive parts add up to the whole route's
+/// ([`RouteSummary::merge`]): the chunks are the same, a collision's deceleration window reaches
+/// into `before`, only the route's first frame is exempt as the first, and a short route's
+/// single chunk (§3) is one only when the part starts the route. So a long drive is checked part
+/// by part as its frames pass, without holding it.
+///
+/// ```
+/// use monitor_core::{Config, Frame, RouteSummary};
+/// use monitor_host::reference::batch;
+/// let frames: Vec<Frame> = (0..95).map(|i| Frame { a_lon: (i % 7) as f32 - 3.0,
+///     speed: 5.0, ..Frame::default() }).collect();
+/// let whole = batch::compute(&frames, &Config::DEFAULT).summary;
+/// let mut parts = RouteSummary::ZERO;
+/// for (a, b) in [(0, 40), (40, 80), (80, 95)] {
+///     let before = &frames[a.saturating_sub(20)..a];
+///     parts.merge(&batch::compute_part(before, &frames[a..b], &Config::DEFAULT, None).summary);
+/// }
+/// assert_eq!(parts, whole);
+/// ```
+pub fn compute_part(
+    before: &[Frame],
+    frames: &[Frame],
+    config: &Config,
+    second: Option<Profile>,
+) -> BatchRoute {
     let n = frames.len();
+    let starts = before.is_empty();
     // A valid config has chunk_len >= 7; never let 0 reach `chunks`.
     let chunk_len = usize::from(config.chunk_len).max(1);
     let min_chunk = usize::from(config.min_chunk);
@@ -127,7 +158,7 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 
     // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
     // a chunk shorter than the filter window has no verdict.
-    let mut spans: Vec<Range<usize>> = if n >= chunk_len {
+    let mut spans: Vec<Range<usize>> = if n >= chunk_len || !starts {
         (0..n / chunk_len)
             .map(|k| k * chunk_len..(k + 1) * chunk_len)
             .collect()
@@ -164,10 +195,13 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
         if hits == 0 {
             continue;
         }
-        let decelerated = frames[k.saturating_sub(window)..k]
+        // The window's frames before this part are the last of `before`.
+        let earlier = &before[before.len() - window.saturating_sub(k).min(before.len())..];
+        let decelerated = earlier
             .iter()
+            .chain(&frames[k.saturating_sub(window)..k])
             .any(|p| p.a_lon <= config.decel_threshold);
-        let exempt = k == 0 || f.speed < config.stationary_speed;
+        let exempt = (k == 0 && starts) || f.speed < config.stationary_speed;
         counts.aligned = counts.aligned.saturating_add(hits);
         if exempt {
             counts.exempt = counts.exempt.saturating_add(hits);

@@ -1,0 +1,375 @@
+//! A vehicle log scored as it streams (issue 51, goal 2: memory flat in a drive's length): the
+//! log's frames come from the MCAP reader one tick at a time ([`LogScan::frames`]) and each goes
+//! at once through the frame builder, the monitor, the batch check, the motion figures and the
+//! timeline; none of them holds the drive.
+//!
+//! - The batch reference (docs/SCORE.md §9) is checked part by part: every
+//!   [`PART_CHUNKS`] chunks of a segment, [`batch::compute_part`] over the part's frames (with the
+//!   deceleration window's frames before it) gives each chunk's comfort verdict, compared with
+//!   the monitor's verdict of that chunk, and counts that add up to the route's, compared with
+//!   the monitor's at the end. The batch side stays the independent reference it is for a
+//!   results run: whole arrays over the part, no monitor state.
+//! - The timeline keeps the chunk verdicts it draws and the frames around collisions
+//!   ([`TimelineKeeper`]); the motion figures are running sums ([`MotionMeter`]).
+//!
+//! The outcome is the one [`crate::pipeline::replay::replay_read`] gives on the frames held
+//! whole (`scripts/output-identity.sh`; the test `drive_streams_what_the_held_frames_give`).
+
+use monitor_core::{Collisions, ComfortSummary, Event, Frame, Monitor, RouteSummary};
+
+use crate::geometry::corridor::{Corridor, ReferenceKind};
+use crate::input::mcap::{LogScan, LogTick, McapError};
+use crate::input::record::Record;
+use crate::input::route_xml::RouteRef;
+use crate::input::warning::Warning;
+use crate::pipeline::align::AlignedBy;
+use crate::pipeline::live::LiveFrames;
+use crate::pipeline::motion::{MotionMeter, MovingComfort};
+use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::pipeline::placement;
+use crate::pipeline::prepare::collision_events;
+use crate::pipeline::replay::{conclude, refusal_in_file_terms, smoothness_profile, Refused};
+use crate::pipeline::step_period::{DtSource, StepPeriod};
+use crate::pipeline::timeline::{ChunkLog, TimelineKeeper};
+use crate::reference::batch;
+use crate::settings::{decimal, Settings};
+
+/// Chunks of a segment checked against the batch reference at a time.
+pub const PART_CHUNKS: usize = 64;
+
+/// The batch check of one segment, part by part.
+struct BatchCheck {
+    /// The segment's last `decel_window` frames before the part.
+    before: Vec<Frame>,
+    part: Vec<Frame>,
+}
+
+/// A drive's state as its frames pass.
+struct Drive<'a> {
+    config: monitor_core::Config,
+    dt: f64,
+    chunk_len: usize,
+    events: Vec<crate::pipeline::outcome::CollisionEvent>,
+    live: LiveFrames<'a>,
+    /// Why the monitor refused the route, and the step of the refused frame once known.
+    refused: Option<(Refused, Option<u64>)>,
+    monitor: Option<Monitor>,
+    log: ChunkLog,
+    verdicts: Vec<monitor_core::CollisionVerdict>,
+    total: RouteSummary,
+    legacy: ComfortSummary,
+    check: BatchCheck,
+    batch_total: RouteSummary,
+    batch_legacy: ComfortSummary,
+    /// Comfort verdicts of the monitor compared with the batch's so far.
+    compared: usize,
+    agrees: bool,
+    chunks_before: u32,
+    seg_start: usize,
+    meter: MotionMeter,
+    keeper: TimelineKeeper,
+    chunk_steps: Vec<u64>,
+    chunk_frames: Vec<usize>,
+    first_step: Option<u64>,
+    last_step: u64,
+    n: usize,
+}
+
+impl Drive<'_> {
+    /// The current part's batch counts, and its chunks' comfort verdicts against the
+    /// monitor's (given as the part's chunks end).
+    fn check_part(&mut self) {
+        let c = &mut self.check;
+        if c.part.is_empty() {
+            return;
+        }
+        let config = &self.config;
+        let b = batch::compute_part(&c.before, &c.part, config, smoothness_profile(config));
+        self.batch_total.merge(&b.summary);
+        self.batch_legacy
+            .merge(&b.second_comfort.unwrap_or(b.summary.comfort));
+        for chunk in &b.comfort {
+            let same =
+                self.log.comfort.get(self.compared).is_some_and(|v| {
+                    usize::from(v.frames) == chunk.frames && v.failed == chunk.failed
+                });
+            self.agrees &= same;
+            self.compared += 1;
+        }
+        let window = usize::from(config.decel_window);
+        let mut joined = std::mem::take(&mut c.before);
+        joined.append(&mut c.part);
+        let keep = window.min(joined.len());
+        c.before = joined.split_off(joined.len() - keep);
+    }
+
+    /// Ends a segment: the monitor's last verdicts and counts, the batch check's last part.
+    /// `end`: the index of the frame after it, `step`: that frame's step, if any.
+    fn close(&mut self, end: usize, step: Option<u64>) {
+        let Some(mut m) = self.monitor.take() else {
+            return;
+        };
+        if self.refused.is_some() {
+            return;
+        }
+        match m.finish() {
+            Ok(done) => {
+                keep(
+                    &done.events,
+                    self.seg_start,
+                    self.chunks_before,
+                    &mut self.log,
+                    &mut self.verdicts,
+                );
+                self.total.merge(&done.summary);
+                self.legacy
+                    .merge(m.second_comfort().unwrap_or(&done.summary.comfort));
+                self.check_part();
+                self.check = BatchCheck {
+                    before: Vec::new(),
+                    part: Vec::new(),
+                };
+                self.chunks_before +=
+                    ((end - self.seg_start) as u32).div_ceil(self.chunk_len as u32);
+            }
+            Err(error) => self.refused = Some((Refused::Frame { index: end, error }, step)),
+        }
+    }
+
+    /// One frame of the log.
+    fn tick(&mut self, tick: &LogTick<'_>) {
+        let index = tick.index;
+        let step = tick.frame.step;
+        self.n += 1;
+        if let Some((r, s @ None)) = self.refused.as_mut() {
+            // Refused at the end of the segment before, or the configuration: this frame's step
+            // is the one said.
+            if r.index() == index {
+                *s = Some(step);
+            }
+        }
+        if self.refused.is_some() {
+            return;
+        }
+        let first = *self.first_step.get_or_insert(step);
+        self.last_step = step;
+        if tick.new_segment {
+            self.close(index, Some(step));
+            if self.refused.is_some() {
+                return;
+            }
+            self.seg_start = index;
+            self.live.start_segment();
+            let mut m: Monitor = match Monitor::new(self.config) {
+                Ok(m) => m,
+                Err(e) => {
+                    self.refused = Some((Refused::Config(e), Some(first)));
+                    return;
+                }
+            };
+            if let Some(profile) = smoothness_profile(&self.config) {
+                m = m.with_second_profile(profile);
+            }
+            self.monitor = Some(m);
+        }
+        let mut collisions = Collisions::NONE;
+        for &e in tick.events {
+            if let Some(ev) = self.events.get_mut(e) {
+                ev.list.count_in(ev.workzone, &mut collisions);
+                ev.frame = Some(index);
+                ev.step = Some(step);
+                ev.aligned_by = Some(AlignedBy::LogTime);
+                ev.time_s = Some((step - first) as f64 * self.dt);
+            }
+        }
+        let (frame, _) = self.live.build(tick.frame, collisions);
+        for &e in tick.events {
+            if let Some(ev) = self.events.get_mut(e) {
+                ev.impact_speed = Some(frame.speed);
+            }
+        }
+        let Some(m) = self.monitor.as_mut() else {
+            return;
+        };
+        match m.push(&frame) {
+            Ok(evs) if !evs.is_empty() => keep(
+                &evs,
+                self.seg_start,
+                self.chunks_before,
+                &mut self.log,
+                &mut self.verdicts,
+            ),
+            Ok(_) => {}
+            Err(error) => {
+                self.refused = Some((Refused::Frame { index, error }, Some(step)));
+                return;
+            }
+        }
+        self.check.part.push(frame);
+        if self.check.part.len() == PART_CHUNKS * self.chunk_len {
+            self.check_part();
+        }
+        self.meter.push(tick.frame.location, step, tick.new_segment);
+        self.keeper
+            .push(index, step, frame, !tick.events.is_empty());
+        if (index - self.seg_start).is_multiple_of(self.chunk_len) {
+            self.chunk_steps.push(step);
+            self.chunk_frames.push(index);
+        }
+    }
+}
+
+/// Scores a scanned log as its frames stream (see the module): `out` the route's outcome before
+/// replay, `record` and `reference` the log's record and path, `notes` the reader's notes as
+/// warnings.
+///
+/// # Errors
+/// What framing the log found ([`LogScan::frames`]): the route is then invalid with it.
+pub fn replay_drive(
+    scan: &mut LogScan,
+    mut out: RouteOutcome,
+    record: &Record,
+    reference: Option<&RouteRef>,
+    settings: &Settings,
+    notes: impl Fn(&[String]) -> Vec<Warning>,
+) -> Result<RouteOutcome, McapError> {
+    let config = settings.core;
+    let dt = decimal(config.dt);
+    let chunk_len = usize::from(config.chunk_len.max(1));
+    out.reference = Some(ReferenceKind::of(
+        reference.is_some(),
+        false,
+        settings.lateral_reference,
+    ));
+    let mut d = Drive {
+        config,
+        dt,
+        chunk_len,
+        events: collision_events(record),
+        live: LiveFrames::with_corridor(Corridor::new(reference, None, settings), config.dt),
+        // Checked once, before any frame, as a route without frames would be.
+        refused: Monitor::<{ monitor_core::DEFAULT_CAPACITY }>::new(config)
+            .err()
+            .map(|e| (Refused::Config(e), None)),
+        monitor: None,
+        log: ChunkLog::default(),
+        verdicts: Vec::new(),
+        total: RouteSummary::ZERO,
+        legacy: ComfortSummary::ZERO,
+        check: BatchCheck {
+            before: Vec::new(),
+            part: Vec::new(),
+        },
+        batch_total: RouteSummary::ZERO,
+        batch_legacy: ComfortSummary::ZERO,
+        compared: 0,
+        agrees: true,
+        chunks_before: 0,
+        seg_start: 0,
+        meter: MotionMeter::new(
+            dt,
+            &settings.motion,
+            chunk_len,
+            usize::from(config.min_chunk),
+        ),
+        keeper: TimelineKeeper::new(dt, config.decel_window),
+        chunk_steps: Vec::new(),
+        chunk_frames: Vec::new(),
+        first_step: None,
+        last_step: 0,
+        n: 0,
+    };
+    let framed = scan.frames(|tick| d.tick(tick))?;
+    d.close(d.n, None);
+
+    out.warnings.extend(notes(&framed.notes));
+    out.files_read.extend(scan.files.iter().cloned());
+    out.frames = d.n as u32;
+    out.gaps = framed.gaps;
+    out.period = Some(StepPeriod {
+        dt,
+        source: DtSource::Config,
+    });
+    out.segments = Some(framed.segments);
+    let summary = match d.refused {
+        Some((refused, step)) => {
+            out.telemetry = TelemetryState::Invalid(format!(
+                "{}: {}",
+                scan.path.display(),
+                refusal_in_file_terms(&refused, step.unwrap_or_default(), config.dt)
+            ));
+            None
+        }
+        None => {
+            let mut events = d.events;
+            for ev in &mut events {
+                if let Some(k) = ev.frame {
+                    if let Some(v) = d.verdicts.iter().find(|v| v.frame as usize == k) {
+                        ev.decelerated = Some(v.decelerated);
+                        ev.exempt = Some(v.exempt);
+                    }
+                }
+            }
+            out.legacy_comfort = Some(d.legacy);
+            out.batch_agrees =
+                Some(d.agrees && d.batch_total == d.total && d.batch_legacy == d.legacy);
+            out.telemetry = TelemetryState::Ok;
+            let (motion, marks) = d.meter.finish();
+            out.moving = Some(MovingComfort::count(&motion.moving, &d.log.comfort));
+            // A log's record has only its events' collision list: nothing else to place.
+            let mut placed = placement::infraction_events(&record.infractions);
+            if let Some(first) = d.first_step {
+                let step_at = |i: usize| {
+                    marks
+                        .binary_search_by_key(&(i as u32), |m| m.0)
+                        .ok()
+                        .map(|j| marks[j].1)
+                };
+                placed.extend(placement::standing_events_by(
+                    &motion.stationary,
+                    step_at,
+                    first,
+                    d.last_step,
+                    settings,
+                    dt,
+                ));
+            }
+            out.motion = Some(motion);
+            out.placed = placed;
+            out.events = events;
+            let mut timeline = d.keeper.finish(d.log);
+            timeline.chunk_steps = d.chunk_steps;
+            timeline.chunk_frames = d.chunk_frames;
+            out.timeline = Some(timeline);
+            Some(d.total)
+        }
+    };
+    Ok(conclude(out, record, settings, summary))
+}
+
+/// Keeps a `push` or `finish`'s events: collision verdicts at the route's frame index, chunk
+/// verdicts numbered on across segments.
+fn keep(
+    events: &monitor_core::Events,
+    offset: usize,
+    chunks_before: u32,
+    log: &mut ChunkLog,
+    verdicts: &mut Vec<monitor_core::CollisionVerdict>,
+) {
+    for e in events {
+        match *e {
+            Event::Collision(mut v) => {
+                v.frame += offset as u32;
+                verdicts.push(v);
+            }
+            Event::Comfort(mut c) => {
+                c.chunk += chunks_before;
+                log.comfort.push(c);
+            }
+            Event::Lateral(mut l) => {
+                l.chunk += chunks_before;
+                log.lateral.push(l);
+            }
+        }
+    }
+}

@@ -373,3 +373,354 @@ fn keep(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeMap;
+    use std::path::Path;
+
+    use super::*;
+    use crate::input::lead_infractions::StepInfraction;
+    use crate::input::mcap::{read_log, scan_log, Topics};
+    use crate::input::record::{Infractions, LoadedRecord, Meta};
+    use crate::pipeline::prepare::prepare_on;
+    use crate::pipeline::replay::{replay_read, unreplayed, RouteTelemetry};
+
+    const ODOMETRY: &str = "std_msgs/Header header\nstring child_frame_id\n\
+        geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n";
+    const IMU: &str = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n\
+        float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n\
+        float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n\
+        float64[9] linear_acceleration_covariance\n";
+    const PATH: &str = "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n";
+    const T0: u64 = 1_700_000_000_000_000_000;
+    const MS: u64 = 1_000_000;
+
+    struct Cdr(Vec<u8>);
+    impl Cdr {
+        fn new(t: u64) -> Cdr {
+            let mut c = Cdr(vec![0, 1, 0, 0]);
+            c.header(t);
+            c
+        }
+        fn align(&mut self, n: usize) {
+            while !(self.0.len() - 4).is_multiple_of(n) {
+                self.0.push(0);
+            }
+        }
+        fn u32(&mut self, v: u32) -> &mut Self {
+            self.align(4);
+            self.0.extend_from_slice(&v.to_le_bytes());
+            self
+        }
+        fn string(&mut self, s: &str) -> &mut Self {
+            self.u32(s.len() as u32 + 1);
+            self.0.extend_from_slice(s.as_bytes());
+            self.0.push(0);
+            self
+        }
+        fn header(&mut self, t: u64) -> &mut Self {
+            self.u32((t / 1_000_000_000) as u32)
+                .u32((t % 1_000_000_000) as u32)
+                .string("map")
+        }
+        fn f64s(&mut self, v: &[f64]) -> &mut Self {
+            for x in v {
+                self.align(8);
+                self.0.extend_from_slice(&x.to_le_bytes());
+            }
+            self
+        }
+    }
+
+    type Msg = (&'static str, &'static str, &'static str, u64, Vec<u8>);
+
+    /// A drive with what the streaming must get right: stops (standing events), hard braking
+    /// and collisions (before the first pose, on frames, in a gap, after the last), recorder
+    /// pauses (segments, one shorter than a chunk), messages out of order, a path.
+    fn drive(imu: bool, path: bool) -> Vec<Msg> {
+        let mut out: Vec<Msg> = Vec::new();
+        let (mut x, mut yaw) = (0.0f64, 0.0f64);
+        for i in 0..4_000u64 {
+            // Pauses: 1.5 s at 1,000, then 6 frames and another pause (a 6-frame segment).
+            if (1_000..1_030).contains(&i) || (1_036..1_060).contains(&i) {
+                continue;
+            }
+            let t = T0 + i * 50 * MS;
+            let s = i as f64 * 0.05;
+            let v = match i {
+                300..=500 => 0.0,
+                1_500..=1_540 => 12.0 - (i - 1_500) as f64 * 0.3,
+                _ => 8.0 + 3.0 * (s / 9.0).sin(),
+            };
+            let wz = 0.3 * (s / 5.0).sin();
+            let ax = if (1_500..=1_540).contains(&i) {
+                -6.0
+            } else {
+                0.8 * (s / 2.3).sin()
+            };
+            yaw += wz * 0.05;
+            x += v * yaw.cos() * 0.05;
+            let y = 0.4 * (s / 11.0).sin();
+            let mut c = Cdr::new(t);
+            c.string("base_link");
+            c.f64s(&[x, y, 0.0, 0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()]);
+            c.f64s(&[0.0; 36])
+                .f64s(&[v, 0.0, 0.0, 0.0, 0.0, wz])
+                .f64s(&[0.0; 36]);
+            out.push(("/odom", "nav_msgs/msg/Odometry", ODOMETRY, t, c.0));
+            if imu {
+                let mut c = Cdr::new(t + 3 * MS);
+                c.f64s(&[
+                    0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                ]);
+                c.f64s(&[0.0, 0.0, wz]).f64s(&[0.0; 9]);
+                c.f64s(&[ax, v * wz, 9.8]).f64s(&[0.0; 9]);
+                out.push(("/imu", "sensor_msgs/msg/Imu", IMU, t + 3 * MS, c.0));
+            }
+        }
+        // Out of order by less than a second: said and sorted.
+        out.swap(40, 44);
+        for t in [
+            T0 - 20 * MS,
+            T0 + 1_530 * 50 * MS,
+            T0 + 1_012 * 50 * MS,
+            T0 + 3_999 * 50 * MS + 30 * MS,
+            T0 + 900 * 50 * MS + 7 * MS,
+        ] {
+            out.push(("/events", "std_msgs/msg/Empty", "", t, vec![0, 1, 0, 0]));
+        }
+        if path {
+            let mut c = Cdr::new(T0);
+            c.u32(400);
+            for k in 0..400 {
+                c.header(T0)
+                    .f64s(&[k as f64 * 2.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+            }
+            out.push(("/path", "nav_msgs/msg/Path", PATH, T0, c.0));
+        }
+        out
+    }
+
+    fn write(path: &Path, messages: &[Msg]) {
+        let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
+        let opts = mcap::WriteOptions::new()
+            .chunk_size(Some(16_384))
+            .compression(None);
+        let mut w = opts.create(file).unwrap();
+        let mut channels: BTreeMap<&str, u16> = BTreeMap::new();
+        for (i, (topic, schema, def, t, data)) in messages.iter().enumerate() {
+            let id = match channels.get(topic) {
+                Some(id) => *id,
+                None => {
+                    let s = w.add_schema(schema, "ros2msg", def.as_bytes()).unwrap();
+                    let id = w.add_channel(s, topic, "cdr", &BTreeMap::new()).unwrap();
+                    channels.insert(topic, id);
+                    id
+                }
+            };
+            let header = mcap::records::MessageHeader {
+                channel_id: id,
+                sequence: i as u32,
+                log_time: *t,
+                publish_time: *t,
+            };
+            w.write_to_known_channel(&header, data).unwrap();
+        }
+        w.finish().unwrap();
+    }
+
+    /// The log's record and path, as `sds score --mcap` makes them.
+    fn record(
+        name: &str,
+        source: &Path,
+        kinds: &[String],
+        path: Option<&[[f64; 3]]>,
+    ) -> (LoadedRecord, Option<RouteRef>) {
+        let messages: Vec<String> = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, k)| format!("Agent collided against object with type={k} and id={i}"))
+            .collect();
+        let record = Record {
+            route_id: name.into(),
+            scenario_name: String::new(),
+            weather_id: None,
+            save_name: None,
+            town_name: None,
+            status: String::new(),
+            infractions: Infractions::from_lists([("collisions_vehicle", messages)]),
+            score_route: 100.0,
+            score_penalty: 1.0,
+            score_composed: 100.0,
+            meta: Meta::default(),
+        };
+        let reference = path.map(|p| RouteRef {
+            id: name.into(),
+            town: String::new(),
+            waypoints: p.iter().map(|q| [q[0], q[1]]).collect(),
+            heights: p.iter().map(|q| q[2]).collect(),
+            scenario_type: None,
+        });
+        let loaded = LoadedRecord {
+            source: source.to_path_buf(),
+            index: 0,
+            records_in_file: 1,
+            entry: Ok(record),
+        };
+        (loaded, reference)
+    }
+
+    /// The outcome of the log's frames held whole (read_log, prepare, replay_read), as the
+    /// replay was before it streamed.
+    fn held(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome {
+        let log = read_log(
+            path,
+            topics,
+            decimal(settings.core.dt),
+            settings.mcap.max_hold,
+        )
+        .unwrap();
+        let kinds: Vec<String> = log.events.iter().map(|e| e.kind.clone()).collect();
+        let (loaded, reference) = record(&log.name, &log.path, &kinds, log.path_points.as_deref());
+        let Ok(rec) = &loaded.entry else {
+            unreachable!()
+        };
+        let steps: Vec<StepInfraction> = log
+            .events
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| {
+                Some(StepInfraction {
+                    step: log.telemetry.frames.get(e.frame?)?.step,
+                    message: format!(
+                        "Agent collided against object with type={} and id={i}",
+                        kinds[i]
+                    ),
+                })
+            })
+            .collect();
+        let mut out = replay_read(
+            unreplayed(&loaded),
+            rec,
+            reference.is_some(),
+            false,
+            settings,
+            |w, f| {
+                w.extend(log.notes.iter().map(|n| Warning::VehicleLog {
+                    file: log.path.clone(),
+                    text: n.clone(),
+                }));
+                f.extend(log.files.iter().cloned());
+                let mut prepared = prepare_on(
+                    rec,
+                    &log.telemetry,
+                    reference.as_ref(),
+                    None,
+                    Some(&steps),
+                    settings,
+                    false,
+                );
+                for e in &mut prepared.events {
+                    if e.aligned_by.is_some() {
+                        e.aligned_by = Some(AlignedBy::LogTime);
+                    }
+                }
+                Ok(RouteTelemetry {
+                    prepared,
+                    period: StepPeriod {
+                        dt: decimal(settings.core.dt),
+                        source: DtSource::Config,
+                    },
+                    settings: settings.clone(),
+                    gaps: log.telemetry.gaps,
+                    path: log.path.clone(),
+                    map_used: false,
+                })
+            },
+        );
+        out.segments = Some(log.telemetry.segments.len().max(1) as u64);
+        out
+    }
+
+    fn streamed(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome {
+        let mut scan = scan_log(
+            path,
+            topics,
+            decimal(settings.core.dt),
+            settings.mcap.max_hold,
+        )
+        .unwrap();
+        let kinds: Vec<String> = scan.events.iter().map(|e| e.1.clone()).collect();
+        let (loaded, reference) = record(
+            &scan.name,
+            &scan.path.clone(),
+            &kinds,
+            scan.reference_path(),
+        );
+        let Ok(rec) = &loaded.entry else {
+            unreachable!()
+        };
+        let file = scan.path.clone();
+        replay_drive(
+            &mut scan,
+            unreplayed(&loaded),
+            rec,
+            reference.as_ref(),
+            settings,
+            |notes| {
+                notes
+                    .iter()
+                    .map(|n| Warning::VehicleLog {
+                        file: file.clone(),
+                        text: n.clone(),
+                    })
+                    .collect()
+            },
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn drive_streams_what_the_held_frames_give() {
+        let dir = tempfile::tempdir().unwrap();
+        for (imu, path, profile) in [
+            (true, true, "physical"),
+            (false, false, "physical"),
+            (true, false, "b2d-legacy"),
+            (true, true, "autoware"),
+        ] {
+            let log = dir
+                .path()
+                .join(format!("drive_{imu}_{path}_{profile}.mcap"));
+            write(&log, &drive(imu, path));
+            let mut topics = Topics {
+                event: Some("/events".into()),
+                ..Topics::default()
+            };
+            if path {
+                topics.path = Some("/path".into());
+            }
+            let mut settings = Settings::default();
+            settings.set("profile", profile).unwrap();
+            let (a, b) = (
+                held(&log, &topics, &settings),
+                streamed(&log, &topics, &settings),
+            );
+            assert_eq!(b.telemetry, TelemetryState::Ok, "{imu} {path} {profile}");
+            assert_eq!(b.batch_agrees, Some(true));
+            // What must be there for the comparison to mean something.
+            assert!(b.segments >= Some(3), "{:?}", b.segments);
+            assert!(b.events.iter().filter(|e| e.frame.is_some()).count() >= 3);
+            assert!(b.placed.iter().any(|p| p.kind == "stationary"));
+            assert!(
+                b.warnings
+                    .iter()
+                    .any(|w| w.to_string().contains("out of log-time order"))
+                    || !imu
+            );
+            assert!(b.timeline.as_ref().is_some_and(|t| !t.kept.is_empty()));
+            assert_eq!(format!("{a:?}"), format!("{b:?}"), "{imu} {path} {profile}");
+        }
+    }
+}

@@ -62,7 +62,7 @@ pub struct BatchRoute {
 /// The deceleration verdict of one frame with collisions (spec §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BatchCollision {
-    /// Index of the frame in the route (0-based).
+    /// Index of the frame in the route (0-based; in the part, for [`compute_part`]).
     pub frame: usize,
     /// Some frame of the window before it had `a_lon <= decel_threshold`.
     pub decelerated: bool,
@@ -122,15 +122,19 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 /// by part as its frames pass, without holding it.
 ///
 /// ```
-/// use monitor_core::{Config, Frame, RouteSummary};
+/// use monitor_core::{Collisions, Config, Frame, RouteSummary};
 /// use monitor_host::reference::batch;
-/// let frames: Vec<Frame> = (0..95).map(|i| Frame { a_lon: (i % 7) as f32 - 3.0,
-///     speed: 5.0, ..Frame::default() }).collect();
-/// let whole = batch::compute(&frames, &Config::DEFAULT).summary;
+/// let mut frames = vec![Frame { speed: 5.0, ..Frame::default() }; 95];
+/// frames[30].a_lon = -5.0; // braking 15 frames before the collision, in the part before it
+/// frames[45].collisions = Collisions { vehicle: 1, ..Collisions::NONE };
+/// let config = Config::DEFAULT;
+/// let whole = batch::compute(&frames, &config).summary;
+/// assert_eq!((whole.collisions.aligned, whole.collisions.nodecel), (1, 0));
+/// let window = usize::from(config.decel_window);
 /// let mut parts = RouteSummary::ZERO;
-/// for (a, b) in [(0, 40), (40, 80), (80, 95)] {
-///     let before = &frames[a.saturating_sub(20)..a];
-///     parts.merge(&batch::compute_part(before, &frames[a..b], &Config::DEFAULT, None).summary);
+/// for (a, b) in [(0usize, 40), (40, 80), (80, 95)] {
+///     let before = &frames[a.saturating_sub(window)..a];
+///     parts.merge(&batch::compute_part(before, &frames[a..b], &config, None).summary);
 /// }
 /// assert_eq!(parts, whole);
 /// ```

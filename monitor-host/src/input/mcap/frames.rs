@@ -129,7 +129,8 @@ pub struct Framed {
     pub telemetry: Telemetry,
     /// Tick time (ns) of each frame.
     pub times: Vec<u64>,
-    /// The gaps between pose messages longer than the hold: (last pose before, first after), ns.
+    /// The gaps between pose messages longer than the hold: (last pose before, first after), ns
+    /// (the first [`Framer::KEEP_GAPS`]).
     pub gaps: Vec<(u64, u64)>,
 }
 

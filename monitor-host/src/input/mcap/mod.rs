@@ -925,8 +925,7 @@ impl LogScan {
                 if tick.t - t <= hold_ns {
                     on_cur.push(next_event);
                     event_frames[next_event] = Some(index);
-                } else if let Some((h, k)) = held.as_ref().filter(|(h, _)| t - h.t < dt_ns) {
-                    let _ = h;
+                } else if let Some((_, k)) = held.as_ref().filter(|(h, _)| t - h.t < dt_ns) {
                     on_held.push(next_event);
                     event_frames[next_event] = Some(*k);
                 }

@@ -13,7 +13,8 @@
 //!   ([`TimelineKeeper`]); the motion figures are running sums ([`MotionMeter`]).
 //!
 //! The outcome is the one [`crate::pipeline::replay::replay_read`] gives on the frames held
-//! whole (`scripts/output-identity.sh`; the test `drive_streams_what_the_held_frames_give`).
+//! whole (the test `drive_streams_what_the_held_frames_give`; `bench/drive-memory.sh` compares
+//! the reports with another binary's).
 
 use monitor_core::{Collisions, ComfortSummary, Event, Frame, Monitor, RouteSummary};
 
@@ -222,6 +223,16 @@ impl Drive<'_> {
 /// Scores a scanned log as its frames stream (see the module): `out` the route's outcome before
 /// replay, `record` and `reference` the log's record and path, `notes` the reader's notes as
 /// warnings.
+///
+/// `sds score --mcap` calls it through [`crate::app::vehicle_logs::score_logs`]:
+///
+/// ```no_run
+/// use monitor_host::{input::mcap::Topics, app::vehicle_logs::score_logs, Settings};
+/// // An 8-hour drive: the frames are scored as they are made, none held.
+/// let report = score_logs(&["drive_8h.mcap".into()], &Topics::default(), &Settings::default())?;
+/// assert_eq!(report.routes[0].batch_agrees, Some(true));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 ///
 /// # Errors
 /// What framing the log found ([`LogScan::frames`]): the route is then invalid with it.

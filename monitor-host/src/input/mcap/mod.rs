@@ -706,6 +706,22 @@ impl Ord for Waiting {
 /// Reads the log at `path` once through (every check of [`read_log`] but the frames') without
 /// keeping its poses and IMU samples; [`LogScan::frames`] then makes its frames.
 ///
+/// ```no_run
+/// use monitor_host::input::mcap::{scan_log, Topics};
+/// let mut scan = scan_log("drive.mcap".as_ref(), &Topics::default(), 0.05, 0.25)?;
+/// let mut distance = 0.0;
+/// let mut last: Option<[f64; 2]> = None;
+/// let framed = scan.frames(|tick| {
+///     let [x, y] = tick.frame.location;
+///     if let (false, Some([a, b])) = (tick.new_segment, last) {
+///         distance += (x - a).hypot(y - b);
+///     }
+///     last = Some([x, y]);
+/// })?;
+/// println!("{} frames, {} segments, {distance:.0} m", framed.frames, framed.segments);
+/// # Ok::<(), monitor_host::input::mcap::McapError>(())
+/// ```
+///
 /// # Errors
 /// [`McapError`] naming the file, the topic and the fix.
 pub fn scan_log(

@@ -13,16 +13,17 @@ use crate::error::Error;
 use crate::geometry::corridor::ReferenceKind;
 use crate::geometry::town_maps::TownMaps;
 use crate::input::lead_infractions::StepInfraction;
-use crate::input::mcap::{read_log, McapError, Topics, VehicleLog};
+use crate::input::mcap::{read_log, scan_log, LogEvent, McapError, Topics, VehicleLog};
 use crate::input::record::{Infractions, LoadedRecord, Meta, Record};
 use crate::input::route_xml::RouteRef;
 use crate::input::warning::Warning;
 use crate::model::frames::RouteFrames;
 use crate::model::report::{assemble, Report, RunFacts};
 use crate::pipeline::align::AlignedBy;
+use crate::pipeline::drive::replay_drive;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::prepare::prepare_on;
-use crate::pipeline::replay::{replay_read, unreplayed, RouteTelemetry};
+use crate::pipeline::replay::{unreplayed, RouteTelemetry};
 use crate::pipeline::step_period::{DtSource, StepPeriod};
 use crate::provenance::Provenance;
 use crate::route::row::route_rows;
@@ -148,42 +149,64 @@ fn notes(log: &VehicleLog) -> Vec<Warning> {
         .collect()
 }
 
-/// One log replayed: its outcome (a log that cannot be read is an invalid route whose reason
-/// names the file, topic and fix).
+/// One log replayed as it streams ([`replay_drive`]: memory flat in the log's length): its
+/// outcome (a log that cannot be read is an invalid route whose reason names the file, topic and
+/// fix).
 fn replay_log(path: &Path, topics: &Topics, settings: &Settings) -> RouteOutcome {
     let dt = decimal(settings.core.dt);
-    match read_log(path, topics, dt, settings.mcap.max_hold) {
-        Ok(log) => {
-            let route = log_route(&log);
-            let Ok(record) = &route.loaded.entry else {
-                unreachable!("a log's record is made valid")
-            };
-            let mut out = replay_read(
-                unreplayed(&route.loaded),
-                record,
-                route.reference.is_some(),
-                false,
-                settings,
-                |warnings, files| {
-                    warnings.extend(notes(&log));
-                    files.extend(log.files.iter().cloned());
-                    Ok(prepared(&log, &route, settings, false))
-                },
-            );
-            out.segments = Some(log.telemetry.segments.len().max(1) as u64);
+    let invalid = |e: McapError| {
+        let mut record = log_route(&empty_log(path)).loaded;
+        record.source = path.to_path_buf();
+        let mut out = unreplayed(&record);
+        out.telemetry = TelemetryState::Invalid(e.to_string());
+        out
+    };
+    let mut scan = match scan_log(path, topics, dt, settings.mcap.max_hold) {
+        Ok(scan) => scan,
+        Err(e) => return invalid(e),
+    };
+    // The log's record and path; its events' frames come as the frames stream.
+    let route = log_route(&VehicleLog {
+        events: scan
+            .events
+            .iter()
+            .map(|(t, kind)| LogEvent {
+                t: *t,
+                frame: None,
+                kind: kind.clone(),
+            })
+            .collect(),
+        path_points: scan.reference_path().map(<[_]>::to_vec),
+        ..empty_log(&scan.path)
+    });
+    let Ok(record) = &route.loaded.entry else {
+        unreachable!("a log's record is made valid")
+    };
+    let replayed = replay_drive(
+        &mut scan,
+        unreplayed(&route.loaded),
+        record,
+        route.reference.as_ref(),
+        settings,
+        |notes| {
+            notes
+                .iter()
+                .map(|n| Warning::VehicleLog {
+                    file: path.to_path_buf(),
+                    text: n.clone(),
+                })
+                .collect()
+        },
+    );
+    match replayed {
+        Ok(mut out) => {
             // The path stands where a route XML would.
             if route.reference.is_none() {
                 out.reference = Some(ReferenceKind::None);
             }
             out
         }
-        Err(e) => {
-            let mut record = log_route(&empty_log(path)).loaded;
-            record.source = path.to_path_buf();
-            let mut out = unreplayed(&record);
-            out.telemetry = TelemetryState::Invalid(e.to_string());
-            out
-        }
+        Err(e) => invalid(e),
     }
 }
 

@@ -6,6 +6,7 @@
 //! moving chunks; [`placement`] puts its other infractions and stationary stretches on its frames.
 
 pub mod align;
+pub mod drive;
 pub mod frame;
 pub mod live;
 pub mod motion;

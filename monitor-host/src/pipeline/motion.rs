@@ -183,6 +183,209 @@ pub fn measure_segments(
     out
 }
 
+/// [`measure_segments`] frame by frame, as a long drive streams (issue 51): the same figures,
+/// to the bit, holding one segment's running sums and the stretches and chunk flags the
+/// figures are made of, never the frames.
+///
+/// ```
+/// use monitor_host::pipeline::motion::{measure_segments, MotionMeter, MotionSettings};
+/// let steps: Vec<u64> = (0..25).chain(1000..1025).collect();
+/// let locations: Vec<[f64; 2]> = (0..50)
+///     .map(|i| [if i < 25 { 0.1 * i as f64 } else { 100.0 + 0.1 * i as f64 }, 0.0])
+///     .collect();
+/// let settings = MotionSettings::default();
+/// let mut meter = MotionMeter::new(0.05, &settings, 20, 7);
+/// for (i, (l, s)) in locations.iter().zip(&steps).enumerate() {
+///     meter.push(*l, *s, i == 0 || i == 25);
+/// }
+/// let m = measure_segments(&locations, &steps, &[0, 25], 0.05, &settings, 20, 7);
+/// assert_eq!(meter.finish().0, m);
+/// ```
+#[derive(Clone, Debug)]
+pub struct MotionMeter {
+    dt: f64,
+    settings: MotionSettings,
+    chunk_len: usize,
+    min_chunk: usize,
+    out: Motion,
+    /// Stationary frames, all segments.
+    standing: u64,
+    /// Frames, all segments.
+    n: u64,
+    seg: Option<Segment>,
+    /// The step of each stretch's first frame and of the frame after it (`standing_events`).
+    marks: Vec<(u32, u64)>,
+    /// A stretch that ended with its segment: its end's step is the next frame's.
+    end_pending: Option<u32>,
+    last_step: u64,
+}
+
+/// One segment's running sums.
+#[derive(Clone, Debug)]
+struct Segment {
+    start: u32,
+    n: usize,
+    distance: f64,
+    prev: ([f64; 2], u64),
+    first_step: u64,
+    /// The current stationary run's first frame (index in the route).
+    run: Option<u32>,
+    /// The current chunk's path and first step.
+    path: f64,
+    chunk_step: u64,
+    /// Moving flags pushed for this segment.
+    moving: usize,
+}
+
+impl MotionMeter {
+    /// A meter with step period `dt` (s) and the comfort chunking.
+    pub fn new(dt: f64, settings: &MotionSettings, chunk_len: usize, min_chunk: usize) -> Self {
+        MotionMeter {
+            dt,
+            settings: *settings,
+            chunk_len: chunk_len.max(1),
+            min_chunk: min_chunk.max(1),
+            out: Motion::default(),
+            standing: 0,
+            n: 0,
+            seg: None,
+            marks: Vec::new(),
+            end_pending: None,
+            last_step: 0,
+        }
+    }
+
+    /// The next frame: its 2-D location and step; `new_segment` for a segment's first frame
+    /// (the route's first included).
+    pub fn push(&mut self, location: [f64; 2], step: u64, new_segment: bool) {
+        let index = self.n as u32;
+        if new_segment || self.seg.is_none() {
+            self.close(false);
+            self.seg = Some(Segment {
+                start: index,
+                n: 0,
+                distance: -0.0,
+                prev: (location, step),
+                first_step: step,
+                run: None,
+                path: -0.0,
+                chunk_step: step,
+                moving: 0,
+            });
+        }
+        if let Some(b) = self.end_pending.take() {
+            self.marks.push((b, step));
+        }
+        let mut flags: [Option<(u32, bool)>; 2] = [None, None];
+        let (dt, chunk_len) = (self.dt, self.chunk_len);
+        let Some(seg) = self.seg.as_mut() else {
+            return;
+        };
+        let j = seg.n;
+        let mut moving = None;
+        if j > 0 {
+            let gap = step_length(seg.prev.0, location);
+            seg.distance += gap;
+            let span = step.saturating_sub(seg.prev.1) as f64 * dt;
+            let speed = if span > 0.0 { gap / span } else { 0.0 };
+            let still = speed < self.settings.stationary_speed;
+            // Frame 0 takes frame 1's speed.
+            if j == 1 {
+                flags[0] = Some((seg.start, still));
+            }
+            flags[1] = Some((index, still));
+            if j % chunk_len != 0 {
+                seg.path += gap;
+            }
+        }
+        if j % chunk_len == 0 {
+            seg.path = -0.0;
+            seg.chunk_step = step;
+        }
+        if j % chunk_len == chunk_len - 1 {
+            let duration = step.saturating_sub(seg.chunk_step) as f64 * dt;
+            moving = Some(duration > 0.0 && seg.path / duration >= self.settings.moving_speed);
+            seg.moving += 1;
+        }
+        seg.prev = (location, step);
+        seg.n += 1;
+        self.n += 1;
+        self.last_step = step;
+        if let Some(m) = moving {
+            self.out.moving.push(m);
+        }
+        for (i, still) in flags.into_iter().flatten() {
+            self.flag(i, still, step);
+        }
+    }
+
+    /// Frame `i`'s stationary flag (frames in order); `step`: the current frame's.
+    fn flag(&mut self, i: u32, still: bool, step: u64) {
+        let Some(seg) = self.seg.as_mut() else {
+            return;
+        };
+        match (seg.run, still) {
+            (None, true) => {
+                seg.run = Some(i);
+                // Frame 0's flag comes with frame 1: its step is the segment's first.
+                let at = if i == seg.start { seg.first_step } else { step };
+                self.marks.push((i, at));
+            }
+            (Some(a), false) => {
+                self.out.stationary.push((a, i));
+                self.standing += u64::from(i - a);
+                self.marks.push((i, step));
+                seg.run = None;
+            }
+            _ => {}
+        }
+    }
+
+    /// Ends the current segment (`last`: the route's last).
+    fn close(&mut self, last: bool) {
+        let Some(seg) = self.seg.as_ref() else {
+            return;
+        };
+        if seg.n == 1 {
+            let (start, step) = (seg.start, seg.first_step);
+            self.flag(start, true, step);
+        }
+        let Some(seg) = self.seg.take() else {
+            return;
+        };
+        let end = seg.start + seg.n as u32;
+        if let Some(a) = seg.run {
+            self.out.stationary.push((a, end));
+            self.standing += u64::from(end - a);
+            self.end_pending = Some(end);
+        }
+        self.out.distance_m += seg.distance + 0.0;
+        if seg.n < self.chunk_len && seg.n >= self.min_chunk {
+            let duration = seg.prev.1.saturating_sub(seg.first_step) as f64 * self.dt;
+            self.out
+                .moving
+                .push(duration > 0.0 && seg.path / duration >= self.settings.moving_speed);
+        } else if !last {
+            let chunks = seg.n.div_ceil(self.chunk_len);
+            let len = self.out.moving.len() + chunks - seg.moving;
+            self.out.moving.resize(len, false);
+        }
+    }
+
+    /// The route's figures, and the steps at the stretches' ends (frame index → step) that
+    /// [`crate::pipeline::placement::standing_events_by`] needs.
+    pub fn finish(mut self) -> (Motion, Vec<(u32, u64)>) {
+        self.close(true);
+        if let Some(b) = self.end_pending.take() {
+            self.marks.push((b, self.last_step));
+        }
+        self.out.stationary_share = (self.n > 0).then(|| self.standing as f64 / self.n as f64);
+        self.marks.sort_by_key(|m| m.0);
+        self.marks.dedup_by_key(|m| m.0);
+        (self.out, self.marks)
+    }
+}
+
 /// Comfort over the moving chunks of a route.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct MovingComfort {

@@ -264,11 +264,32 @@ pub fn standing_events(
     let (Some(&first), Some(&last)) = (steps.first(), steps.last()) else {
         return Vec::new();
     };
+    standing_events_by(
+        stationary,
+        |i| steps.get(i).copied(),
+        first,
+        last,
+        settings,
+        dt,
+    )
+}
+
+/// [`standing_events`] with the steps given by `step_at` (frame index → step, `None` past the
+/// last frame) and the route's `first` and `last` steps: a drive scored as it streams keeps
+/// only the steps at the stretches' ends ([`crate::pipeline::motion::MotionMeter::finish`]).
+pub fn standing_events_by(
+    stationary: &[(u32, u32)],
+    step_at: impl Fn(usize) -> Option<u64>,
+    first: u64,
+    last: u64,
+    settings: &Settings,
+    dt: f64,
+) -> Vec<PlacedEvent> {
     stationary
         .iter()
         .filter_map(|&(a, b)| {
-            let start = *steps.get(a as usize)?;
-            let end = steps.get(b as usize).copied().unwrap_or(last);
+            let start = step_at(a as usize)?;
+            let end = step_at(b as usize).unwrap_or(last);
             let duration = (end - start) as f64 * dt;
             (duration >= settings.events.min_standing).then(|| PlacedEvent {
                 kind: "stationary",

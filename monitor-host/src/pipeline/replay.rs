@@ -660,6 +660,18 @@ pub fn replay_read(
             None
         }
     };
+    conclude(out, record, settings, summary)
+}
+
+/// The end of a replay, whatever streamed the route's frames ([`replay_read`], or a drive
+/// scored as it streams, [`crate::pipeline::drive`]): the collisions of a route not replayed,
+/// the warnings of unparseable ones, and the route's DS_safe from its counts.
+pub(crate) fn conclude(
+    mut out: RouteOutcome,
+    record: &Record,
+    settings: &Settings,
+    summary: Option<RouteSummary>,
+) -> RouteOutcome {
     // A route not replayed keeps its collisions, unaligned (spec section 10).
     if out.telemetry != TelemetryState::Ok {
         out.events = collision_events(record);

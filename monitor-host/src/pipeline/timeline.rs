@@ -143,3 +143,98 @@ impl RouteTimeline {
         step.saturating_sub(self.first_step) as f64 * self.dt
     }
 }
+
+/// [`RouteTimeline::around`] as a long drive streams (issue 51): the frames come one at a time,
+/// each said to be a collision frame or not, and only those a collision trace needs are kept;
+/// between collisions it holds the last `BEFORE_S` seconds (and `decel_window` frames), never
+/// the drive.
+///
+/// ```
+/// use monitor_host::pipeline::timeline::{ChunkLog, RouteTimeline, TimelineKeeper};
+/// let frames = vec![monitor_core::Frame::default(); 500];
+/// let steps: Vec<u64> = (0..500).collect();
+/// let mut keeper = TimelineKeeper::new(0.05, 20);
+/// for (i, f) in frames.iter().enumerate() {
+///     keeper.push(i, steps[i], *f, i == 100);
+/// }
+/// let whole = RouteTimeline::around(&frames, &steps, 0.05, &[100], 20, ChunkLog::default());
+/// assert_eq!(keeper.finish(ChunkLog::default()), whole);
+/// ```
+#[derive(Clone, Debug)]
+pub struct TimelineKeeper {
+    dt: f64,
+    decel_window: usize,
+    first_step: Option<u64>,
+    /// Recent frames, each flagged when a collision's trace takes it.
+    recent: std::collections::VecDeque<(KeptFrame, bool)>,
+    /// Collision frames (index, step) whose trace may still take frames after them.
+    open: Vec<(usize, u64)>,
+    kept: Vec<KeptFrame>,
+}
+
+impl TimelineKeeper {
+    /// A keeper for a route of step period `dt` (s) and the deceleration window.
+    pub fn new(dt: f64, decel_window: u16) -> Self {
+        TimelineKeeper {
+            dt,
+            decel_window: usize::from(decel_window),
+            first_step: None,
+            recent: std::collections::VecDeque::new(),
+            open: Vec::new(),
+            kept: Vec::new(),
+        }
+    }
+
+    /// The next frame (index order); `collision`: an aligned collision falls on it.
+    pub fn push(&mut self, index: usize, step: u64, frame: Frame, collision: bool) {
+        let dt = self.dt;
+        // The expression of `around`, to the bit.
+        let within = move |j: u64, k: u64| {
+            let t = (j as f64 - k as f64) * dt;
+            (-BEFORE_S - 1e-9..=AFTER_S + 1e-9).contains(&t)
+        };
+        self.first_step.get_or_insert(step);
+        let after = self.open.iter().any(|&(_, k)| within(step, k));
+        self.recent
+            .push_back((KeptFrame { index, step, frame }, after));
+        if collision {
+            let from = index.saturating_sub(self.decel_window);
+            for (f, flag) in &mut self.recent {
+                if (from..=index).contains(&f.index) || within(f.step, step) {
+                    *flag = true;
+                }
+            }
+            self.open.push((index, step));
+        }
+        // A collision's trace ends AFTER_S after it; a frame further back than BEFORE_S and the
+        // deceleration window is taken by no later collision.
+        self.open.retain(|&(_, k)| within(step, k) || step < k);
+        while let Some((f, _)) = self.recent.front() {
+            let gone = f.index + self.decel_window <= index
+                && (f.step as f64 - step as f64) * dt < -BEFORE_S - 1e-9;
+            if !gone {
+                break;
+            }
+            if let Some((f, true)) = self.recent.pop_front() {
+                self.kept.push(f);
+            }
+        }
+    }
+
+    /// The timeline, with the monitor's chunk verdicts.
+    pub fn finish(mut self, chunks: ChunkLog) -> RouteTimeline {
+        for (f, flag) in self.recent.drain(..) {
+            if flag {
+                self.kept.push(f);
+            }
+        }
+        RouteTimeline {
+            kept: self.kept,
+            first_step: self.first_step.unwrap_or(0),
+            dt: self.dt,
+            chunks,
+            chunk_steps: Vec::new(),
+            chunk_frames: Vec::new(),
+        }
+    }
+}

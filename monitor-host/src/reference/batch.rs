@@ -62,7 +62,7 @@ pub struct BatchRoute {
 /// The deceleration verdict of one frame with collisions (spec §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BatchCollision {
-    /// Index of the frame in the route (0-based).
+    /// Index of the frame in the route (0-based; in the part, for [`compute_part`]).
     pub frame: usize,
     /// Some frame of the window before it had `a_lon <= decel_threshold`.
     pub decelerated: bool,
@@ -110,7 +110,42 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
 /// assert_eq!(route.second_comfort.unwrap().comfortable, 0); // 40 "rad/s"
 /// ```
 pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) -> BatchRoute {
+    compute_part(&[], frames, config, second)
+}
+
+/// [`compute_with`] over part of a route: `frames` start at a chunk boundary of the route, and
+/// `before` holds the route's frames before them (the last `decel_window` at least; empty when
+/// `frames` start the route). The counts of consecutive parts add up to the whole route's
+/// ([`RouteSummary::merge`]): the chunks are the same, a collision's deceleration window reaches
+/// into `before`, only the route's first frame is exempt as the first, and a short route's
+/// single chunk (§3) is one only when the part starts the route. So a long drive is checked part
+/// by part as its frames pass, without holding it.
+///
+/// ```
+/// use monitor_core::{Collisions, Config, Frame, RouteSummary};
+/// use monitor_host::reference::batch;
+/// let mut frames = vec![Frame { speed: 5.0, ..Frame::default() }; 95];
+/// frames[30].a_lon = -5.0; // braking 15 frames before the collision, in the part before it
+/// frames[45].collisions = Collisions { vehicle: 1, ..Collisions::NONE };
+/// let config = Config::DEFAULT;
+/// let whole = batch::compute(&frames, &config).summary;
+/// assert_eq!((whole.collisions.aligned, whole.collisions.nodecel), (1, 0));
+/// let window = usize::from(config.decel_window);
+/// let mut parts = RouteSummary::ZERO;
+/// for (a, b) in [(0usize, 40), (40, 80), (80, 95)] {
+///     let before = &frames[a.saturating_sub(window)..a];
+///     parts.merge(&batch::compute_part(before, &frames[a..b], &config, None).summary);
+/// }
+/// assert_eq!(parts, whole);
+/// ```
+pub fn compute_part(
+    before: &[Frame],
+    frames: &[Frame],
+    config: &Config,
+    second: Option<Profile>,
+) -> BatchRoute {
     let n = frames.len();
+    let starts = before.is_empty();
     // A valid config has chunk_len >= 7; never let 0 reach `chunks`.
     let chunk_len = usize::from(config.chunk_len).max(1);
     let min_chunk = usize::from(config.min_chunk);
@@ -127,7 +162,7 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 
     // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
     // a chunk shorter than the filter window has no verdict.
-    let mut spans: Vec<Range<usize>> = if n >= chunk_len {
+    let mut spans: Vec<Range<usize>> = if n >= chunk_len || !starts {
         (0..n / chunk_len)
             .map(|k| k * chunk_len..(k + 1) * chunk_len)
             .collect()
@@ -164,10 +199,13 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
         if hits == 0 {
             continue;
         }
-        let decelerated = frames[k.saturating_sub(window)..k]
+        // The window's frames before this part are the last of `before`.
+        let earlier = &before[before.len() - window.saturating_sub(k).min(before.len())..];
+        let decelerated = earlier
             .iter()
+            .chain(&frames[k.saturating_sub(window)..k])
             .any(|p| p.a_lon <= config.decel_threshold);
-        let exempt = k == 0 || f.speed < config.stationary_speed;
+        let exempt = (k == 0 && starts) || f.speed < config.stationary_speed;
         counts.aligned = counts.aligned.saturating_add(hits);
         if exempt {
             counts.exempt = counts.exempt.saturating_add(hits);

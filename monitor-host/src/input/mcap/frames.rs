@@ -38,39 +38,87 @@ pub struct MotionSample {
 /// world frame between consecutive poses (the first pose of a segment takes its second's), and
 /// its yaw rate. No difference reaches across a gap (two poses more than `max_hold_ns` apart).
 pub fn twist_motion(poses: &[PoseSample], max_hold_ns: u64) -> Vec<MotionSample> {
-    let world_v = |p: &PoseSample| {
-        let [vx, vy, _] = p.twist.unwrap_or_default();
-        let (s, c) = p.yaw.sin_cos();
-        [vx * c - vy * s, vx * s + vy * c]
-    };
-    let near = |a: &PoseSample, b: &PoseSample| b.t - a.t <= max_hold_ns;
+    let mut twist = TwistMotion::new(max_hold_ns);
     let mut out: Vec<MotionSample> = Vec::with_capacity(poses.len());
-    for (i, p) in poses.iter().enumerate() {
-        let before = i.checked_sub(1).map(|j| &poses[j]).filter(|a| near(a, p));
-        let after = poses.get(i + 1).filter(|b| near(p, b));
+    for p in poses {
+        out.extend(twist.push(*p));
+    }
+    out.extend(twist.finish());
+    out
+}
+
+/// [`twist_motion`] one pose at a time (poses in time order): a pose's motion sample needs the
+/// pose after it (a segment's first pose takes its second's difference), so each sample comes
+/// out one pose late, and the last one from [`TwistMotion::finish`].
+#[derive(Debug, Clone)]
+pub struct TwistMotion {
+    max_hold_ns: u64,
+    /// The pose before the pending one.
+    before: Option<PoseSample>,
+    /// The pose whose sample waits for the next pose.
+    pending: Option<PoseSample>,
+    /// The last sample's acceleration.
+    last: Option<[f64; 2]>,
+}
+
+impl TwistMotion {
+    /// No pose yet.
+    pub fn new(max_hold_ns: u64) -> Self {
+        TwistMotion {
+            max_hold_ns,
+            before: None,
+            pending: None,
+            last: None,
+        }
+    }
+
+    /// Takes the next pose; gives the motion sample of the pose before it.
+    pub fn push(&mut self, p: PoseSample) -> Option<MotionSample> {
+        let out = self.pending.map(|q| self.sample(q, Some(p)));
+        self.before = self.pending.replace(p);
+        out
+    }
+
+    /// The last pose's sample.
+    pub fn finish(&mut self) -> Option<MotionSample> {
+        let q = self.pending.take()?;
+        let out = self.sample(q, None);
+        self.before = Some(q);
+        Some(out)
+    }
+
+    fn sample(&mut self, p: PoseSample, next: Option<PoseSample>) -> MotionSample {
+        let world_v = |p: &PoseSample| {
+            let [vx, vy, _] = p.twist.unwrap_or_default();
+            let (s, c) = p.yaw.sin_cos();
+            [vx * c - vy * s, vx * s + vy * c]
+        };
+        let near = |a: &PoseSample, b: &PoseSample| b.t - a.t <= self.max_hold_ns;
+        let before = self.before.filter(|a| near(a, &p));
+        let after = next.filter(|b| near(&p, b));
         let acc = match (before, after) {
             (Some(a), _) if p.t > a.t => {
-                let (va, vb) = (world_v(a), world_v(p));
+                let (va, vb) = (world_v(&a), world_v(&p));
                 let h = (p.t - a.t) as f64 * 1e-9;
                 [(vb[0] - va[0]) / h, (vb[1] - va[1]) / h]
             }
             // Same time as the previous pose: keep its value.
-            (Some(_), _) => out.last().map_or([0.0; 2], |m| m.acc),
+            (Some(_), _) => self.last.unwrap_or([0.0; 2]),
             (None, Some(b)) if b.t > p.t => {
-                let (va, vb) = (world_v(p), world_v(b));
+                let (va, vb) = (world_v(&p), world_v(&b));
                 let h = (b.t - p.t) as f64 * 1e-9;
                 [(vb[0] - va[0]) / h, (vb[1] - va[1]) / h]
             }
             (None, _) => [0.0; 2],
         };
-        out.push(MotionSample {
+        self.last = Some(acc);
+        MotionSample {
             t: p.t,
             acc,
             world: true,
             yaw_rate: p.twist.map_or(0.0, |w| w[2]),
-        });
+        }
     }
-    out
 }
 
 /// The frames of a log, with the tick time (ns) of each frame and the log's segments.
@@ -81,7 +129,8 @@ pub struct Framed {
     pub telemetry: Telemetry,
     /// Tick time (ns) of each frame.
     pub times: Vec<u64>,
-    /// The gaps between pose messages longer than the hold: (last pose before, first after), ns.
+    /// The gaps between pose messages longer than the hold: (last pose before, first after), ns
+    /// (the first [`Framer::KEEP_GAPS`]).
     pub gaps: Vec<(u64, u64)>,
 }
 
@@ -94,7 +143,7 @@ pub struct Framed {
 /// costs nothing.
 ///
 /// Both inputs are sorted by time (stable: of two messages with one time, the later in the file
-/// wins).
+/// wins). The frames are made by [`Framer`], as a log streams.
 ///
 /// # Errors
 /// [`TelemetryError::Field`] naming the tick of a value that is not finite (or overflows f32);
@@ -105,45 +154,230 @@ pub fn frames(
     dt_ns: u64,
     max_hold_ns: u64,
 ) -> Result<Framed, TelemetryError> {
-    let Some(first) = poses.first() else {
-        return Err(TelemetryError::NoFrames);
-    };
-    let dt_ns = dt_ns.max(1);
-    let t0 = first.t;
+    let mut framer = Framer::new(dt_ns, max_hold_ns);
     let mut out = Framed::default();
     let (mut frames, mut segments, mut times) = (Vec::new(), Vec::new(), Vec::new());
+    let mut each = |tick: Tick| {
+        if tick.new_segment {
+            segments.push(frames.len());
+        }
+        frames.push(tick.frame);
+        times.push(tick.t);
+    };
+    // Both streams merged by time (a pose before a motion sample of the same time).
     let mut im = 0usize;
-    let mut a = 0usize;
-    while a < poses.len() {
-        // The pose segment [a, b): consecutive poses at most max_hold_ns apart.
-        let mut b = a + 1;
-        while b < poses.len() && poses[b].t - poses[b - 1].t <= max_hold_ns {
-            b += 1;
+    for p in poses {
+        while im < motion.len() && motion[im].t < p.t {
+            framer.push(Sample::Motion(motion[im]), &mut each)?;
+            im += 1;
         }
-        if b < poses.len() {
-            out.gaps.push((poses[b - 1].t, poses[b].t));
+        framer.push(Sample::Pose(*p), &mut each)?;
+    }
+    for m in &motion[im..] {
+        framer.push(Sample::Motion(*m), &mut each)?;
+    }
+    let done = framer.finish(&mut each)?;
+    out.gaps = done.pose_gaps;
+    out.telemetry = Telemetry {
+        frames,
+        gaps: done.missing,
+        segments,
+    };
+    out.times = times;
+    Ok(out)
+}
+
+/// One message of a log's signals, for [`Framer`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sample {
+    /// A pose.
+    Pose(PoseSample),
+    /// An acceleration and yaw rate.
+    Motion(MotionSample),
+}
+
+impl Sample {
+    /// Its log time, ns.
+    pub fn t(&self) -> u64 {
+        match self {
+            Sample::Pose(p) => p.t,
+            Sample::Motion(m) => m.t,
         }
-        let (start, end) = (poses[a].t, poses[b - 1].t);
-        let mut ip = a;
-        let mut fresh = true;
-        for k in (start - t0).div_ceil(dt_ns)..=(end - t0) / dt_ns {
-            let t = t0 + k * dt_ns;
-            while ip + 1 < b && poses[ip + 1].t <= t {
-                ip += 1;
+    }
+}
+
+/// One frame made by [`Framer`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tick {
+    /// The frame (step = tick index).
+    pub frame: TelemetryFrame,
+    /// Tick time, ns.
+    pub t: u64,
+    /// The frame starts a segment (the log's first frame included).
+    pub new_segment: bool,
+}
+
+/// What [`Framer::finish`] says of the whole log.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FramerDone {
+    /// Frames made.
+    pub frames: u64,
+    /// Ticks missing between the first frame and the last (inside gaps).
+    pub missing: u64,
+    /// Segments.
+    pub segments: u64,
+    /// The gaps between pose messages longer than the hold: (last pose before, first after),
+    /// ns; only the first [`Framer::KEEP_GAPS`] are kept, `pose_gap_count` counts them all.
+    pub pose_gaps: Vec<(u64, u64)>,
+    /// Gaps between pose messages longer than the hold.
+    pub pose_gap_count: u64,
+    /// The gaps longer than [`super::FAR_NS`], whatever their number (a note each).
+    pub far_gaps: Vec<(u64, u64)>,
+}
+
+/// [`frames`] as a log streams: the poses and motion samples come in one at a time, merged in
+/// time order, and each tick is made as soon as what decides it has come in: its pose and
+/// motion (every message before the tick's time) and, past the latest pose, whether the next
+/// pose comes within `max_hold_ns` (a gap otherwise). It holds the motion samples of at most
+/// `max_hold_ns` (and the latest), never the log.
+#[derive(Debug, Clone)]
+pub struct Framer {
+    dt_ns: u64,
+    hold_ns: u64,
+    t0: u64,
+    /// The latest pose, and its segment's first pose time.
+    pose: Option<PoseSample>,
+    start: u64,
+    /// The next tick to decide.
+    k: u64,
+    /// The next frame starts a segment.
+    fresh: bool,
+    /// Motion samples not yet passed by the ticks (the first: the latest at or before the tick).
+    motion: std::collections::VecDeque<MotionSample>,
+    first_step: Option<u64>,
+    last_step: u64,
+    done: FramerDone,
+}
+
+impl Framer {
+    /// Gaps kept in [`FramerDone::pose_gaps`] (they are counted beyond).
+    pub const KEEP_GAPS: usize = 1024;
+
+    /// A framer at period `dt_ns`, holding a message at most `max_hold_ns`.
+    pub fn new(dt_ns: u64, max_hold_ns: u64) -> Self {
+        Framer {
+            dt_ns: dt_ns.max(1),
+            hold_ns: max_hold_ns,
+            t0: 0,
+            pose: None,
+            start: 0,
+            k: 0,
+            fresh: true,
+            motion: std::collections::VecDeque::new(),
+            first_step: None,
+            last_step: 0,
+            done: FramerDone::default(),
+        }
+    }
+
+    /// Takes the next sample (time order); gives the ticks it decides to `each`.
+    ///
+    /// # Errors
+    /// [`TelemetryError::Field`] naming the tick of a value that is not finite.
+    pub fn push(&mut self, s: Sample, each: &mut impl FnMut(Tick)) -> Result<(), TelemetryError> {
+        let t = s.t();
+        self.ticks(Some(&s), each)?;
+        match s {
+            Sample::Pose(p) => {
+                match self.pose {
+                    None => {
+                        self.t0 = p.t;
+                        self.start = p.t;
+                        self.k = 0;
+                        self.fresh = true;
+                    }
+                    Some(l) if p.t - l.t > self.hold_ns => {
+                        if self.done.pose_gaps.len() < Self::KEEP_GAPS {
+                            self.done.pose_gaps.push((l.t, p.t));
+                        }
+                        if p.t - l.t > super::FAR_NS {
+                            self.done.far_gaps.push((l.t, p.t));
+                        }
+                        self.done.pose_gap_count += 1;
+                        self.start = p.t;
+                        self.k = (p.t - self.t0).div_ceil(self.dt_ns);
+                        self.fresh = true;
+                    }
+                    Some(_) => {}
+                }
+                self.pose = Some(p);
             }
-            while im < motion.len() && motion[im].t <= t {
-                im += 1;
+            Sample::Motion(m) => {
+                // Before the first pose, or past the hold after the latest one, the ticks wait
+                // for a new segment, whose ticks take only samples from its own first pose on:
+                // the latest is enough.
+                if self.pose.is_none_or(|l| t - l.t > self.hold_ns) {
+                    self.motion.clear();
+                }
+                self.motion.push_back(m);
             }
-            let p = &poses[ip];
-            let m = im
-                .checked_sub(1)
-                .map(|j| &motion[j])
-                .filter(|m| m.t >= start && t - m.t <= max_hold_ns);
+        }
+        Ok(())
+    }
+
+    /// The ticks left (up to the last pose), and the log's figures.
+    ///
+    /// # Errors
+    /// As [`Framer::push`]; [`TelemetryError::NoFrames`] when no tick has every signal.
+    pub fn finish(mut self, each: &mut impl FnMut(Tick)) -> Result<FramerDone, TelemetryError> {
+        self.ticks(None, each)?;
+        let Some(first) = self.first_step else {
+            return Err(TelemetryError::NoFrames);
+        };
+        self.done.missing = self.last_step - first + 1 - self.done.frames;
+        Ok(self.done)
+    }
+
+    /// Decides the ticks before `next`'s time (all of them up to the last pose at the end).
+    fn ticks(
+        &mut self,
+        next: Option<&Sample>,
+        each: &mut impl FnMut(Tick),
+    ) -> Result<(), TelemetryError> {
+        let Some(pose) = self.pose else {
+            return Ok(());
+        };
+        loop {
+            let t = self.t0 + self.k * self.dt_ns;
+            if next.is_some_and(|s| t >= s.t()) {
+                return Ok(());
+            }
+            if t > pose.t {
+                // Past the latest pose: a tick of this segment only if the next pose is within
+                // the hold; a motion sample within the hold does not decide it yet.
+                let within = match next {
+                    Some(Sample::Pose(p)) => p.t - pose.t <= self.hold_ns,
+                    _ => false,
+                };
+                if !within {
+                    return Ok(());
+                }
+            }
+            while self.motion.len() > 1 && self.motion[1].t <= t {
+                self.motion.pop_front();
+            }
+            let m = self
+                .motion
+                .front()
+                .filter(|m| m.t <= t && m.t >= self.start && t - m.t <= self.hold_ns)
+                .copied();
+            let k = self.k;
+            self.k += 1;
             let Some(m) = m else {
-                fresh = true;
+                self.fresh = true;
                 continue;
             };
-            let (s, c) = p.yaw.sin_cos();
+            let (s, c) = pose.yaw.sin_cos();
             let fwd = [c, s];
             let left = [-s, c];
             let right = [s, -c];
@@ -162,28 +396,21 @@ pub fn frames(
                 [0.0, 0.0, -m.yaw_rate.to_degrees()],
                 [fwd[0], fwd[1], 0.0],
                 [right[0], right[1], 0.0],
-                p.position,
+                pose.position,
             ];
-            if fresh {
-                segments.push(frames.len());
-                fresh = false;
-            }
-            frames.push(TelemetryFrame::from_raw(k, raw)?);
-            times.push(t);
+            let frame = TelemetryFrame::from_raw(k, raw)?;
+            let new_segment = std::mem::take(&mut self.fresh);
+            self.first_step.get_or_insert(k);
+            self.last_step = k;
+            self.done.frames += 1;
+            self.done.segments += u64::from(new_segment);
+            each(Tick {
+                frame,
+                t,
+                new_segment,
+            });
         }
-        a = b;
     }
-    let gaps = match (frames.first(), frames.last()) {
-        (Some(a), Some(b)) => b.step - a.step + 1 - frames.len() as u64,
-        _ => return Err(TelemetryError::NoFrames),
-    };
-    out.telemetry = Telemetry {
-        frames,
-        gaps,
-        segments,
-    };
-    out.times = times;
-    Ok(out)
 }
 
 #[cfg(test)]

@@ -23,7 +23,7 @@ pub mod stream;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use self::frames::{MotionSample, PoseSample};
+use self::frames::{MotionSample, PoseSample, Sample};
 use self::messages::RosType;
 use crate::input::telemetry::{Telemetry, TelemetryError};
 
@@ -444,54 +444,292 @@ pub fn log_name(path: &Path) -> String {
         .unwrap_or_else(|| path.display().to_string())
 }
 
-/// Sorts samples by time (stable), after checking that no topic's clock goes back by more
-/// than [`CLOCK_BACK_NS`]; returns how many came out of order.
-fn order<T>(
-    samples: &mut [T],
-    time: impl Fn(&T) -> u64,
-    file: &Path,
-    topic: &str,
-) -> Result<u64, McapError> {
-    let mut max = 0u64;
-    let mut late = 0u64;
-    for (i, s) in samples.iter().enumerate() {
-        let t = time(s);
-        if t < max {
-            if max - t > CLOCK_BACK_NS {
-                return Err(McapError::ClockBack {
-                    file: file.to_path_buf(),
-                    topic: topic.to_string(),
-                    index: i as u64,
-                    t,
-                    back_s: (max - t) as f64 * 1e-9,
-                });
+/// The clock of one topic in file order: how many messages came out of time order, and the
+/// first jump back by more than [`CLOCK_BACK_NS`].
+#[derive(Debug, Default)]
+struct Order {
+    max: u64,
+    n: u64,
+    late: u64,
+    /// (index on the topic, log time, how far back in ns) of the first jump back.
+    back: Option<(u64, u64, u64)>,
+}
+
+impl Order {
+    fn see(&mut self, t: u64) {
+        if t < self.max {
+            if self.max - t > CLOCK_BACK_NS && self.back.is_none() {
+                self.back = Some((self.n, t, self.max - t));
             }
-            late += 1;
+            self.late += 1;
         }
-        max = max.max(t);
+        self.max = self.max.max(t);
+        self.n += 1;
     }
-    if late > 0 {
-        samples.sort_by_key(|s| time(s));
+
+    fn check(&self, file: &Path, topic: &str) -> Result<u64, McapError> {
+        match self.back {
+            Some((index, t, back)) => Err(McapError::ClockBack {
+                file: file.to_path_buf(),
+                topic: topic.to_string(),
+                index,
+                t,
+                back_s: back as f64 * 1e-9,
+            }),
+            None => Ok(self.late),
+        }
     }
-    Ok(late)
 }
 
 /// A pose gap longer than this is said as a message far from the rest (a clock that was not
 /// set, a stray stamp) **\[decision\]**: its ticks still count as gaps.
 pub const FAR_NS: u64 = 3_600_000_000_000;
 
-/// Reads the log at `path` (an `.mcap` file or a rosbag2 folder) and makes its frames at the
-/// period `dt` (s), cut into segments at gaps longer than `max_hold` (s), as spec v1.5 §16
-/// defines them.
+/// A message of one of the signals, decoded.
+enum Decoded {
+    Pose(PoseSample),
+    Imu(MotionSample),
+    Event(u64, String),
+    Path(Vec<[f64; 3]>),
+}
+
+/// Streams one file, decoding the messages of the topics `wanted` reads (a subset of `topics`'
+/// signals) to `on`: each channel's type and definition checked once, each message decoded.
+fn decode_file(
+    file: &Path,
+    topics: &Topics,
+    wanted: &dyn Fn(&str) -> bool,
+    on: &mut dyn FnMut(Decoded),
+) -> Result<stream::Streamed, McapError> {
+    // Checked once per channel (ids are per file).
+    let mut checked: BTreeMap<u16, RosType> = BTreeMap::new();
+    let mut index: BTreeMap<u16, u64> = BTreeMap::new();
+    let mut failure: Option<McapError> = None;
+    let streamed = stream::stream(file, wanted, |m| {
+        let ch = m.channel;
+        let (type_name, schema_enc, schema_data) = match &ch.schema {
+            Some(s) => (s.name.as_str(), s.encoding.as_str(), &s.data[..]),
+            None => ("", "", &[][..]),
+        };
+        let encoding = ch.message_encoding.as_str();
+        let i = index.entry(ch.id).or_default();
+        let at = *i;
+        *i += 1;
+        if Some(&ch.topic) == topics.event.as_ref() {
+            on(Decoded::Event(m.log_time, type_name.to_string()));
+            return Ok(());
+        }
+        type Signal = (&'static str, &'static [RosType], &'static str);
+        let signal: Signal = if ch.topic == topics.pose {
+            (
+                "pose",
+                &[RosType::Odometry, RosType::PoseStamped],
+                "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
+            )
+        } else if ch.topic == topics.imu {
+            ("imu", &[RosType::Imu], "sensor_msgs/msg/Imu")
+        } else {
+            ("path", &[RosType::Path], "nav_msgs/msg/Path")
+        };
+        let (signal, accepted, expected) = signal;
+        let t = match checked.get(&ch.id) {
+            Some(t) => *t,
+            None => {
+                let found = RosType::of(type_name).filter(|t| accepted.contains(t));
+                let Some(t) = found.filter(|_| encoding == "cdr") else {
+                    failure = Some(McapError::WrongType {
+                        file: file.to_path_buf(),
+                        signal,
+                        topic: ch.topic.clone(),
+                        found: if type_name.is_empty() {
+                            format!("without a schema, in {encoding:?}")
+                        } else {
+                            format!("{type_name} in {encoding:?}")
+                        },
+                        expected,
+                    });
+                    return Err(String::new());
+                };
+                let text = String::from_utf8_lossy(schema_data);
+                if let Err(detail) = messages::check_definition(t, schema_enc, &text) {
+                    failure = Some(McapError::Definition {
+                        file: file.to_path_buf(),
+                        topic: ch.topic.clone(),
+                        type_name: type_name.into(),
+                        detail,
+                    });
+                    return Err(String::new());
+                }
+                checked.insert(ch.id, t);
+                t
+            }
+        };
+        let decoded = match t {
+            RosType::Odometry | RosType::PoseStamped => messages::decode_pose(t, m.data).map(|p| {
+                Decoded::Pose(PoseSample {
+                    t: m.log_time,
+                    position: p.position,
+                    yaw: messages::yaw(p.orientation),
+                    twist: p.twist,
+                })
+            }),
+            RosType::Imu => messages::decode_imu(m.data).map(|i| {
+                Decoded::Imu(MotionSample {
+                    t: m.log_time,
+                    acc: i.acc,
+                    world: false,
+                    yaw_rate: i.yaw_rate,
+                })
+            }),
+            RosType::Path => messages::decode_path(m.data).map(Decoded::Path),
+        };
+        match decoded {
+            Ok(d) => {
+                on(d);
+                Ok(())
+            }
+            Err(source) => {
+                failure = Some(McapError::Decode {
+                    file: file.to_path_buf(),
+                    topic: ch.topic.clone(),
+                    type_name: type_name.into(),
+                    index: at,
+                    t: m.log_time,
+                    source,
+                });
+                Err(String::new())
+            }
+        }
+    });
+    match (streamed, failure) {
+        (_, Some(f)) => Err(f),
+        (Err(e), None) => Err(McapError::Stream {
+            file: file.to_path_buf(),
+            source: e,
+        }),
+        (Ok(s), None) => Ok(s),
+    }
+}
+
+/// A log read once through (spec v1.5 §16), everything checked, nothing of its poses and IMU
+/// samples kept: what [`LogScan::frames`] needs to frame it on a second pass, in bounded memory.
+#[derive(Debug)]
+pub struct LogScan {
+    /// The route's name: the file stem, or the rosbag2 folder's name.
+    pub name: String,
+    /// The file (or folder) given.
+    pub path: PathBuf,
+    /// The MCAP files read, in order.
+    pub files: Vec<PathBuf>,
+    /// The period, s.
+    pub dt: f64,
+    /// The events of the event topic, (log time ns, schema name), in time order.
+    pub events: Vec<(u64, String)>,
+    /// The reference path (x, y, z), from the last message of the path topic.
+    pub path_points: Option<Vec<[f64; 3]>>,
+    /// Messages read (all topics).
+    pub messages: u64,
+    /// Bytes of the files.
+    pub bytes: u64,
+    topics: Topics,
+    max_hold: f64,
+    dt_ns: u64,
+    hold_ns: u64,
+    poses: u64,
+    imu: u64,
+    /// The motion comes from the odometry twist (no IMU messages).
+    twist: bool,
+    /// Notes of the first pass (cuts, corrupt chunks, order, the IMU fallback).
+    notes: Vec<String>,
+    /// Path messages.
+    path_messages: u64,
+    /// The path topic named but without messages: said after the frames (whose errors come
+    /// first).
+    path_missing: Option<McapError>,
+}
+
+/// One frame of a log as [`LogScan::frames`] makes it.
+#[derive(Debug, Clone, Copy)]
+pub struct LogTick<'a> {
+    /// The frame (step = tick index).
+    pub frame: &'a crate::input::telemetry::TelemetryFrame,
+    /// Tick time, ns.
+    pub t: u64,
+    /// Index of the frame in the log.
+    pub index: usize,
+    /// The frame starts a segment (the first frame included).
+    pub new_segment: bool,
+    /// The events that fall on it (indices into [`LogScan::events`]).
+    pub events: &'a [usize],
+}
+
+/// What framing a log gave besides its frames.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LogFramed {
+    /// Frames made.
+    pub frames: u64,
+    /// Ticks missing between the first frame and the last (inside gaps).
+    pub gaps: u64,
+    /// Segments (at least 1).
+    pub segments: u64,
+    /// The frame each event falls on ([`LogEvent::frame`]), in [`LogScan::events`] order.
+    pub event_frames: Vec<Option<usize>>,
+    /// Everything the reader noted, in order (the log's path not repeated).
+    pub notes: Vec<String>,
+}
+
+/// A sample waiting for the samples of other times that may still come before it (messages out
+/// of order within [`CLOCK_BACK_NS`]): ordered by time, then file order.
+struct Waiting {
+    t: u64,
+    seq: u64,
+    sample: Sample,
+}
+
+impl PartialEq for Waiting {
+    fn eq(&self, other: &Self) -> bool {
+        (self.t, self.seq) == (other.t, other.seq)
+    }
+}
+impl Eq for Waiting {}
+impl PartialOrd for Waiting {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Waiting {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        (self.t, self.seq).cmp(&(other.t, other.seq))
+    }
+}
+
+/// Reads the log at `path` once through (every check of [`read_log`] but the frames') without
+/// keeping its poses and IMU samples; [`LogScan::frames`] then makes its frames.
+///
+/// ```no_run
+/// use monitor_host::input::mcap::{scan_log, Topics};
+/// let mut scan = scan_log("drive.mcap".as_ref(), &Topics::default(), 0.05, 0.25)?;
+/// let mut distance = 0.0;
+/// let mut last: Option<[f64; 2]> = None;
+/// let framed = scan.frames(|tick| {
+///     let [x, y] = tick.frame.location;
+///     if let (false, Some([a, b])) = (tick.new_segment, last) {
+///         distance += (x - a).hypot(y - b);
+///     }
+///     last = Some([x, y]);
+/// })?;
+/// println!("{} frames, {} segments, {distance:.0} m", framed.frames, framed.segments);
+/// # Ok::<(), monitor_host::input::mcap::McapError>(())
+/// ```
 ///
 /// # Errors
 /// [`McapError`] naming the file, the topic and the fix.
-pub fn read_log(
+pub fn scan_log(
     path: &Path,
     topics: &Topics,
     dt: f64,
     max_hold: f64,
-) -> Result<VehicleLog, McapError> {
+) -> Result<LogScan, McapError> {
     if !(1e-3..=1.0).contains(&dt) {
         return Err(McapError::Period { dt });
     }
@@ -512,121 +750,24 @@ pub fn read_log(
         }
     };
     let mut seen: BTreeMap<String, stream::TopicCount> = BTreeMap::new();
-    let mut poses: Vec<PoseSample> = Vec::new();
-    let mut imu: Vec<MotionSample> = Vec::new();
+    let (mut pose_order, mut imu_order) = (Order::default(), Order::default());
+    let (mut pose_min, mut pose_max) = (u64::MAX, 0u64);
+    let mut any_twist = false;
     let mut events: Vec<(u64, String)> = Vec::new();
     let mut path_msgs: (u64, Option<Vec<[f64; 3]>>) = (0, None);
     let (mut messages, mut bytes) = (0u64, 0u64);
-    let wanted = |t: &str| topics.reads(t);
     for file in &files {
-        // Checked once per channel (ids are per file).
-        let mut checked: BTreeMap<u16, RosType> = BTreeMap::new();
-        let mut index: BTreeMap<u16, u64> = BTreeMap::new();
-        let mut failure: Option<McapError> = None;
-        let streamed = stream::stream(file, &wanted, |m| {
-            let ch = m.channel;
-            let (type_name, schema_enc, schema_data) = match &ch.schema {
-                Some(s) => (s.name.as_str(), s.encoding.as_str(), &s.data[..]),
-                None => ("", "", &[][..]),
-            };
-            let encoding = ch.message_encoding.as_str();
-            let i = index.entry(ch.id).or_default();
-            let at = *i;
-            *i += 1;
-            if Some(&ch.topic) == topics.event.as_ref() {
-                events.push((m.log_time, type_name.to_string()));
-                return Ok(());
+        let streamed = decode_file(file, topics, &|t| topics.reads(t), &mut |d| match d {
+            Decoded::Pose(p) => {
+                pose_order.see(p.t);
+                pose_min = pose_min.min(p.t);
+                pose_max = pose_max.max(p.t);
+                any_twist |= p.twist.is_some();
             }
-            type Signal = (&'static str, &'static [RosType], &'static str);
-            let signal: Signal = if ch.topic == topics.pose {
-                (
-                    "pose",
-                    &[RosType::Odometry, RosType::PoseStamped],
-                    "nav_msgs/msg/Odometry or geometry_msgs/msg/PoseStamped",
-                )
-            } else if ch.topic == topics.imu {
-                ("imu", &[RosType::Imu], "sensor_msgs/msg/Imu")
-            } else {
-                ("path", &[RosType::Path], "nav_msgs/msg/Path")
-            };
-            let (signal, accepted, expected) = signal;
-            let t = match checked.get(&ch.id) {
-                Some(t) => *t,
-                None => {
-                    let found = RosType::of(type_name).filter(|t| accepted.contains(t));
-                    let Some(t) = found.filter(|_| encoding == "cdr") else {
-                        failure = Some(McapError::WrongType {
-                            file: file.clone(),
-                            signal,
-                            topic: ch.topic.clone(),
-                            found: if type_name.is_empty() {
-                                format!("without a schema, in {encoding:?}")
-                            } else {
-                                format!("{type_name} in {encoding:?}")
-                            },
-                            expected,
-                        });
-                        return Err(String::new());
-                    };
-                    let text = String::from_utf8_lossy(schema_data);
-                    if let Err(detail) = messages::check_definition(t, schema_enc, &text) {
-                        failure = Some(McapError::Definition {
-                            file: file.clone(),
-                            topic: ch.topic.clone(),
-                            type_name: type_name.into(),
-                            detail,
-                        });
-                        return Err(String::new());
-                    }
-                    checked.insert(ch.id, t);
-                    t
-                }
-            };
-            let decode_err = |source| McapError::Decode {
-                file: file.clone(),
-                topic: ch.topic.clone(),
-                type_name: type_name.into(),
-                index: at,
-                t: m.log_time,
-                source,
-            };
-            let decoded =
-                match t {
-                    RosType::Odometry | RosType::PoseStamped => messages::decode_pose(t, m.data)
-                        .map(|p| {
-                            poses.push(PoseSample {
-                                t: m.log_time,
-                                position: p.position,
-                                yaw: messages::yaw(p.orientation),
-                                twist: p.twist,
-                            })
-                        }),
-                    RosType::Imu => messages::decode_imu(m.data).map(|i| {
-                        imu.push(MotionSample {
-                            t: m.log_time,
-                            acc: i.acc,
-                            world: false,
-                            yaw_rate: i.yaw_rate,
-                        })
-                    }),
-                    RosType::Path => messages::decode_path(m.data)
-                        .map(|p| path_msgs = (path_msgs.0 + 1, Some(p))),
-                };
-            decoded.map_err(|e| {
-                failure = Some(decode_err(e));
-                String::new()
-            })
-        });
-        let streamed = match (streamed, failure) {
-            (_, Some(f)) => return Err(f),
-            (Err(e), None) => {
-                return Err(McapError::Stream {
-                    file: file.clone(),
-                    source: e,
-                })
-            }
-            (Ok(s), None) => s,
-        };
+            Decoded::Imu(m) => imu_order.see(m.t),
+            Decoded::Event(t, kind) => events.push((t, kind)),
+            Decoded::Path(p) => path_msgs = (path_msgs.0 + 1, Some(p)),
+        })?;
         messages += streamed.messages;
         bytes += streamed.bytes;
         for (topic, c) in streamed.topics {
@@ -675,7 +816,7 @@ pub fn read_log(
             .collect::<Vec<_>>()
             .join(", ")
     };
-    if poses.is_empty() {
+    if pose_order.n == 0 {
         return Err(McapError::MissingTopic {
             file: first,
             signal: "pose",
@@ -684,8 +825,8 @@ pub fn read_log(
         });
     }
     for (what, late) in [
-        ("pose", order(&mut poses, |p| p.t, &first, &topics.pose)?),
-        ("imu", order(&mut imu, |p| p.t, &first, &topics.imu)?),
+        ("pose", pose_order.check(&first, &topics.pose)?),
+        ("imu", imu_order.check(&first, &topics.imu)?),
     ] {
         if late > 0 {
             let topic = if what == "pose" {
@@ -699,19 +840,18 @@ pub fn read_log(
             ));
         }
     }
-    if let (Some(a), Some(b)) = (poses.first(), poses.last()) {
-        if a.t == b.t {
-            return Err(McapError::NoDrive {
-                file: first,
-                topic: topics.pose.clone(),
-                poses: poses.len(),
-                t: a.t,
-            });
-        }
+    if pose_min == pose_max {
+        return Err(McapError::NoDrive {
+            file: first,
+            topic: topics.pose.clone(),
+            poses: pose_order.n as usize,
+            t: pose_min,
+        });
     }
     events.sort_by_key(|e| e.0);
-    let motion = if imu.is_empty() {
-        if poses.iter().all(|p| p.twist.is_none()) {
+    let twist = imu_order.n == 0;
+    if twist {
+        if !any_twist {
             return Err(McapError::NoMotion {
                 file: first,
                 imu: topics.imu.clone(),
@@ -724,91 +864,292 @@ pub fn read_log(
              the odometry twist on {} (name an IMU with --topic imu=TOPIC)",
             topics.imu, topics.pose
         ));
-        frames::twist_motion(&poses, hold_ns)
-    } else {
-        imu
-    };
-    let framed =
-        frames::frames(&poses, &motion, dt_ns, hold_ns).map_err(|source| McapError::Frames {
-            file: first.clone(),
-            source,
-        })?;
-    let (telemetry, times) = (framed.telemetry, framed.times);
-    if !framed.gaps.is_empty() {
-        notes.push(format!(
-            "{} gap(s) longer than mcap.max_hold = {max_hold} s between pose messages (the \
-             recorder paused, a topic stopped): no tick is made inside a gap and nothing is held \
-             across it; the frames form {} segment(s), each scored as a fresh start; {} of {} \
-             ticks at {dt} s fall in gaps",
-            framed.gaps.len(),
-            telemetry.segments.len().max(1),
-            telemetry.gaps,
-            telemetry.gaps + telemetry.frames.len() as u64,
-        ));
-    } else if telemetry.gaps > 0 {
-        notes.push(format!(
-            "{} of {} ticks at {dt} s have no IMU message within mcap.max_hold = {max_hold} s: \
-             they count as gaps, and the log is cut into {} segment(s) there",
-            telemetry.gaps,
-            telemetry.gaps + telemetry.frames.len() as u64,
-            telemetry.segments.len().max(1),
-        ));
     }
-    for &(a, b) in framed.gaps.iter().filter(|(a, b)| b - a > FAR_NS) {
-        notes.push(format!(
-            "pose messages at log time {a} ns and {b} ns lie {:.0} s apart: a message far from \
-             the rest (a clock that was not set? a stray time stamp?); the ticks between count as \
-             gaps",
-            (b - a) as f64 * 1e-9
-        ));
-    }
-    if path_msgs.0 > 1 {
-        notes.push(format!(
-            "{} messages on the path topic: the last one is the lateral reference",
-            path_msgs.0
-        ));
-    }
-    if let (Some(p), Some(t)) = (&topics.path, &path_msgs.1) {
-        if t.len() < 2 {
-            notes.push(format!(
-                "the path on {p} has {} poses: no lateral reference",
-                t.len()
-            ));
-        }
-    } else if let Some(p) = &topics.path {
-        return Err(McapError::MissingTopic {
+    let path_missing = match (&topics.path, &path_msgs.1) {
+        (Some(p), None) => Some(McapError::MissingTopic {
             file: first,
             signal: "path",
             topic: p.clone(),
             available: available(),
-        });
-    }
-    let events = events
-        .into_iter()
-        .map(|(t, kind)| {
-            // The first tick at or after the event, within the hold; else the tick just before
-            // it (the event came after its segment's last tick).
-            let k = times.partition_point(|&x| x < t);
-            let after = times.get(k).filter(|&&x| x - t <= hold_ns).map(|_| k);
-            let before = k.checked_sub(1).filter(|&j| t - times[j] < dt_ns);
-            LogEvent {
-                t,
-                frame: after.or(before),
-                kind,
-            }
-        })
-        .collect();
-    Ok(VehicleLog {
+        }),
+        _ => None,
+    };
+    Ok(LogScan {
         name: log_name(path),
         path: path.to_path_buf(),
         files,
-        telemetry,
+        dt,
+        events,
+        path_points: path_msgs.1,
+        messages,
+        bytes,
+        topics: topics.clone(),
+        max_hold,
+        dt_ns,
+        hold_ns,
+        poses: pose_order.n,
+        imu: imu_order.n,
+        twist,
+        notes,
+        path_messages: path_msgs.0,
+        path_missing,
+    })
+}
+
+impl LogScan {
+    /// Reads the log's poses and IMU a second time and makes its frames as they stream
+    /// (spec v1.5 §16, [`frames::Framer`]), each given to `each` with the events that fall on
+    /// it: in bounded memory, whatever the log's length (messages out of order wait at most
+    /// [`CLOCK_BACK_NS`], a frame one tick for the events after it).
+    ///
+    /// # Errors
+    /// [`McapError::Frames`] naming the tick of a value that is not finite, or when no tick has
+    /// every signal; the path topic without messages; the file changed since the first pass.
+    pub fn frames(&mut self, mut each: impl FnMut(&LogTick<'_>)) -> Result<LogFramed, McapError> {
+        let first = self.files.first().cloned().unwrap_or_default();
+        let frames_err = |source| McapError::Frames {
+            file: first.clone(),
+            source,
+        };
+        let (dt_ns, hold_ns) = (self.dt_ns, self.hold_ns);
+        let events = &self.events;
+        let mut framer = frames::Framer::new(dt_ns, hold_ns);
+        let mut twist = self.twist.then(|| frames::TwistMotion::new(hold_ns));
+        let mut event_frames: Vec<Option<usize>> = vec![None; events.len()];
+        // The latest frame, held until the next one says which events fall on it.
+        let mut held: Option<(frames::Tick, usize)> = None;
+        let mut on_held: Vec<usize> = Vec::new();
+        let mut next_event = 0usize;
+        let mut index = 0usize;
+        let mut emit = |held: &(frames::Tick, usize), on: &[usize]| {
+            each(&LogTick {
+                frame: &held.0.frame,
+                t: held.0.t,
+                index: held.1,
+                new_segment: held.0.new_segment,
+                events: on,
+            })
+        };
+        // Each tick resolves the events up to its time: the first tick at or after an event,
+        // within the hold; else the tick just before it, within one period.
+        let mut tick = |tick: frames::Tick| {
+            let mut on_cur = Vec::new();
+            while let Some((t, _)) = events.get(next_event) {
+                if *t > tick.t {
+                    break;
+                }
+                if tick.t - t <= hold_ns {
+                    on_cur.push(next_event);
+                    event_frames[next_event] = Some(index);
+                } else if let Some((_, k)) = held.as_ref().filter(|(h, _)| t - h.t < dt_ns) {
+                    on_held.push(next_event);
+                    event_frames[next_event] = Some(*k);
+                }
+                next_event += 1;
+            }
+            if let Some(h) = held.take() {
+                emit(&h, &on_held);
+            }
+            on_held = on_cur;
+            held = Some((tick, index));
+            index += 1;
+        };
+        let mut heap: std::collections::BinaryHeap<std::cmp::Reverse<Waiting>> =
+            std::collections::BinaryHeap::new();
+        let (mut poses_seen, mut imu_seen) = (0u64, 0u64);
+        let (mut pose_max, mut imu_max) = (0u64, 0u64);
+        let mut seq = 0u64;
+        let mut failed: Option<McapError> = None;
+        let mut feed = |s: Sample, framer: &mut frames::Framer| -> Result<(), TelemetryError> {
+            if let (Some(tw), Sample::Pose(p)) = (twist.as_mut(), &s) {
+                if let Some(m) = tw.push(*p) {
+                    framer.push(Sample::Motion(m), &mut tick)?;
+                }
+            }
+            framer.push(s, &mut tick)
+        };
+        let (poses, imu) = (self.poses, self.imu);
+        let pose_topic = self.topics.pose.clone();
+        let imu_topic = self.topics.imu.clone();
+        let wanted = |t: &str| t == pose_topic || t == imu_topic;
+        for file in &self.files {
+            let mut on = |d: Decoded| {
+                if failed.is_some() {
+                    return;
+                }
+                let sample = match d {
+                    Decoded::Pose(p) => {
+                        poses_seen += 1;
+                        pose_max = pose_max.max(p.t);
+                        Sample::Pose(p)
+                    }
+                    Decoded::Imu(m) => {
+                        imu_seen += 1;
+                        imu_max = imu_max.max(m.t);
+                        Sample::Motion(m)
+                    }
+                    _ => return,
+                };
+                heap.push(std::cmp::Reverse(Waiting {
+                    t: sample.t(),
+                    seq,
+                    sample,
+                }));
+                seq += 1;
+                // A sample is in its place once every topic still to come is past it by more
+                // than a clock may go back (the first pass checked that none goes further).
+                let mark = |seen: u64, all: u64, max: u64| {
+                    if seen >= all {
+                        u64::MAX
+                    } else {
+                        max.saturating_sub(CLOCK_BACK_NS)
+                    }
+                };
+                let w = mark(poses_seen, poses, pose_max).min(mark(imu_seen, imu, imu_max));
+                while heap.peek().is_some_and(|top| top.0.t < w) {
+                    let Some(std::cmp::Reverse(top)) = heap.pop() else {
+                        break;
+                    };
+                    if let Err(e) = feed(top.sample, &mut framer) {
+                        failed = Some(frames_err(e));
+                        return;
+                    }
+                }
+            };
+            let wanted_here: &dyn Fn(&str) -> bool = &wanted;
+            decode_file(file, &self.topics, wanted_here, &mut on)?;
+        }
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        while let Some(std::cmp::Reverse(top)) = heap.pop() {
+            feed(top.sample, &mut framer).map_err(frames_err)?;
+        }
+        if let Some(m) = twist.as_mut().and_then(|tw| tw.finish()) {
+            framer
+                .push(Sample::Motion(m), &mut tick)
+                .map_err(frames_err)?;
+        }
+        let done = framer.finish(&mut tick).map_err(frames_err)?;
+        // The events after the last frame fall on it within one period.
+        if let Some((h, k)) = &held {
+            for (i, (t, _)) in events.iter().enumerate().skip(next_event) {
+                if t - h.t < dt_ns {
+                    on_held.push(i);
+                    event_frames[i] = Some(*k);
+                }
+            }
+        }
+        if let Some(h) = held.take() {
+            emit(&h, &on_held);
+        }
+        if let Some(e) = self.path_missing.take() {
+            return Err(e);
+        }
+        let (dt, max_hold) = (self.dt, self.max_hold);
+        let mut notes = self.notes.clone();
+        let segments = done.segments.max(1);
+        if done.pose_gap_count > 0 {
+            notes.push(format!(
+                "{} gap(s) longer than mcap.max_hold = {max_hold} s between pose messages (the \
+                 recorder paused, a topic stopped): no tick is made inside a gap and nothing is \
+                 held across it; the frames form {segments} segment(s), each scored as a fresh \
+                 start; {} of {} ticks at {dt} s fall in gaps",
+                done.pose_gap_count,
+                done.missing,
+                done.missing + done.frames,
+            ));
+        } else if done.missing > 0 {
+            notes.push(format!(
+                "{} of {} ticks at {dt} s have no IMU message within mcap.max_hold = {max_hold} \
+                 s: they count as gaps, and the log is cut into {segments} segment(s) there",
+                done.missing,
+                done.missing + done.frames,
+            ));
+        }
+        for &(a, b) in &done.far_gaps {
+            notes.push(format!(
+                "pose messages at log time {a} ns and {b} ns lie {:.0} s apart: a message far \
+                 from the rest (a clock that was not set? a stray time stamp?); the ticks between \
+                 count as gaps",
+                (b - a) as f64 * 1e-9
+            ));
+        }
+        if self.path_messages > 1 {
+            notes.push(format!(
+                "{} messages on the path topic: the last one is the lateral reference",
+                self.path_messages
+            ));
+        }
+        if let (Some(p), Some(t)) = (&self.topics.path, &self.path_points) {
+            if t.len() < 2 {
+                notes.push(format!(
+                    "the path on {p} has {} poses: no lateral reference",
+                    t.len()
+                ));
+            }
+        }
+        Ok(LogFramed {
+            frames: done.frames,
+            gaps: done.missing,
+            segments,
+            event_frames,
+            notes,
+        })
+    }
+
+    /// The reference path, when it has two poses at least.
+    pub fn reference_path(&self) -> Option<&[[f64; 3]]> {
+        self.path_points.as_deref().filter(|p| p.len() >= 2)
+    }
+}
+
+/// Reads the log at `path` (an `.mcap` file or a rosbag2 folder) and makes its frames at the
+/// period `dt` (s), cut into segments at gaps longer than `max_hold` (s), as spec v1.5 §16
+/// defines them: [`scan_log`] and [`LogScan::frames`], the frames kept. Scoring does not keep
+/// them (`crate::pipeline::drive`).
+///
+/// # Errors
+/// [`McapError`] naming the file, the topic and the fix.
+pub fn read_log(
+    path: &Path,
+    topics: &Topics,
+    dt: f64,
+    max_hold: f64,
+) -> Result<VehicleLog, McapError> {
+    let mut scan = scan_log(path, topics, dt, max_hold)?;
+    let (mut frames, mut segments, mut times) = (Vec::new(), Vec::new(), Vec::new());
+    let framed = scan.frames(|tick| {
+        if tick.new_segment {
+            segments.push(frames.len());
+        }
+        frames.push(*tick.frame);
+        times.push(tick.t);
+    })?;
+    let events = std::mem::take(&mut scan.events)
+        .into_iter()
+        .zip(&framed.event_frames)
+        .map(|((t, kind), frame)| LogEvent {
+            t,
+            frame: *frame,
+            kind,
+        })
+        .collect();
+    Ok(VehicleLog {
+        name: scan.name,
+        path: scan.path,
+        files: scan.files,
+        telemetry: Telemetry {
+            frames,
+            gaps: framed.gaps,
+            segments,
+        },
         times,
         dt,
         events,
-        path_points: path_msgs.1.filter(|p| p.len() >= 2),
-        messages,
-        bytes,
-        notes,
+        path_points: scan.path_points.filter(|p| p.len() >= 2),
+        messages: scan.messages,
+        bytes: scan.bytes,
+        notes: framed.notes,
     })
 }

@@ -245,6 +245,11 @@ fn i49_5_real_route_and_map_through_the_link_equal_the_replay() {
     let tmp = tempfile::tempdir().unwrap();
     let ([res, tel, routes], _) =
         crate::mcap::write_telemetry_run(tmp.path(), "25300", "Town04", &route, &frames);
+    // firmware-example/link-checker/run-link.sh plays the same run into the Cortex-M4F checker.
+    if let Some(dir) = std::env::var_os("SDS_LINK_REAL_ROUTE_OUT") {
+        std::fs::create_dir_all(&dir).unwrap();
+        crate::mcap::write_telemetry_run(Path::new(&dir), "25300", "Town04", &route, &frames);
+    }
     let out = tmp.path().join("link.json");
     let maps = maps.to_str().unwrap().to_string();
     let to = checker();

@@ -8,7 +8,8 @@
 #   4. host == C: the lines of the example, of the C test (test_api.c) and of the C++ test
 #      (test_api.cpp, g++ -std=c++17 -Wall -Wextra -Werror) byte-identical to `monitor_replay`'s;
 #      the two tests also check every error code (NULLs, small buffer, bad configs, NaN frames,
-#      frame after finish);
+#      frame after finish); test_link.c: the live link's checker (sds_link_*) on the same routes
+#      with a corrupted and a repeated frame gives the monitor's events and summaries;
 #   4b. every demo route written as an MCAP log by an independent writer and replayed by sds_replay
 #      from `sds frames --mcap`: the same verdicts as its telemetry (mcap-replay-test.sh);
 #   5. the C and C++ tests run clean under valgrind (--error-exitcode=1 --leak-check=full); four
@@ -70,7 +71,16 @@ gcc -std=c99 -Wall -Wextra -Wpedantic -Werror -I"$HERE/include" -o "$OUT/doc-exa
 for want in "alarm: collision without braking at frame 60" "frames 100, comfort chunks 5/5, collisions without braking 1"; do
   grep -qxF "$want" "$OUT/doc-example.txt" || fail "the example of docs/C-API.md does not print: $want"
 done
-say "ok: $nsym exported symbols, all sds_*; the header compiles warning-free as C99 and C++17; the docs example runs as documented"
+# The live link's example (the block after <!-- link-example -->) too.
+awk '/^<!-- link-example -->$/ { want = 1; next } want && /^```c$/ { on = 1; next } on && /^```$/ { exit } on' \
+  "$ROOT/docs/C-API.md" >"$OUT/doc-link-example.c"
+gcc -std=c99 -Wall -Wextra -Wpedantic -Werror -I"$HERE/include" -o "$OUT/doc-link-example" "$OUT/doc-link-example.c" \
+  "$TARGET_DIR/release/libsds_monitor.a" -lpthread -ldl -lm || fail "the live link example of docs/C-API.md does not compile"
+"$OUT/doc-link-example" >"$OUT/doc-link-example.txt" || fail "the live link example of docs/C-API.md failed"
+for want in "alarm: collision without braking on frame 60" "frames 99, OK 98, OKSOMELOST 1, ERROR 1"; do
+  grep -qxF "$want" "$OUT/doc-link-example.txt" || fail "the live link example of docs/C-API.md does not print: $want"
+done
+say "ok: $nsym exported symbols, all sds_*; the header compiles warning-free as C99 and C++17; the docs examples run as documented"
 
 # 3. Install, pkg-config ------------------------------------------------------------------------
 bash "$HERE/install.sh" "$OUT/prefix" >/dev/null
@@ -134,10 +144,20 @@ diff -u "$OUT/host.txt" "$OUT/c-test.txt" >&2 || fail "the C test's lines differ
 diff -u "$OUT/host.txt" "$OUT/cpp-test.txt" >&2 || fail "the C++ test's lines differ from monitor_replay's"
 say "ok: $(tail -1 "$OUT/c-test.log"); $(tail -1 "$OUT/cpp-test.log")"
 say "ok: host == C example == C test == C++ test: ${#ROUTES[@]} routes, $nev events, summaries and pins byte-identical"
+# 4a. The live link's checker from C (sds_link_*): every route encoded, with a corrupted and a
+# repeated frame, through the caller-owned checker; its events and summary == sds_monitor's.
+gcc "${CFLAGS[@]}" -I"$HERE/include" -I"$EX" -o "$OUT/test_link" "$HERE/ctest/test_link.c" \
+  "$EX/frames_jsonl.c" "$LIBA" "${SYSLIBS[@]}" || fail "building test_link.c"
+"$OUT/test_link" "${FRAMES[@]}" >"$OUT/c-link.txt" 2>"$OUT/c-link.log" \
+  || { cat "$OUT/c-link.log" >&2; fail "test_link.c"; }
+say "ok: $(tail -1 "$OUT/c-link.log") (the C checker's events and summaries == the monitor's on ${#ROUTES[@]} routes; ERROR, REPEATED, NONEWDATA, link_fault, link_restored)"
 # 4b. The same routes as vehicle logs (MCAP, spec v1.4 §16) through the C example.
 bash "$HERE/mcap-replay-test.sh" "$SDS" "$OUT/sds_replay" "$OUT/demo" "$OUT/mcap"
 
 # 5. valgrind --------------------------------------------------------------------------------------
+valgrind -q --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=all \
+  "$OUT/test_link" "${FRAMES[@]}" >"$OUT/test_link-valgrind.txt" 2>"$OUT/test_link-valgrind.log" \
+  || { cat "$OUT/test_link-valgrind.log" >&2; fail "test_link under valgrind"; }
 for t in test_api test_api_cpp; do
   valgrind -q --error-exitcode=1 --leak-check=full --errors-for-leak-kinds=all \
     "$OUT/$t" "${FRAMES[@]}" >"$OUT/$t-valgrind.txt" 2>"$OUT/$t-valgrind.log" \
@@ -148,7 +168,7 @@ gcc "${CFLAGS[@]}" -pthread -I"$HERE/include" -o "$OUT/test_threads" "$HERE/ctes
   "${SYSLIBS[@]}" || fail "building test_threads.c"
 valgrind -q --tool=helgrind --error-exitcode=1 "$OUT/test_threads" 2>"$OUT/test_threads.log" \
   || { cat "$OUT/test_threads.log" >&2; fail "test_threads under helgrind (a data race, or a thread's result differs)"; }
-say "ok: test_api and test_api_cpp clean under valgrind (no error, no leak); $(tail -1 "$OUT/test_threads.log") (one monitor per thread, no data race under helgrind)"
+say "ok: test_api, test_api_cpp and test_link clean under valgrind (no error, no leak); $(tail -1 "$OUT/test_threads.log") (one monitor per thread, no data race under helgrind)"
 
 # 6. Cortex-M4F under QEMU ---------------------------------------------------------------------------
 bash "$HERE/install.sh" "$OUT/prefix-m4f" --target "$M4F" >"$OUT/build-m4f.log" 2>&1 \

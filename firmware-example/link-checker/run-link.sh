@@ -6,7 +6,15 @@
 #   b. live: QEMU serves the checker on UART0 as a TCP server; `sds link --to tcp:127.0.0.1:PORT`
 #      plays the demo run into it, without faults and with every fault kind at a fixed seed
 #      (a fresh checker each time: a doer that restarts its counters is a WRONGSEQUENCE); every
-#      route must be equal to the replay over the frames the checker accepted (sds exits 0);
+#      route must be equal to the replay over the frames the checker accepted (sds exits 0).
+#      These two runs serve on the message-slot clock (`serve slots`: one frame period per
+#      message received), so "the clean run raises no pin" holds however slowly a loaded host
+#      runs the doer. A third run serves on SysTick (`serve`: the core idles in WFI and, under
+#      -icount, virtual time runs with real time while it sleeps) and the doer stops sending for
+#      2 s on one route played at the frame period (`--pace realtime --inject stall=2`):
+#      NONEWDATA and the pin must show, the route still equal. With ../shared present, a real
+#      route (generated along route 25300 of bench2drive220.xml, the real Town04 map) is played
+#      clean and with faults: equal both times;
 #   c. sizes, stack, and instructions per message (median and worst, exact with the insncount
 #      plugin, ranked by SysTick as proof 4 does) within budgets.sh.
 
@@ -54,14 +62,17 @@ stop_checker() {
   fi
 }
 trap stop_checker EXIT
-start_checker() { # start_checker LOG: a fresh checker in QEMU; sets LC_PORT and LC_QEMU_PID
+start_checker() { # start_checker LOG MODE...: a fresh checker in QEMU; sets LC_PORT and LC_QEMU_PID
   local log=$1 try
+  shift
+  local args
+  args=$(printf ',arg=%s' "$@")
   for try in 1 2 3 4 5; do
     LC_PORT=$((20000 + (RANDOM % 20000)))
     port_listening "$LC_PORT" && continue
     timeout "$QEMU_TIMEOUT" qemu-system-arm -cpu cortex-m4 -machine mps2-an386 -nographic -monitor none \
       -chardev "socket,id=link,host=127.0.0.1,port=$LC_PORT,server=on,wait=off" -serial chardev:link \
-      -icount shift=0 -semihosting-config enable=on,target=native,arg=checker,arg=serve \
+      -icount shift=0 -semihosting-config "enable=on,target=native,arg=checker$args" \
       -kernel "$OUT/link-checker.elf" >"$log" 2>&1 &
     LC_QEMU_PID=$!
     # QEMU listens before the guest runs; wait for that (or for QEMU to give up on the port).
@@ -76,12 +87,18 @@ start_checker() { # start_checker LOG: a fresh checker in QEMU; sets LC_PORT and
   cat "$log" >&2
   fail "link checker: QEMU did not listen on a TCP port (5 tries)"
 }
-play() { # play NAME [sds link options]: the demo run into a fresh checker; every route equal
-  local name=$1
-  shift
-  start_checker "$OUT/link-qemu-$name.txt"
+play() { # play NAME CLOCK [sds link options]: the demo run into a fresh checker (CLOCK: serve
+  # or slots); every route equal
+  local name=$1 clock=$2
+  shift 2
+  if [ "$clock" = slots ]; then
+    start_checker "$OUT/link-qemu-$name.txt" serve slots
+  else
+    start_checker "$OUT/link-qemu-$name.txt" serve
+  fi
   local rc=0
-  timeout "$QEMU_TIMEOUT" "$SDS" link --results "$OUT/demo/results.json" --telemetry "$OUT/demo/telemetry" \
+  timeout "$QEMU_TIMEOUT" "$SDS" link --results "${LC_RESULTS:-$OUT/demo/results.json}" \
+    --telemetry "${LC_TELEMETRY:-$OUT/demo/telemetry}" \
     --to "tcp:127.0.0.1:$LC_PORT" -o "$OUT/link-$name.json" "$@" 2>"$OUT/link-$name.err" || rc=$?
   stop_checker
   if [ "$rc" -ne 0 ]; then
@@ -92,13 +109,49 @@ play() { # play NAME [sds link options]: the demo run into a fresh checker; ever
   grep -q '^route ' "$OUT/link-qemu-$name.txt" || fail "proof 6b: the checker printed no route line ($OUT/link-qemu-$name.txt)"
   say "proof 6b ok ($name): $(tail -1 "$OUT/link-$name.err")"
 }
-play clean
-play faults --inject "$LC_INJECT"
+play clean slots
+play faults slots --inject "$LC_INJECT"
 # The faults run must have exercised the checker: frames dropped by it and link faults raised.
 grep -q '"pin_rises":[1-9]' "$OUT/link-qemu-faults.txt" \
   || fail "proof 6b: the faults run raised no link_fault (pin) at all: the injection did not reach the checker"
 if grep -q '"pin_rises":[1-9]' "$OUT/link-qemu-clean.txt"; then
   fail "proof 6b: the clean run raised the link_fault pin ($OUT/link-qemu-clean.txt)"
+fi
+statuses() { # statuses FILE STATUS: that status's count over the routes of a link report
+  python3 -c 'import json, sys; print(sum(r["link"]["statuses"][sys.argv[2]] for r in json.load(open(sys.argv[1]))["routes"]))' "$1" "$2"
+}
+[ "$(statuses "$OUT/link-clean.json" NONEWDATA)" -eq 0 ] \
+  || fail "proof 6b: NONEWDATA in the clean run on the message-slot clock ($OUT/link-clean.json)"
+# A doer that stops sending, on the board's own clock: the core sleeps in WFI between bytes.
+# One route at the frame period (at --pace fast the doer runs ahead of the board and its pause
+# would fall on bytes still queued); the stall, 2 s of silence, is 13 timeouts of 150 ms, and a
+# loaded host only makes it longer.
+python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); d["_checkpoint"]["records"] = d["_checkpoint"]["records"][:1]; json.dump(d, open(sys.argv[2], "w"))' \
+  "$OUT/demo/results.json" "$OUT/link-one-route.json"
+LC_RESULTS="$OUT/link-one-route.json" play stall serve --pace realtime --inject stall=2,seed=1
+LC_NONEWDATA=$(statuses "$OUT/link-stall.json" NONEWDATA)
+[ "$LC_NONEWDATA" -gt 0 ] \
+  || fail "proof 6b: a doer silent for 2 s gave no NONEWDATA on the M4F checker ($OUT/link-stall.json)"
+grep -q '"pin_rises":[1-9]' "$OUT/link-qemu-stall.txt" \
+  || fail "proof 6b: a doer silent for 2 s raised no link_fault pin ($OUT/link-qemu-stall.txt)"
+say "proof 6b ok (stall): NONEWDATA $LC_NONEWDATA times, the pin raised, the route equal"
+# A real route: telemetry generated along route 25300 of bench2drive220.xml, scored against the
+# real Town04 map (the run the host test link::i49_5 plays into `sds checker`, written out by it).
+LC_SHARED="$FW/../../shared/fixtures"
+if [ -f "$LC_SHARED/b2d/routes/bench2drive220.xml" ] && [ -f "$LC_SHARED/maps/Town04.xodr" ]; then
+  rm -rf "$OUT/link-real-route"
+  SDS_LINK_REAL_ROUTE_OUT="$OUT/link-real-route" cargo test -q --release -p sds-cli --test it -- \
+    link::i49_5_real_route_and_map_through_the_link_equal_the_replay >"$OUT/link-real-route.log" 2>&1 \
+    || { cat "$OUT/link-real-route.log" >&2; fail "proof 6b: the real route's host test (link::i49_5)"; }
+  real=(--routes "$OUT/link-real-route/routes.xml" --maps "$LC_SHARED/maps" --set dt=0.05 --set lateral_reference=lane)
+  LC_RESULTS="$OUT/link-real-route/results.json" LC_TELEMETRY="$OUT/link-real-route/telemetry" \
+    play real slots "${real[@]}"
+  LC_RESULTS="$OUT/link-real-route/results.json" LC_TELEMETRY="$OUT/link-real-route/telemetry" \
+    play real-faults slots "${real[@]}" --inject "$LC_INJECT"
+  python3 -c 'import json, sys; l = json.load(open(sys.argv[1]))["routes"][0]["link"]; sys.exit(not (l["equal"] and l["segments"] == 1 and l["events"] > 0 and sum(l["statuses"].values()) == l["statuses"]["OK"]))' \
+    "$OUT/link-real.json" || fail "proof 6b: the real route's clean run is not whole and equal ($OUT/link-real.json)"
+else
+  say "note: proof 6b real route skipped: ../shared/fixtures (bench2drive220.xml, maps/Town04.xodr) absent"
 fi
 
 # --- c. sizes, stack, instructions per message ----------------------------------------------------
@@ -121,7 +174,7 @@ report "sizes: flash $flash (text $text, rodata $rodata incl. the wire capture $
 check "link checker flash (without the capture)" "$code" "$LINK_FLASH_CODE_MAX"
 check "link checker RAM" "$ram" "$RAM_MAX"
 stack=0
-for name in clean faults; do
+for name in clean faults stall; do
   s=$(sed -n 's/.*"stack":\([0-9]*\)}.*/\1/p' "$OUT/link-qemu-$name.txt" | sort -n | tail -1)
   if [ -n "$s" ] && [ "$s" -gt "$stack" ]; then stack=$s; fi
 done
@@ -154,7 +207,7 @@ median=$(exact "$median_msg")
 report "instructions per message (received; its answers, the pin and the UART writes included): median $median (message $median_msg, the median by SysTick, counted exactly); worst $worst (message $worst_msg); average $((avg10 / 10)).$((avg10 % 10)) over $LC_MESSAGES messages ($total in all); startup $i0"
 check "link checker median instructions per message" "$median" "$LINK_MEDIAN_INSNS_MAX"
 check "link checker worst instructions per message" "$worst" "$LINK_WORST_INSNS_MAX"
-for name in clean faults; do
+for name in clean faults stall; do
   report "live ($name): $(tail -1 "$OUT/link-$name.err"); last route line: $(grep '^route ' "$OUT/link-qemu-$name.txt" | tail -1)"
 done
 trap - EXIT

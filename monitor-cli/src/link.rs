@@ -3,8 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use monitor_core::link::LinkConfig;
-use monitor_host::app::link::{LinkError, LinkRequest};
+use monitor_host::app::link::{link_config, LinkError, LinkRequest};
 use monitor_host::live_link::{Inject, Pace, Target};
 use monitor_host::SettingsError;
 
@@ -70,62 +69,10 @@ pub struct CheckerArgs {
     pub set: Vec<String>,
 }
 
-/// Splits the `link.*` settings from the others and reads them.
-fn link_settings(set: &[String]) -> Result<(LinkConfig, Vec<String>), SettingsError> {
-    let mut link = LinkConfig::DEFAULT;
-    let mut rest = Vec::new();
-    for s in set {
-        let Some((name, value)) = s.split_once('=') else {
-            rest.push(s.clone());
-            continue;
-        };
-        let bad = |expected: &str| SettingsError::Value {
-            name: "--set",
-            expected: expected.into(),
-            value: s.clone(),
-        };
-        match name.trim() {
-            "link.max_delta" => {
-                link.max_delta = value
-                    .trim()
-                    .parse()
-                    .map_err(|_| bad("link.max_delta=N, 1..=65535"))?
-            }
-            "link.timeout" => {
-                link.timeout = value
-                    .trim()
-                    .parse()
-                    .map_err(|_| bad("link.timeout=N frame periods, 1..=65535"))?
-            }
-            "link.window" => {
-                link.window = value
-                    .trim()
-                    .parse()
-                    .map_err(|_| bad("link.window=N, 1..=32"))?
-            }
-            "link.max_errors" => {
-                link.max_errors = value
-                    .trim()
-                    .parse()
-                    .map_err(|_| bad("link.max_errors=N, below link.window"))?
-            }
-            _ => rest.push(s.clone()),
-        }
-    }
-    link.validate().map_err(|e| SettingsError::Value {
-        name: "--set",
-        expected: e.to_string(),
-        value: set.join(" "),
-    })?;
-    Ok((link, rest))
-}
-
 /// `sds link`: exit 0 when every route was equal, 3 otherwise.
 pub fn link(args: &LinkArgs) -> Result<i32> {
-    let (link, _) = link_settings(&args.run.set)?;
-    let mut settings = args.run.request(args.duplicates, None)?;
-    // The link settings are the checker's, not the monitor's.
-    settings.overrides.retain(|(n, _)| !n.starts_with("link."));
+    // The `link.*` overrides stay in the settings: the request reads them (link_config).
+    let settings = args.run.request(args.duplicates, None)?;
     let target: Target = args.to.parse().map_err(|_| SettingsError::Value {
         name: "--to",
         expected: "serial:DEVICE[@BAUD], tcp:HOST:PORT or exec:COMMAND".into(),
@@ -158,7 +105,6 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
             PaceArg::Fast => Pace::Fast,
         },
         inject,
-        link,
         tap: args.tap.clone(),
     };
     let report = request.run().map_err(|e| match e {
@@ -178,12 +124,20 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
 
 /// `sds checker`: the checker on standard input and output, until the input ends.
 pub fn checker(args: &CheckerArgs) -> Result<i32> {
-    let (link, rest) = link_settings(&args.set)?;
-    if let Some(bad) = rest.first() {
+    let pairs = args
+        .set
+        .iter()
+        .map(|s| match s.split_once('=') {
+            Some((n, v)) => (n.to_string(), v.to_string()),
+            None => (s.clone(), String::new()),
+        })
+        .collect::<Vec<_>>();
+    let (link, rest) = link_config(&pairs)?;
+    if let Some((n, v)) = rest.first() {
         anyhow::bail!(SettingsError::Value {
             name: "--set",
             expected: "link.max_delta, link.timeout, link.window or link.max_errors".into(),
-            value: bad.clone(),
+            value: format!("{n}={v}"),
         });
     }
     monitor_host::live_link::host_checker::run(std::io::stdin(), std::io::stdout().lock(), link)?;

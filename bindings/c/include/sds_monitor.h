@@ -24,6 +24,46 @@
 // Bytes `sds_format_f32` / `sds_format_f64` may need, the terminating NUL included.
 #define SDS_NUMBER_TEXT_MAX 32
 
+// Bytes of the longest message on the wire (COBS-encoded, with its 0x00 delimiter): an output
+// buffer of this size holds any `sds_link_encode_*` result.
+#define SDS_LINK_MAX_ENCODED 118
+
+// Check statuses, in the order of `sds_link_status.counts` (Profile 4's names).
+#define SDS_LINK_STATUSES 6
+
+// Index of `OK` in `counts`: counter +1.
+#define SDS_LINK_STATUS_OK 0
+
+// Index of `OKSOMELOST`: counter +2 ..= `max_delta` (accepted; the frames between lost).
+#define SDS_LINK_STATUS_OKSOMELOST 1
+
+// Index of `WRONGSEQUENCE`: a larger jump (dropped; the next accepted frame starts a segment).
+#define SDS_LINK_STATUS_WRONGSEQUENCE 2
+
+// Index of `REPEATED`: the same counter (dropped).
+#define SDS_LINK_STATUS_REPEATED 3
+
+// Index of `ERROR`: length, data id, CRC, COBS or layout wrong (dropped).
+#define SDS_LINK_STATUS_ERROR 4
+
+// Index of `NONEWDATA`: no frame for `timeout` frame periods.
+#define SDS_LINK_STATUS_NONEWDATA 5
+
+// No route started: frames are checked, not monitored.
+#define SDS_LINK_ROUTE_IDLE 0
+
+// A route is running.
+#define SDS_LINK_ROUTE_RUNNING 1
+
+// The route ended; its summary was sent.
+#define SDS_LINK_ROUTE_FINISHED 2
+
+// The last start's configuration was refused.
+#define SDS_LINK_ROUTE_REFUSED 3
+
+// 64-bit words of `sds_link_checker_storage`.
+#define SDS_LINK_CHECKER_STORAGE_WORDS 128
+
 // 64-bit words of `sds_monitor_storage`.
 #define SDS_MONITOR_STORAGE_WORDS 84
 
@@ -31,7 +71,7 @@
 // Nothing changes when a call fails (a failed push leaves the monitor as it was).
 //
 // The numbers are part of the ABI and never reused: configuration errors are 100..199, frame
-// errors 200..299.
+// errors 200..299, live-link errors 300..399.
 enum sds_result
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
@@ -110,6 +150,17 @@ enum sds_result
   SDS_RESULT_FRAME_SPEED_NEGATIVE = 206,
   // `a_mag` is negative.
   SDS_RESULT_FRAME_A_MAG_NEGATIVE = 207,
+  // link: `max_delta` must be at least 1.
+  SDS_RESULT_LINK_CONFIG_MAX_DELTA = 300,
+  // link: `timeout` must be at least 1 frame period.
+  SDS_RESULT_LINK_CONFIG_TIMEOUT = 301,
+  // link: `window` must lie in 1 ..= 32.
+  SDS_RESULT_LINK_CONFIG_WINDOW = 302,
+  // link: `max_errors` must be below `window`.
+  SDS_RESULT_LINK_CONFIG_MAX_ERRORS = 303,
+  // link: the bytes are not one intact message of the link (COBS, length, data id, CRC or
+  // layout wrong: what the checker counts as `ERROR`).
+  SDS_RESULT_LINK_MESSAGE = 310,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -118,6 +169,11 @@ typedef enum sds_result sds_result;
 typedef uint32_t sds_result;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
+
+// The checker of one link (opaque). It lives in a buffer the caller owns: at least
+// `sds_link_checker_size()` bytes aligned to `sds_link_checker_align()`, for example an
+// `sds_link_checker_storage`. Nothing is allocated and nothing needs freeing.
+typedef struct sds_link_checker sds_link_checker;
 
 // The monitor of one route (opaque). It lives in a buffer the caller owns: at least
 // `sds_monitor_size()` bytes aligned to `sds_monitor_align()`, for example an
@@ -223,6 +279,46 @@ typedef struct sds_frame {
   struct sds_collisions collisions;
 } sds_frame;
 
+// The link settings (`link.*`): Profile 4's counter tolerance and timeout, and the
+// VALID/INVALID window. Start from `sds_link_config_default()`.
+typedef struct sds_link_config {
+  // Largest counter step still accepted (3): steps 2 ..= this are `OKSOMELOST`.
+  uint16_t max_delta;
+  // Frame periods without a frame before `NONEWDATA` (3).
+  uint16_t timeout;
+  // Statuses the link state is judged over (20; 1 ..= 32).
+  uint8_t window;
+  // Bad statuses in the window still `VALID` (2; below `window`).
+  uint8_t max_errors;
+} sds_link_config;
+
+// Where the checker's answers go: called with `ctx` and one whole encoded message (its 0x00
+// delimiter included) each time the checker answers; write the bytes to the link (a UART, a
+// socket). The bytes are valid during the call only.
+typedef void (*sds_link_write)(void *ctx, const uint8_t *bytes, size_t len);
+
+// The link state and counts of the current route (what a status message carries).
+typedef struct sds_link_status {
+  // The link is `VALID` (the `link_fault` pin is the inverse).
+  bool valid;
+  // `SDS_LINK_ROUTE_IDLE`, `_RUNNING`, `_FINISHED` or `_REFUSED`.
+  uint32_t route;
+  // Counter of the last frame message that passed its check (0 before any).
+  uint16_t last_counter;
+  // Frame messages per check status: `counts[SDS_LINK_STATUS_OK]` ... (route so far).
+  uint32_t counts[SDS_LINK_STATUSES];
+  // Frames given to the monitor in the route.
+  uint32_t accepted;
+  // Segments started in the route.
+  uint32_t segments;
+} sds_link_status;
+
+// Which member of an `sds_link_message` is set.
+typedef uint32_t sds_link_message_kind;
+
+// Which member of an `sds_link_event` is set.
+typedef uint32_t sds_link_event_kind;
+
 // Which member of an `sds_event` is set: `SDS_EVENT_COLLISION`, `SDS_EVENT_COMFORT` or
 // `SDS_EVENT_LATERAL`.
 typedef uint32_t sds_event_kind;
@@ -296,13 +392,18 @@ typedef struct sds_event {
   struct sds_lateral_verdict lateral;
 } sds_event;
 
-// The events of one push or finish, in the order they happened: `events[0 .. len]`.
-typedef struct sds_events {
-  // Number of events set (0 to `SDS_MAX_EVENTS`).
-  uint32_t len;
-  // The events; slots from `len` on are zero.
-  struct sds_event events[SDS_MAX_EVENTS];
-} sds_events;
+// An event of the checker.
+typedef struct sds_link_event {
+  // `SDS_LINK_EVENT_*`.
+  sds_link_event_kind kind;
+  // Counter of the frame message that raised it (for a segment's end events, its last
+  // accepted frame).
+  uint16_t frame_counter;
+  // The segment's index, or the bad statuses of the window.
+  uint32_t value;
+  // The monitor's event when `kind == SDS_LINK_EVENT_MONITOR` (else zero).
+  struct sds_event monitor;
+} sds_link_event;
 
 // Chunks that failed each bound.
 typedef struct sds_failure_counts {
@@ -364,6 +465,40 @@ typedef struct sds_summary {
   struct sds_collision_summary collisions;
 } sds_summary;
 
+// What the checker's route summary says (the answer to an end).
+typedef struct sds_link_summary {
+  // The monitor's counts, summed over the segments.
+  struct sds_summary route;
+  // Frames lost inside segments.
+  uint32_t gaps;
+  // Segments.
+  uint32_t segments;
+  // Frame messages per check status (`SDS_LINK_STATUS_*` indices).
+  uint32_t counts[SDS_LINK_STATUSES];
+} sds_link_summary;
+
+// One decoded message: `kind` says which member is set; the others are zero.
+typedef struct sds_link_message {
+  // `SDS_LINK_MESSAGE_*`.
+  sds_link_message_kind kind;
+  // The message's E2E counter.
+  uint16_t counter;
+  // Set when `kind == SDS_LINK_MESSAGE_EVENT`.
+  struct sds_link_event event;
+  // Set when `kind == SDS_LINK_MESSAGE_STATUS`.
+  struct sds_link_status status;
+  // Set when `kind == SDS_LINK_MESSAGE_SUMMARY`.
+  struct sds_link_summary summary;
+} sds_link_message;
+
+// The events of one push or finish, in the order they happened: `events[0 .. len]`.
+typedef struct sds_events {
+  // Number of events set (0 to `SDS_MAX_EVENTS`).
+  uint32_t len;
+  // The events; slots from `len` on are zero.
+  struct sds_event events[SDS_MAX_EVENTS];
+} sds_events;
+
 // What the evaluator recorded for the route, plus its work-zone count.
 typedef struct sds_record_scores {
   // `scores.score_route` (0..100).
@@ -389,6 +524,13 @@ typedef struct sds_monitor_storage {
   // Opaque.
   uint64_t _words[SDS_MONITOR_STORAGE_WORDS];
 } sds_monitor_storage;
+
+// Memory for one checker with the right size and alignment for every target:
+// `sds_link_checker_storage mem; sds_link_checker *k = (sds_link_checker *)&mem;`.
+typedef struct sds_link_checker_storage {
+  // Opaque.
+  uint64_t _words[SDS_LINK_CHECKER_STORAGE_WORDS];
+} sds_link_checker_storage;
 
 // Physical units: yaw rate in rad/s, derivatives over the true step period `dt` (the default).
 #define SDS_PROFILE_PHYSICAL 0
@@ -422,6 +564,36 @@ typedef struct sds_monitor_storage {
 
 // `max_excess > critical_excess`.
 #define SDS_BAND_CRITICAL 2
+
+// One of the monitor's events: `monitor` is set.
+#define SDS_LINK_EVENT_MONITOR 1
+
+// The frame starts segment `value` (0-based): the monitor started afresh.
+#define SDS_LINK_EVENT_SEGMENT 2
+
+// The link became `INVALID` (`value`: bad statuses in the window).
+#define SDS_LINK_EVENT_LINK_FAULT 3
+
+// The link became `VALID` again (`value`: bad statuses in the window).
+#define SDS_LINK_EVENT_LINK_RESTORED 4
+
+// A start (doer to checker; nothing else is set).
+#define SDS_LINK_MESSAGE_START 1
+
+// A frame (doer to checker; nothing else is set).
+#define SDS_LINK_MESSAGE_FRAME 2
+
+// An end (doer to checker; nothing else is set).
+#define SDS_LINK_MESSAGE_END 3
+
+// An event: `event` is set.
+#define SDS_LINK_MESSAGE_EVENT 4
+
+// A status: `status` is set.
+#define SDS_LINK_MESSAGE_STATUS 5
+
+// A route summary: `summary` is set.
+#define SDS_LINK_MESSAGE_SUMMARY 6
 
 #ifdef __cplusplus
 extern "C" {
@@ -510,6 +682,192 @@ sds_result sds_frame_from_vectors(const float *acc,
                                   float yaw_rate_deg,
                                   float speed,
                                   struct sds_frame *out);
+
+// The default link settings: `max_delta` 3, `timeout` 3, `window` 20, `max_errors` 2.
+//
+// ```c
+// sds_link_config lc = sds_link_config_default();
+// lc.timeout = 5;   /* five frame periods before NONEWDATA */
+// ```
+struct sds_link_config sds_link_config_default(void);
+
+// Bytes a checker needs (at most `sizeof(sds_link_checker_storage)`).
+//
+// ```c
+// assert(sds_link_checker_size() <= sizeof(sds_link_checker_storage));
+// ```
+size_t sds_link_checker_size(void);
+
+// Alignment a checker's buffer needs, in bytes.
+//
+// ```c
+// assert(sds_link_checker_align() <= _Alignof(sds_link_checker_storage));   /* C11 */
+// ```
+size_t sds_link_checker_align(void);
+
+// Initialises a checker with no route yet in the caller's buffer `checker` of `len` bytes,
+// with the link settings `config`. On failure the buffer is left untouched. Re-initialising
+// is a checker reset (the doer's counters are judged afresh).
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_BUFFER_TOO_SMALL`,
+// `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_MISALIGNED_POINTER` (`config`),
+// `SDS_RESULT_LINK_CONFIG_*`.
+//
+// ```c
+// static sds_link_checker_storage mem;
+// sds_link_checker *k = (sds_link_checker *)&mem;
+// sds_link_config lc = sds_link_config_default();
+// sds_result r = sds_link_checker_init(k, sizeof mem, &lc);   /* SDS_RESULT_OK */
+// ```
+//
+// # Safety
+// `checker` is NULL or writable for `len` bytes, and not used by anyone else during the call;
+// `config` is NULL or points to a readable `sds_link_config`.
+sds_result sds_link_checker_init(struct sds_link_checker *checker,
+                                 size_t len,
+                                 const struct sds_link_config *config);
+
+// Gives the checker the bytes `bytes[0 .. len]` received at time `now_us` (microseconds,
+// monotonic, the caller's clock). Each answer (events, status, summary) goes to `write(ctx,
+// ...)` before the call returns. Any bytes are fine: noise, cut or corrupted messages get the
+// check status `ERROR` and are dropped.
+//
+// Errors: `SDS_RESULT_NULL_POINTER` (`checker`, `write`, or `bytes` with `len > 0`),
+// `SDS_RESULT_BUFFER_MISALIGNED`, `SDS_RESULT_NOT_INITIALIZED`.
+//
+// ```c
+// static void to_uart(void *ctx, const uint8_t *bytes, size_t len) { uart_write(ctx, bytes, len); }
+// sds_link_receive(k, rx, n, now_us(), to_uart, uart);
+// ```
+//
+// # Safety
+// `checker` is NULL or an initialised checker nobody else uses during the call; `bytes` is
+// readable for `len` bytes (or NULL with `len` 0); `write` may be called with `ctx`.
+sds_result sds_link_receive(struct sds_link_checker *checker,
+                            const uint8_t *bytes,
+                            size_t len,
+                            uint64_t now_us,
+                            sds_link_write write,
+                            void *ctx);
+
+// Checks the timeout at time `now_us`: with a route running and no frame for `timeout` frame
+// periods, the check status is `NONEWDATA` and a status message goes to `write`. Call it from
+// a timer set to `sds_link_checker_deadline` (or often).
+//
+// ```c
+// sds_link_poll(k, now_us(), to_uart, uart);
+// ```
+//
+// # Safety
+// As `sds_link_receive`.
+sds_result sds_link_poll(struct sds_link_checker *checker,
+                         uint64_t now_us,
+                         sds_link_write write,
+                         void *ctx);
+
+// The time by which `sds_link_poll` must run for `NONEWDATA` to be on time into `*deadline_us`;
+// `SDS_RESULT_UNDEFINED` (and `*deadline_us` unchanged) while no timeout runs (no route).
+//
+// ```c
+// uint64_t t;
+// if (sds_link_checker_deadline(k, &t) == SDS_RESULT_OK) timer_set(t);
+// ```
+//
+// # Safety
+// `checker` is NULL or an initialised checker nobody else uses during the call;
+// `deadline_us` is NULL or writable.
+sds_result sds_link_checker_deadline(struct sds_link_checker *checker, uint64_t *deadline_us);
+
+// The link state and the route's counts so far into `*status` (what the checker's next status
+// message says; `status->valid` false means: drive the `link_fault` output).
+//
+// ```c
+// sds_link_status s;
+// sds_link_checker_status(k, &s);
+// gpio_write(LINK_FAULT_PIN, !s.valid);
+// ```
+//
+// # Safety
+// `checker` is NULL or an initialised checker nobody else uses during the call; `status` is
+// NULL or writable.
+sds_result sds_link_checker_status(struct sds_link_checker *checker,
+                                   struct sds_link_status *status);
+
+// The doer's side: writes a start message (the route's monitor configuration `config`, with
+// E2E counter `counter`) into `out[0 .. cap]`, COBS-encoded and delimited; `*written` gets its
+// length (at most `SDS_LINK_MAX_ENCODED`). Send it until a status message answers it.
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+// `SDS_RESULT_OUTPUT_TOO_SMALL`, `SDS_RESULT_CONFIG_*` (the checker would refuse it).
+//
+// ```c
+// uint8_t wire[SDS_LINK_MAX_ENCODED];
+// size_t n;
+// sds_config c = sds_config_default();
+// sds_link_encode_start(&c, 0, wire, sizeof wire, &n);
+// ```
+//
+// # Safety
+// `config` is NULL or readable; `out` is NULL or writable for `cap` bytes; `written` is NULL
+// or writable.
+sds_result sds_link_encode_start(const struct sds_config *config,
+                                 uint16_t counter,
+                                 uint8_t *out,
+                                 size_t cap,
+                                 size_t *written);
+
+// The doer's side: writes a frame message (E2E counter `counter`, +1 per frame) into
+// `out[0 .. cap]`; `*written` gets its length (47 bytes).
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+// `SDS_RESULT_OUTPUT_TOO_SMALL`, `SDS_RESULT_FRAME_*` (the checker would count it `ERROR`).
+//
+// ```c
+// sds_frame f = {0};
+// f.speed = 8.0f;
+// sds_link_encode_frame(&f, counter++, wire, sizeof wire, &n);
+// ```
+//
+// # Safety
+// As `sds_link_encode_start`, with `frame` for `config`.
+sds_result sds_link_encode_frame(const struct sds_frame *frame,
+                                 uint16_t counter,
+                                 uint8_t *out,
+                                 size_t cap,
+                                 size_t *written);
+
+// The doer's side: writes an end message (`frames`: frame messages sent for the route, E2E
+// counter `counter`) into `out[0 .. cap]`. Send it until the summary answers it.
+//
+// ```c
+// sds_link_encode_end(frames_sent, 0, wire, sizeof wire, &n);
+// ```
+//
+// # Safety
+// `out` is NULL or writable for `cap` bytes; `written` is NULL or writable.
+sds_result sds_link_encode_end(uint32_t frames,
+                               uint16_t counter,
+                               uint8_t *out,
+                               size_t cap,
+                               size_t *written);
+
+// Decodes one message as it came off the wire: `bytes[0 .. len]` are its COBS bytes, with or
+// without the 0x00 delimiter (split the stream at each 0x00). The end-to-end check (length,
+// data id, CRC) runs first; `*message` gets the message, or zero on failure.
+//
+// Errors: `SDS_RESULT_NULL_POINTER`, `SDS_RESULT_MISALIGNED_POINTER`,
+// `SDS_RESULT_LINK_MESSAGE` (not one intact message of the link: what the checker counts as
+// `ERROR`).
+//
+// ```c
+// sds_link_message msg;
+// if (sds_link_decode(bytes, n, &msg) == SDS_RESULT_OK && msg.kind == SDS_LINK_MESSAGE_EVENT &&
+//     msg.event.kind == SDS_LINK_EVENT_LINK_FAULT) { /* the checker lost sight of the doer */ }
+// ```
+//
+// # Safety
+// `bytes` is readable for `len` bytes (or NULL with `len` 0); `message` is NULL or writable.
+sds_result sds_link_decode(const uint8_t *bytes, size_t len, struct sds_link_message *message);
 
 // Bytes a monitor needs (at most `sizeof(sds_monitor_storage)`).
 //

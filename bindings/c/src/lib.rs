@@ -24,6 +24,7 @@
 //! | `sds_config`, `sds_config_default`, `sds_config_validate` | [`config`] |
 //! | `sds_frame`, `sds_frame_from_vectors` | [`frame`] |
 //! | `sds_monitor_*` | [`monitor`] |
+//! | `sds_link_*` (the live link's checker, encoder, decoder) | [`link`] |
 //! | `sds_event`, `sds_events` | [`event`] |
 //! | `sds_summary` | [`summary`] |
 //! | `sds_ds_safe`, `sds_summary_comfort_score` | [`score`] |
@@ -40,6 +41,7 @@ pub mod config;
 pub mod event;
 pub mod format;
 pub mod frame;
+pub mod link;
 pub mod monitor;
 pub mod result;
 pub mod score;

@@ -8,7 +8,7 @@ use monitor_core::{ConfigError, Field, FrameError, MonitorError};
 /// Nothing changes when a call fails (a failed push leaves the monitor as it was).
 ///
 /// The numbers are part of the ABI and never reused: configuration errors are 100..199, frame
-/// errors 200..299.
+/// errors 200..299, live-link errors 300..399.
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[allow(non_camel_case_types)]
@@ -86,6 +86,17 @@ pub enum sds_result {
     FrameSpeedNegative = 206,
     /// `a_mag` is negative.
     FrameAMagNegative = 207,
+    /// link: `max_delta` must be at least 1.
+    LinkConfigMaxDelta = 300,
+    /// link: `timeout` must be at least 1 frame period.
+    LinkConfigTimeout = 301,
+    /// link: `window` must lie in 1 ..= 32.
+    LinkConfigWindow = 302,
+    /// link: `max_errors` must be below `window`.
+    LinkConfigMaxErrors = 303,
+    /// link: the bytes are not one intact message of the link (COBS, length, data id, CRC or
+    /// layout wrong: what the checker counts as `ERROR`).
+    LinkMessage = 310,
 }
 
 impl From<ConfigError> for sds_result {
@@ -192,6 +203,11 @@ pub extern "C" fn sds_result_str(result: u32) -> *const c_char {
         205 => c"frame: lat_err is not finite",
         206 => c"frame: speed is negative",
         207 => c"frame: a_mag is negative",
+        300 => c"link: max_delta must be at least 1",
+        301 => c"link: timeout must be at least 1 frame period",
+        302 => c"link: window must lie in 1..=32",
+        303 => c"link: max_errors must be below window",
+        310 => c"link: not one intact message of the link (COBS, length, data id, CRC or layout)",
         _ => c"unknown result code",
     };
     s.as_ptr()
@@ -238,6 +254,11 @@ mod tests {
             sds_result::FrameLatErrNotFinite,
             sds_result::FrameSpeedNegative,
             sds_result::FrameAMagNegative,
+            sds_result::LinkConfigMaxDelta,
+            sds_result::LinkConfigTimeout,
+            sds_result::LinkConfigWindow,
+            sds_result::LinkConfigMaxErrors,
+            sds_result::LinkMessage,
         ];
         let unknown = sds_result_str(12345);
         let mut seen = std::vec::Vec::new();

@@ -3,7 +3,6 @@
 
 use std::path::PathBuf;
 
-use monitor_core::link::LinkConfig;
 use monitor_host::app::link::{LinkError, LinkRequest};
 use monitor_host::app::request::RunSettings;
 use monitor_host::input::mcap::Topics;
@@ -63,7 +62,6 @@ pub fn link<'py>(
         target,
         pace,
         inject,
-        link: LinkConfig::DEFAULT,
         tap,
     };
     let report = py.detach(|| request.run()).map_err(|e| match e {

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any, Dict
 
 import pytest
 
@@ -28,3 +29,32 @@ def test_link_to_host_checker_is_equal_on_every_route(sds_bin: Path, demo: Demo,
 def test_link_bad_target_is_a_config_error(demo: Demo) -> None:
     with pytest.raises(sds.ConfigError, match="tcp:HOST:PORT"):
         sds.link(demo.results, telemetry=demo.telemetry, to="udp:x")
+
+
+def test_link_settings_reach_the_doer(sds_bin: Path, demo: Demo) -> None:
+    """`link.*` settings are read by the library, not the command line: with `link.max_delta=1`
+    on both sides, a lost frame is WRONGSEQUENCE (not OKSOMELOST) and every route is still equal
+    (the doer's own judgement used the same setting as the checker)."""
+    drops = "drop=0.05,seed=7"
+    default = sds.link(demo.results, telemetry=demo.telemetry, to=f"exec:{sds_bin} checker", inject=drops)
+    strict = sds.link(
+        demo.results,
+        telemetry=demo.telemetry,
+        to=f"exec:{sds_bin} checker --set link.max_delta=1",
+        inject=drops,
+        settings={"link.max_delta": 1},
+    )
+
+    def total(report: Dict[str, Any], status: str) -> int:
+        return sum(int(r["link"]["statuses"][status]) for r in report["routes"])
+
+    assert total(default, "OKSOMELOST") > 0
+    assert total(strict, "OKSOMELOST") == 0
+    assert total(strict, "WRONGSEQUENCE") > total(default, "WRONGSEQUENCE")
+    for report in (default, strict):
+        assert report["summary"]["equal_routes"] == report["summary"]["routes"]
+
+
+def test_link_bad_link_setting_is_a_config_error(demo: Demo) -> None:
+    with pytest.raises(sds.ConfigError, match="1..=32"):
+        sds.link(demo.results, telemetry=demo.telemetry, to="exec:true", settings={"link.window": 40})

@@ -5,7 +5,13 @@
 //! Modes, from the semihosting command line (`-semihosting-config ...,arg=checker,arg=MODE`):
 //! * `serve` (default): serves the link on UART0 until QEMU is stopped; after each route's
 //!   summary it prints `route {...}` over semihosting (the route's counts, the pin, the stack
-//!   high-water mark so far);
+//!   high-water mark so far). Between bytes the core sleeps in WFI, woken by the UART's receive
+//!   interrupt or a 1 ms tick of TIMER0 (for the timeout); the clock is SysTick, which under
+//!   `-icount` runs with the instructions executed and, while the core sleeps, with real time:
+//!   a doer that stops sending gives `NONEWDATA`, and the pin after the window;
+//! * `serve slots`: the same, on a clock that counts received messages, one frame period each
+//!   (`NONEWDATA` after `link.timeout` messages in a row that are not frames): what the link
+//!   shows then depends on the bytes alone, never on how fast the host ran the doer;
 //! * `bench N`: feeds the first N messages of the wire capture in flash (`SDS_LINK_WIRE`) to the
 //!   checker, answering on UART0, and exits: the instruction-count plugin's total for `bench N`
 //!   minus `bench 0` is the checker's share;
@@ -38,8 +44,14 @@ const BAUDDIV: usize = 0x10;
 const STATE_TX_FULL: u32 = 1 << 0;
 const STATE_RX_FULL: u32 = 1 << 1;
 const STATE_RX_OVERRUN: u32 = 1 << 3;
+const INTCLEAR: usize = 0x0C;
 const CTRL_TX_EN: u32 = 1 << 0;
 const CTRL_RX_EN: u32 = 1 << 1;
+const CTRL_RX_INT_EN: u32 = 1 << 3;
+const INT_RX: u32 = 1 << 1;
+/// NVIC numbers of the MPS2-AN385/AN386 (QEMU's mps2.c): UART0 receive, TIMER0.
+const IRQ_UART0_RX: u32 = 0;
+const IRQ_TIMER0: u32 = 8;
 
 fn reg_read(addr: usize) -> u32 {
     // SAFETY: a device register of the board's memory map, word aligned.
@@ -64,6 +76,47 @@ impl CmsdkUart {
         reg_write(base + CTRL, CTRL_TX_EN | CTRL_RX_EN);
         CmsdkUart { base }
     }
+}
+
+impl CmsdkUart {
+    /// A byte in the receive register.
+    fn rx_ready(&self) -> bool {
+        reg_read(self.base + STATE) & STATE_RX_FULL != 0
+    }
+}
+
+// --- idling: WFI with interrupts masked (PRIMASK), woken by a pending interrupt -----------------
+const TIMER0: usize = 0x4000_0000;
+const TIMER_CTRL: usize = 0x00;
+const TIMER_RELOAD: usize = 0x08;
+const TIMER_INTCLEAR: usize = 0x0C;
+const NVIC_ISER0: usize = 0xE000_E100;
+const NVIC_ICPR0: usize = 0xE000_E280;
+
+/// Arms the wake-ups of [`idle`]: UART0's receive interrupt and a 1 ms TIMER0 tick, enabled in
+/// the NVIC but masked by PRIMASK, so no handler runs: a pending interrupt only ends a WFI.
+fn idle_setup() {
+    // SAFETY: masks interrupts (PRIMASK); nothing here relies on a handler running.
+    unsafe { core::arch::asm!("cpsid i", options(nomem, nostack, preserves_flags)) };
+    reg_write(UART0 + CTRL, CTRL_TX_EN | CTRL_RX_EN | CTRL_RX_INT_EN);
+    reg_write(TIMER0 + TIMER_RELOAD, TICKS_PER_US * 1000);
+    // Enable, interrupt enable.
+    reg_write(TIMER0 + TIMER_CTRL, 1 | (1 << 3));
+    reg_write(NVIC_ISER0, (1 << IRQ_UART0_RX) | (1 << IRQ_TIMER0));
+}
+
+/// Sleeps until a byte arrives or the next 1 ms tick, unless a byte is already waiting.
+fn idle(uart: &CmsdkUart) {
+    // Clear the sources, then their pending bits: a byte arriving after this sets them again
+    // and ends the WFI at once; one that arrived before is seen by `rx_ready`.
+    reg_write(UART0 + INTCLEAR, INT_RX);
+    reg_write(TIMER0 + TIMER_INTCLEAR, 1);
+    reg_write(NVIC_ICPR0, (1 << IRQ_UART0_RX) | (1 << IRQ_TIMER0));
+    if uart.rx_ready() {
+        return;
+    }
+    // SAFETY: waits for an interrupt; touches no memory.
+    unsafe { core::arch::asm!("wfi", options(nomem, nostack, preserves_flags)) };
 }
 
 /// A byte arrived while the last one was still unread: one byte is lost.
@@ -228,7 +281,10 @@ impl Console {
 }
 
 enum Mode {
-    Serve,
+    /// `slots`: the clock counts received messages.
+    Serve {
+        slots: bool,
+    },
     Bench(u32),
     Ticks,
 }
@@ -240,7 +296,7 @@ fn mode() -> Option<Mode> {
     // SAFETY: SYS_GET_CMDLINE writes at most block[1] bytes into buf and the length into block.
     let r = unsafe { cortex_m_semihosting::syscall1(nr::GET_CMDLINE, block.as_mut_ptr() as usize) };
     if r != 0 {
-        return Some(Mode::Serve); // no command line: the default mode
+        return Some(Mode::Serve { slots: false }); // no command line: the default mode
     }
     let line = buf.get(..block[1].min(buf.len())).unwrap_or(&[]);
     let mut words = line
@@ -248,7 +304,12 @@ fn mode() -> Option<Mode> {
         .filter(|w| !w.is_empty());
     let _program = words.next();
     match words.next() {
-        None | Some(b"serve") => Some(Mode::Serve),
+        None => Some(Mode::Serve { slots: false }),
+        Some(b"serve") => match words.next() {
+            None => Some(Mode::Serve { slots: false }),
+            Some(b"slots") => Some(Mode::Serve { slots: true }),
+            Some(_) => None,
+        },
         Some(b"ticks") => Some(Mode::Ticks),
         Some(b"bench") => {
             let digits = words.next()?;
@@ -287,26 +348,44 @@ fn stack_used() -> u32 {
 }
 
 /// Serves the link until QEMU is stopped; `false` on a fault the board cannot go on from.
-fn serve(con: &mut Console) -> bool {
+/// `slots`: the clock counts received messages, one frame period each.
+fn serve(con: &mut Console, slots: bool) -> bool {
     let Ok(mut task) = LinkTask::<_, _>::new(LinkConfig::DEFAULT, CmsdkUart::new(UART0), LedPin)
     else {
         con.write(b"error: the checker could not start\n");
         return false;
     };
     systick_start();
+    idle_setup();
     let mut clock = Ticks::new(systick_now(), TICKS_PER_US);
-    con.parts(&[(b"serving ", 0)], b"");
+    con.parts(&[(b"serving ", u32::from(slots))], b"");
     let mut seen = 0;
     let mut route = RouteState::Idle;
     let mut routes = 0;
+    let mut slot_clock: u64 = 0;
     loop {
-        let now = clock.now_us(systick_now());
-        if task.poll(now).is_err() {
-            con.write(b"error: the link_fault pin cannot be driven\n");
-            return false;
+        // The clock's reading is taken on every turn (at least every 1 ms tick), so SysTick's
+        // 0.67 s wrap is never missed.
+        let ticks = clock.now_us(systick_now());
+        let now = if slots { slot_clock } else { ticks };
+        let taken = match task.poll(now) {
+            Ok(n) => n,
+            Err(_) => {
+                con.write(b"error: the link_fault pin cannot be driven\n");
+                return false;
+            }
+        };
+        if taken == 0 {
+            idle(task.uart_mut());
         }
         if task.messages() == seen {
             continue;
+        }
+        if slots {
+            // One frame period per message received (the route's, from its start).
+            let period = task.checker().timeout_us() / u64::from(LinkConfig::DEFAULT.timeout);
+            let new = u64::from(task.messages().wrapping_sub(seen));
+            slot_clock = slot_clock.saturating_add(period.saturating_mul(new));
         }
         seen = task.messages();
         let s = task.checker().status();
@@ -386,11 +465,11 @@ fn measure(con: &mut Console, bench: Option<u32>) -> bool {
 fn main() -> ! {
     let mut con = Console::open();
     let ok = match mode() {
-        Some(Mode::Serve) => serve(&mut con),
+        Some(Mode::Serve { slots }) => serve(&mut con, slots),
         Some(Mode::Bench(n)) => measure(&mut con, Some(n)),
         Some(Mode::Ticks) => measure(&mut con, None),
         None => {
-            con.write(b"error: unknown mode (use serve, bench N or ticks)\n");
+            con.write(b"error: unknown mode (use serve, serve slots, bench N or ticks)\n");
             false
         }
     };

@@ -194,3 +194,123 @@ fn i49_2_bad_target_and_faults_are_usage_errors() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("link.window"));
 }
+
+/// Issue 49 item 5: a real route through the link. The fixtures hold no telemetry of a whole
+/// route, so the telemetry is generated along the real waypoints of route 25300 of
+/// `bench2drive220.xml` (Town04) at 20 Hz, weaving across the lane (±0.8 m, a 12 s period) and
+/// changing speed, and scored against the real Town04 OpenDRIVE map (`lateral_reference=lane`).
+/// Played by `sds link` into the host checker, the checker's events equal the replay's, clean
+/// and with every fault kind at a fixed seed.
+#[test]
+fn i49_5_real_route_and_map_through_the_link_equal_the_replay() {
+    let Some(fx) = crate::common::b2d_fixtures(&["routes/bench2drive220.xml"]) else {
+        return;
+    };
+    let maps = fx.join("../maps");
+    if !maps.join("Town04.xodr").is_file() {
+        eprintln!(
+            "skipped: the real Town04 map is absent ({} not found)",
+            maps.join("Town04.xodr").display()
+        );
+        return;
+    }
+    let set = monitor_host::input::route_xml::read_route_xml(&fx.join("routes/bench2drive220.xml"))
+        .unwrap();
+    let route = set.get("25300").expect("route 25300").waypoints_3d();
+    let length: f64 = route
+        .windows(2)
+        .map(|p| (p[1][0] - p[0][0]).hypot(p[1][1] - p[0][1]))
+        .sum();
+    let dt = 0.05;
+    let (mut s, mut frames) = (0.0f64, Vec::new());
+    let mut step = 0u64;
+    while s < length - 1.0 && step < 1200 {
+        let t = step as f64 * dt;
+        let v = 7.0 + 2.0 * (t / 9.0).sin();
+        let a = 2.0 / 9.0 * (t / 9.0).cos();
+        let offset = 0.8 * (2.0 * std::f64::consts::PI * t / 12.0).sin();
+        let (loc, psi) = crate::mcap::along(&route, s, offset);
+        frames.push(crate::mcap::CarlaFrame {
+            step,
+            loc,
+            psi,
+            acc: [a * psi.cos(), a * psi.sin()],
+            omega_deg: 0.0,
+        });
+        s += v * dt;
+        step += 1;
+    }
+    // The whole route (about 135 m of it, 368 frames).
+    assert!(frames.len() >= 300, "{} frames", frames.len());
+    let tmp = tempfile::tempdir().unwrap();
+    let ([res, tel, routes], _) =
+        crate::mcap::write_telemetry_run(tmp.path(), "25300", "Town04", &route, &frames);
+    // firmware-example/link-checker/run-link.sh plays the same run into the Cortex-M4F checker.
+    if let Some(dir) = std::env::var_os("SDS_LINK_REAL_ROUTE_OUT") {
+        std::fs::create_dir_all(&dir).unwrap();
+        crate::mcap::write_telemetry_run(Path::new(&dir), "25300", "Town04", &route, &frames);
+    }
+    let out = tmp.path().join("link.json");
+    let maps = maps.to_str().unwrap().to_string();
+    let to = checker();
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "link",
+            "--results",
+            &res,
+            "--telemetry",
+            &tel,
+            "--routes",
+            &routes,
+            "--maps",
+            &maps,
+            "--set",
+            "dt=0.05",
+            "--set",
+            "lateral_reference=lane",
+            "--to",
+            &to,
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = sds(&args);
+        let text = std::fs::read_to_string(&out).unwrap_or_default();
+        let rep: serde_json::Value = serde_json::from_str(&text).unwrap_or_default();
+        (o, rep)
+    };
+    let (o, rep) = run(&[]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let l = &rep["routes"][0]["link"];
+    assert_eq!(l["equal"], true, "{l}");
+    assert_eq!(l["accepted"].as_u64(), Some(frames.len() as u64), "{l}");
+    assert_eq!(l["segments"], 1, "{l}");
+    // The lateral chunks against the real lane raise events: the comparison has something to compare.
+    assert!(l["events"].as_u64().unwrap() > 0, "{l}");
+    assert_eq!(l["events"], l["replay_events"], "{l}");
+    let (o, rep) = run(&[
+        "--inject",
+        "drop=0.03,corrupt=0.03,duplicate=0.02,reorder=0.02,stall=0.5,seed=5",
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let l = &rep["routes"][0]["link"];
+    assert_eq!(l["equal"], true, "{l}");
+    let bad: u64 = ["WRONGSEQUENCE", "REPEATED", "ERROR"]
+        .iter()
+        .map(|k| l["statuses"][k].as_u64().unwrap())
+        .sum();
+    assert!(
+        bad > 0 && l["accepted"].as_u64().unwrap() < frames.len() as u64,
+        "{l}"
+    );
+}

@@ -827,16 +827,16 @@ fn i39_autoware_profile_judges_against_the_planning_envelope() {
 /// One frame of CARLA telemetry (its left-handed world frame: y to the right of x, the yaw
 /// positive turning right): position, heading, world acceleration, yaw rate in deg/s.
 #[derive(Clone, Copy)]
-struct CarlaFrame {
-    step: u64,
-    loc: [f64; 2],
-    psi: f64,
-    acc: [f64; 2],
-    omega_deg: f64,
+pub(crate) struct CarlaFrame {
+    pub(crate) step: u64,
+    pub(crate) loc: [f64; 2],
+    pub(crate) psi: f64,
+    pub(crate) acc: [f64; 2],
+    pub(crate) omega_deg: f64,
 }
 
 /// The `metric_info.json` of `frames`.
-fn metric_info(frames: &[CarlaFrame]) -> String {
+pub(crate) fn metric_info(frames: &[CarlaFrame]) -> String {
     let map: serde_json::Map<String, Value> = frames
         .iter()
         .map(|f| {
@@ -916,7 +916,7 @@ fn log_of(
 /// Writes a one-route run of `frames` (a raw evaluator file with one completed record, its
 /// telemetry and, with `route`, a route XML) as `score.rs`'s issue-33 excerpt does. Returns
 /// (results, telemetry root, routes) and the route id.
-fn write_telemetry_run(
+pub(crate) fn write_telemetry_run(
     dir: &Path,
     id: &str,
     town: &str,
@@ -957,7 +957,7 @@ fn write_telemetry_run(
 
 /// The point `s` m along the polyline `w` (x, y), moved `offset` m to its right (CARLA), and
 /// the heading there.
-fn along(w: &[[f64; 3]], s: f64, offset: f64) -> ([f64; 2], f64) {
+pub(crate) fn along(w: &[[f64; 3]], s: f64, offset: f64) -> ([f64; 2], f64) {
     let mut left = s;
     for p in w.windows(2) {
         let (dx, dy) = (p[1][0] - p[0][0], p[1][1] - p[0][1]);

@@ -396,6 +396,19 @@ impl<const N: usize> Checker<N> {
         }
     }
 
+    /// The current route's timeout in µs: `link.timeout` frame periods of its start's `dt` (0
+    /// before the first start). A checker whose clock counts received messages (one frame
+    /// period each) reads its period here.
+    ///
+    /// ```
+    /// use monitor_core::link::{Checker, LinkConfig};
+    /// let checker: Checker = Checker::new(LinkConfig::DEFAULT).unwrap();
+    /// assert_eq!(checker.timeout_us(), 0);
+    /// ```
+    pub const fn timeout_us(&self) -> u64 {
+        self.timeout_us
+    }
+
     /// The time by which [`Checker::poll`] must run for `NONEWDATA` to be on time (`None`
     /// while no timeout runs): a firmware sets its timer to it.
     pub fn deadline(&self) -> Option<u64> {

@@ -12,6 +12,8 @@ use crate::input::results_file::read_results;
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
 use crate::live_link::transport::{Target, TargetError};
+use crate::settings::SettingsError;
+use monitor_core::link::LinkConfig;
 
 /// One run to play to a checker.
 #[derive(Clone, Debug)]
@@ -22,7 +24,8 @@ pub struct LinkRequest {
     pub mcap: Vec<PathBuf>,
     /// The logs' topics.
     pub topics: Topics,
-    /// The options of a scored run (profile, `--set`).
+    /// The options of a scored run (profile, `--set`). Its `link.*` overrides are the
+    /// checker's link settings ([`link_config`]); the doer judges acceptance with the same.
     pub settings: RunSettings,
     /// Where the checker is.
     pub target: Target,
@@ -30,8 +33,6 @@ pub struct LinkRequest {
     pub pace: Pace,
     /// Faults to inject.
     pub inject: Inject,
-    /// The checker's link settings (the doer judges acceptance with the same).
-    pub link: monitor_core::link::LinkConfig,
     /// Where to copy the bytes sent and received (`sent.bin`, `received.bin`).
     pub tap: Option<PathBuf>,
 }
@@ -99,13 +100,83 @@ pub enum LinkError {
     Tap(#[source] std::io::Error),
 }
 
+/// The link settings named `link.*` among `overrides` (`link.max_delta`, `link.timeout` in
+/// frame periods, `link.window`, `link.max_errors`; docs/SCORE.md, "Live link"), validated,
+/// and the other overrides in order. `sds link`, `sds checker` and Python's `sds.link` read
+/// them here.
+///
+/// ```
+/// use monitor_host::app::link::link_config;
+/// let pairs = vec![("link.max_delta".to_string(), "1".to_string()), ("slack".into(), "0.9".into())];
+/// let (link, rest) = link_config(&pairs).unwrap();
+/// assert_eq!(link.max_delta, 1);
+/// assert_eq!(rest, vec![("slack".to_string(), "0.9".to_string())]);
+/// assert!(link_config(&[("link.window".into(), "40".into())]).unwrap_err().to_string().contains("1..=32"));
+/// ```
+///
+/// # Errors
+/// [`SettingsError::Value`] naming the setting, the value given and what it takes.
+pub fn link_config(
+    overrides: &[(String, String)],
+) -> Result<(LinkConfig, Vec<(String, String)>), SettingsError> {
+    let mut link = LinkConfig::DEFAULT;
+    let mut rest = Vec::new();
+    for (name, value) in overrides {
+        let bad = |expected: &str| SettingsError::Value {
+            name: "--set",
+            expected: expected.into(),
+            value: format!("{name}={value}"),
+        };
+        let v = value.trim();
+        match name.trim() {
+            "link.max_delta" => {
+                link.max_delta = v.parse().map_err(|_| bad("link.max_delta=N, 1..=65535"))?
+            }
+            "link.timeout" => {
+                link.timeout = v
+                    .parse()
+                    .map_err(|_| bad("link.timeout=N frame periods, 1..=65535"))?
+            }
+            "link.window" => link.window = v.parse().map_err(|_| bad("link.window=N, 1..=32"))?,
+            "link.max_errors" => {
+                link.max_errors = v
+                    .parse()
+                    .map_err(|_| bad("link.max_errors=N, below link.window"))?
+            }
+            other if other.starts_with("link.") => {
+                return Err(bad(
+                    "link.max_delta, link.timeout, link.window or link.max_errors",
+                ))
+            }
+            _ => rest.push((name.clone(), value.clone())),
+        }
+    }
+    link.validate().map_err(|e| SettingsError::Value {
+        name: "--set",
+        expected: e.to_string(),
+        value: overrides
+            .iter()
+            .filter(|(n, _)| n.trim().starts_with("link."))
+            .map(|(n, v)| format!("{n}={v}"))
+            .collect::<Vec<_>>()
+            .join(" "),
+    })?;
+    Ok((link, rest))
+}
+
 impl LinkRequest {
     /// Plays every route and compares.
     ///
     /// # Errors
     /// [`LinkError`].
     pub fn run(&self) -> Result<LinkReport, LinkError> {
-        let settings = self.settings.settings()?;
+        // The link settings are the checker's, not the monitor's.
+        let (link, overrides) = link_config(&self.settings.overrides)?;
+        let settings = RunSettings {
+            overrides,
+            ..self.settings.clone()
+        }
+        .settings()?;
         let mut routes: Vec<(String, Result<crate::model::frames::RouteFrames, String>)> =
             Vec::new();
         if self.mcap.is_empty() {
@@ -134,7 +205,7 @@ impl LinkRequest {
             }
         }
         let conn = self.target.connect()?;
-        let mut player = Player::new(conn, self.pace, self.inject, self.link, self.tap.as_deref())
+        let mut player = Player::new(conn, self.pace, self.inject, link, self.tap.as_deref())
             .map_err(LinkError::Tap)?;
         let mut played = Vec::new();
         let mut unplayed = Vec::new();

@@ -216,7 +216,9 @@ def link(
         pace: ``"fast"`` (as fast as the checker reads) or ``"realtime"`` (one frame a period).
         inject: Faults, ``"drop=P,corrupt=P,duplicate=P,reorder=P,stall=SECONDS,seed=N"``.
         tap: A folder for ``sent.bin`` and ``received.bin``.
-        settings: Settings by name (as ``--set``).
+        settings: Settings by name (as ``--set``), the link's too (``link.max_delta``,
+            ``link.timeout``, ``link.window``, ``link.max_errors``; they must match the
+            checker's, e.g. ``to="exec:sds checker --set link.window=10"``).
 
     Returns:
         The report: ``routes`` (each with its ``link`` object) and ``summary``

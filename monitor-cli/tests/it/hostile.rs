@@ -522,3 +522,8 @@ fn r3_07_figures_markers_and_traces_are_capped_per_route() {
         .unwrap();
     assert_eq!(route["collision_events"].as_array().unwrap().len(), 2000);
 }
+
+/// A corrupted copy of a run: the full report, precise reasons, exit codes, atomic writes.
+mod corrupted_run;
+/// Special files, FIFOs, symbolic links, signals and hostile numbers (issue 12).
+mod files;

@@ -521,3 +521,7 @@ fn compare_tables_hold_each_runs_score_report_under_its_run_and_model() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Bench2Drive tables (abilities, efficiency, weathers, seeds) of real runs reproduce
+/// Bench2Drive's own figures.
+mod bench2drive;

@@ -1497,3 +1497,7 @@ fn r4_12_a_file_from_the_future_does_not_keep_the_watch_running() {
         "{err}"
     );
 }
+
+/// Playback of a growing checkpoint in every layout, the live watch ending with the score
+/// report, Ctrl-C and the time left.
+mod playback;

@@ -7,8 +7,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, score_demo, sds};
+use crate::common::{demo, score_demo, sds};
 
 const STEPS: [&str; 5] = ["rounding", "workzone", "nodecel", "anomalous", "critical"];
 

@@ -5,8 +5,7 @@
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, score_demo};
+use crate::common::{self, demo, score_demo};
 
 fn count(r: &Value, kind: &str) -> u64 {
     r["events"]

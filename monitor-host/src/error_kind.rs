@@ -11,7 +11,7 @@ use crate::merge::MergeError;
 use crate::pipeline::live::LiveError;
 use crate::settings::SettingsError;
 use crate::stats::CompareError;
-use crate::Error;
+use crate::error::Error;
 
 named_enum! {
     /// The kind of an error. `#[non_exhaustive]`: a front end's match ends with a default arm,
@@ -287,8 +287,8 @@ pub fn options(e: &Error) -> &'static [&'static str] {
 /// let w = Warning::StepPeriodUnknown { span: 10, duration_game: 1.0, dt: 0.05 };
 /// assert_eq!(warning_options(&w), ["dt=SECONDS"]);
 /// ```
-pub fn warning_options(w: &crate::warning::Warning) -> &'static [&'static str] {
-    use crate::warning::Warning as W;
+pub fn warning_options(w: &crate::input::warning::Warning) -> &'static [&'static str] {
+    use crate::input::warning::Warning as W;
     match w {
         W::Route { warning, .. } => warning_options(warning),
         W::DuplicatesScored { .. }

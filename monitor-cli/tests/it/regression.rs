@@ -11,7 +11,7 @@ use std::process::Output;
 
 use serde_json::{json, Value};
 
-use crate::common::{self, sds};
+use crate::common::{self, code, path_str as s, sds};
 
 /// The demo run in a temporary folder, and its records (raw evaluator values).
 struct Run {
@@ -56,10 +56,6 @@ impl Run {
         args.extend_from_slice(extra);
         sds(&args)
     }
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("sds was killed by a signal")
 }
 
 fn text(b: &[u8]) -> String {
@@ -487,7 +483,7 @@ fn r2_05_map_work_is_bounded_by_the_real_extent() {
         })
         .unwrap_or_default();
     if towns.is_empty() {
-        eprintln!("SKIP (CARLA towns): {} not found", maps.display());
+        crate::common::skipped(&format!("CARLA towns: {} not found", maps.display()));
     }
     for t in towns {
         Map::load(&t).unwrap_or_else(|e| panic!("a CARLA town is refused: {e}"));
@@ -969,21 +965,9 @@ fn r2_15_compare_problems_are_named() {
 // prints SKIP and passes when they are absent. Re-run folders are built by hand in a temporary
 // folder, with the time stamps of SimLingo's real re-runs.
 
-const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/fixtures/b2d");
-
-/// The real fixtures folder, or `None` after printing why the test is skipped.
-fn fixtures(test: &str) -> Option<PathBuf> {
-    let p = PathBuf::from(FIXTURES);
-    if p.join("routes/bench2drive220.xml").is_file() {
-        Some(p)
-    } else {
-        eprintln!("SKIP {test}: {FIXTURES} is absent (the real Bench2Drive fixtures)");
-        None
-    }
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+/// The real fixtures folder, or `None` with the skip said.
+fn fixtures() -> Option<PathBuf> {
+    crate::common::b2d_fixtures(&["routes/bench2drive220.xml"])
 }
 
 /// `sds score` with `args`, the JSON report written to `dir/report.json` and read back.
@@ -1115,7 +1099,7 @@ fn first_records(src: &Path, n: usize, dst: &Path) -> Vec<Value> {
 /// map and a long list of missing routes give no noise.
 #[test]
 fn i23_5_warnings_are_not_noise() {
-    let Some(f) = fixtures("warnings_are_not_noise") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1222,10 +1206,10 @@ fn i23_5_warnings_are_not_noise() {
             "the line and its example"
         );
     } else {
-        eprintln!(
-            "SKIP (part of warnings_are_not_noise): no CARLA maps in {}",
+        crate::common::skipped(&format!(
+            "part of warnings_are_not_noise: no CARLA maps in {}",
             maps.display()
-        );
+        ));
     }
 
     // A 20-route debug run against the 220-route XML: the table note names the first 10 of the
@@ -1290,7 +1274,7 @@ fn find_record<'a>(records: &'a [Value], id: &str) -> &'a Value {
 /// last file in path order; each kept route says which copy won and why.
 #[test]
 fn i23_1_duplicates_newest_keeps_the_latest_rerun() {
-    let Some(f) = fixtures("duplicates_newest_keeps_the_latest_rerun") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1399,7 +1383,7 @@ fn i23_1_duplicates_newest_keeps_the_latest_rerun() {
 /// not to `--duplicates`.
 #[test]
 fn i23_2_several_whole_runs_in_one_folder_are_said_per_file() {
-    let Some(f) = fixtures("several_whole_runs_in_one_folder_are_said_per_file") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1463,7 +1447,7 @@ fn i23_2_several_whole_runs_in_one_folder_are_said_per_file() {
 /// it is (every parameter the file gives), else by its id; group rows list their ids.
 #[test]
 fn i23_3_weathers_are_named_after_carla_presets() {
-    let Some(f) = fixtures("weathers_are_named_after_carla_presets") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1576,7 +1560,7 @@ fn i23_3_weathers_are_named_after_carla_presets() {
 /// record (abilities and groups included), and says so in the report and the tables.
 #[test]
 fn i23_6_route_subset_found_scores_a_debug_run_over_its_routes() {
-    let Some(f) = fixtures("route_subset_found_scores_a_debug_run_over_its_routes") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();
@@ -1667,7 +1651,7 @@ fn stdout_of(args: &[&str]) -> String {
 /// undefined. (The routes table's width is checked in a browser: scripts/html-report-test.sh.)
 #[test]
 fn i23_7_output_nits_on_a_real_run() {
-    let Some(f) = fixtures("output_nits_on_a_real_run") else {
+    let Some(f) = fixtures() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

@@ -266,7 +266,7 @@ fn tables_equal_the_json_report_on_a_real_run() {
     let results = fixtures.join("carla_garage_tfpp_b2d_traj_merged.json");
     let routes = fixtures.join("routes/bench2drive220.xml");
     if !results.is_file() || !routes.is_file() {
-        eprintln!("skipped: {} is absent", results.display());
+        crate::common::skipped(&format!("{} is absent", results.display()));
         return;
     }
     let dir = tmp("tfpp");

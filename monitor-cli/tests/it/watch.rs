@@ -11,11 +11,7 @@ use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOu
 use monitor_host::{Report, RoundStatus, ScoreRequest, WatchRequest, Watcher};
 use serde_json::Value;
 
-use crate::common::sds;
-
-fn s(p: &Path) -> String {
-    p.to_str().unwrap().to_string()
-}
+use crate::common::{s, sds};
 
 /// Spawns `sds` with `args`, standard error piped.
 fn spawn(args: &[String], env: &[(&str, &str)]) -> Child {

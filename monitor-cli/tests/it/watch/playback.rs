@@ -10,7 +10,9 @@ use std::process::Command;
 use std::time::Duration;
 
 use monitor_host::report::json::json;
-use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
+use monitor_host::{demo, Inputs, LabelFiles, RoundOutcome, Settings};
+
+use super::fresh;
 use monitor_host::{Report, Watcher};
 use serde_json::Value;
 
@@ -185,18 +187,6 @@ impl Evaluator {
         r["status"] = "Failed - Agent crashed".into();
         r
     }
-}
-
-fn fresh(inputs: &Inputs) -> Report {
-    score_labelled(
-        inputs,
-        &Settings::default(),
-        &LabelFiles::default(),
-        None,
-        &NoProgress,
-    )
-    .unwrap()
-    .report
 }
 
 /// One scored round: its report, the routes replayed, the routes reused.

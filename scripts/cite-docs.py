@@ -14,7 +14,8 @@ long tables in docs/TABLES-SCHEMA.md). This script maps each old section to the 
 
 Citations read: `<doc>.md §N` (checked: <doc> must exist in the clone and hold a heading
 numbered N), and the definition's citations: its file's name, "spec"/"definition" or a version
-("v1.4") before `§N`, and a bare `§N` outside docs/SCORE.md (whose bare `§N` are its own).
+("v1.4") before `§N` or "section N", and a bare `§N` outside docs/SCORE.md (whose bare `§N` are
+its own).
 A `§N` after another document's name (a data sheet: "DDI0479C §4.3") is left alone.
 """
 
@@ -73,7 +74,7 @@ SPEC_PREFIX = (
     r"|(?:the\s+)?(?:spec|definition)(?:'s)?\s+(?:v1\.[0-9]\s+)?(?:\(\s*)?"
     r"|v1\.[0-9]\s+)"
 )
-SPEC_CITE = re.compile(r"(?P<prefix>" + SPEC_PREFIX + r")§\s?(?P<a>" + NUM + r")(?:-(?P<b>" + NUM + r"))?")
+SPEC_CITE = re.compile(r"(?P<prefix>" + SPEC_PREFIX + r")(?:§\s?|sections?\s+)(?P<a>" + NUM + r")(?:-(?P<b>" + NUM + r"))?")
 BARE_CITE = re.compile(r"(?<![\w.`/'-])(?<![\w.`]\s)§\s?(?P<a>" + NUM + r")(?:-(?P<b>" + NUM + r"))?")
 DOC_CITE = re.compile(r"(?P<doc>(?:docs/)?[A-Z][A-Z0-9_-]*\.md)`?" + GAP + r"§\s?(?P<a>" + NUM + r")(?:-(?P<b>" + NUM + r"))?")
 

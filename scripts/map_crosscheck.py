@@ -104,7 +104,7 @@ def refine(
 
 # CARLA evaluates paramPoly3 between precomputed samples: its own centre line wanders from the
 # exact curve by up to ~1.2 mm (zero every ~1.5 m), so its refined distances do too. Ours is
-# checked against an independent integration in monitor-host/tests/map_geometry.rs.
+# checked against an independent integration in monitor-host/tests/it/maps.rs.
 DIST_TOL_BY_MAP = {"parampoly3": 3e-3}
 
 

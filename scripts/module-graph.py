@@ -3,19 +3,23 @@
 
 Reads every `.rs` file under monitor-host/src, takes the paths of `use crate::...`, `use super::...`
 and inline `crate::a::b`, `super::a::b` and `self::a::b` mentions in code (comments, strings and `#[cfg(test)]` modules left out),
-resolves each to the file that defines it (following `pub use` re-exports), and prints:
+resolves each to the file that defines it (following `pub use` re-exports, lib.rs's included, and
+re-exports of re-exports), and prints:
 
 - the room-level graph (room -> rooms it imports, with the number of file edges);
 - cycles: strongly connected components of more than one node, at room level (between stages,
   and inside one stage) and at file level (across folders, and inside one folder: a folder's
   mod.rs with its own children, or two sibling files such as `cli/args.rs` <-> `cli/watch.rs`);
 - upward imports: file edges whose target room comes later in the stage order than the source
-  room (the order is below; `lib.rs` is the crate root and is left out).
+  room (the order is below; `lib.rs` is the crate root and is left out);
+- imports through the crate root (`crate::Report` inside the crate): a module names the defining
+  path, so that its edge in this graph is the real one.
 
     scripts/module-graph.py [--src monitor-host/src] [--edges] [--check]
 
 `--edges` also lists every file edge; `--check` exits 1 on any import cycle (between rooms, inside
-a stage, across folders or inside one folder) or on more than `--max-upward` (2) upward imports.
+a stage, across folders or inside one folder), on any import through the crate root, or on more
+than `--max-upward` (0) upward imports.
 """
 
 import argparse
@@ -170,8 +174,8 @@ def main():
     ap.add_argument("--edges", action="store_true", help="list every file edge")
     ap.add_argument("--check", action="store_true",
                     help="exit 1 on any cycle or on more than --max-upward upward imports")
-    ap.add_argument("--max-upward", type=int, default=2,
-                    help="upward imports --check allows (default 2)")
+    ap.add_argument("--max-upward", type=int, default=0,
+                    help="upward imports --check allows (default 0)")
     a = ap.parse_args()
 
     files = {}  # module tuple -> rel path
@@ -222,16 +226,24 @@ def main():
         # a child module of this one (`use args::Cli` in cli/mod.rs)
         if tuple(list(mod) + [path[0]]) in files:
             return list(mod) + path
+        # a name this module re-exports (`pub use run::{...}` after `pub use app::run` in lib.rs)
+        if (mod, path[0]) in reexports and reexports[(mod, path[0])] != list(mod) + path[:1]:
+            return reexports[(mod, path[0])] + path[1:]
         return None
 
-    # Re-exports: (module, name) -> absolute path.
+    # Re-exports: (module, name) -> absolute path. A re-export may name an earlier one
+    # (`pub use run::X` after `pub use app::run`): read again until nothing new is found.
     reexports = {}
-    for mod in files:
-        for pub, p in uses(mod):
-            if pub and p:
-                ab = absolute(mod, p)
-                if ab is not None and ab:
-                    reexports[(mod, p[-1])] = ab
+    while True:
+        before = dict(reexports)
+        for mod in files:
+            for pub, p in uses(mod):
+                if pub and p:
+                    ab = absolute(mod, p)
+                    if ab is not None and ab:
+                        reexports[(mod, p[-1])] = ab
+        if reexports == before:
+            break
 
     def resolve(ab, depth=0):
         """Absolute path -> module tuple of the file defining it."""
@@ -248,13 +260,23 @@ def main():
         return best
 
     edges = set()
+    # Imports through the crate root that no re-export explains: the root is no room, so such an
+    # import would hide an edge; each is listed and counted as upward.
+    unresolved = set()
+    # Imports of a name the crate root re-exports (`crate::Report`): for the library's users;
+    # inside the crate a module names the defining path, so that its edge is the real one.
+    via_root = set()
     for mod in files:
         for _, p in uses(mod):
             ab = absolute(mod, p)
             if ab is None:
                 continue
             t = resolve(ab)
-            if t != mod and t != ():
+            if mod != () and p[0] == "crate" and len(p) > 1 and ((), p[1]) in reexports:
+                via_root.add((mod, "::".join(p)))
+            if t == () and mod != () and ab and p[0] == "crate":
+                unresolved.add((mod, "::".join(p)))
+            elif t != mod and t != ():
                 edges.add((mod, t))
 
     room = lambda m: m[0] if m else "lib"
@@ -345,10 +367,16 @@ def main():
             up.append((s, t, "room not in the stage order"))
         elif st > ss:
             up.append((s, t, ""))
+    for s, path in sorted(unresolved):
+        up.append((s, (), f"{path}: through the crate root, no re-export found"))
     order = " < ".join("/".join(r) for r in STAGES)
     print(f"upward imports (stage order {order}): {len(up)}")
     for s, t, why in up:
-        print(f"  {fname(s)} -> {fname(t)}" + (f"  [{why}]" if why else ""))
+        print(f"  {fname(s)} -> {fname(t) if t else 'lib.rs'}" + (f"  [{why}]" if why else ""))
+
+    print(f"imports through the crate root's re-exports: {len(via_root)}")
+    for s, path in sorted(via_root):
+        print(f"  {fname(s)}: {path}")
 
     if a.edges:
         print("\nfile edges:")
@@ -356,13 +384,16 @@ def main():
             print(f"  {fname(s)} -> {fname(t)}")
 
     print(f"\nsummary: room cycles {len(room_cycles)}, file cycles across folders {len(cross)}, "
-          f"inside one folder {len(inner)}, upward imports {len(up)}")
+          f"inside one folder {len(inner)}, upward imports {len(up)}, "
+          f"through the crate root {len(via_root)}")
     if a.check:
         problems = []
         if room_cycles or same_stage or cross or inner:
             problems.append(f"{len(room_cycles) + len(same_stage) + len(cross) + len(inner)} import cycle(s)")
         if len(up) > a.max_upward:
             problems.append(f"{len(up)} upward imports (at most {a.max_upward})")
+        if via_root:
+            problems.append(f"{len(via_root)} import(s) through the crate root (name the defining path)")
         if problems:
             print("module-graph --check: FAILED: " + ", ".join(problems), file=sys.stderr)
             sys.exit(1)

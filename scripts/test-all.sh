@@ -18,7 +18,8 @@ STEPS=(
   "setup|setup"
   "setup-test|setup works from nothing (sandbox PATH, stub package managers; installs nothing)"
   "fmt|cargo fmt --check"
-  "module-graph|module graph: no import cycle in monitor-host/src, at most 2 upward imports"
+  "module-graph|module graph: no import cycle in monitor-host/src, no upward import, none through the crate root"
+  "cite-docs|citations: every §N names a document and section this checkout holds"
   "clippy|cargo clippy"
   "clippy-lib|library and core without default features"
   "test|cargo test"
@@ -38,6 +39,7 @@ step_setup() { bash scripts/setup.sh; }
 step_setup_test() { bash scripts/setup-test.sh; }
 step_fmt() { cargo fmt --all --check; }
 step_module_graph() { python3 scripts/module-graph.py --check; }
+step_cite_docs() { python3 scripts/cite-docs.py --check; }
 step_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 step_clippy_lib() {
   cargo clippy -p monitor-host --no-default-features --all-targets -- -D warnings

@@ -21,7 +21,7 @@ fuzz_target!(|data: &[u8]| {
     // 512 bytes of repeats per input. Every character costs ~1 µs under the fuzzer's
     // instrumentation: 64 cells of up to 200,000 characters took ~130 ms an input (77 inputs in
     // 10 s, issue 34). Cells past the 65,535 a format width holds are the regression test
-    // `a_table_cell_of_any_length_renders`'s (tests/reliability_round2.rs).
+    // `r2_03_a_table_cell_of_any_length_renders`'s (monitor-cli/tests/it/regression.rs).
     let mut budget = REPEAT_BUDGET;
     let mut cells: Vec<String> = Vec::new();
     for c in text.split('|').take(64) {

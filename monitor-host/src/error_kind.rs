@@ -3,6 +3,7 @@
 //! `sds` command's exit code and the Python package's exception class are each one match on it;
 //! a new error variant is classified here once and both front ends follow.
 
+use crate::error::Error;
 use crate::geometry::map::MapError;
 use crate::input::labels::LabelsError;
 use crate::input::results_file::ResultsError;
@@ -11,7 +12,6 @@ use crate::merge::MergeError;
 use crate::pipeline::live::LiveError;
 use crate::settings::SettingsError;
 use crate::stats::CompareError;
-use crate::Error;
 
 named_enum! {
     /// The kind of an error. `#[non_exhaustive]`: a front end's match ends with a default arm,
@@ -287,8 +287,8 @@ pub fn options(e: &Error) -> &'static [&'static str] {
 /// let w = Warning::StepPeriodUnknown { span: 10, duration_game: 1.0, dt: 0.05 };
 /// assert_eq!(warning_options(&w), ["dt=SECONDS"]);
 /// ```
-pub fn warning_options(w: &crate::warning::Warning) -> &'static [&'static str] {
-    use crate::warning::Warning as W;
+pub fn warning_options(w: &crate::input::warning::Warning) -> &'static [&'static str] {
+    use crate::input::warning::Warning as W;
     match w {
         W::Route { warning, .. } => warning_options(warning),
         W::DuplicatesScored { .. }

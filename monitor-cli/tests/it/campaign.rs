@@ -6,25 +6,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::Value;
 
-use crate::common::{b2d_fixtures, demo, sds};
-
-fn s(p: &Path) -> String {
-    p.to_str().unwrap().to_string()
-}
-
-/// Runs `sds` and returns (exit code, stderr).
-fn run(args: &[&str]) -> (i32, String) {
-    let out = sds(args);
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn read(p: &Path) -> Value {
-    serde_json::from_slice(&std::fs::read(p).unwrap())
-        .unwrap_or_else(|e| panic!("{}: not JSON: {e}", p.display()))
-}
+use crate::common::{b2d_fixtures, demo, read, run, s, split_demo};
 
 /// `sds score` of `results` into `out` (JSON) with `extra`; asserts exit 0 or 3; returns the
 /// report and standard error.
@@ -398,24 +380,6 @@ fn i46_1_rerun_xml_is_a_bench2drive_route_file_of_the_listed_routes() {
     ]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("--routes"), "{err}");
-}
-
-/// The demo's results split into two results files: records `..cut` and `cut..`.
-fn split_demo(dir: &Path, cut: usize) -> (PathBuf, PathBuf) {
-    let d = read(&dir.join("results.json"));
-    let records = d["_checkpoint"]["records"].as_array().unwrap().clone();
-    let write = |name: &str, recs: &[Value]| {
-        let mut e = d.clone();
-        e["_checkpoint"]["records"] = Value::Array(recs.to_vec());
-        e["_checkpoint"]["progress"] = serde_json::json!([recs.len(), recs.len()]);
-        let p = dir.join(name);
-        std::fs::write(&p, e.to_string()).unwrap();
-        p
-    };
-    (
-        write("part_a.json", &records[..cut]),
-        write("part_b.json", &records[cut..]),
-    )
 }
 
 fn demo_args(dir: &Path) -> Vec<String> {

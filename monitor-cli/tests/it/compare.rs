@@ -657,3 +657,7 @@ fn i46_6_compare_tables_say_the_traffic_sign_bracket() {
     ]);
     assert!(String::from_utf8_lossy(&md.stdout).contains("Traffic Sign lies in \\[70.53, 93.68\\]"));
 }
+
+/// Paired differences and verdicts on small hand-made runs, the gate, seeds, telemetry per run,
+/// and the real fixtures' runs against each other.
+mod paired;

@@ -6,7 +6,7 @@ use std::process::Output;
 
 use serde_json::{json, Value};
 
-use crate::common::{self, sds};
+use crate::common::{self, code, sds, stderr};
 
 /// The demo run in a temporary folder, and its records (raw evaluator values).
 struct Run {
@@ -51,14 +51,6 @@ impl Run {
         args.extend_from_slice(extra);
         sds(&args)
     }
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("sds was killed by a signal")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Markup a name may carry: HTML, a link, an image, bare URLs, emphasis, code, an entity.
@@ -522,3 +514,8 @@ fn r3_07_figures_markers_and_traces_are_capped_per_route() {
         .unwrap();
     assert_eq!(route["collision_events"].as_array().unwrap().len(), 2000);
 }
+
+/// A corrupted copy of a run: the full report, precise reasons, exit codes, atomic writes.
+mod corrupted_run;
+/// Special files, FIFOs, symbolic links, signals and hostile numbers (issue 12).
+mod files;

@@ -11,6 +11,7 @@ mod link;
 mod mcap;
 mod merge;
 mod perf;
+mod regression;
 mod score;
 mod seeds;
 mod sweep;

@@ -443,7 +443,7 @@ fn write_big_log(path: &Path, seconds: u64) {
 /// `sds frames --mcap` on it, or `None` without `/usr/bin/time`.
 fn peak_rss(dir: &Path, seconds: u64) -> Option<(u64, u64)> {
     if !Path::new("/usr/bin/time").exists() {
-        eprintln!("SKIPPED: /usr/bin/time not found: the peak RSS is not measured");
+        crate::common::skipped("/usr/bin/time not found: the peak RSS is not measured");
         return None;
     }
     let f = dir.join(format!("big{seconds}.mcap"));
@@ -503,7 +503,7 @@ fn i39_mcap_memory_stays_flat_as_the_log_grows() {
 }
 
 /// The 1 GB measurement of PERFORMANCE.md (ignored: it writes 1.07 GB into `target/`, removed
-/// after): `cargo test -p monitor-host --release --test it i39_mcap_1gb -- --ignored --nocapture`.
+/// after): `cargo test -p sds-cli --release --test it i39_mcap_1gb -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn i39_mcap_1gb_log_streams_with_flat_memory() {
@@ -1415,7 +1415,7 @@ fn r4_04_fifo_devices_and_sparse_files_are_refused_up_front() {
             "{stderr}"
         );
     } else {
-        eprintln!("SKIPPED the FIFO cases: mkfifo is not available");
+        crate::common::skipped("the FIFO cases: mkfifo is not available");
     }
     let out = sds(&["merge", "/dev/zero"]);
     assert_eq!(out.status.code(), Some(1));
@@ -1559,7 +1559,7 @@ fn write_camera_log(path: &Path, mib: usize, indexed: bool) {
 #[test]
 fn r4_06_a_large_unread_message_is_never_held() {
     if !Path::new("/usr/bin/time").exists() {
-        eprintln!("SKIPPED r4_06: /usr/bin/time not found: the peak RSS is not measured");
+        crate::common::skipped("/usr/bin/time not found: the peak RSS is not measured");
         return;
     }
     let tmp = tempfile::tempdir().unwrap();

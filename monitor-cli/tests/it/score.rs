@@ -1375,3 +1375,18 @@ fn i46_6_warnings_spell_the_command_line_flags() {
         "{line}"
     );
 }
+
+/// The deductions' decomposition sums back to the score; the figures drawn from it.
+mod decomposition;
+/// The demo scored as worked out by hand, formats, settings, families, maps and groups.
+mod demo;
+/// The report's events: counts, places and the real runs' red lights and stop signs.
+mod events;
+/// Route-label maps (`--route-labels`) and the group rows they make.
+mod groups;
+/// Each protocol's fixed terms on hand-made records, and every real fixture under all of them.
+mod protocol_terms;
+/// Real runs' layouts: shards beside merged files, per-route folders, missing telemetry, labels.
+mod real_runs;
+/// The real merged files reproduce their stored driving score and success rate.
+mod stored;

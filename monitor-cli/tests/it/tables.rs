@@ -266,7 +266,7 @@ fn tables_equal_the_json_report_on_a_real_run() {
     let results = fixtures.join("carla_garage_tfpp_b2d_traj_merged.json");
     let routes = fixtures.join("routes/bench2drive220.xml");
     if !results.is_file() || !routes.is_file() {
-        eprintln!("skipped: {} is absent", results.display());
+        crate::common::skipped(&format!("{} is absent", results.display()));
         return;
     }
     let dir = tmp("tfpp");
@@ -521,3 +521,7 @@ fn compare_tables_hold_each_runs_score_report_under_its_run_and_model() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The Bench2Drive tables (abilities, efficiency, weathers, seeds) of real runs reproduce
+/// Bench2Drive's own figures.
+mod bench2drive;

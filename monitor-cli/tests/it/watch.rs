@@ -11,11 +11,7 @@ use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOu
 use monitor_host::{Report, RoundStatus, ScoreRequest, WatchRequest, Watcher};
 use serde_json::Value;
 
-use crate::common::sds;
-
-fn s(p: &Path) -> String {
-    p.to_str().unwrap().to_string()
-}
+use crate::common::{s, sds};
 
 /// Spawns `sds` with `args`, standard error piped.
 fn spawn(args: &[String], env: &[(&str, &str)]) -> Child {
@@ -1497,3 +1493,7 @@ fn r4_12_a_file_from_the_future_does_not_keep_the_watch_running() {
         "{err}"
     );
 }
+
+/// Playback of a growing checkpoint in every layout, the live watch ending with the score
+/// report, Ctrl-C and the time left.
+mod playback;

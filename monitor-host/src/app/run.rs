@@ -203,34 +203,7 @@ fn score_points(
             inputs: inputs.results.clone(),
         });
     }
-    let kept = deduplicate(all.clone(), settings.duplicates)?;
-    if settings.duplicates == DuplicatePolicy::All && !kept.duplicates.is_empty() {
-        warnings.push(Warning::DuplicatesScored {
-            ids: kept.duplicates.len(),
-            first: kept.duplicates.iter().take(5).cloned().collect(),
-        });
-    }
-    if !kept.dropped.is_empty() {
-        warnings.push(Warning::DuplicatesDropped {
-            copies: kept.dropped.len(),
-            ids: kept.duplicates.len(),
-            policy: settings.duplicates.name(),
-        });
-    }
-    let by_order: Vec<String> = kept
-        .kept
-        .iter()
-        .filter(|k| k.by_order)
-        .map(|k| {
-            let r = all.iter().find(|r| Source::of(r) == k.source);
-            r.and_then(route_id_of).unwrap_or_default().to_string()
-        })
-        .collect();
-    if !by_order.is_empty() {
-        warnings.push(Warning::NewestByOrder { routes: by_order });
-    }
-    let mut kept = kept;
-    note_year_wraps_and_earlier_attempts(&mut kept, &all, &sets, settings, &mut warnings);
+    let kept = keep_one_copy(&all, &sets, settings, &mut warnings)?;
     let records = kept.records;
     let routes = inputs
         .route_xml
@@ -241,39 +214,7 @@ fn score_points(
         let set = route_set(xml, records.iter().filter_map(|r| route_id_of(r)));
         route_subset(set, settings.route_subset)
     });
-    let foreign: Vec<bool> = records
-        .iter()
-        .map(|r| {
-            set.as_ref()
-                .zip(route_id_of(r))
-                .is_some_and(|(s, id)| !s.contains(id))
-        })
-        .collect();
-    let missing = set.as_ref().map_or(0, |s| s.missing.len());
-    // Under a route set, an entry without a route id (an unreadable file) is most likely one of
-    // the missing routes: it is reported, but not counted against N a second time.
-    let counted = records
-        .iter()
-        .zip(&foreign)
-        .filter(|(r, f)| !**f && (set.is_none() || route_id_of(r).is_some()))
-        .count()
-        + missing;
-    // Under `duplicates: all` every copy counts in N.
-    let extra_copies = records.len() - kept_ids(&records);
-    let n = benchmark_size(settings.expected_routes, set.as_ref(), counted)
-        + if settings.expected_routes.is_none() && set.is_some() {
-            extra_copies
-        } else {
-            0
-        };
-    if n < counted {
-        return Err(Error::TooFewRoutes {
-            n,
-            counted,
-            missing,
-            from_option: settings.expected_routes.is_some(),
-        });
-    }
+    let (foreign, n) = foreign_and_n(&records, set.as_ref(), settings)?;
     let input_reports = check_inputs(&sets, &all, n, &mut warnings);
     // Every copy of the records but the kept ones is done with: a run's memory holds one record
     // per route while it replays.
@@ -374,6 +315,86 @@ fn score_points(
         .zip(point_warnings)
         .map(|((settings, done), map_warnings)| run.report(done, settings, map_warnings))
         .collect())
+}
+
+/// The duplicates policy applied to every record read, with the warnings it raises: copies
+/// scored or left out, the newest chosen by input order, year wraps and earlier attempts.
+fn keep_one_copy(
+    all: &[LoadedRecord],
+    sets: &[ResultSet],
+    settings: &Settings,
+    warnings: &mut Vec<Warning>,
+) -> Result<Deduplicated, Error> {
+    let mut kept = deduplicate(all.to_vec(), settings.duplicates)?;
+    if settings.duplicates == DuplicatePolicy::All && !kept.duplicates.is_empty() {
+        warnings.push(Warning::DuplicatesScored {
+            ids: kept.duplicates.len(),
+            first: kept.duplicates.iter().take(5).cloned().collect(),
+        });
+    }
+    if !kept.dropped.is_empty() {
+        warnings.push(Warning::DuplicatesDropped {
+            copies: kept.dropped.len(),
+            ids: kept.duplicates.len(),
+            policy: settings.duplicates.name(),
+        });
+    }
+    let by_order: Vec<String> = kept
+        .kept
+        .iter()
+        .filter(|k| k.by_order)
+        .map(|k| {
+            let r = all.iter().find(|r| Source::of(r) == k.source);
+            r.and_then(route_id_of).unwrap_or_default().to_string()
+        })
+        .collect();
+    if !by_order.is_empty() {
+        warnings.push(Warning::NewestByOrder { routes: by_order });
+    }
+    note_year_wraps_and_earlier_attempts(&mut kept, all, sets, settings, warnings);
+    Ok(kept)
+}
+
+/// Per record, whether it is foreign to the route set; and N, the benchmark's size: an error
+/// when N is smaller than the routes counted.
+fn foreign_and_n(
+    records: &[LoadedRecord],
+    set: Option<&crate::input::route_set::RunRouteSet>,
+    settings: &Settings,
+) -> Result<(Vec<bool>, usize), Error> {
+    let foreign: Vec<bool> = records
+        .iter()
+        .map(|r| {
+            set.zip(route_id_of(r))
+                .is_some_and(|(s, id)| !s.contains(id))
+        })
+        .collect();
+    let missing = set.map_or(0, |s| s.missing.len());
+    // Under a route set, an entry without a route id (an unreadable file) is most likely one of
+    // the missing routes: it is reported, but not counted against N a second time.
+    let counted = records
+        .iter()
+        .zip(&foreign)
+        .filter(|(r, f)| !**f && (set.is_none() || route_id_of(r).is_some()))
+        .count()
+        + missing;
+    // Under `duplicates: all` every copy counts in N.
+    let extra_copies = records.len() - kept_ids(records);
+    let n = benchmark_size(settings.expected_routes, set, counted)
+        + if settings.expected_routes.is_none() && set.is_some() {
+            extra_copies
+        } else {
+            0
+        };
+    if n < counted {
+        return Err(Error::TooFewRoutes {
+            n,
+            counted,
+            missing,
+            from_option: settings.expected_routes.is_some(),
+        });
+    }
+    Ok((foreign, n))
 }
 
 /// What a run read before its routes were replayed: the rest of its report, at each point.

@@ -602,7 +602,7 @@ impl Watcher {
     fn status_line(
         &self,
         p: &WatchStatus,
-        report: &crate::Report,
+        report: &crate::model::Report,
         cache: &CacheRound,
         changed: bool,
         began: std::time::Instant,
@@ -690,7 +690,7 @@ impl Watcher {
     }
 
     /// The status figures of a report of this watch.
-    pub fn progress(&self, report: &crate::Report) -> WatchStatus {
+    pub fn progress(&self, report: &crate::model::Report) -> WatchStatus {
         let done: Vec<&crate::route::row::RouteReport> = report
             .routes
             .iter()

@@ -6,7 +6,7 @@
 //! with the same formula on a coordinate difference that is never larger than the true one
 //! (rounding is monotone), so no frame the scan would pick is ever pruned: the answer is
 //! bit-identical (property test `nearest_index_matches_the_scan` in
-//! `tests/tests/parsers_never_panic.rs` against the old quadratic scan). A query costs
+//! `tests/tests/it/parsers_never_panic.rs` against the old quadratic scan). A query costs
 //! O(log frames) on real routes instead of O(frames); building costs O(frames log frames).
 //!
 //! ```

@@ -340,6 +340,56 @@ pub enum Warning {
 
 impl std::fmt::Display for Warning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // Each family of warnings is written by its own function (`Warning::fmt_*`); the few
+        // that pass a text on are written here.
+        match self {
+            Warning::NoRecords { .. }
+            | Warning::Unfinished { .. }
+            | Warning::StoredTotalsIgnored { .. }
+            | Warning::UnknownStatus { .. }
+            | Warning::ComposedScore { .. }
+            | Warning::UnreadableResults { .. }
+            | Warning::MergedSkipped { .. }
+            | Warning::CannotList { .. }
+            | Warning::LinkLeavesRoot { .. }
+            | Warning::CannotRead { .. }
+            | Warning::StoredFigures { .. }
+            | Warning::EvalNum { .. }
+            | Warning::LeadInfractions { .. }
+            | Warning::UnparseableCollision { .. } => self.fmt_results(f),
+            Warning::DuplicatesScored { .. }
+            | Warning::DuplicatesDropped { .. }
+            | Warning::NewestByOrder { .. }
+            | Warning::NewestYearWrap { .. }
+            | Warning::EarlierAttempt { .. }
+            | Warning::ForeignRoute { .. } => self.fmt_route_set(f),
+            Warning::StepPeriodUnknown { .. }
+            | Warning::StepPeriodPartial { .. }
+            | Warning::LargeGaps { .. }
+            | Warning::NoTelemetry { .. } => self.fmt_telemetry(f),
+            Warning::AllGaps { .. }
+            | Warning::NoReference(..)
+            | Warning::NoMap { .. }
+            | Warning::NoMaps { .. }
+            | Warning::MapNotServing { .. } => self.fmt_reference(f),
+            Warning::LabelsMissKeys { .. }
+            | Warning::Unmapped { .. }
+            | Warning::Protocol(..)
+            | Warning::MinSpeedRegrouped { .. }
+            | Warning::F2dUnfinished { .. } => self.fmt_groups(f),
+            Warning::Route { route, warning } => write!(f, "{route}: {warning}"),
+            Warning::Recorded(text) => f.write_str(text),
+            Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
+            Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
+            Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
+        }
+    }
+}
+
+impl Warning {
+    /// The results files and what was read from them: records, stored figures, unreadable or
+    /// skipped files.
+    fn fmt_results(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Warning::NoRecords {
                 file,
@@ -418,6 +468,48 @@ impl std::fmt::Display for Warning {
             Warning::CannotRead { path, reason } => {
                 write!(f, "{}: cannot read: {reason}", path.display())
             }
+            Warning::StoredFigures {
+                file,
+                what,
+                stored,
+                stored_denominator,
+                computed,
+                n,
+            } => write!(
+                f,
+                "{}: stored {what} {stored} ({stored_denominator}) differs from the computed \
+                 {computed} over the file's records divided by N = {n}",
+                file.display()
+            ),
+            Warning::EvalNum {
+                file,
+                eval_num,
+                records,
+            } => write!(
+                f,
+                "{}: eval num {eval_num} but {records} records in the file: the merge counted \
+                 route(s) whose record it did not keep (with a route XML, every route of the set \
+                 without a record is listed as missing)",
+                file.display()
+            ),
+            Warning::LeadInfractions { file, reason } => write!(
+                f,
+                "{}: {reason}; collisions aligned by position instead",
+                file.display()
+            ),
+            Warning::UnparseableCollision { list, reason } => write!(
+                f,
+                "{}: unparseable collision string ({reason}): counted, not aligned",
+                list.name()
+            ),
+            // The other families are written by `Display::fmt` or their own function.
+            _ => unreachable!("{self:?} is not of this family"),
+        }
+    }
+
+    /// Which copy of a route was kept (the duplicates policy) and routes outside the route set.
+    fn fmt_route_set(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
             Warning::DuplicatesScored { ids, first } => write!(
                 f,
                 "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
@@ -482,19 +574,14 @@ impl std::fmt::Display for Warning {
                  every aggregate",
                 routes_file.display()
             ),
-            Warning::StoredFigures {
-                file,
-                what,
-                stored,
-                stored_denominator,
-                computed,
-                n,
-            } => write!(
-                f,
-                "{}: stored {what} {stored} ({stored_denominator}) differs from the computed \
-                 {computed} over the file's records divided by N = {n}",
-                file.display()
-            ),
+            // The other families are written by `Display::fmt` or their own function.
+            _ => unreachable!("{self:?} is not of this family"),
+        }
+    }
+
+    /// The telemetry: its step period, its gaps, none found.
+    fn fmt_telemetry(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
             Warning::StepPeriodUnknown {
                 span,
                 duration_game,
@@ -540,30 +627,14 @@ impl std::fmt::Display for Warning {
                      (telemetry), or allow_missing_telemetry to score without telemetry terms",
                 )
             }
-            Warning::LabelsMissKeys { file, keys, count } => write!(
-                f,
-                "{}: no label for {count} key(s) ({}{}): those routes fall in \"(unmapped)\"",
-                file.display(),
-                keys.join(", "),
-                if *count > keys.len() { ", ..." } else { "" }
-            ),
-            Warning::Route { route, warning } => write!(f, "{route}: {warning}"),
-            Warning::EvalNum {
-                file,
-                eval_num,
-                records,
-            } => write!(
-                f,
-                "{}: eval num {eval_num} but {records} records in the file: the merge counted \
-                 route(s) whose record it did not keep (with a route XML, every route of the set \
-                 without a record is listed as missing)",
-                file.display()
-            ),
-            Warning::LeadInfractions { file, reason } => write!(
-                f,
-                "{}: {reason}; collisions aligned by position instead",
-                file.display()
-            ),
+            // The other families are written by `Display::fmt` or their own function.
+            _ => unreachable!("{self:?} is not of this family"),
+        }
+    }
+
+    /// The lateral reference: maps that are absent or serve no route, routes without one.
+    fn fmt_reference(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
             Warning::AllGaps {
                 file,
                 route,
@@ -609,7 +680,7 @@ impl std::fmt::Display for Warning {
                      unscored, every lane `lane_width` wide)",
                     towns.len(),
                     id_list(&listed)
-)?;
+                )?;
                 if *lane_fallback {
                     f.write_str("; lateral_reference=lane needs a map and falls back to route")?;
                 }
@@ -640,10 +711,20 @@ impl std::fmt::Display for Warning {
                 }
                 Ok(())
             }
-            Warning::UnparseableCollision { list, reason } => write!(
+            // The other families are written by `Display::fmt` or their own function.
+            _ => unreachable!("{self:?} is not of this family"),
+        }
+    }
+
+    /// Label files, groups and the scoring protocols.
+    fn fmt_groups(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Warning::LabelsMissKeys { file, keys, count } => write!(
                 f,
-                "{}: unparseable collision string ({reason}): counted, not aligned",
-                list.name()
+                "{}: no label for {count} key(s) ({}{}): those routes fall in \"(unmapped)\"",
+                file.display(),
+                keys.join(", "),
+                if *count > keys.len() { ", ..." } else { "" }
             ),
             Warning::Unmapped { by, keys, routes } => write!(
                 f,
@@ -666,10 +747,6 @@ impl std::fmt::Display for Warning {
                  setting min_speed_grid=lb-4 charges every entry below 100 %)",
                 protocols.join(", ")
             ),
-            Warning::Recorded(text) => f.write_str(text),
-            Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
-            Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
-            Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
             Warning::F2dUnfinished { routes } => write!(
                 f,
                 "protocols: f2d: {} route(s) count as Fail2Drive successes though they did not \
@@ -678,6 +755,8 @@ impl std::fmt::Display for Warning {
                 routes.len(),
                 id_list(routes)
             ),
+            // The other families are written by `Display::fmt` or their own function.
+            _ => unreachable!("{self:?} is not of this family"),
         }
     }
 }

@@ -4,7 +4,7 @@
 //! Why it exists: §9 requires the streaming monitor ([`monitor_core::Monitor`], one frame at a
 //! time in fixed memory) and a batch computation over whole arrays to agree bit for bit. This
 //! module is that second path, written in the plain style of the spec's formulas so that it can
-//! be read against the spec line by line; the property test `tests/tests/streaming_vs_batch.rs`
+//! be read against the spec line by line; the property test `tests/tests/it/streaming_vs_batch.rs`
 //! checks that the two paths agree on random routes, and the replay tool can run both.
 //!
 //! What it shares with `monitor-core`: only the low-level f32 kernels, which the spec requires

@@ -5,7 +5,7 @@
 //! lane width behind the core's value. `sds score --tables` writes the same values as the rows
 //! of `frames.csv` ([`super::long_tables`]).
 
-use crate::RouteFrames;
+use crate::model::frames::RouteFrames;
 
 /// The frames of one route as JSON lines, one object per frame, each ending in `\n`.
 ///

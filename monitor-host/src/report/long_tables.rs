@@ -18,9 +18,9 @@ use std::fmt;
 use serde::de::{Deserialize, Deserializer, MapAccess, SeqAccess, Visitor};
 
 use crate::input::duplicates::Source;
+use crate::model::frames::RouteFrames;
 use crate::model::report::Report;
 use crate::report::escape::{csv_cell, is_hidden};
-use crate::RouteFrames;
 
 /// The file names `--tables DIR` writes.
 pub const TABLE_NAMES: [&str; 3] = ["routes.csv", "events.csv", "frames.csv"];

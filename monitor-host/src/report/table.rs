@@ -179,7 +179,7 @@ fn any_telemetry(report: &Report) -> bool {
     report
         .routes
         .iter()
-        .any(|r| r.telemetry == crate::TelemetryState::Ok)
+        .any(|r| r.telemetry == crate::pipeline::outcome::TelemetryState::Ok)
 }
 
 /// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS; beside Comfort, comfort over

@@ -8,7 +8,7 @@
 //! writes (about 3x the speed: it learns a frame's layout and then reads only the numbers of the
 //! frames after it), and, for any input it is not sure of, a serde_json visitor,
 //! which alone decides every error and its message. Both give the same frames bit for bit
-//! (`tests/tests/metric_info_fast_path.rs`). Each frame is reduced to the 2-D parts the monitor
+//! (`tests/tests/it/metric_info_fast_path.rs`). Each frame is reduced to the 2-D parts the monitor
 //! needs ([`TelemetryFrame`]).
 //!
 //! ```
@@ -87,7 +87,7 @@ pub fn parse_metric_info(bytes: &[u8]) -> Result<Telemetry, TelemetryError> {
 
 /// The fast path alone: `Some` where it is sure of the answer, `None` where
 /// [`parse_metric_info`] defers to serde_json. Public for the equivalence test
-/// (`tests/tests/metric_info_fast_path.rs`), not for users.
+/// (`tests/tests/it/metric_info_fast_path.rs`), not for users.
 #[doc(hidden)]
 pub fn parse_metric_info_fast(bytes: &[u8]) -> Option<Telemetry> {
     scan::parse(bytes).and_then(|(frames, sorted)| finish(frames, sorted).ok())

@@ -666,3 +666,6 @@ fn projector_with_history_equals_plain_projection() {
         projector.shortcuts()
     );
 }
+
+/// `--maps` on the real CARLA towns and real routes.
+mod real;

@@ -7,14 +7,9 @@ use std::process::Command;
 
 use serde_json::Value;
 
+/// `../shared/fixtures/b2d`, or `None` (the skip said).
 fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent", dir.display());
-        None
-    }
+    crate::common::b2d_fixtures(&[])
 }
 
 /// Runs `sds score` and returns (exit code, report, stderr).

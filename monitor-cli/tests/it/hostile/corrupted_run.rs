@@ -15,6 +15,8 @@ use std::process::{Command, Output};
 
 use serde_json::{json, Value};
 
+use crate::common::{code, stderr};
+
 const SDS: &str = env!("CARGO_BIN_EXE_sds");
 const FIXTURES: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/fixtures/b2d");
 
@@ -24,14 +26,6 @@ fn sds(args: &[&dyn AsRef<std::ffi::OsStr>]) -> Output {
         c.arg(a);
     }
     c.output().expect("run sds")
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("sds was killed by a signal")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// The demo run in `dir`: its records (raw evaluator values) and paths.
@@ -487,7 +481,9 @@ fn corrupted_run_yields_full_report_and_precise_lines() {
         .unwrap();
         // Not in the run's route XML: a foreign route (checked below), reported, not counted.
     } else {
-        eprintln!("skipped: real fixtures absent ({FIXTURES}); the run uses demo routes only");
+        crate::common::skipped(&format!(
+            "real fixtures absent ({FIXTURES}); the run uses demo routes only"
+        ));
     }
 
     let xml = xml_with_clones(&fs::read_to_string(&demo.routes).unwrap(), &clones);

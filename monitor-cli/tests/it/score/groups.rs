@@ -6,8 +6,7 @@ use std::process::Output;
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, score_demo as score};
+use crate::common::{demo, score_demo as score};
 
 fn json_of(out: &Output) -> Value {
     assert_eq!(

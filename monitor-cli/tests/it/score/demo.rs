@@ -5,8 +5,7 @@ use std::path::Path;
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, sds};
+use crate::common::{self, demo, sds};
 
 /// `sds score` on the demo in `dir` (results, telemetry, routes), with `extra` arguments.
 fn run_score(dir: &Path, extra: &[&str]) -> std::process::Output {

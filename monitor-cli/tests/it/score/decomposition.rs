@@ -3,12 +3,11 @@
 //! demo and on every real Bench2Drive results file of the shared fixtures (no telemetry there:
 //! `--allow-missing-telemetry`).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, score_demo, sds};
+use crate::common::{demo, score_demo, sds};
 
 const STEPS: [&str; 5] = ["rounding", "workzone", "nodecel", "anomalous", "critical"];
 
@@ -105,17 +104,8 @@ fn demo_decomposition_sums_back() {
     assert!(f(&s["critical"]) > 0.0 && f(&s["comfort"]) > 0.0);
 }
 
-fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is absent: the real-run decomposition is not checked",
-            dir.display()
-        );
-        None
-    }
+fn fixtures() -> Option<std::path::PathBuf> {
+    crate::common::b2d_fixtures(&[])
 }
 
 #[test]

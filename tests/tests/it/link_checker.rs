@@ -13,7 +13,7 @@
 //! - every single-byte corruption and every burst of up to 32 bits of a message is caught.
 //!
 //! Cases: `PROPTEST_CASES` if set, else 2,000. Run:
-//! `cargo test -p sds-tests --release --test link_checker`.
+//! `cargo test -p sds-tests --release --test it link_checker::`.
 
 use monitor_core::link::{
     self, e2e, CheckStatus, Checker, Deframer, LinkConfig, LinkEvent, LinkSummary, Message, Tagged,

@@ -6,9 +6,10 @@
 //! on the real fixtures (`../shared/fixtures/b2d`, skipped with a printed reason when absent).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use serde_json::{json, Value};
+
+use crate::common::sds;
 
 /// One record: route id, score_composed, success.
 type Rec<'a> = (&'a str, f64, bool);
@@ -52,13 +53,6 @@ fn write_run(dir: &Path, name: &str, recs: &[Rec<'_>]) -> PathBuf {
     let path = dir.join(format!("{name}.json"));
     std::fs::write(&path, serde_json::to_vec(&run).unwrap()).unwrap();
     path
-}
-
-fn sds(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn compare_json(extra: &[&str], runs: &[(&str, &Path)]) -> (Option<i32>, Value, String) {
@@ -516,17 +510,8 @@ fn score_reports_carry_the_route_set() {
     assert_eq!(r["inputs"]["files"][0]["records"], 2);
 }
 
-fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    if dir.join("routes/bench2drive220.xml").is_file() && dir.join("lead_tfv6_per_route").is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "skipped: {} is absent (the real-run comparison was not run)",
-            dir.display()
-        );
-        None
-    }
+fn fixtures() -> Option<std::path::PathBuf> {
+    crate::common::b2d_fixtures(&["routes/bench2drive220.xml", "lead_tfv6_per_route"])
 }
 
 /// TransFuser++ (merged file) against LEAD (per-route files) over the 220 routes: the paired

@@ -5,8 +5,7 @@
 
 use serde_json::Value;
 
-mod common;
-use common::{demo, score_demo};
+use crate::common::{self, demo, score_demo};
 
 fn count(r: &Value, kind: &str) -> u64 {
     r["events"]
@@ -243,16 +242,7 @@ fn red_lights_sit_at_the_closest_approach_and_blocked_where_the_car_stopped() {
 }
 
 fn fixtures() -> Option<std::path::PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures/b2d");
-    if dir.is_dir() {
-        Some(dir)
-    } else {
-        eprintln!(
-            "SKIPPED: {} is absent: the real red lights and stop signs are not checked",
-            dir.display()
-        );
-        None
-    }
+    crate::common::b2d_fixtures(&[])
 }
 
 /// Every red light and stop sign of the real results files: listed in the report (unplaced:

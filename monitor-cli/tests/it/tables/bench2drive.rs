@@ -5,25 +5,15 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures");
-    if dir.join("b2d/routes/bench2drive220.xml").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent", dir.display());
-        None
-    }
-}
+use crate::common::{path_str as s, sds};
 
-fn sds(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(args)
-        .output()
-        .unwrap()
+/// `../shared/fixtures` with the Bench2Drive route file, or `None` (the skip said).
+fn fixtures() -> Option<PathBuf> {
+    crate::common::shared_fixtures("b2d/routes/bench2drive220.xml")
 }
 
 fn json_of(out: &Output) -> Value {
@@ -37,10 +27,6 @@ fn json_of(out: &Output) -> Value {
 
 fn read(path: &Path) -> Value {
     serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
-}
-
-fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
 }
 
 /// Route id -> (town, scenario type) from the route XML, read here with plain string search

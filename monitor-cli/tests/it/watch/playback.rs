@@ -6,11 +6,13 @@
 use std::fs::{self, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 use monitor_host::report::json::json;
-use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
+use monitor_host::{demo, Inputs, LabelFiles, RoundOutcome, Settings};
+
+use super::fresh;
 use monitor_host::{Report, Watcher};
 use serde_json::Value;
 
@@ -187,18 +189,6 @@ impl Evaluator {
     }
 }
 
-fn fresh(inputs: &Inputs) -> Report {
-    score_labelled(
-        inputs,
-        &Settings::default(),
-        &LabelFiles::default(),
-        None,
-        &NoProgress,
-    )
-    .unwrap()
-    .report
-}
-
 /// One scored round: its report, the routes replayed, the routes reused.
 fn scored(w: &mut Watcher) -> (Report, usize, usize, Vec<String>) {
     match w.round().unwrap() {
@@ -340,8 +330,11 @@ fn playback(layout: Layout) {
     let name = ev.records[2]["save_name"].as_str().unwrap();
     let file = ev.run.join("telemetry").join(name).join("metric_info.json");
     let bytes = fs::read(&file).unwrap();
-    std::thread::sleep(Duration::from_millis(20));
+    let before = fs::metadata(&file).unwrap().modified().unwrap();
     fs::write(&file, &bytes).unwrap();
+    // A second later than before, set rather than waited for: a coarse clock cannot hide it.
+    let f = OpenOptions::new().write(true).open(&file).unwrap();
+    f.set_modified(before + Duration::from_secs(1)).unwrap();
     let (_, rescored, _, changed) = scored(&mut w);
     assert_eq!(
         (rescored, changed),
@@ -367,19 +360,20 @@ fn playback_per_route_folders_rescored_only_when_changed() {
     playback(Layout::PerRoute);
 }
 
-/// Spawns `sds watch` over the evaluator's run.
-fn spawn_watch(ev: &Evaluator, out: &Path, extra: &[&str]) -> std::process::Child {
+/// `sds watch` over the evaluator's run, its status lines in JSON.
+fn watch_args(ev: &Evaluator, out: &Path, extra: &[&str]) -> Vec<String> {
     let s = |p: &Path| p.to_str().unwrap().to_string();
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(["watch", "--results", &s(&ev.results())])
-        .args(["--telemetry", &s(&ev.run.join("telemetry"))])
-        .args(["--routes", &s(&ev.src.routes), "--maps", &s(&ev.src.maps)])
-        .args(["-o", &s(out), "--status-json"])
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap()
+    let mut args = vec!["watch".to_string(), "--results".into(), s(&ev.results())];
+    args.extend(["--telemetry".into(), s(&ev.run.join("telemetry"))]);
+    args.extend([
+        "--routes".into(),
+        s(&ev.src.routes),
+        "--maps".into(),
+        s(&ev.src.maps),
+    ]);
+    args.extend(["-o".into(), s(out), "--status-json".into()]);
+    args.extend(extra.iter().map(|a| a.to_string()));
+    args
 }
 
 /// `sds score` over the evaluator's run, written to `out`.
@@ -396,24 +390,9 @@ fn score_to(ev: &Evaluator, out: &Path, extra: &[&str]) -> i32 {
     o.status.code().unwrap()
 }
 
-fn wait(child: &mut std::process::Child, limit: Duration) -> std::process::Output {
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            panic!("sds watch did not stop within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    child.stdout.take();
-    let mut err = String::new();
-    std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
-    let status = child.wait().unwrap();
-    std::process::Output {
-        status,
-        stdout: Vec::new(),
-        stderr: err.into_bytes(),
-    }
+/// A scored (not retried) round with `done` routes done.
+fn round_of(done: usize) -> impl Fn(&Value) -> bool {
+    move |l| l["done"] == done && l.get("retry").is_none()
 }
 
 #[test]
@@ -421,71 +400,30 @@ fn live_playback_ends_with_the_score_report() {
     let dir = tempfile::tempdir().unwrap();
     let ev = Evaluator::new(dir.path());
     let out = dir.path().join("live.json");
-    let mut child = spawn_watch(&ev, &out, &["--interval", "0.03", "--timeout", "120"]);
-    // Its status lines, read as they come: the playback waits for a partial round below
-    // instead of hoping one came between two writes (issue 47 item 13).
-    let lines = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
-    let reader = {
-        let err = child.stderr.take().unwrap();
-        let lines = lines.clone();
-        std::thread::spawn(move || {
-            for l in std::io::BufRead::lines(std::io::BufReader::new(err)).map_while(Result::ok) {
-                lines.lock().unwrap().push(l);
-            }
-        })
-    };
-    // The evaluation, time compressed: a route every 80 ms, each checkpoint write paused
-    // half-way for 40 ms, a crash and a resume of route 3.
+    let mut live = super::Live::spawn(&watch_args(&ev, &out, &["--interval", "0.03"]));
+    // The evaluation in lockstep with the watch: each state of the run is written once the
+    // watch said it scored the one before (a status line), never after a pause, so the rounds
+    // seen do not depend on how busy the machine is (issue 48; pauses raced them before).
     let mut done: Vec<Value> = Vec::new();
     for k in 0..ev.records.len() {
         if k == 3 {
+            // Route 3 crashes: its record is written and scored, then on resume the evaluator
+            // drops it (the checkpoint shrinks) and runs the route again.
             let mut with_crash = done.clone();
             with_crash.push(ev.crashed(k));
             ev.write(&with_crash, false);
-            std::thread::sleep(Duration::from_millis(80));
+            live.status("round of the crashed record", round_of(k + 1));
             ev.write(&done, false);
-            std::thread::sleep(Duration::from_millis(80));
+            live.status("round after the resume", round_of(k));
         }
         ev.telemetry(k);
         done.push(ev.records[k].clone());
+        // Written in two parts: a round may catch the checkpoint half-written and retry.
         let rest = ev.write(&done, true);
-        std::thread::sleep(Duration::from_millis(40));
         ev.finish(&rest);
-        if k == 1 {
-            // A partial round (2 of 9 routes done) is seen before the run goes on.
-            let start = Instant::now();
-            while !lines
-                .lock()
-                .unwrap()
-                .iter()
-                .any(|l| serde_json::from_str::<Value>(l).is_ok_and(|r| r["done"] == 2))
-            {
-                assert!(
-                    start.elapsed() < Duration::from_secs(120),
-                    "no partial round"
-                );
-                std::thread::sleep(Duration::from_millis(10));
-            }
-        }
-        std::thread::sleep(Duration::from_millis(80));
+        live.status("round of the route", round_of(k + 1));
     }
-    let start = Instant::now();
-    let status = loop {
-        if let Some(st) = child.try_wait().unwrap() {
-            break st;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(120),
-            "sds watch did not stop"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    reader.join().unwrap();
-    let o = std::process::Output {
-        status,
-        stdout: Vec::new(),
-        stderr: lines.lock().unwrap().join("\n").into_bytes(),
-    };
+    let o = live.finish(Duration::from_secs(120));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(!err.contains("sds: error"), "{err}");
     assert!(err.contains("the route set is complete"), "{err}");
@@ -516,24 +454,20 @@ fn ctrl_c_writes_the_final_report() {
     }
     ev.write(&ev.records[..4], false);
     let out = dir.path().join("live.html");
-    let mut child = spawn_watch(&ev, &out, &["--interval", "0.1", "--format", "html"]);
-    let start = Instant::now();
-    while !out.exists() {
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "no report written"
-        );
-        std::thread::sleep(Duration::from_millis(20));
-    }
+    let mut live = super::Live::spawn(&watch_args(
+        &ev,
+        &out,
+        &["--interval", "0.1", "--format", "html"],
+    ));
+    // A round's status line comes before its report is written: the second round's line says
+    // the first round's page is on disk.
+    live.status("first round", round_of(4));
+    live.status("second round", round_of(4));
     // While the watch runs the page reloads itself.
     let page = fs::read_to_string(&out).unwrap();
     assert!(page.contains("http-equiv=\"refresh\""));
-    #[allow(unsafe_code)]
-    // SAFETY: kill(2) on our own child's pid.
-    unsafe {
-        libc::kill(child.id() as i32, libc::SIGINT);
-    }
-    let o = wait(&mut child, Duration::from_secs(60));
+    live.interrupt();
+    let o = live.finish(Duration::from_secs(60));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("interrupted"), "{err}");
     let reference = dir.path().join("score.html");

@@ -6,7 +6,7 @@
 //! every event and every score must be identical (floats compared with `to_bits`).
 //!
 //! Cases: `PROPTEST_CASES` if set, else 10,000 for the main property (2,000 for the others).
-//! Run: `cargo test -p sds-tests --release --test streaming_vs_batch`.
+//! Run: `cargo test -p sds-tests --release --test it streaming_vs_batch::`.
 
 use monitor_core::{
     score, Band, Collisions, Config, Factors, Frame, Monitor, MonitorError, Profile, RecordScores,

@@ -4,7 +4,7 @@
 //!
 //! The demo is written to a temporary folder; its path in the report (`source`) is replaced by
 //! `<demo>`, and the host name in its provenance by `<host>`. After an intended change to the report, regenerate the file with
-//! `SDS_BLESS=1 cargo test -p monitor-host --test golden` and commit it with the change.
+//! `SDS_BLESS=1 cargo test -p monitor-host --release --test it golden` and commit it with the change.
 
 use std::path::Path;
 
@@ -46,7 +46,7 @@ fn demo_report_matches_the_golden_file() {
     }
     let want = std::fs::read_to_string(Path::new(GOLDEN)).unwrap_or_else(|e| {
         panic!(
-            "{GOLDEN}: {e} (create it with SDS_BLESS=1 cargo test -p monitor-host --test golden)"
+            "{GOLDEN}: {e} (create it with SDS_BLESS=1 cargo test -p monitor-host --release --test it golden)"
         )
     });
     if got != want {

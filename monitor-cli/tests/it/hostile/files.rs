@@ -13,6 +13,8 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 
+use crate::common::{code, stderr};
+
 const SDS: &str = env!("CARGO_BIN_EXE_sds");
 
 fn cstr(p: &Path) -> CString {
@@ -65,14 +67,6 @@ fn wait_bounded(mut child: Child, secs: u64) -> Output {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-}
-
-fn code(o: &Output) -> i32 {
-    o.status.code().expect("sds was killed by a signal")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 struct Demo {
@@ -263,7 +257,9 @@ fn a_device_or_huge_input_is_refused_not_read() {
     // to one: refused at once, not read until memory runs out.
     let zero = tmp.path().join("zero");
     if !mk_zero_device(&zero) {
-        eprintln!("skipped the device half: cannot create a device node here (needs CAP_MKNOD)");
+        crate::common::skipped(
+            "the device half: cannot create a device node here (needs CAP_MKNOD)",
+        );
         return;
     }
     let folder = first_telemetry(&d);
@@ -355,7 +351,7 @@ fn output_never_replaces_a_special_file() {
             .file_type()
             .is_char_device());
     } else {
-        eprintln!("skipped the device node case: cannot create a device node here");
+        crate::common::skipped("the device node case: cannot create a device node here");
     }
 
     // A link to a regular file: the link stays, its target gets the report.

@@ -4,7 +4,6 @@
 //! The real-fixture tests skip, with a printed reason, when `../shared/fixtures` is absent.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use monitor_host::input::record::Record;
 use monitor_host::route::protocol::route::{score_record, RouteProtocols};
@@ -12,6 +11,8 @@ use monitor_host::route::protocol::Protocol;
 use monitor_host::settings::MinSpeedGridSetting;
 use monitor_host::Warning;
 use serde_json::{json, Value};
+
+use crate::common::sds;
 
 fn record(status: &str, infractions: Value, rc: f64, penalty: f64, length: Option<f64>) -> Record {
     Record::from_value(&json!({
@@ -264,21 +265,9 @@ fn leaderboard_21_examples() {
 
 // ---- real fixtures ----
 
+/// `../shared/fixtures` with the Bench2Drive route file, or `None` (the skip said).
 fn fixtures() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/fixtures");
-    if dir.join("b2d/routes/bench2drive220.xml").is_file() {
-        Some(dir)
-    } else {
-        eprintln!("skipped: {} is absent", dir.display());
-        None
-    }
-}
-
-fn sds(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_sds"))
-        .args(args)
-        .output()
-        .unwrap()
+    crate::common::shared_fixtures("b2d/routes/bench2drive220.xml")
 }
 
 fn score_json(args: &[&str]) -> Value {

@@ -106,6 +106,19 @@ pub enum MergeError {
         /// The second's.
         b: String,
     },
+    /// One part scored vehicle logs and another Leaderboard records: `sds score` never mixes
+    /// them (`--mcap` or `--results`), so neither does a merge.
+    #[error(
+        "{} scored vehicle logs (--mcap) and {} scored results (--results): a merge takes parts \
+         of one kind, as sds score does; merge each kind apart",
+        logs.display(), results.display()
+    )]
+    MixedKinds {
+        /// A part of vehicle logs.
+        logs: PathBuf,
+        /// A part of results.
+        results: PathBuf,
+    },
     /// One route has a record in two parts under `--duplicates error`.
     #[error(
         "{route} has a record in {} and in {} ({copies} duplicated route id(s) in all); choose \
@@ -451,6 +464,14 @@ pub(crate) fn first_difference(
     }
 }
 
+/// A part of vehicle logs: its warnings say so (a merged part's, prefixed by its part), as
+/// every `sds score --mcap` report does (docs/SCORE.md, vehicle logs).
+fn vehicle_logs(part: &Part) -> bool {
+    part.warnings
+        .iter()
+        .any(|w| w.ends_with(crate::app::vehicle_logs::NO_LEADERBOARD))
+}
+
 /// Merges the reports in `files` (v1.4 §13): reads each ([`read_part`]) and merges them
 /// ([`merge_parts`]).
 ///
@@ -477,7 +498,7 @@ pub fn merge(
 /// # Errors
 /// [`MergeError::NoParts`], [`MergeError::Settings`], [`MergeError::RouteSets`],
 /// [`MergeError::Duplicate`], [`MergeError::Policy`], [`MergeError::TooFewRoutes`],
-/// [`MergeError::Groups`].
+/// [`MergeError::Groups`], [`MergeError::MixedKinds`].
 pub fn merge_parts(
     parts: &[Part],
     duplicates: DuplicatePolicy,
@@ -527,6 +548,14 @@ pub fn merge_parts(
                 b: d.b,
             }))
         })?;
+    }
+    let logs = vehicle_logs(first);
+    if let Some(p) = parts[1..].iter().find(|p| vehicle_logs(p) != logs) {
+        let (l, r) = if logs { (first, p) } else { (p, first) };
+        return Err(MergeError::MixedKinds {
+            logs: l.file.clone(),
+            results: r.file.clone(),
+        });
     }
     let mut settings = first.settings.clone();
     // Records in input order (part by part), then the routes no part has a record of.
@@ -600,6 +629,10 @@ pub fn merge_parts(
         ..RunFacts::default()
     };
     let mut report = assemble_rows(rows, &settings, facts);
+    if logs {
+        // As `sds score --mcap`: the rows hold no Leaderboard figure, nor does the summary.
+        crate::app::vehicle_logs::without_leaderboard(&mut report);
+    }
     report.route_subset = first.subset.clone();
     report.inputs.parts = Some(parts.iter().map(|p| p.inputs.clone()).collect());
     let mut warnings: Vec<Warning> = parts

@@ -52,13 +52,15 @@ const EVENT_KINDS: [&str; 15] = [
     "stationary",
 ];
 
-/// How an event is placed, as a report writes it.
-const PLACED_BY: [&str; 5] = [
+/// How an event is placed, as a report writes it (`log time`: a vehicle log's event, placed by
+/// its message's log time).
+const PLACED_BY: [&str; 6] = [
     "infractions.json",
     "nearest",
     "closest_approach",
     "motion",
     "chunk",
+    "log time",
 ];
 
 /// A value at a JSON path.

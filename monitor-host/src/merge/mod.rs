@@ -465,7 +465,7 @@ pub(crate) fn first_difference(
 }
 
 /// A part of vehicle logs: its warnings say so (a merged part's, prefixed by its part), as
-/// every `sds score --mcap` report does (docs/SCORE.md, vehicle logs).
+/// every `sds score --mcap` report does (docs/SCORE.md section 2.4).
 fn vehicle_logs(part: &Part) -> bool {
     part.warnings
         .iter()

@@ -4,7 +4,7 @@
 use anyhow::Result;
 
 use super::args::{DuplicatesArg, Format, MergeArgs};
-use super::output::write_output;
+use super::output::{write_output, write_output_with};
 use super::{style, RerunArgs};
 use monitor_host::app::merged::MergeRequest;
 use monitor_host::input::duplicates::DuplicatePolicy;
@@ -68,12 +68,14 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         })
         .collect::<Vec<_>>()
         .join(", ");
+    // JSON is written as it is rendered (below): a merge of 220,000 rows is never held twice,
+    // as rows and as text.
     let bytes = match (args.format, style(args.format)) {
-        (Format::Json, _) => json::json(&report)?,
-        (Format::Csv, _) => csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report)),
-        (Format::Html, _) => html::page(&report, &options, &name).into_bytes(),
+        (Format::Json, _) => None,
+        (Format::Csv, _) => Some(csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report))),
+        (Format::Html, _) => Some(html::page(&report, &options, &name).into_bytes()),
         (_, Some(style)) => {
-            table::render(&table::report_tables(&report, &options), style).into_bytes()
+            Some(table::render(&table::report_tables(&report, &options), style).into_bytes())
         }
         (_, None) => anyhow::bail!("no renderer for {:?}", args.format),
     };
@@ -94,7 +96,12 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
             super::output::place_tables(dir, files, &report.files_read)?;
         }
         rerun.place(&report.files_read)?;
-        write_output(args.output.as_deref(), &bytes, &report.files_read)
+        match &bytes {
+            Some(bytes) => write_output(args.output.as_deref(), bytes, &report.files_read),
+            None => write_output_with(args.output.as_deref(), &report.files_read, &|w| {
+                json::write(&report, w)
+            }),
+        }
     })();
     match written {
         Ok(()) => super::output::commit(),

@@ -1706,3 +1706,119 @@ fn r4_12_log_warnings_name_the_file_once() {
     let line = stderr.lines().find(|l| l.contains("invalid")).unwrap();
     assert_eq!(line.matches("bad.mcap").count(), 1, "{line}");
 }
+
+/// Issue 51 goal 3: logs scored in parts (as fleet tasks do) and merged with `sds merge` give
+/// the report of one `sds score` over every log. A log's events are placed by their log time
+/// (`placed_by: "log time"`): the merge read refused that value, so no vehicle-log part merged.
+#[test]
+fn i51_3_vehicle_log_parts_merge_to_the_one_machine_score() {
+    let tmp = tempfile::tempdir().unwrap();
+    let logs: Vec<PathBuf> = (0..4)
+        .map(|i| {
+            let mut messages = drive(3);
+            // An event a second in (a collision or an emergency: any message on /events).
+            let t = T0 + (1000 + 100 * i) * MS;
+            messages.push(("/events", "std_msgs/msg/Empty", "", t, vec![0, 1, 0, 0]));
+            messages.sort_by_key(|m| m.3);
+            let log = tmp.path().join(format!("drive-{i}.mcap"));
+            write_log(&log, true, &messages);
+            log
+        })
+        .collect();
+    let score = |logs: &[PathBuf], out: &Path| {
+        let mut args = vec!["score", "--topic", "event=/events", "--format", "json"];
+        for l in logs {
+            args.extend(["--mcap", l.to_str().unwrap()]);
+        }
+        args.extend(["--output", out.to_str().unwrap()]);
+        let o = sds(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<Value>(&fs::read(out).unwrap()).unwrap()
+    };
+    let whole = score(&logs, &tmp.path().join("whole.json"));
+    let events = whole["routes"][0]["events"].as_array().unwrap();
+    assert_eq!(events[0]["placed_by"], "log time", "{events:?}");
+    let (a, b) = (tmp.path().join("a.json"), tmp.path().join("b.json"));
+    score(&logs[..2], &a);
+    score(&logs[2..], &b);
+    let merged = tmp.path().join("merged.json");
+    let o = sds(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "--output",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut merged: Value = serde_json::from_slice(&fs::read(&merged).unwrap()).unwrap();
+    let mut whole = whole;
+    // What legitimately differs: the inputs (the parts, against the logs) and the warnings
+    // (a merge says the parts' warnings once each, prefixed by the part).
+    for r in [&mut merged, &mut whole] {
+        let o = r.as_object_mut().unwrap();
+        o.remove("inputs");
+        o.remove("warnings");
+    }
+    assert_eq!(first_difference(&merged, &whole, ""), None);
+}
+
+/// The first path at which two JSON values differ, with both values.
+fn first_difference(a: &Value, b: &Value, at: &str) -> Option<String> {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => x.keys().chain(y.keys()).find_map(|k| {
+            first_difference(
+                x.get(k).unwrap_or(&Value::Null),
+                y.get(k).unwrap_or(&Value::Null),
+                &format!("{at}.{k}"),
+            )
+        }),
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .find_map(|(i, (p, q))| first_difference(p, q, &format!("{at}[{i}]"))),
+        _ => (a != b).then(|| format!("{at}: {a} against {b}")),
+    }
+}
+
+/// A part of vehicle logs and a part of results do not merge (`sds score` takes `--mcap` or
+/// `--results`, never both): the error names both parts.
+#[test]
+fn i51_3_vehicle_log_and_results_parts_are_refused_naming_both() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    common::demo(dir);
+    let results = dir.join("results-part.json");
+    let d = |p: &str| dir.join(p).to_str().unwrap().to_string();
+    let o = sds(&[
+        "score",
+        "--results",
+        &d("results.json"),
+        "--telemetry",
+        &d("telemetry"),
+        "--format",
+        "json",
+        "--output",
+        results.to_str().unwrap(),
+    ]);
+    assert!(results.exists(), "{}", String::from_utf8_lossy(&o.stderr));
+    let log = dir.join("drive.mcap");
+    write_log(&log, true, &drive(2));
+    let logs = dir.join("logs-part.json");
+    let o = score_log(&log, &["--output", logs.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = sds(&["merge", logs.to_str().unwrap(), results.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("logs-part.json scored vehicle logs")
+            && err.contains("results-part.json scored results")
+            && err.contains("merge each kind apart"),
+        "{err}"
+    );
+}

@@ -303,8 +303,9 @@ pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Res
     Ok(report)
 }
 
-/// Drops every figure that needs a Leaderboard record (its placeholders stood in for one).
-fn without_leaderboard(report: &mut Report) {
+/// Drops every figure that needs a Leaderboard record (its placeholders stood in for one); the
+/// merge of vehicle-log parts too.
+pub(crate) fn without_leaderboard(report: &mut Report) {
     for r in &mut report.routes {
         r.status = None;
         r.success = false;
@@ -328,6 +329,8 @@ fn without_leaderboard(report: &mut Report) {
     s.scores.decomposition = None;
     s.protocols = None;
     s.penalty_mismatches.clear();
+    // A log's record is made, never invalid (a merge reads the rows' empty status as invalid).
+    s.invalid_records = 0;
     if let Some(b) = &mut s.bench2drive {
         b.driving_score = None;
         b.success_rate = None;

@@ -104,6 +104,19 @@ pub enum MergeError {
         /// The second's.
         b: String,
     },
+    /// One part scored vehicle logs and another Leaderboard records: `sds score` never mixes
+    /// them (`--mcap` or `--results`), so neither does a merge.
+    #[error(
+        "{} scored vehicle logs (--mcap) and {} scored results (--results): a merge takes parts \
+         of one kind, as sds score does; merge each kind apart",
+        logs.display(), results.display()
+    )]
+    MixedKinds {
+        /// A part of vehicle logs.
+        logs: PathBuf,
+        /// A part of results.
+        results: PathBuf,
+    },
     /// One route has a record in two parts under `--duplicates error`.
     #[error(
         "{route} has a record in {} and in {} ({copies} duplicated route id(s) in all); choose \
@@ -195,7 +208,7 @@ pub struct InputsRefusal {
 }
 
 /// One part, read.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Part {
     /// The file.
     pub file: PathBuf,
@@ -331,6 +344,14 @@ pub(crate) fn first_difference(
     }
 }
 
+/// A part of vehicle logs: its warnings say so (a merged part's, prefixed by its part), as
+/// every `sds score --mcap` report does (docs/SCORE.md section 2.4).
+fn vehicle_logs(part: &Part) -> bool {
+    part.warnings
+        .iter()
+        .any(|w| w.ends_with(crate::app::vehicle_logs::NO_LEADERBOARD))
+}
+
 /// Merges the reports in `files` (v1.4 §13): reads each ([`read_part`]) and merges them
 /// ([`merge_parts`]).
 ///
@@ -341,11 +362,18 @@ pub fn merge(
     duplicates: DuplicatePolicy,
     host: bool,
 ) -> Result<Report, MergeError> {
-    let parts = files
-        .iter()
-        .map(|f| read_part(f))
-        .collect::<Result<Vec<_>, _>>()?;
-    merge_parts(&parts, duplicates, host)
+    // Each part is checked against the first as it is read, then slimmed: 2,000 one-route
+    // parts held 24 KB each, most of it the settings every part repeats.
+    let mut parts: Vec<Part> = Vec::with_capacity(files.len());
+    for f in files {
+        let mut part = read_part(f)?;
+        if let Some(first) = parts.first() {
+            check_part(first, &part)?;
+            slim(&mut part);
+        }
+        parts.push(part);
+    }
+    merge_checked(parts, duplicates, host)
 }
 
 /// The report `sds score` would write over the union of the parts' inputs: the parts must
@@ -357,7 +385,7 @@ pub fn merge(
 /// # Errors
 /// [`MergeError::NoParts`], [`MergeError::Settings`], [`MergeError::RouteSets`],
 /// [`MergeError::Duplicate`], [`MergeError::Policy`], [`MergeError::TooFewRoutes`],
-/// [`MergeError::Groups`].
+/// [`MergeError::Groups`], [`MergeError::MixedKinds`].
 pub fn merge_parts(
     parts: &[Part],
     duplicates: DuplicatePolicy,
@@ -365,61 +393,103 @@ pub fn merge_parts(
 ) -> Result<Report, MergeError> {
     let first = parts.first().ok_or(MergeError::NoParts)?;
     for p in &parts[1..] {
-        if let Some((setting, a, b)) = first_difference(&first.config, &p.config, "") {
-            return Err(MergeError::Settings {
-                first: first.file.clone(),
-                second: p.file.clone(),
-                setting,
-                a,
-                b,
-            });
-        }
-        let set = |q: &Part| match (q.with_xml, &q.subset) {
-            (false, _) => "none (no route XML)".to_string(),
-            (true, s) => format!(
-                "{} routes, sha256 {}{}",
-                q.route_set.0,
-                q.route_set.1,
-                s.as_ref().map_or_else(String::new, |s| format!(
-                    " (route_subset = found, of {})",
-                    s.of
-                ))
-            ),
-        };
-        let differ = first.with_xml != p.with_xml
-            || (first.with_xml && (first.route_set != p.route_set || first.subset != p.subset));
-        if differ {
-            return Err(MergeError::RouteSets {
-                first: first.file.clone(),
-                second: p.file.clone(),
-                a: set(first),
-                b: set(p),
-            });
-        }
+        check_part(first, p)?;
     }
-    for p in &parts[1..] {
-        check_inputs((&first.digests, &first.rows), (&p.digests, &p.rows)).map_err(|d| {
-            MergeError::Inputs(Box::new(InputsRefusal {
-                first: first.file.clone(),
-                second: p.file.clone(),
-                input: d.input,
-                a: d.a,
-                b: d.b,
-            }))
-        })?;
+    merge_checked(parts.to_vec(), duplicates, host)
+}
+
+/// What a part must share with the first: its settings, route set, scoring inputs and kind
+/// (vehicle logs or results).
+fn check_part(first: &Part, p: &Part) -> Result<(), MergeError> {
+    if let Some((setting, a, b)) = first_difference(&first.config, &p.config, "") {
+        return Err(MergeError::Settings {
+            first: first.file.clone(),
+            second: p.file.clone(),
+            setting,
+            a,
+            b,
+        });
     }
+    let set = |q: &Part| match (q.with_xml, &q.subset) {
+        (false, _) => "none (no route XML)".to_string(),
+        (true, s) => format!(
+            "{} routes, sha256 {}{}",
+            q.route_set.0,
+            q.route_set.1,
+            s.as_ref().map_or_else(String::new, |s| format!(
+                " (route_subset = found, of {})",
+                s.of
+            ))
+        ),
+    };
+    let differ = first.with_xml != p.with_xml
+        || (first.with_xml && (first.route_set != p.route_set || first.subset != p.subset));
+    if differ {
+        return Err(MergeError::RouteSets {
+            first: first.file.clone(),
+            second: p.file.clone(),
+            a: set(first),
+            b: set(p),
+        });
+    }
+    check_inputs((&first.digests, &first.rows), (&p.digests, &p.rows)).map_err(|d| {
+        MergeError::Inputs(Box::new(InputsRefusal {
+            first: first.file.clone(),
+            second: p.file.clone(),
+            input: d.input,
+            a: d.a,
+            b: d.b,
+        }))
+    })?;
+    let logs = vehicle_logs(first);
+    if vehicle_logs(p) != logs {
+        let (l, r) = if logs { (first, p) } else { (p, first) };
+        return Err(MergeError::MixedKinds {
+            logs: l.file.clone(),
+            results: r.file.clone(),
+        });
+    }
+    Ok(())
+}
+
+/// A part checked against the first keeps only what the merge reads of it: the first part's
+/// `config`, settings and scoring inputs stand for every part's.
+fn slim(part: &mut Part) {
+    part.config = Value::Null;
+    part.settings = Settings::default();
+    part.digests = Vec::new();
+}
+
+/// The merge of parts checked against the first ([`check_part`]): their rows move into the
+/// merged report (copied, they were held twice: a merge of 1,000 parts of 220 routes peaked
+/// at twice the rows' size).
+fn merge_checked(
+    mut parts: Vec<Part>,
+    duplicates: DuplicatePolicy,
+    host: bool,
+) -> Result<Report, MergeError> {
+    let first = parts.first().ok_or(MergeError::NoParts)?;
+    let logs = vehicle_logs(first);
     let mut settings = first.settings.clone();
+    // The first part's missing routes, before its rows move.
+    let first_missing: Vec<RouteReport> = first
+        .rows
+        .iter()
+        .filter(|r| r.state == RouteState::Missing)
+        .cloned()
+        .collect();
     // Records in input order (part by part), then the routes no part has a record of.
     let mut records: Vec<(usize, RouteReport)> = Vec::new();
-    for (i, p) in parts.iter().enumerate() {
+    for (i, p) in parts.iter_mut().enumerate() {
         records.extend(
-            p.rows
-                .iter()
+            std::mem::take(&mut p.rows)
+                .into_iter()
                 .filter(|r| r.state != RouteState::Missing)
-                .map(|r| (i, r.clone())),
+                .map(|r| (i, r)),
         );
     }
-    let (records, dropped, applied) = deduplicate(records, parts, duplicates)?;
+    let first = &parts[0];
+    let (records, dropped, applied) = deduplicate(records, &parts, duplicates)?;
     // The merged report states the rule the merge applied to records of one route in several
     // parts; with none, the parts' own rule stands.
     if applied {
@@ -429,16 +499,13 @@ pub fn merge_parts(
         .iter()
         .filter_map(|r| r.route_id.as_deref())
         .collect();
-    let missing: Vec<RouteReport> = first
-        .rows
-        .iter()
-        .filter(|r| r.state == RouteState::Missing)
+    let missing: Vec<RouteReport> = first_missing
+        .into_iter()
         .filter(|r| {
             r.route_id
                 .as_deref()
                 .is_none_or(|id| !recorded.contains(id))
         })
-        .cloned()
         .collect();
     let mut rows = records;
     rows.extend(missing);
@@ -480,6 +547,10 @@ pub fn merge_parts(
         ..RunFacts::default()
     };
     let mut report = assemble_rows(rows, &settings, facts);
+    if logs {
+        // As `sds score --mcap`: the rows hold no Leaderboard figure, nor does the summary.
+        crate::app::vehicle_logs::without_leaderboard(&mut report);
+    }
     report.route_subset = first.subset.clone();
     report.inputs.parts = Some(parts.iter().map(|p| p.inputs.clone()).collect());
     let mut warnings: Vec<Warning> = parts
@@ -493,7 +564,7 @@ pub fn merge_parts(
         .collect();
     // Same settings, but another tool version may compute them differently: say so.
     let mut versions: Vec<(&str, Vec<String>)> = Vec::new();
-    for p in parts {
+    for p in &parts {
         let v = p.inputs.sds_version.as_deref().unwrap_or("unknown");
         let file = p.file.display().to_string();
         match versions.iter_mut().find(|(w, _)| *w == v) {

@@ -182,15 +182,7 @@ impl RunArgs {
         duplicates: Option<DuplicatesArg>,
         route_subset: Option<RouteSubsetArg>,
     ) -> Result<RunSettings, SettingsError> {
-        let overrides = self
-            .set
-            .iter()
-            .map(|s| {
-                s.split_once('=')
-                    .map(|(n, v)| (n.to_string(), v.to_string()))
-                    .ok_or_else(|| SettingsError::Syntax(s.clone()))
-            })
-            .collect::<Result<_, _>>()?;
+        let overrides = overrides(&self.set)?;
         Ok(RunSettings {
             profile: self.profile.profile(),
             expected_routes: self.expected_routes,
@@ -207,6 +199,20 @@ impl RunArgs {
             overrides,
         })
     }
+}
+
+/// `--set NAME=VALUE` options as `(name, value)` pairs.
+///
+/// # Errors
+/// [`SettingsError::Syntax`]: a `--set` without `=`.
+pub fn overrides(set: &[String]) -> Result<Vec<(String, String)>, SettingsError> {
+    set.iter()
+        .map(|s| {
+            s.split_once('=')
+                .map(|(n, v)| (n.to_string(), v.to_string()))
+                .ok_or_else(|| SettingsError::Syntax(s.clone()))
+        })
+        .collect()
 }
 
 /// Arguments of `sds score`.

@@ -41,12 +41,13 @@ use anyhow::Result;
 use clap::Parser;
 
 use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::app::frames::{Frames, FramesRequest};
 use monitor_host::app::request::{ScoreError, ScoreRequest};
 use monitor_host::report::grid::Style;
 use monitor_host::report::table::{self, TableOptions};
 use monitor_host::report::{csv, html, json, long_tables};
 use monitor_host::{
-    demo, route_frames, Inputs, LabelFiles, Progress, Settings, SettingsError, TelemetryState,
+    demo, Inputs, LabelFiles, Progress, RunSettings, SettingsError, TelemetryState,
 };
 
 use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
@@ -99,19 +100,9 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
-        Command::Score(args) => {
-            log_options(args.mcap.is_empty(), &args.topics, None)?;
-            score(&args)
-        }
+        Command::Score(args) => score(&args),
         Command::Compare(args) => compare::compare(&args),
-        Command::Watch(args) => {
-            log_options(
-                args.score.mcap.is_empty(),
-                &args.score.topics,
-                Some("sds watch"),
-            )?;
-            watch::watch(&args)
-        }
+        Command::Watch(args) => watch::watch(&args),
         Command::Merge(args) => merge::merge(&args),
         Command::Link(args) => link::link(&args),
         Command::Checker(args) => link::checker(&args),
@@ -191,40 +182,30 @@ fn run(cli: Cli) -> Result<i32> {
             route_id,
             output,
         } => {
-            log_options(mcap.is_none(), &topics, None)?;
-            let inputs = Inputs {
-                results,
-                telemetry,
-                route_xml: routes,
-                maps,
+            let request = FramesRequest {
+                inputs: Inputs {
+                    results,
+                    telemetry,
+                    route_xml: routes,
+                    maps,
+                },
+                settings: RunSettings {
+                    profile: profile.profile(),
+                    duplicates: duplicates.map(args::DuplicatesArg::policy),
+                    overrides: args::overrides(&set)?,
+                    ..RunSettings::default()
+                },
+                route_id,
+                log: mcap,
+                topics,
             };
-            let mut settings = Settings::default();
-            settings.core.profile = profile.profile();
-            settings.core.bounds = monitor_core::Bounds::of(profile.profile());
-            if let Some(d) = duplicates {
-                settings.duplicates = d.policy();
-            }
-            settings.apply(&set)?;
-            let (run, route_id) = match mcap {
-                Some(log) => (
-                    monitor_host::app::vehicle_logs::log_frames(
-                        &log,
-                        &log_topics(&topics)?,
-                        &settings,
-                    )?,
-                    monitor_host::input::mcap::log_name(&log),
-                ),
-                None => {
-                    let id = route_id.unwrap_or_default();
-                    (route_frames(&inputs, &id, &settings)?, id)
-                }
-            };
-            for w in &run.warnings {
+            let Frames { route_id, frames } = request.frames().map_err(failed)?;
+            for w in &frames.warnings {
                 say!("sds: warning: {route_id}: {}", spelling::warning(w));
             }
             let lines =
-                monitor_host::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
-            write_output(output.as_deref(), &lines, &run.files_read)?;
+                monitor_host::report::frames::frame_lines(&frames).map_err(anyhow::Error::msg)?;
+            write_output(output.as_deref(), &lines, &frames.files_read)?;
             Ok(0)
         }
     }
@@ -245,6 +226,8 @@ pub fn request(args: &ScoreArgs) -> Result<ScoreRequest, SettingsError> {
             .map(group_by)
             .or(style(args.format).map(|_| GroupBy::Scenario)),
         infractions: args.infractions.clone(),
+        logs: args.mcap.clone(),
+        topics: args.topics.clone(),
     })
 }
 
@@ -293,22 +276,7 @@ fn group_by(g: GroupArg) -> GroupBy {
 /// A typed error inside (a [`monitor_host::Error`], [`monitor_host::RequestError`] or [`SettingsError`];
 /// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
-    let request = request(args)?;
-    if !args.mcap.is_empty() {
-        let settings = request.validate()?;
-        let report = monitor_host::app::vehicle_logs::score_logs(
-            &args.mcap,
-            &log_topics(&args.topics)?,
-            &settings,
-        )?;
-        return Ok(Scored {
-            report,
-            families: None,
-            weathers: None,
-            labels: None,
-        });
-    }
-    request.score(progress).map_err(failed)
+    request(args)?.score(progress).map_err(failed)
 }
 
 /// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16): a signal named
@@ -316,25 +284,6 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
 fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
     use monitor_host::input::mcap::{McapError, Topics};
     Topics::parse(specs).map_err(|m| monitor_host::Error::from(McapError::Options(m)).into())
-}
-
-/// Refuses (exit 2) `--topic` without a log to read it from, and `--mcap` where `command`
-/// (`sds watch`) reads no logs.
-fn log_options(no_log: bool, topics: &[String], command: Option<&str>) -> Result<()> {
-    use monitor_host::input::mcap::McapError;
-    let refuse = |m: String| Err(monitor_host::Error::from(McapError::Options(m)).into());
-    match command {
-        Some(c) if !no_log => refuse(format!(
-            "{c} follows an evaluation's results files while they are written; a vehicle log \
-             (--mcap) is a finished file: score it with sds score --mcap"
-        )),
-        _ if no_log && !topics.is_empty() => refuse(format!(
-            "--topic {} names a vehicle log's topic, but no log is given: add --mcap FILE, or \
-             leave --topic out",
-            topics[0]
-        )),
-        _ => Ok(()),
-    }
 }
 
 fn style(format: Format) -> Option<Style> {

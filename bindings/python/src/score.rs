@@ -93,6 +93,12 @@ pub(crate) struct ScoreKwargs {
     /// `False` / `None`.
     #[pyo3(default)]
     progress: Option<Py<PyAny>>,
+    /// `sds.score` only: vehicle logs scored instead of results.
+    #[pyo3(default)]
+    mcap: Option<Vec<PathBuf>>,
+    /// `sds.score` only: the logs' topics, `NAME=TOPIC` each.
+    #[pyo3(default)]
+    topics: Option<Vec<String>>,
 }
 
 /// What `progress=` asks for.
@@ -191,5 +197,7 @@ pub(crate) fn score_request(
         labels,
         group_by,
         infractions: Vec::new(),
+        logs: kw.mcap.clone().unwrap_or_default(),
+        topics: kw.topics.clone().unwrap_or_default(),
     })
 }

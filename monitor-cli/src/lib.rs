@@ -372,12 +372,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     bar.finish();
     let Scored { report, .. } = scored?;
 
-    // Every warning, the per-route ones included, is in the report; printed here once each.
+    // Every warning and note, the per-route ones included, is in the report; printed here
+    // once each.
     for w in &report.warnings {
-        say!("sds: warning: {}", spelling::warning(w));
-    }
-    for note in period_notes(&report) {
-        say!("sds: note: {note}");
+        say!("sds: {}", spelling::line(w));
     }
     // JSON is streamed to its file: a large run's text is never held beside its report.
     let bytes = match args.format {
@@ -674,11 +672,7 @@ fn write_all(
         }
     };
     if let Some((dir, n)) = traces {
-        say!(
-            "sds: wrote {n} collision trace(s) to {}{}",
-            dir.display(),
-            untraced_note(report)
-        );
+        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
     if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
@@ -688,58 +682,4 @@ fn write_all(
     }
     rerun.tell();
     Ok(())
-}
-
-/// What `--traces` left out: aligned collisions past the first
-/// [`monitor_host::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
-fn untraced_note(report: &monitor_host::Report) -> String {
-    let cap = monitor_host::route::trace::TRACES_PER_ROUTE;
-    let left: usize = report
-        .routes
-        .iter()
-        .filter(|r| r.traces.len() >= cap)
-        .map(|r| {
-            let aligned = r.collision_events.iter().filter(|e| e.frame.is_some());
-            aligned.count().saturating_sub(r.traces.len())
-        })
-        .sum();
-    if left == 0 {
-        return String::new();
-    }
-    format!(
-        "; {left} more collision(s) without a trace (at most {cap} per route; every collision \
-         is in the JSON report's events)"
-    )
-}
-
-/// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
-/// first 10 and a count): a period read wrong would scale every speed and time of a route.
-fn period_notes(report: &monitor_host::Report) -> Vec<String> {
-    let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
-    for r in &report.routes {
-        let (Some(dt), Some(monitor_host::pipeline::step_period::DtSource::Inferred), Some(id)) =
-            (r.dt, r.dt_source, r.route_id.as_deref())
-        else {
-            continue;
-        };
-        if dt == 0.05 {
-            continue;
-        }
-        match by_dt.iter_mut().find(|(d, _)| *d == dt) {
-            Some((_, ids)) => ids.push(id),
-            None => by_dt.push((dt, vec![id])),
-        }
-    }
-    by_dt.sort_by(|a, b| a.0.total_cmp(&b.0));
-    by_dt
-        .into_iter()
-        .map(|(dt, ids)| {
-            format!(
-                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
-                 (--set dt=SECONDS fixes the period of every route)",
-                ids.len(),
-                monitor_host::warning::id_list(&ids)
-            )
-        })
-        .collect()
 }

@@ -220,8 +220,10 @@ impl ScoreRequest {
         let settings = self.validate()?;
         if !self.logs.is_empty() {
             let topics = log_topics(true, &self.topics)?;
+            let mut report = score_logs(&self.logs, &topics, &settings)?;
+            crate::app::diagnostics::add_notes(&mut report);
             return Ok(Scored {
-                report: score_logs(&self.logs, &topics, &settings)?,
+                report,
                 families: None,
                 weathers: None,
                 labels: None,

@@ -336,6 +336,33 @@ pub enum Warning {
         /// The warning as the part wrote it.
         text: String,
     },
+    /// A note: routes whose inferred step period is not CARLA's 0.05 s tick (docs/SCORE.md, the
+    /// step period): a period read wrong would scale every speed and time of a route.
+    PeriodInferred {
+        /// The period inferred, s.
+        dt: f64,
+        /// The routes (ids) inferred at it.
+        routes: Vec<String>,
+    },
+    /// A note: aligned collisions past the first [`crate::route::trace::TRACES_PER_ROUTE`] of
+    /// a route have no trace (every collision is still in the report's events).
+    Untraced {
+        /// Collisions without a trace.
+        collisions: usize,
+        /// Traces kept per route.
+        cap: usize,
+    },
+}
+
+impl Warning {
+    /// True for a note: a fact worth saying that asks nothing of the user (the `sds` command
+    /// prints it after `sds: note: `).
+    pub fn is_note(&self) -> bool {
+        matches!(
+            self,
+            Warning::PeriodInferred { .. } | Warning::Untraced { .. }
+        )
+    }
 }
 
 impl std::fmt::Display for Warning {
@@ -667,6 +694,18 @@ impl std::fmt::Display for Warning {
                 protocols.join(", ")
             ),
             Warning::Recorded(text) => f.write_str(text),
+            Warning::PeriodInferred { dt, routes } => write!(
+                f,
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
+                 (the setting dt=SECONDS fixes the period of every route)",
+                routes.len(),
+                id_list(routes)
+            ),
+            Warning::Untraced { collisions, cap } => write!(
+                f,
+                "{collisions} more collision(s) without a trace (at most {cap} per route; every \
+                 collision is in the JSON report's events)"
+            ),
             Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
             Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
             Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),

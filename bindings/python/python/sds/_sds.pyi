@@ -69,8 +69,8 @@ def compare(
     """Compares runs through the library: each run ``(name, results, telemetry or None)``;
     ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
     as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``) and the
-    warnings ``sds compare`` prints: each run's (``"<run>: ..."``; a missing map per run), then
-    the comparison's own."""
+    warnings ``sds compare`` prints, built once by the library: each run's (``"<run>: ..."``),
+    the runs' missing maps said once for all of them, then the comparison's own."""
 
 def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
     """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""

@@ -50,7 +50,7 @@ use monitor_host::{
     demo, Inputs, LabelFiles, Progress, RunSettings, SettingsError, TelemetryState,
 };
 
-use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
+use args::{Cli, Command, Format, LayoutArg, RunArgs, ScoreArgs};
 
 pub use monitor_host::app::scored::Scored;
 use output::write_output;
@@ -190,8 +190,8 @@ fn run(cli: Cli) -> Result<i32> {
                     maps,
                 },
                 settings: RunSettings {
-                    profile: profile.profile(),
-                    duplicates: duplicates.map(args::DuplicatesArg::policy),
+                    profile,
+                    duplicates,
                     overrides: args::overrides(&set)?,
                     ..RunSettings::default()
                 },
@@ -223,7 +223,6 @@ pub fn request(args: &ScoreArgs) -> Result<ScoreRequest, SettingsError> {
         labels: label_files(args),
         group_by: args
             .group_by
-            .map(group_by)
             .or(style(args.format).map(|_| GroupBy::Scenario)),
         infractions: args.infractions.clone(),
         logs: args.mcap.clone(),
@@ -256,17 +255,6 @@ fn label_files(args: &ScoreArgs) -> LabelFiles {
         families: args.families.clone(),
         weathers: args.weathers.clone(),
         routes: args.labels.clone(),
-    }
-}
-
-/// The library's grouping.
-fn group_by(g: GroupArg) -> GroupBy {
-    match g {
-        GroupArg::Scenario => GroupBy::Scenario,
-        GroupArg::Family => GroupBy::Family,
-        GroupArg::Town => GroupBy::Town,
-        GroupArg::Weather => GroupBy::Weather,
-        GroupArg::Route => GroupBy::Route,
     }
 }
 
@@ -305,7 +293,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         run: RunArgs {
             routes: Some(run.routes.clone()),
             maps: Some(run.maps.clone()),
-            profile: ProfileArg::Physical,
+            profile: monitor_core::Profile::Physical,
             expected_routes: None,
             allow_missing_telemetry: false,
             set: vec![],

@@ -46,18 +46,10 @@ pub(crate) fn breakdown(
 ) -> PyResult<(Option<GroupBy>, LabelFiles)> {
     let by = group_by
         .map(|g| {
-            [
-                GroupBy::Scenario,
-                GroupBy::Family,
-                GroupBy::Town,
-                GroupBy::Weather,
-                GroupBy::Route,
-            ]
-            .into_iter()
-            .find(|b| b.name() == g)
-            .ok_or_else(|| {
+            GroupBy::from_name(g).ok_or_else(|| {
                 ConfigError::new_err(format!(
-                    "group_by={g:?}: expected one of scenario, family, town, weather, route"
+                    "group_by={g:?}: expected one of {}",
+                    GroupBy::NAMES.join(", ")
                 ))
             })
         })

@@ -4,7 +4,11 @@ use std::path::PathBuf;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use monitor_core::Profile;
+use monitor_host::aggregate::groups::GroupBy;
 use monitor_host::app::request::RunSettings;
+use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::input::route_set::RouteSubset;
 use monitor_host::settings::SettingsError;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
@@ -44,92 +48,22 @@ pub enum LayoutArg {
     Wide,
 }
 
-/// Comfort profiles.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ProfileArg {
-    /// Physical units (default).
-    Physical,
-    /// Bench2Drive's published smoothness, bugs included.
-    #[value(name = "b2d-legacy")]
-    B2dLegacy,
-    /// Autoware's planning envelope: passenger comfort on a vehicle (spec v1.4 §16).
-    Autoware,
+/// A clap parser whose choices are a library enum's names (`named_enum!`, or the core's
+/// `Profile`): the library spells each value once; the command line mirrors none.
+pub fn named<T: Copy + Send + Sync + 'static>(
+    all: &'static [T],
+    name: fn(T) -> &'static str,
+) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(all.iter().map(|v| name(*v))).map(move |s| {
+        *all.iter()
+            .find(|v| name(**v) == s)
+            .expect("clap checked the name against these values")
+    })
 }
 
-impl ProfileArg {
-    /// The core's profile.
-    pub fn profile(self) -> monitor_core::Profile {
-        match self {
-            ProfileArg::Physical => monitor_core::Profile::Physical,
-            ProfileArg::B2dLegacy => monitor_core::Profile::B2dLegacy,
-            ProfileArg::Autoware => monitor_core::Profile::Autoware,
-        }
-    }
-}
-
-/// Duplicate policies (`--duplicates`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum DuplicatesArg {
-    /// Score nothing and name every duplicated id (default).
-    Error,
-    /// Keep the first copy in input order.
-    First,
-    /// Keep the last copy in input order.
-    Last,
-    /// Keep the newest run: the latest `save_name` time stamp (ties: the last in input order).
-    Newest,
-    /// Score every copy as a route of its own.
-    All,
-}
-
-impl DuplicatesArg {
-    /// The library's policy.
-    pub fn policy(self) -> monitor_host::input::duplicates::DuplicatePolicy {
-        use monitor_host::input::duplicates::DuplicatePolicy as P;
-        match self {
-            DuplicatesArg::Error => P::Error,
-            DuplicatesArg::First => P::First,
-            DuplicatesArg::Last => P::Last,
-            DuplicatesArg::Newest => P::Newest,
-            DuplicatesArg::All => P::All,
-        }
-    }
-}
-
-/// Route subsets (`--route-subset`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RouteSubsetArg {
-    /// Every route of the route XML (default).
-    All,
-    /// The route XML's routes that have a record.
-    Found,
-}
-
-impl RouteSubsetArg {
-    /// The library's subset.
-    pub fn subset(self) -> monitor_host::input::route_set::RouteSubset {
-        use monitor_host::input::route_set::RouteSubset as S;
-        match self {
-            RouteSubsetArg::All => S::All,
-            RouteSubsetArg::Found => S::Found,
-        }
-    }
-}
-
-/// Breakdown groups.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum GroupArg {
-    /// Scenario type.
-    Scenario,
-    /// Scenario family (`--families`).
-    Family,
-    /// Town.
-    Town,
-    /// Weather (`--weathers`).
-    Weather,
-    /// Routes by a label map of route ids (`--labels`).
-    Route,
-}
+/// The duplicate policy of `--duplicates` (the library's; `link.rs` names it so).
+pub type DuplicatesArg = DuplicatePolicy;
 
 /// The options `sds score` and `sds compare` share, defined once; [`RunArgs::request`] maps
 /// them to the library's [`RunSettings`], as the Python `sds.score` does.
@@ -143,9 +77,11 @@ pub struct RunArgs {
     /// Folder of the towns' OpenDRIVE maps (`Town04.xodr`, ... or a CARLA install's Maps).
     #[arg(long)]
     pub maps: Option<PathBuf>,
-    /// Comfort profile.
-    #[arg(long, value_enum, default_value = "physical")]
-    pub profile: ProfileArg,
+    /// Comfort profile: `physical` (physical units, default), `b2d-legacy` (Bench2Drive's
+    /// published smoothness, bugs included) or `autoware` (Autoware's planning envelope:
+    /// passenger comfort on a vehicle, spec v1.4 §16).
+    #[arg(long, value_parser = named(&Profile::ALL, Profile::name), default_value = "physical")]
+    pub profile: Profile,
     /// Benchmark size N (missing routes count as 0 / failed), e.g. 220.
     #[arg(long)]
     pub expected_routes: Option<usize>,
@@ -179,25 +115,17 @@ impl RunArgs {
     /// [`SettingsError::Syntax`]: a `--set` without `=`.
     pub fn request(
         &self,
-        duplicates: Option<DuplicatesArg>,
-        route_subset: Option<RouteSubsetArg>,
+        duplicates: Option<DuplicatePolicy>,
+        route_subset: Option<RouteSubset>,
     ) -> Result<RunSettings, SettingsError> {
-        let overrides = self
-            .set
-            .iter()
-            .map(|s| {
-                s.split_once('=')
-                    .map(|(n, v)| (n.to_string(), v.to_string()))
-                    .ok_or_else(|| SettingsError::Syntax(s.clone()))
-            })
-            .collect::<Result<_, _>>()?;
+        let overrides = overrides(&self.set)?;
         Ok(RunSettings {
-            profile: self.profile.profile(),
+            profile: self.profile,
             expected_routes: self.expected_routes,
-            duplicates: duplicates.map(DuplicatesArg::policy),
+            duplicates,
             allow_missing_telemetry: self.allow_missing_telemetry,
             jobs: self.jobs,
-            route_subset: route_subset.map(RouteSubsetArg::subset),
+            route_subset,
             // One list, as Python passes it (joined again with commas: the text given).
             protocols: self
                 .protocol
@@ -207,6 +135,20 @@ impl RunArgs {
             overrides,
         })
     }
+}
+
+/// `--set NAME=VALUE` options as `(name, value)` pairs.
+///
+/// # Errors
+/// [`SettingsError::Syntax`]: a `--set` without `=`.
+pub fn overrides(set: &[String]) -> Result<Vec<(String, String)>, SettingsError> {
+    set.iter()
+        .map(|s| {
+            s.split_once('=')
+                .map(|(n, v)| (n.to_string(), v.to_string()))
+                .ok_or_else(|| SettingsError::Syntax(s.clone()))
+        })
+        .collect()
 }
 
 /// Arguments of `sds score`.
@@ -236,13 +178,13 @@ pub struct ScoreArgs {
     /// `first` or `last` copy in input order, the `newest` run (latest `save_name` time stamp),
     /// or score `all` copies. Default: error (or
     /// `--set duplicates=...`).
-    #[arg(long, value_enum)]
-    pub duplicates: Option<DuplicatesArg>,
+    #[arg(long, value_parser = named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
+    pub duplicates: Option<DuplicatePolicy>,
     /// Which routes of `--routes` make the route set: `all` (default: a route without a record
     /// counts as 0) or those `found` with a record (a debug run over part of the XML). Also
     /// `--set route_subset=...`.
-    #[arg(long, value_enum)]
-    pub route_subset: Option<RouteSubsetArg>,
+    #[arg(long, value_parser = named(RouteSubset::ALL, RouteSubset::name))]
+    pub route_subset: Option<RouteSubset>,
     /// Output format.
     #[arg(long, value_enum, default_value = "json")]
     pub format: Format,
@@ -250,8 +192,8 @@ pub struct ScoreArgs {
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
     /// Break the routes down by this (the report's `groups`; the tables default to scenario).
-    #[arg(long, value_enum)]
-    pub group_by: Option<GroupArg>,
+    #[arg(long, value_parser = named(GroupBy::ALL, GroupBy::name))]
+    pub group_by: Option<GroupBy>,
     /// Scenario type -> family label(s): a JSON object whose values are a label or a list of
     /// labels, or CSV `type,label` lines.
     #[arg(long)]
@@ -345,8 +287,8 @@ pub struct CompareArgs {
     /// Which routes of `--routes` make each run's route set: `all` (default: a route without a
     /// record counts as 0) or those `found` with a record, as `sds score --route-subset`. Also
     /// `--set route_subset=...`.
-    #[arg(long, value_enum)]
-    pub route_subset: Option<RouteSubsetArg>,
+    #[arg(long, value_parser = named(RouteSubset::ALL, RouteSubset::name))]
+    pub route_subset: Option<RouteSubset>,
     /// Score every model at every point of a grid of settings: `NAME=V1,V2,...` (repeatable;
     /// the grid is the product of the lists, at most 64 points; NAME a setting that changes a
     /// route's figures). Adds each model's DS_safe, comfort, SDS and rank at every point and
@@ -438,11 +380,11 @@ pub enum Command {
         #[arg(long)]
         maps: Option<PathBuf>,
         /// Comfort profile (changes the configuration the frames are checked against).
-        #[arg(long, value_enum, default_value = "physical")]
-        profile: ProfileArg,
+        #[arg(long, value_parser = named(&Profile::ALL, Profile::name), default_value = "physical")]
+        profile: Profile,
         /// Which copy of a duplicated route id to print (as for `score`).
-        #[arg(long, value_enum)]
-        duplicates: Option<DuplicatesArg>,
+        #[arg(long, value_parser = named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
+        duplicates: Option<DuplicatePolicy>,
         /// Override a setting, e.g. `lateral_reference=lane`, `dt=0.1` (as for `score`).
         #[arg(long = "set", value_name = "NAME=VALUE")]
         set: Vec<String>,
@@ -496,8 +438,8 @@ pub struct MergeArgs {
     /// `last` keep the first / last part's record; `newest` the latest `save_name` time stamp
     /// (each row keeps its record's); `all` scores both. The merged `config.duplicates` states
     /// the rule applied.
-    #[arg(long, value_enum)]
-    pub duplicates: Option<DuplicatesArg>,
+    #[arg(long, value_parser = named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
+    pub duplicates: Option<DuplicatePolicy>,
     /// `provenance.host=false` leaves this machine's name out of the merged report (the
     /// scoring settings come from the parts).
     #[arg(long = "set", value_name = "NAME=VALUE")]

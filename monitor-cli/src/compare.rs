@@ -13,13 +13,13 @@ use super::exit::{
 };
 use super::output::write_output;
 use super::style;
-use monitor_host::app::compare_runs::{CompareRequest, Compared, RunSpec, Seeds};
+use monitor_host::app::compare_runs::{CompareRequest, CompareWarning, Compared, RunSpec, Seeds};
 use monitor_host::report::grid::Style;
 use monitor_host::report::long_tables::{compare_tables, sweep_table, SWEEP_TABLE, TABLE_NAMES};
 use monitor_host::report::{compare_table, html};
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::CompareOptions;
-use monitor_host::{NoProgress, Warning};
+use monitor_host::NoProgress;
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.
@@ -130,109 +130,38 @@ pub fn request(args: &CompareArgs) -> Result<CompareRequest> {
     })
 }
 
-/// The runs' missing-map warnings ([`Warning::NoMap`], [`Warning::NoMaps`]) said once for the
-/// whole comparison: every run is scored against the same `--maps` folder, so the towns are
-/// listed once, and each run's count of routes in them (instead of one long line per run).
-///
-/// ```ignore
-/// use monitor_host::cli::compare::maps_warning;
-/// use monitor_host::Warning;
-/// let w = |towns: &[(&str, usize)]| Warning::NoMaps {
-///     towns: towns.iter().map(|(t, n)| (t.to_string(), *n)).collect(),
-///     reason: "no map for Town03 in maps (looked for maps/Town03.xodr)".into(),
-///     lane_fallback: false,
-/// };
-/// let a = w(&[("Town03", 11), ("Town12", 104)]);
-/// let b = w(&[("Town03", 11), ("Town12", 100)]);
-/// let line = maps_warning(&[("uniad", &a), ("vad", &b)], Some(std::path::Path::new("maps"))).unwrap();
-/// assert_eq!(line, "no map in maps for 2 towns (Town03, Town12): their routes (uniad 115, vad 111) \
-///     fall back to the route XML's straight segments; add the towns' .xodr to --maps to use their lanes");
-/// ```
-pub fn maps_warning(runs: &[(&str, &Warning)], maps: Option<&Path>) -> Option<String> {
-    let mut towns = std::collections::BTreeSet::new();
-    let mut per_run: Vec<(&str, usize)> = Vec::new();
-    let mut lane = false;
-    for (run, w) in runs {
-        let (listed, lane_fallback) = match w {
-            Warning::NoMap {
-                town,
-                routes,
-                lane_fallback,
-                ..
-            } => (vec![(town.as_str(), *routes)], *lane_fallback),
-            Warning::NoMaps {
-                towns,
-                lane_fallback,
-                ..
-            } => (
-                towns.iter().map(|(t, n)| (t.as_str(), *n)).collect(),
-                *lane_fallback,
-            ),
-            _ => continue,
-        };
-        lane |= lane_fallback;
-        towns.extend(listed.iter().map(|(t, _)| *t));
-        let routes: usize = listed.iter().map(|(_, n)| n).sum();
-        match per_run.iter_mut().find(|(r, _)| r == run) {
-            Some((_, n)) => *n += routes,
-            None => per_run.push((run, routes)),
-        }
-    }
-    if towns.is_empty() {
-        return None;
-    }
-    let names: Vec<&str> = towns.into_iter().collect();
-    let folder = maps.map_or_else(String::new, |m| format!(" in {}", m.display()));
-    let counts: Vec<String> = per_run.iter().map(|(r, n)| format!("{r} {n}")).collect();
-    Some(format!(
-        "no map{folder} for {} town{} ({}): their routes ({}) fall back to the route XML's \
-         straight segments{}; add the towns' .xodr to --maps to use their lanes",
-        names.len(),
-        if names.len() == 1 { "" } else { "s" },
-        names.join(", "),
-        counts.join(", "),
-        if lane {
-            " (lateral_reference=lane falls back to route)"
-        } else {
-            ""
-        }
-    ))
-}
-
 /// Scores and compares the runs of the arguments, printing each run's warnings (the missing
-/// maps once for all runs: [`maps_warning`]); the second value is true when some run has
+/// maps once for all runs: [`Compared::warnings`]); the second value is true when some run has
 /// problem routes.
 ///
 /// # Errors
 /// A usage error, a run's error, or a comparison error.
 pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
     let compared = request(args)?.compare(&NoProgress).map_err(super::failed)?;
+    let warnings = compared.warnings(args.run.maps.as_deref());
     let mut problems = false;
-    let mut no_maps: Vec<(&str, &Warning)> = Vec::new();
-    for m in &compared.models {
-        for r in &m.runs {
-            for w in &r.report.warnings {
-                if matches!(w, Warning::NoMap { .. } | Warning::NoMaps { .. }) {
-                    no_maps.push((&r.name, w));
-                } else {
-                    say!("sds: warning: {}: {}", r.name, super::spelling::warning(w));
+    for r in compared.models.iter().flat_map(|m| &m.runs) {
+        // Each run's warnings, then its problem routes.
+        for w in &warnings {
+            if let CompareWarning::Run { run, warning } = w {
+                if *run == r.name {
+                    say!("sds: warning: {run}: {}", super::spelling::warning(warning));
                 }
             }
-            if r.report.has_problems() {
-                problems = true;
-                say!(
-                    "sds: {}: {} route(s) with problems (score it alone with sds score for details)",
-                    r.name,
-                    r.report.problem_routes().count()
-                );
-            }
+        }
+        if r.report.has_problems() {
+            problems = true;
+            say!(
+                "sds: {}: {} route(s) with problems (score it alone with sds score for details)",
+                r.name,
+                r.report.problem_routes().count()
+            );
         }
     }
-    if let Some(w) = maps_warning(&no_maps, args.run.maps.as_deref()) {
-        say!("sds: warning: {w}");
-    }
-    for w in &compared.comparison.warnings {
-        say!("sds: warning: {w}");
+    for w in &warnings {
+        if let CompareWarning::Comparison(text) = w {
+            say!("sds: warning: {text}");
+        }
     }
     Ok((compared, problems))
 }

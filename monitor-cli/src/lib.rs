@@ -41,15 +41,16 @@ use anyhow::Result;
 use clap::Parser;
 
 use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::app::frames::{Frames, FramesRequest};
 use monitor_host::app::request::{ScoreError, ScoreRequest};
 use monitor_host::report::grid::Style;
 use monitor_host::report::table::{self, TableOptions};
 use monitor_host::report::{csv, html, json, long_tables};
 use monitor_host::{
-    demo, route_frames, Inputs, LabelFiles, Progress, Settings, SettingsError, TelemetryState,
+    demo, Inputs, LabelFiles, Progress, RunSettings, SettingsError, TelemetryState,
 };
 
-use args::{Cli, Command, Format, GroupArg, LayoutArg, ProfileArg, RunArgs, ScoreArgs};
+use args::{Cli, Command, Format, LayoutArg, RunArgs, ScoreArgs};
 
 pub use monitor_host::app::scored::Scored;
 use output::write_output;
@@ -99,19 +100,9 @@ pub fn error_message(e: &(dyn std::error::Error + 'static)) -> String {
 
 fn run(cli: Cli) -> Result<i32> {
     match cli.command {
-        Command::Score(args) => {
-            log_options(args.mcap.is_empty(), &args.topics, None)?;
-            score(&args)
-        }
+        Command::Score(args) => score(&args),
         Command::Compare(args) => compare::compare(&args),
-        Command::Watch(args) => {
-            log_options(
-                args.score.mcap.is_empty(),
-                &args.score.topics,
-                Some("sds watch"),
-            )?;
-            watch::watch(&args)
-        }
+        Command::Watch(args) => watch::watch(&args),
         Command::Merge(args) => merge::merge(&args),
         Command::Link(args) => link::link(&args),
         Command::Checker(args) => link::checker(&args),
@@ -191,40 +182,30 @@ fn run(cli: Cli) -> Result<i32> {
             route_id,
             output,
         } => {
-            log_options(mcap.is_none(), &topics, None)?;
-            let inputs = Inputs {
-                results,
-                telemetry,
-                route_xml: routes,
-                maps,
+            let request = FramesRequest {
+                inputs: Inputs {
+                    results,
+                    telemetry,
+                    route_xml: routes,
+                    maps,
+                },
+                settings: RunSettings {
+                    profile,
+                    duplicates,
+                    overrides: args::overrides(&set)?,
+                    ..RunSettings::default()
+                },
+                route_id,
+                log: mcap,
+                topics,
             };
-            let mut settings = Settings::default();
-            settings.core.profile = profile.profile();
-            settings.core.bounds = monitor_core::Bounds::of(profile.profile());
-            if let Some(d) = duplicates {
-                settings.duplicates = d.policy();
-            }
-            settings.apply(&set)?;
-            let (run, route_id) = match mcap {
-                Some(log) => (
-                    monitor_host::app::vehicle_logs::log_frames(
-                        &log,
-                        &log_topics(&topics)?,
-                        &settings,
-                    )?,
-                    monitor_host::input::mcap::log_name(&log),
-                ),
-                None => {
-                    let id = route_id.unwrap_or_default();
-                    (route_frames(&inputs, &id, &settings)?, id)
-                }
-            };
-            for w in &run.warnings {
+            let Frames { route_id, frames } = request.frames().map_err(failed)?;
+            for w in &frames.warnings {
                 say!("sds: warning: {route_id}: {}", spelling::warning(w));
             }
             let lines =
-                monitor_host::report::frames::frame_lines(&run).map_err(anyhow::Error::msg)?;
-            write_output(output.as_deref(), &lines, &run.files_read)?;
+                monitor_host::report::frames::frame_lines(&frames).map_err(anyhow::Error::msg)?;
+            write_output(output.as_deref(), &lines, &frames.files_read)?;
             Ok(0)
         }
     }
@@ -242,9 +223,10 @@ pub fn request(args: &ScoreArgs) -> Result<ScoreRequest, SettingsError> {
         labels: label_files(args),
         group_by: args
             .group_by
-            .map(group_by)
             .or(style(args.format).map(|_| GroupBy::Scenario)),
         infractions: args.infractions.clone(),
+        logs: args.mcap.clone(),
+        topics: args.topics.clone(),
     })
 }
 
@@ -276,39 +258,13 @@ fn label_files(args: &ScoreArgs) -> LabelFiles {
     }
 }
 
-/// The library's grouping.
-fn group_by(g: GroupArg) -> GroupBy {
-    match g {
-        GroupArg::Scenario => GroupBy::Scenario,
-        GroupArg::Family => GroupBy::Family,
-        GroupArg::Town => GroupBy::Town,
-        GroupArg::Weather => GroupBy::Weather,
-        GroupArg::Route => GroupBy::Route,
-    }
-}
-
 /// Everything `sds score` does before rendering: its [`request`], scored (telling `progress`).
 ///
 /// # Errors
 /// A typed error inside (a [`monitor_host::Error`], [`monitor_host::RequestError`] or [`SettingsError`];
 /// `downcast_ref` tells which).
 pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored> {
-    let request = request(args)?;
-    if !args.mcap.is_empty() {
-        let settings = request.validate()?;
-        let report = monitor_host::app::vehicle_logs::score_logs(
-            &args.mcap,
-            &log_topics(&args.topics)?,
-            &settings,
-        )?;
-        return Ok(Scored {
-            report,
-            families: None,
-            weathers: None,
-            labels: None,
-        });
-    }
-    request.score(progress).map_err(failed)
+    request(args)?.score(progress).map_err(failed)
 }
 
 /// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16): a signal named
@@ -316,25 +272,6 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
 fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
     use monitor_host::input::mcap::{McapError, Topics};
     Topics::parse(specs).map_err(|m| monitor_host::Error::from(McapError::Options(m)).into())
-}
-
-/// Refuses (exit 2) `--topic` without a log to read it from, and `--mcap` where `command`
-/// (`sds watch`) reads no logs.
-fn log_options(no_log: bool, topics: &[String], command: Option<&str>) -> Result<()> {
-    use monitor_host::input::mcap::McapError;
-    let refuse = |m: String| Err(monitor_host::Error::from(McapError::Options(m)).into());
-    match command {
-        Some(c) if !no_log => refuse(format!(
-            "{c} follows an evaluation's results files while they are written; a vehicle log \
-             (--mcap) is a finished file: score it with sds score --mcap"
-        )),
-        _ if no_log && !topics.is_empty() => refuse(format!(
-            "--topic {} names a vehicle log's topic, but no log is given: add --mcap FILE, or \
-             leave --topic out",
-            topics[0]
-        )),
-        _ => Ok(()),
-    }
 }
 
 fn style(format: Format) -> Option<Style> {
@@ -356,7 +293,7 @@ fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
         run: RunArgs {
             routes: Some(run.routes.clone()),
             maps: Some(run.maps.clone()),
-            profile: ProfileArg::Physical,
+            profile: monitor_core::Profile::Physical,
             expected_routes: None,
             allow_missing_telemetry: false,
             set: vec![],
@@ -423,12 +360,10 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     bar.finish();
     let Scored { report, .. } = scored?;
 
-    // Every warning, the per-route ones included, is in the report; printed here once each.
+    // Every warning and note, the per-route ones included, is in the report; printed here
+    // once each.
     for w in &report.warnings {
-        say!("sds: warning: {}", spelling::warning(w));
-    }
-    for note in period_notes(&report) {
-        say!("sds: note: {note}");
+        say!("sds: {}", spelling::line(w));
     }
     // JSON is streamed to its file: a large run's text is never held beside its report.
     let bytes = match args.format {
@@ -725,11 +660,7 @@ fn write_all(
         }
     };
     if let Some((dir, n)) = traces {
-        say!(
-            "sds: wrote {n} collision trace(s) to {}{}",
-            dir.display(),
-            untraced_note(report)
-        );
+        say!("sds: wrote {n} collision trace(s) to {}", dir.display());
     }
     if let Some((dir, names)) = figures {
         say!("sds: wrote {} to {}", names.join(", "), dir.display());
@@ -739,58 +670,4 @@ fn write_all(
     }
     rerun.tell();
     Ok(())
-}
-
-/// What `--traces` left out: aligned collisions past the first
-/// [`monitor_host::route::trace::TRACES_PER_ROUTE`] of a route (empty when none).
-fn untraced_note(report: &monitor_host::Report) -> String {
-    let cap = monitor_host::route::trace::TRACES_PER_ROUTE;
-    let left: usize = report
-        .routes
-        .iter()
-        .filter(|r| r.traces.len() >= cap)
-        .map(|r| {
-            let aligned = r.collision_events.iter().filter(|e| e.frame.is_some());
-            aligned.count().saturating_sub(r.traces.len())
-        })
-        .sum();
-    if left == 0 {
-        return String::new();
-    }
-    format!(
-        "; {left} more collision(s) without a trace (at most {cap} per route; every collision \
-         is in the JSON report's events)"
-    )
-}
-
-/// One note per inferred step period other than CARLA's 0.05 s tick, naming its routes (the
-/// first 10 and a count): a period read wrong would scale every speed and time of a route.
-fn period_notes(report: &monitor_host::Report) -> Vec<String> {
-    let mut by_dt: Vec<(f64, Vec<&str>)> = Vec::new();
-    for r in &report.routes {
-        let (Some(dt), Some(monitor_host::pipeline::step_period::DtSource::Inferred), Some(id)) =
-            (r.dt, r.dt_source, r.route_id.as_deref())
-        else {
-            continue;
-        };
-        if dt == 0.05 {
-            continue;
-        }
-        match by_dt.iter_mut().find(|(d, _)| *d == dt) {
-            Some((_, ids)) => ids.push(id),
-            None => by_dt.push((dt, vec![id])),
-        }
-    }
-    by_dt.sort_by(|a, b| a.0.total_cmp(&b.0));
-    by_dt
-        .into_iter()
-        .map(|(dt, ids)| {
-            format!(
-                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
-                 (--set dt=SECONDS fixes the period of every route)",
-                ids.len(),
-                monitor_host::warning::id_list(&ids)
-            )
-        })
-        .collect()
 }

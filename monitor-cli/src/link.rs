@@ -39,7 +39,7 @@ pub struct LinkArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Which copy of a duplicated route id to play (as for `score`).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = crate::args::named(DuplicatesArg::ALL, DuplicatesArg::name))]
     pub duplicates: Option<DuplicatesArg>,
     /// The checker: `serial:DEVICE[@BAUD]`, `tcp:HOST:PORT` or `exec:COMMAND`.
     #[arg(long, value_name = "TARGET")]

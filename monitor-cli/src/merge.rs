@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 
-use super::args::{DuplicatesArg, Format, MergeArgs};
+use super::args::{Format, MergeArgs};
 use super::output::{write_output, write_output_with};
 use super::{style, RerunArgs};
 use monitor_host::app::merged::MergeRequest;
@@ -45,9 +45,7 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
     rerun.check(args.output.as_deref(), &[("a table", tables_named)], &dirs)?;
     let report = MergeRequest {
         parts: args.parts.clone(),
-        duplicates: args
-            .duplicates
-            .map_or(DuplicatePolicy::Error, DuplicatesArg::policy),
+        duplicates: args.duplicates.unwrap_or(DuplicatePolicy::Error),
         host,
         // The table formats break down by scenario, as `sds score` does.
         by_scenario: style(args.format).is_some(),

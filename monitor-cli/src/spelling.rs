@@ -73,3 +73,10 @@ fn flags(options: &[&str]) -> String {
 pub fn warning(w: &monitor_host::warning::Warning) -> String {
     format!("{w}{}", flags(monitor_host::error_kind::warning_options(w)))
 }
+
+/// A report's warning or note as `sds` prints it after `sds: `: `warning: ...` or, for a note
+/// ([`monitor_host::warning::Warning::is_note`]), `note: ...`.
+pub fn line(w: &monitor_host::warning::Warning) -> String {
+    let class = if w.is_note() { "note" } else { "warning" };
+    format!("{class}: {}", warning(w))
+}

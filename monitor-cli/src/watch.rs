@@ -117,7 +117,7 @@ pub fn watch(args: &WatchArgs) -> Result<i32> {
         write_round(a, &out, &report, None)
     })?;
     for w in &report.warnings {
-        say!("sds: warning: {}", super::spelling::warning(w));
+        say!("sds: {}", super::spelling::line(w));
     }
     // The final reading's line (a timeout, a signal); a round already printed with its stop is
     // not printed again.

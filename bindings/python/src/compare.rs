@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::compare_runs::{CompareRequest, RunSpec, Seeds};
+use monitor_host::app::compare_runs::{CompareRequest, CompareWarning, RunSpec, Seeds};
 use monitor_host::error::message;
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::{CompareError, CompareOptions};
@@ -134,9 +134,13 @@ pub fn compare<'py>(
         }
     }
     let compared = compared.map_err(|e| score_error(&e))?;
-    let mut warnings: Vec<String> = (compared.models.iter().flat_map(|m| &m.runs))
-        .flat_map(|r| r.report.warnings.iter().map(|w| format!("{}: {w}", r.name)))
+    let warnings: Vec<String> = compared
+        .warnings(request.maps.as_deref())
+        .into_iter()
+        .map(|w| match w {
+            CompareWarning::Run { run, warning } => format!("{run}: {warning}"),
+            CompareWarning::Comparison(text) => text,
+        })
         .collect();
-    warnings.extend(compared.comparison.warnings.iter().cloned());
     Ok((to_python(py, &compared.comparison)?, warnings))
 }

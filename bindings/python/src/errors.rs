@@ -142,6 +142,10 @@ pub fn request_error(e: &RequestError) -> PyErr {
         RequestError::Timeout { given, bound } => {
             ConfigError::new_err(format!("timeout={given}: {bound}"))
         }
+        RequestError::StallFactor { given } => ConfigError::new_err(format!(
+            "stall_factor={given}: expected a number above 0 (default {})",
+            monitor_host::model::shard_stall::DEFAULT_FACTOR
+        )),
         _ => ConfigError::new_err(message(e)),
     }
 }

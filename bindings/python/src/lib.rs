@@ -5,6 +5,8 @@
 //!   `Settings` and label files built from the keyword arguments (`options.rs`, shared by every
 //!   scored-run function), the report converted to Python objects directly (`pyser.rs`), GIL
 //!   released while scoring;
+//! - `frames` (`frames.rs`): the library's `FramesRequest` (a route of a run, or a vehicle
+//!   log), the frames as `sds frames` prints them;
 //! - `compare` (`compare.rs`): the library's `compare_runs` with the runs, `Settings` (the same
 //!   `options.rs`) and the comparison's options built from the keyword arguments, the
 //!   `sds-compare/1` report converted by `pyser.rs`, GIL released while scoring;
@@ -28,6 +30,7 @@
 mod compare;
 mod convert;
 mod errors;
+mod frames;
 mod interrupt;
 mod link;
 mod merge;
@@ -55,6 +58,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(score::score, m)?)?;
+    m.add_function(wrap_pyfunction!(frames::frames, m)?)?;
     m.add_function(wrap_pyfunction!(compare::compare, m)?)?;
     m.add_function(wrap_pyfunction!(watch::watch, m)?)?;
     m.add_function(wrap_pyfunction!(merge::merge, m)?)?;

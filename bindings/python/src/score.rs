@@ -46,18 +46,10 @@ pub(crate) fn breakdown(
 ) -> PyResult<(Option<GroupBy>, LabelFiles)> {
     let by = group_by
         .map(|g| {
-            [
-                GroupBy::Scenario,
-                GroupBy::Family,
-                GroupBy::Town,
-                GroupBy::Weather,
-                GroupBy::Route,
-            ]
-            .into_iter()
-            .find(|b| b.name() == g)
-            .ok_or_else(|| {
+            GroupBy::from_name(g).ok_or_else(|| {
                 ConfigError::new_err(format!(
-                    "group_by={g:?}: expected one of scenario, family, town, weather, route"
+                    "group_by={g:?}: expected one of {}",
+                    GroupBy::NAMES.join(", ")
                 ))
             })
         })
@@ -93,6 +85,12 @@ pub(crate) struct ScoreKwargs {
     /// `False` / `None`.
     #[pyo3(default)]
     progress: Option<Py<PyAny>>,
+    /// `sds.score` only: vehicle logs scored instead of results.
+    #[pyo3(default)]
+    mcap: Option<Vec<PathBuf>>,
+    /// `sds.score` only: the logs' topics, `NAME=TOPIC` each.
+    #[pyo3(default)]
+    topics: Option<Vec<String>>,
 }
 
 /// What `progress=` asks for.
@@ -191,5 +189,7 @@ pub(crate) fn score_request(
         labels,
         group_by,
         infractions: Vec::new(),
+        logs: kw.mcap.clone().unwrap_or_default(),
+        topics: kw.topics.clone().unwrap_or_default(),
     })
 }

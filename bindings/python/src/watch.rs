@@ -34,6 +34,9 @@ struct WatchKwargs {
     interval: f64,
     timeout: Option<f64>,
     on_round: Option<Py<PyAny>>,
+    /// K of the stalled-shard rule; None: the library's default.
+    #[pyo3(default)]
+    stall_factor: Option<f64>,
 }
 
 /// The iterator `sds.watch` returns (see the Python `sds.watch`).
@@ -222,7 +225,9 @@ pub fn watch(results: Vec<PathBuf>, options: &Bound<'_, PyDict>) -> PyResult<Wat
         interval: watch.interval,
         timeout: watch.timeout,
         once: false,
-        stall_factor: monitor_host::model::shard_stall::DEFAULT_FACTOR,
+        stall_factor: watch
+            .stall_factor
+            .unwrap_or(monitor_host::model::shard_stall::DEFAULT_FACTOR),
     };
     Ok(Watch {
         session: request.session().map_err(|e| request_error(&e))?,

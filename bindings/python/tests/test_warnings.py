@@ -81,3 +81,16 @@ def test_i46_6_merge_warns_the_merged_reports_warnings(b2d: Path, tmp_path: Path
     assert merged["warnings"] and [str(w.message) for w in seen] == merged["warnings"]
     assert any("eval num 214" in str(w.message) for w in seen)
     assert all(w.filename == __file__ for w in seen)
+
+
+def test_i48_2_notes_are_report_warnings_as_the_cli_says_them(demo: Any, sds_bin: Path) -> None:
+    """The inferred-period note was printed by the command only: it is now in the report, so
+    Python warns it too, with the command's text (`sds: note: ...`)."""
+    report, seen = _caught(lambda: sds.score(demo.results, telemetry=demo.telemetry))
+    notes = [str(w.message) for w in seen if str(w.message).startswith("step period inferred as 0.1 s")]
+    assert len(notes) == 1 and "RouteScenario_900008_rep0" in notes[0], notes
+    assert notes[0] in report["warnings"]
+    code, _, err = run_cli(sds_bin, ["score", "--results", str(demo.results), "--telemetry", str(demo.telemetry)])
+    assert code == 0, err
+    said = [line for line in err.splitlines() if line.startswith("sds: note: step period inferred")]
+    assert said == ["sds: note: " + notes[0]], said

@@ -8,6 +8,7 @@ import json
 import shutil
 import threading
 import time
+import warnings
 from pathlib import Path
 from typing import Any, Dict, List, Optional
 
@@ -229,3 +230,22 @@ def test_r3_05_permanent_errors_raise_at_once(demo: Demo, tmp_path: Path) -> Non
 def test_r3_05_interval_and_timeout_are_bounded(demo: Demo, kwargs: Dict[str, float], name: str) -> None:
     with pytest.raises(sds.ConfigError, match=name):
         sds.watch(demo.results, **kwargs)
+
+
+def test_i48_3_watch_takes_route_subset_and_stall_factor(demo: Demo, tmp_path: Path) -> None:
+    """`sds.watch` takes the options `sds watch` has: `route_subset` (its last report is
+    `sds.score`'s with the same subset) and `stall_factor` (checked at once, Python's name)."""
+    data = json.loads(demo.results.read_text())
+    data["_checkpoint"]["records"] = data["_checkpoint"]["records"][:3]
+    part = tmp_path / "part.json"
+    part.write_text(json.dumps(data))
+    with pytest.raises(sds.ConfigError, match=r"stall_factor=0: expected a number above 0"):
+        sds.watch(part, stall_factor=0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", sds.SdsWarning)
+        w = sds.watch(part, telemetry=demo.telemetry, routes=demo.routes, route_subset="found",
+                      stall_factor=2.5, interval=0.01, timeout=0)
+        last = list(w)[-1]
+        found = sds.score(part, telemetry=demo.telemetry, routes=demo.routes, route_subset="found")
+    assert last["config"]["route_subset"] == "found" and last["summary"]["missing"] == 0
+    assert last["summary"] == found["summary"]

@@ -23,34 +23,26 @@ use crate::input::route_set::parse_route_id;
 use crate::input::warning::Warning;
 use crate::route::row::{counted_routes, RouteReport};
 
-/// What to group the breakdown by.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum GroupBy {
-    /// Scenario type.
-    Scenario,
-    /// Scenario family (a label map of scenario types is required).
-    Family,
-    /// Town.
-    Town,
-    /// Weather (the weather id, or its labels from a label map).
-    Weather,
-    /// A label map of routes (required), keyed by route id in any of the forms of
-    /// [`route_label_key`]: a difficulty split, a train/test split, ...
-    Route,
+named_enum! {
+    /// What to group the breakdown by; its name is the group column's heading (`scenario`,
+    /// `family`, `town`, `weather`, `route`) and every front end's spelling.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum GroupBy {
+        /// Scenario type.
+        Scenario = "scenario",
+        /// Scenario family (a label map of scenario types is required).
+        Family = "family",
+        /// Town.
+        Town = "town",
+        /// Weather (the weather id, or its labels from a label map).
+        Weather = "weather",
+        /// A label map of routes (required), keyed by route id in any of the forms of
+        /// [`route_label_key`]: a difficulty split, a train/test split, ...
+        Route = "route",
+    }
 }
 
 impl GroupBy {
-    /// The group column's heading: `scenario`, `family`, `town`, `weather`, `route`.
-    pub fn name(self) -> &'static str {
-        match self {
-            GroupBy::Scenario => "scenario",
-            GroupBy::Family => "family",
-            GroupBy::Town => "town",
-            GroupBy::Weather => "weather",
-            GroupBy::Route => "route",
-        }
-    }
-
     /// The option of `sds score` that gives the label map this grouping cannot do without
     /// (`--families`, `--labels`); `None` when the grouping works without one.
     pub fn required_labels(self) -> Option<&'static str> {

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::app::request::{RequestError, ScoreError};
 use crate::app::run::{Inputs, Progress};
 use crate::error::Error;
+use crate::input::warning::Warning;
 use crate::settings::Settings;
 use crate::stats::stat::Stat;
 use crate::stats::sweep::{self, SweepAxis, SweepError};
@@ -61,6 +62,120 @@ pub struct Compared {
     pub comparison: Comparison,
     /// The models, each with its runs' reports.
     pub models: Vec<Model>,
+}
+
+/// One warning of a comparison, said the same way by every front end ([`Compared::warnings`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum CompareWarning<'a> {
+    /// A run's own warning (its report's), named by the run.
+    Run {
+        /// The run's name.
+        run: &'a str,
+        /// The warning.
+        warning: &'a Warning,
+    },
+    /// A line about the whole comparison: the towns without a map of every run, said once
+    /// ([`maps_warning`]); the comparison's own warnings.
+    Comparison(String),
+}
+
+impl Compared {
+    /// Every warning of the comparison, in order: each run's (the missing maps left out), then
+    /// the runs' missing maps said once for all of them (every run is scored against the same
+    /// `maps` folder), then the comparison's own.
+    pub fn warnings(&self, maps: Option<&Path>) -> Vec<CompareWarning<'_>> {
+        let mut out = Vec::new();
+        let mut no_maps: Vec<(&str, &Warning)> = Vec::new();
+        for r in self.models.iter().flat_map(|m| &m.runs) {
+            for w in &r.report.warnings {
+                if matches!(w, Warning::NoMap { .. } | Warning::NoMaps { .. }) {
+                    no_maps.push((&r.name, w));
+                } else {
+                    out.push(CompareWarning::Run {
+                        run: &r.name,
+                        warning: w,
+                    });
+                }
+            }
+        }
+        out.extend(maps_warning(&no_maps, maps).map(CompareWarning::Comparison));
+        out.extend(
+            self.comparison
+                .warnings
+                .iter()
+                .map(|w| CompareWarning::Comparison(w.clone())),
+        );
+        out
+    }
+}
+
+/// The runs' missing-map warnings ([`Warning::NoMap`], [`Warning::NoMaps`]) said once for the
+/// whole comparison: every run is scored against the same `maps` folder, so the towns are
+/// listed once, and each run's count of routes in them (instead of one long line per run).
+///
+/// ```
+/// use monitor_host::compare_runs::maps_warning;
+/// use monitor_host::Warning;
+/// let w = |towns: &[(&str, usize)]| Warning::NoMaps {
+///     towns: towns.iter().map(|(t, n)| (t.to_string(), *n)).collect(),
+///     reason: "no map for Town03 in maps (looked for maps/Town03.xodr)".into(),
+///     lane_fallback: false,
+/// };
+/// let a = w(&[("Town03", 11), ("Town12", 104)]);
+/// let b = w(&[("Town03", 11), ("Town12", 100)]);
+/// let line = maps_warning(&[("uniad", &a), ("vad", &b)], Some(std::path::Path::new("maps"))).unwrap();
+/// assert_eq!(line, "no map in maps for 2 towns (Town03, Town12): their routes (uniad 115, vad 111) \
+///     fall back to the route XML's straight segments; add the towns' .xodr to --maps to use their lanes");
+/// ```
+pub fn maps_warning(runs: &[(&str, &Warning)], maps: Option<&Path>) -> Option<String> {
+    let mut towns = std::collections::BTreeSet::new();
+    let mut per_run: Vec<(&str, usize)> = Vec::new();
+    let mut lane = false;
+    for (run, w) in runs {
+        let (listed, lane_fallback) = match w {
+            Warning::NoMap {
+                town,
+                routes,
+                lane_fallback,
+                ..
+            } => (vec![(town.as_str(), *routes)], *lane_fallback),
+            Warning::NoMaps {
+                towns,
+                lane_fallback,
+                ..
+            } => (
+                towns.iter().map(|(t, n)| (t.as_str(), *n)).collect(),
+                *lane_fallback,
+            ),
+            _ => continue,
+        };
+        lane |= lane_fallback;
+        towns.extend(listed.iter().map(|(t, _)| *t));
+        let routes: usize = listed.iter().map(|(_, n)| n).sum();
+        match per_run.iter_mut().find(|(r, _)| r == run) {
+            Some((_, n)) => *n += routes,
+            None => per_run.push((run, routes)),
+        }
+    }
+    if towns.is_empty() {
+        return None;
+    }
+    let names: Vec<&str> = towns.into_iter().collect();
+    let folder = maps.map_or_else(String::new, |m| format!(" in {}", m.display()));
+    let counts: Vec<String> = per_run.iter().map(|(r, n)| format!("{r} {n}")).collect();
+    Some(format!(
+        "no map{folder} for {} town{} ({}): their routes ({}) fall back to the route XML's \
+         straight segments{}; add the towns' .xodr to --maps to use their lanes",
+        names.len(),
+        if names.len() == 1 { "" } else { "s" },
+        names.join(", "),
+        counts.join(", "),
+        if lane {
+            " (lateral_reference=lane falls back to route)"
+        } else {
+            ""
+        }
+    ))
 }
 
 /// Groups the runs into models: each `seeds` entry is one model, at the place of its first run;

@@ -4,6 +4,8 @@
 //! spelling and calls one of these; the orchestration is here, once.
 
 pub mod compare_runs;
+pub mod diagnostics;
+pub mod frames;
 pub mod link;
 pub mod merged;
 pub mod request;

@@ -11,8 +11,10 @@ use monitor_core::Profile;
 use crate::aggregate::groups::GroupBy;
 use crate::app::run::{run_frames, Inputs, Progress};
 use crate::app::scored::{score_labelled, LabelFiles, Scored};
+use crate::app::vehicle_logs::score_logs;
 use crate::error::Error;
 use crate::input::duplicates::DuplicatePolicy;
+use crate::input::mcap::Topics;
 use crate::input::record::KNOWN_LISTS;
 use crate::input::route_set::RouteSubset;
 use crate::model::Report;
@@ -47,6 +49,10 @@ pub enum RequestError {
         /// The value given.
         given: f64,
     },
+    /// Vehicle logs and their topics that do not fit the request: a topic without a log, a
+    /// signal named twice, a log where the command reads none.
+    #[error("{0}")]
+    Log(String),
     /// A watch's timeout out of its bounds.
     #[error("timeout {given}: {bound}")]
     Timeout {
@@ -167,6 +173,11 @@ pub struct ScoreRequest {
     pub group_by: Option<GroupBy>,
     /// Extra infraction lists of the per-weather table (checked against the lists a record has).
     pub infractions: Vec<String>,
+    /// Vehicle logs (MCAP files or rosbag2 folders) scored instead of results, each one route
+    /// (docs/SCORE.md, "Vehicle logs"); `inputs.results` is then empty.
+    pub logs: Vec<PathBuf>,
+    /// The logs' topics, `NAME=TOPIC` each (`pose=/odom`, `imu=/imu`, `event=...`, `path=...`).
+    pub topics: Vec<String>,
 }
 
 impl ScoreRequest {
@@ -181,7 +192,7 @@ impl ScoreRequest {
     /// Checks the request before any work; returns its settings.
     ///
     /// # Errors
-    /// [`RequestError::Settings`], [`RequestError::UnknownInfraction`].
+    /// [`RequestError::Settings`], [`RequestError::UnknownInfraction`], [`RequestError::Log`].
     pub fn validate(&self) -> Result<Settings, RequestError> {
         let settings = self.settings.settings()?;
         if let Some(bad) = self
@@ -191,15 +202,33 @@ impl ScoreRequest {
         {
             return Err(RequestError::UnknownInfraction(bad.clone()));
         }
+        if !self.logs.is_empty() && !self.inputs.results.is_empty() {
+            return Err(RequestError::Log(
+                "results and vehicle logs (--mcap) are scored apart: give one or the other".into(),
+            ));
+        }
+        log_topics(!self.logs.is_empty(), &self.topics)?;
         Ok(settings)
     }
 
-    /// Scores the run ([`score_labelled`]), telling `progress`.
+    /// Scores the run ([`score_labelled`]), or its vehicle logs ([`score_logs`]), telling
+    /// `progress`.
     ///
     /// # Errors
     /// [`ScoreError::Request`] before any work, else the run's [`Error`].
     pub fn score(&self, progress: &dyn Progress) -> Result<Scored, ScoreError> {
         let settings = self.validate()?;
+        if !self.logs.is_empty() {
+            let topics = log_topics(true, &self.topics)?;
+            let mut report = score_logs(&self.logs, &topics, &settings)?;
+            crate::app::diagnostics::add_notes(&mut report);
+            return Ok(Scored {
+                report,
+                families: None,
+                weathers: None,
+                labels: None,
+            });
+        }
         Ok(score_labelled(
             &self.inputs,
             &settings,
@@ -232,6 +261,22 @@ impl ScoreRequest {
         files.extend(self.labels.files().cloned());
         files
     }
+}
+
+/// The vehicle-log topics of `NAME=TOPIC` options (docs/SCORE.md, "Vehicle logs"): a signal
+/// named twice, or one topic for two signals, is refused; so are topics without a log
+/// (`has_log` false) to read them from.
+///
+/// # Errors
+/// [`RequestError::Log`], naming the option and the fix.
+pub(crate) fn log_topics(has_log: bool, specs: &[String]) -> Result<Topics, RequestError> {
+    if let (false, Some(first)) = (has_log, specs.first()) {
+        return Err(RequestError::Log(format!(
+            "--topic {first} names a vehicle log's topic, but no log is given: add --mcap FILE, \
+             or leave --topic out"
+        )));
+    }
+    Topics::parse(specs).map_err(RequestError::Log)
 }
 
 /// Why a request could not be carried out.

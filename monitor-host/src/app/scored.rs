@@ -143,6 +143,7 @@ pub fn score_labelled_cached(
         let map = label_of(by, families.as_ref(), weathers.as_ref(), labels.as_ref());
         report.group(by, map)?;
     }
+    crate::app::diagnostics::add_notes(&mut report);
     Ok(Scored {
         report,
         families,

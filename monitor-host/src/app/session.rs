@@ -44,6 +44,7 @@ impl WatchRequest {
         interval(self.interval)?;
         self.timeout.map(timeout).transpose()?;
         stall_factor(self.stall_factor)?;
+        no_logs(&self.score)?;
         self.score.validate()?;
         Ok(())
     }
@@ -75,6 +76,7 @@ impl WatchRequest {
         let interval = interval(self.interval)?;
         let timeout = self.timeout.map(timeout).transpose()?;
         let stall_factor = stall_factor(self.stall_factor)?;
+        no_logs(&self.score)?;
         let settings = self.score.validate()?;
         let s = &self.score;
         let mut watcher = Watcher::new(
@@ -96,6 +98,18 @@ impl WatchRequest {
             stopped: false,
         })
     }
+}
+
+/// A watch follows results files while they are written: a vehicle log is a finished file.
+fn no_logs(score: &ScoreRequest) -> Result<(), RequestError> {
+    if score.logs.is_empty() {
+        return Ok(());
+    }
+    Err(RequestError::Log(
+        "sds watch follows an evaluation's results files while they are written; a vehicle log \
+         (--mcap) is a finished file: score it with sds score --mcap"
+            .into(),
+    ))
 }
 
 /// The interval, checked.

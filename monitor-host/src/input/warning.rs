@@ -336,6 +336,33 @@ pub enum Warning {
         /// The warning as the part wrote it.
         text: String,
     },
+    /// A note: routes whose inferred step period is not CARLA's 0.05 s tick (docs/SCORE.md, the
+    /// step period): a period read wrong would scale every speed and time of a route.
+    PeriodInferred {
+        /// The period inferred, s.
+        dt: f64,
+        /// The routes (ids) inferred at it.
+        routes: Vec<String>,
+    },
+    /// A note: aligned collisions past the first [`crate::route::trace::TRACES_PER_ROUTE`] of
+    /// a route have no trace (every collision is still in the report's events).
+    Untraced {
+        /// Collisions without a trace.
+        collisions: usize,
+        /// Traces kept per route.
+        cap: usize,
+    },
+}
+
+impl Warning {
+    /// True for a note: a fact worth saying that asks nothing of the user (the `sds` command
+    /// prints it after `sds: note: `).
+    pub fn is_note(&self) -> bool {
+        matches!(
+            self,
+            Warning::PeriodInferred { .. } | Warning::Untraced { .. }
+        )
+    }
 }
 
 impl std::fmt::Display for Warning {
@@ -366,7 +393,9 @@ impl std::fmt::Display for Warning {
             Warning::StepPeriodUnknown { .. }
             | Warning::StepPeriodPartial { .. }
             | Warning::LargeGaps { .. }
-            | Warning::NoTelemetry { .. } => self.fmt_telemetry(f),
+            | Warning::NoTelemetry { .. }
+            | Warning::PeriodInferred { .. }
+            | Warning::Untraced { .. } => self.fmt_telemetry(f),
             Warning::AllGaps { .. }
             | Warning::NoReference(..)
             | Warning::NoMap { .. }
@@ -596,6 +625,18 @@ impl Warning {
                 "step period not inferred: {gaps} of {span} step numbers missing (over 10 %), \
                  the telemetry holds only part of the run; dt {dt} s used (set the agent's \
                  period with the setting dt=SECONDS); its chunks span missing time"
+            ),
+            Warning::PeriodInferred { dt, routes } => write!(
+                f,
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
+                 (the setting dt=SECONDS fixes the period of every route)",
+                routes.len(),
+                id_list(routes)
+            ),
+            Warning::Untraced { collisions, cap } => write!(
+                f,
+                "{collisions} more collision(s) without a trace (at most {cap} per route; every \
+                 collision is in the JSON report's events)"
             ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,

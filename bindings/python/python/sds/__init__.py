@@ -4,6 +4,8 @@ Built from the same Rust code as the ``sds`` command (installed with this packag
 
 - :func:`score` scores a run and returns the report of ``sds score --format json`` as a dict,
   the same numbers to the bit;
+- :func:`frames` returns the monitor's input frames of one route or vehicle log (``sds
+  frames``);
 - :func:`compare` compares runs against a baseline (paired deltas, bootstrap intervals,
   verdicts, flips) and returns the report of ``sds compare --format json``;
 - :func:`merge` merges the reports of ``sds score`` scored where the files are (one per shard)
@@ -32,7 +34,9 @@ options: both an :class:`InputError` and a :class:`ConfigError`), :class:`Featur
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Literal, Mapping, Optional, Sequence, Union
+import json
+import os
+from typing import Any, Callable, Dict, List, Literal, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._sds import (
@@ -48,6 +52,7 @@ from ._sds import (
 )
 from ._compare import compare
 from ._options import PathLike, run_options
+from ._options import strings as _strings
 from ._options import paths as _paths
 from ._sds import Watch
 from ._tables import duckdb_read_csv, long_tables, read_tables, to_pandas, to_parquet
@@ -75,6 +80,7 @@ __all__ = [
     "__version__",
     "compare",
     "duckdb_read_csv",
+    "frames",
     "merge",
     "log",
     "long_tables",
@@ -88,7 +94,7 @@ __all__ = [
 
 
 def score(
-    results: Union[PathLike, Sequence[PathLike]],
+    results: Union[PathLike, Sequence[PathLike], None] = None,
     *,
     telemetry: Optional[PathLike] = None,
     routes: Optional[PathLike] = None,
@@ -104,6 +110,8 @@ def score(
     progress: Union[bool, Callable[[int, int], Any]] = False,
     protocols: Optional[Sequence[str]] = None,
     route_subset: Optional[Literal["all", "found"]] = None,
+    mcap: Optional[Sequence[PathLike]] = None,
+    topics: Optional[Sequence[str]] = None,
 ) -> Dict[str, Any]:
     """Scores a run; returns the report of ``sds score --format json`` as a dict.
 
@@ -145,6 +153,12 @@ def score(
             ``"all"`` (every route of the XML; one without a record counts as 0) or ``"found"``
             (those with a record: a run of 20 routes scored over 20). None: the setting
             ``route_subset`` (default ``"all"``, or from ``settings``).
+        mcap: Vehicle logs scored instead of ``results`` (``--mcap``): MCAP files of ROS 2
+            messages or rosbag2 folders, each one route named by its file stem. The report
+            holds no driving score, success rate, DS_safe or SDS (a log has no Leaderboard
+            record; its warnings say so).
+        topics: The logs' topics, ``"NAME=TOPIC"`` each (``--topic``): ``pose=/odom``,
+            ``imu=/imu``, ``event=TOPIC``, ``path=TOPIC``; defaults ``pose=/odom``, ``imu=/imu``.
 
     Returns:
         The report (``schema``, ``profile``, ``config``, ``routes``, ``summary``, ``warnings``).
@@ -186,10 +200,70 @@ def score(
         "group_by": group_by,
         "labels": labels,
         "progress": progress,
+        "mcap": None if mcap is None else _paths(mcap),
+        "topics": None if topics is None else _strings("topics", topics),
     }
-    report: Dict[str, Any] = _sds.score(_paths(results), options)
+    report: Dict[str, Any] = _sds.score([] if results is None else _paths(results), options)
     warn_each(report.get("warnings") or [])
     return report
+
+
+def frames(
+    results: Union[PathLike, Sequence[PathLike], None] = None,
+    *,
+    route_id: Optional[str] = None,
+    mcap: Optional[PathLike] = None,
+    topics: Optional[Sequence[str]] = None,
+    telemetry: Optional[PathLike] = None,
+    routes: Optional[PathLike] = None,
+    maps: Optional[PathLike] = None,
+    profile: str = "physical",
+    duplicates: Optional[str] = None,
+    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+) -> List[Dict[str, Any]]:
+    """The monitor's input frames of one route, as ``sds frames`` prints them.
+
+    One dict per frame, as ``json.loads`` reads each line of ``sds frames``: the core's frame
+    (``a_lon``, ``a_lat``, ``a_mag``, ``yaw_rate``, ``speed``, ``lat_err``, ...) and ``host``,
+    the values behind it (``step``, ``dt``, ``reference``, and where the lateral error is known
+    ``lat_err``, ``slack``, ``lane_width``).
+
+    Args:
+        results: Results file(s) or folder(s), as for :func:`score`; none with ``mcap``.
+        route_id: The route, ``RouteScenario_<id>_rep<k>`` (``--route-id``).
+        mcap: A vehicle log instead of ``results`` (``--mcap``): an MCAP file or rosbag2 folder.
+        topics: The log's topics, ``"NAME=TOPIC"`` each, as for :func:`score`.
+        telemetry, routes, maps, profile, settings: As for :func:`score`.
+        duplicates: Which copy of a duplicated route id to read, as for :func:`score`.
+
+    Returns:
+        The frames, in order.
+
+    Warns:
+        SdsWarning: Each warning met reading the frames (``"<route>: <text>"``).
+
+    Raises:
+        InputError: No such route, an invalid record or log. ConfigError: A bad option or
+            setting, ``topics`` without ``mcap``, ``mcap`` with ``results``.
+
+    Example:
+        >>> f = sds.frames("results/", route_id="RouteScenario_1711_rep0", telemetry="eval/")  # doctest: +SKIP
+        >>> f[0]["host"]["step"]  # doctest: +SKIP
+    """
+    text, warnings = _sds.frames(
+        [] if results is None else _paths(results),
+        route_id=route_id,
+        mcap=None if mcap is None else os.fspath(mcap),
+        topics=[] if topics is None else _strings("topics", topics),
+        telemetry=None if telemetry is None else os.fspath(telemetry),
+        routes=None if routes is None else os.fspath(routes),
+        maps=None if maps is None else os.fspath(maps),
+        profile=profile,
+        duplicates=duplicates,
+        settings=settings,
+    )
+    warn_each(warnings)
+    return [json.loads(line) for line in text.splitlines() if line]
 
 
 def link(

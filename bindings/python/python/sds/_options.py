@@ -19,6 +19,13 @@ def paths(results: Union[PathLike, Sequence[PathLike]]) -> List[str]:
     return [os.fspath(r) for r in results]
 
 
+def strings(option: str, values: Sequence[str]) -> List[str]:
+    """A list of strings; one string is refused (it would read as a list of characters)."""
+    if isinstance(values, str):
+        raise ConfigError(f"{option}={values!r}: expected a list, e.g. [{values!r}]")
+    return [str(v) for v in values]
+
+
 def run_options(
     *,
     profile: str,

@@ -47,14 +47,30 @@ def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
     """Scores a run through the library; ``options`` holds every keyword argument of
     ``sds.score`` but ``results``, by name. Returns the report (see ``sds.score``)."""
 
+def frames(
+    results: Sequence[str],
+    *,
+    route_id: Optional[str] = None,
+    mcap: Optional[str] = None,
+    topics: Sequence[str] = ...,
+    telemetry: Optional[str] = None,
+    routes: Optional[str] = None,
+    maps: Optional[str] = None,
+    profile: str = "physical",
+    duplicates: Optional[str] = None,
+    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
+) -> Tuple[str, List[str]]:
+    """The frames of one route (or vehicle log) through the library's ``FramesRequest``: the
+    JSON lines ``sds frames`` prints, and the warnings met reading them (see ``sds.frames``)."""
+
 def compare(
     runs: Sequence[Tuple[str, str, Optional[str]]], options: Mapping[str, Any]
 ) -> Tuple[Dict[str, Any], List[str]]:
     """Compares runs through the library: each run ``(name, results, telemetry or None)``;
     ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
     as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``) and the
-    warnings ``sds compare`` prints: each run's (``"<run>: ..."``; a missing map per run), then
-    the comparison's own."""
+    warnings ``sds compare`` prints, built once by the library: each run's (``"<run>: ..."``),
+    the runs' missing maps said once for all of them, then the comparison's own."""
 
 def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
     """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""

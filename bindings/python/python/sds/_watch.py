@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, Literal, Mapping, Optional, Sequence, Union
 
 from . import _sds
 from ._options import PathLike, run_options
@@ -28,6 +28,8 @@ def watch(
     jobs: Optional[int] = None,
     protocols: Optional[Sequence[str]] = None,
     on_round: Optional[Callable[[Dict[str, Any], Dict[str, Any]], Any]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
+    stall_factor: Optional[float] = None,
 ) -> Watch:
     """Watches an evaluation while it runs; returns an iterator of partial reports.
 
@@ -73,11 +75,13 @@ def watch(
         interval: Seconds between rounds (fractions allowed; ``--interval``).
         timeout: Stop after this many seconds (``--timeout``); None: until complete.
         profile, duplicates, expected_routes, allow_missing_telemetry, settings, group_by,
-            labels, jobs, protocols: As for :func:`sds.score`.
+            labels, jobs, protocols, route_subset: As for :func:`sds.score`.
         on_round: Called with ``(status, report)`` for each report the iterator yields, before
             it is yielded (an exception it raises comes out of ``next()``); e.g. a
             :class:`sds.Tracker`'s ``on_round``, which logs the round to W&B, TensorBoard or
             MLflow.
+        stall_factor: K of the stalled-shard rule (``--stall-factor``): a shard is said stalled
+            after K times its median route time without a new record; None: the default, 5.
 
     Returns:
         The iterator (its ``status`` property: the figures above; ``finished``: True once it
@@ -112,6 +116,7 @@ def watch(
             settings=settings,
             jobs=jobs,
             protocols=protocols,
+            route_subset=route_subset,
         ),
         "telemetry": telemetry,
         "routes": routes,
@@ -121,5 +126,6 @@ def watch(
         "group_by": group_by,
         "labels": labels,
         "on_round": on_round,
+        "stall_factor": None if stall_factor is None else float(stall_factor),
     }
     return _sds.watch(_paths(results), options)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The live HTML page of a running `sds watch` (spec §12, issue #27), in headless Chromium.
+# The live HTML page of a running `sds watch` (docs/USAGE.md §8, issue #27), in headless Chromium.
 # The demo run is played back: its checkpoint holds 4 of its 9 routes while `sds watch
 # --format html -o live.html` runs. Checked from the DOM Chromium dumps:
 # 1. the running page shows the partial report ("routes 9 (found 4)", 4 scored rows, 5 missing),

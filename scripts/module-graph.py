@@ -34,7 +34,7 @@ STAGES = [
     ("input",),  # the readers, and the warnings made of input facts (input/warning.rs)
     ("settings", "provenance"),  # settings name input policies; provenance digests settings
     ("geometry",),
-    ("reference",),  # the batch reference the replay checks itself against (spec section 9)
+    ("reference",),  # the batch reference the replay checks itself against (docs/SCORE.md §11)
     ("pipeline",),
     ("route",),
     ("aggregate",),  # one run's aggregates

@@ -141,7 +141,7 @@ done
 py_target="${CARGO_TARGET_DIR:-$(cd "$(dirname "$0")/.." && pwd)/target}"
 py_tools="$py_target/py-tools"
 py_pins="maturin==1.16.0 pytest==9.2.0 mypy==2.4.1 numpy==2.4.6 pandas==3.1.1 mcap==1.6.0 mcap-ros2-support==0.6.0"
-# Ray drives the scale-out test (one task per shard, spec v1.4 §13); it has no wheel for some
+# Ray drives the scale-out test (one task per shard, docs/SCORE.md §13.2); it has no wheel for some
 # platforms and Pythons, so it is pinned apart: without it only that test skips, loudly.
 py_ray_pin="ray==2.60.0"
 py_by_hand="python3 -m venv $py_tools && $py_tools/bin/pip install $py_pins && $py_tools/bin/pip download -d $py_tools/wheelhouse $py_pins"

@@ -2,7 +2,7 @@
 """Writes a Bench2Drive route's telemetry (metric_info.json) as a ROS 2 MCAP log.
 
 An independent writer (the `mcap` and `mcap-ros2-support` packages, not this project's code) for
-checking `sds score --mcap` against the telemetry itself (spec v1.4 §16), and for trying the
+checking `sds score --mcap` against the telemetry itself (docs/SCORE.md §2.4), and for trying the
 vehicle-log path on CARLA runs.
 
 CARLA's world is left-handed (y to the right), ROS's right-handed (REP 103: y to the left), so

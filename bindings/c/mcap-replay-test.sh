@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The C API on vehicle logs (spec v1.4 §16, issue 39): every demo route's telemetry written as a
+# The C API on vehicle logs (docs/SCORE.md §2.4, issue 39): every demo route's telemetry written as a
 # ROS 2 MCAP log by an independent writer (scripts/telemetry_to_mcap.py: Python mcap +
 # mcap-ros2-support), its frames made by `sds frames --mcap`, replayed by the C example
 # `sds_replay`, gives the same lines as the route's telemetry frames replayed by `sds_replay`:

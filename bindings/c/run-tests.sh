@@ -151,7 +151,7 @@ gcc "${CFLAGS[@]}" -I"$HERE/include" -I"$EX" -o "$OUT/test_link" "$HERE/ctest/te
 "$OUT/test_link" "${FRAMES[@]}" >"$OUT/c-link.txt" 2>"$OUT/c-link.log" \
   || { cat "$OUT/c-link.log" >&2; fail "test_link.c"; }
 say "ok: $(tail -1 "$OUT/c-link.log") (the C checker's events and summaries == the monitor's on ${#ROUTES[@]} routes; ERROR, REPEATED, NONEWDATA, link_fault, link_restored)"
-# 4b. The same routes as vehicle logs (MCAP, spec v1.4 §16) through the C example.
+# 4b. The same routes as vehicle logs (MCAP, docs/SCORE.md §2.4) through the C example.
 bash "$HERE/mcap-replay-test.sh" "$SDS" "$OUT/sds_replay" "$OUT/demo" "$OUT/mcap"
 
 # 5. valgrind --------------------------------------------------------------------------------------

@@ -23,7 +23,7 @@ pub struct Cli {
 /// Report formats.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum Format {
-    /// The JSON report of spec section 10.
+    /// The JSON report of docs/SCORE.md §13.
     Json,
     /// The papers' tables as text: Bench2Drive's main table, Safe2Drive Table 1, Table 2-style
     /// breakdown, and with `--group-by weather` the Table 3-style infraction table.
@@ -79,7 +79,7 @@ pub struct RunArgs {
     pub maps: Option<PathBuf>,
     /// Comfort profile: `physical` (physical units, default), `b2d-legacy` (Bench2Drive's
     /// published smoothness, bugs included) or `autoware` (Autoware's planning envelope:
-    /// passenger comfort on a vehicle, spec v1.4 §16).
+    /// passenger comfort on a vehicle, docs/SCORE.md §2.4).
     #[arg(long, value_parser = named(&Profile::ALL, Profile::name), default_value = "physical")]
     pub profile: Profile,
     /// Benchmark size N (missing routes count as 0 / failed), e.g. 220.
@@ -95,12 +95,12 @@ pub struct RunArgs {
     /// Worker threads (default: all cores; never more than routes, at most 256).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Also score every route under these protocols (spec §8.4): comma-separated ids of
+    /// Also score every route under these protocols (docs/PROTOCOLS.md): comma-separated ids of
     /// `b2d`, `lb2.0`, `lb2.1`, `lead-nds`, `f2d`, or `all` (setting `protocols`). The recorded
     /// events under other arithmetic, not a re-run: see docs/PROTOCOLS.md.
     #[arg(long = "protocol", value_name = "LIST|all")]
     pub protocol: Option<String>,
-    /// Bench2Drive's Traffic_Signs counting rule (spec §8.2): `b2d-0.0.4` (default) or
+    /// Bench2Drive's Traffic_Signs counting rule (docs/SCORE.md §10.1): `b2d-0.0.4` (default) or
     /// `b2d-0.0.3`, the rule of the table most papers cite (every Traffic_Signs route counted
     /// twice). The same as `--set ability_rule=RULE`.
     #[arg(long = "ability-rule", value_name = "RULE", value_parser = ["b2d-0.0.4", "b2d-0.0.3"])]
@@ -162,7 +162,7 @@ pub struct ScoreArgs {
     /// Telemetry root holding `<save_name>/metric_info.json`.
     #[arg(long)]
     pub telemetry: Option<PathBuf>,
-    /// A vehicle log instead of results (spec v1.4 §16): an MCAP file of ROS 2 messages, or a
+    /// A vehicle log instead of results (docs/SCORE.md §2.4): an MCAP file of ROS 2 messages, or a
     /// rosbag2 folder of them; each log is one route named by its file stem. Repeatable.
     #[arg(long, value_name = "FILE")]
     pub mcap: Vec<PathBuf>,
@@ -211,7 +211,7 @@ pub struct ScoreArgs {
     /// More infraction lists for the per-weather table (e.g. `collisions_vehicle`); repeatable.
     #[arg(long = "infraction", value_name = "LIST")]
     pub infractions: Vec<String>,
-    /// Also write every aligned collision's trace (§10.2) into DIR, as
+    /// Also write every aligned collision's trace (docs/SCORE.md §14.4) into DIR, as
     /// `<route_id>_collision<i>.csv` and `.svg` (the paper's Figure 2).
     #[arg(long, value_name = "DIR")]
     pub traces: Option<PathBuf>,
@@ -233,7 +233,7 @@ pub struct ScoreArgs {
     /// outcome, not a crash) among the routes to run again, as `timeout`.
     #[arg(long)]
     pub rerun_timeouts: bool,
-    /// Also write the long tables into DIR (spec v1.4 §15): `routes.csv` (one row per route,
+    /// Also write the long tables into DIR (docs/TABLES-SCHEMA.md): `routes.csv` (one row per route,
     /// every field of the JSON report's route), `events.csv` (one row per event) and
     /// `frames.csv` (one row per frame of each route with telemetry, as `sds frames` prints
     /// it); columns in docs/TABLES-SCHEMA.md.
@@ -241,7 +241,7 @@ pub struct ScoreArgs {
     pub tables: Option<PathBuf>,
 }
 
-/// Arguments of `sds compare` (spec v1.3 section 11).
+/// Arguments of `sds compare` (docs/SCORE.md §10.3).
 #[derive(Debug, clap::Args)]
 pub struct CompareArgs {
     /// Runs: `NAME=RESULTS[:TELEMETRY]`, or `RESULTS` (named by its folder or file name).
@@ -304,7 +304,7 @@ pub struct CompareArgs {
     /// Write here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
     pub output: Option<PathBuf>,
-    /// Also write the long tables of every run into DIR (spec v1.4 §15): `routes.csv` and
+    /// Also write the long tables of every run into DIR (docs/TABLES-SCHEMA.md): `routes.csv` and
     /// `events.csv`, as `sds score --tables` writes them, each row led by its `run` and `model`.
     #[arg(long, value_name = "DIR")]
     pub tables: Option<PathBuf>,
@@ -322,7 +322,7 @@ pub enum Command {
     /// seconds, the report (`-o`) rewritten after every round, one status line per round.
     Watch(WatchArgs),
     /// Merge the JSON reports of `sds score` scored where the files are (one per shard, node
-    /// or GPU) into the report `sds score` over all their inputs would write (spec v1.4 §13).
+    /// or GPU) into the report `sds score` over all their inputs would write (docs/SCORE.md §13.2).
     Merge(MergeArgs),
     /// Play a run (or vehicle logs) to a checker over a byte stream and check that its events
     /// equal the replay of the frames it accepted (exit 3 when a route's do not).
@@ -364,7 +364,7 @@ pub enum Command {
         /// Results file or directory (repeatable, as for `score`).
         #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
         results: Vec<PathBuf>,
-        /// A vehicle log (MCAP file or rosbag2 folder) instead of results (spec v1.4 §16).
+        /// A vehicle log (MCAP file or rosbag2 folder) instead of results (docs/SCORE.md §2.4).
         #[arg(long, value_name = "FILE")]
         mcap: Option<PathBuf>,
         /// A vehicle log's topic, `NAME=TOPIC` (as for `score`).

@@ -1,4 +1,4 @@
-//! `sds compare` (spec v1.4 section 11): the command line over the library's
+//! `sds compare` (docs/SCORE.md §10.3): the command line over the library's
 //! [`CompareRequest`]. Runs are `NAME=RESULTS[:TELEMETRY]`; models are runs or
 //! `--seeds` groups; the output is the `sds-compare/1` report or its tables; `--fail-if-worse`
 //! exits 5 after writing it.

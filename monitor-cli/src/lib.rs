@@ -267,7 +267,7 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     request(args)?.score(progress).map_err(failed)
 }
 
-/// The vehicle-log topics of `--topic NAME=TOPIC` options (spec v1.4 §16): a signal named
+/// The vehicle-log topics of `--topic NAME=TOPIC` options (docs/SCORE.md §2.4): a signal named
 /// twice, or one topic for two signals, is refused (exit 2).
 fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
     use monitor_host::input::mcap::{McapError, Topics};

@@ -1,4 +1,4 @@
-//! `sds merge PART...` (spec v1.4 §13): the library's [`MergeRequest`], rendered as
+//! `sds merge PART...` (docs/SCORE.md §13.2): the library's [`MergeRequest`], rendered as
 //! `sds score` renders its report.
 
 use anyhow::Result;

@@ -1,4 +1,4 @@
-//! `sds watch`: the report of an evaluation kept current while it runs (spec §12), over the
+//! `sds watch`: the report of an evaluation kept current while it runs (docs/USAGE.md §8), over the
 //! library's [`monitor_host::app::session::Session`] (the rounds, the stop rule, the final reading);
 //! this file is the command's spelling, its wait (signals) and its output. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
@@ -190,7 +190,7 @@ fn print_line(line: &str) {
     let _ = writeln!(std::io::stderr(), "{line}");
 }
 
-/// One status line (spec §12): JSON (serde_json, valid whatever the route ids hold) or text.
+/// One status line (docs/USAGE.md §8): JSON (serde_json, valid whatever the route ids hold) or text.
 fn status_line(args: &WatchArgs, s: &RoundStatus) {
     if args.status_json {
         print_line(&s.json());

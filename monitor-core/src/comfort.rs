@@ -1,4 +1,4 @@
-//! Comfort per chunk (spec section 4): the chunk buffer and the chunk verdict.
+//! Comfort per chunk (docs/SCORE.md §5): the chunk buffer and the chunk verdict.
 //!
 //! Frames only append to the buffer (O(1)); all filtering happens once, at the chunk's end,
 //! which is therefore the monitor's worst frame.
@@ -60,7 +60,7 @@ fn inside_over(sums: &[f32], h: f32, lo: f32, hi: f32) -> bool {
     })
 }
 
-/// The sample spacing of a profile's derivatives (spec section 4): the step period, or
+/// The sample spacing of a profile's derivatives (docs/SCORE.md §5): the step period, or
 /// Bench2Drive's 0.1 s for the legacy jerks.
 fn spacing(profile: Profile, config: &Config) -> f32 {
     match profile {

@@ -1,11 +1,11 @@
 //! Every bound, threshold, window, period, slack and factor of the SDS definition.
 //!
-//! Defaults equal `SDS-SPEC.md` v1.2. Fields marked **\[decision\]** are the spec's own
+//! Defaults equal docs/SCORE.md. Fields marked **\[decision\]** are the spec's own
 //! decisions: the default is the spec's, and a user may override it.
 
 use crate::error::ConfigError;
 
-/// Which comfort definition to compute (spec section 4).
+/// Which comfort definition to compute (docs/SCORE.md §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -18,7 +18,7 @@ pub enum Profile {
     #[cfg_attr(feature = "serde", serde(rename = "b2d-legacy"))]
     B2dLegacy,
     /// Computed as [`Profile::Physical`], judged against Autoware's planning envelope
-    /// ([`Bounds::AUTOWARE`], spec v1.4 §16): passenger comfort on a vehicle rather than
+    /// ([`Bounds::AUTOWARE`], docs/SCORE.md §2.4): passenger comfort on a vehicle rather than
     /// physical plausibility.
     #[cfg_attr(feature = "serde", serde(rename = "autoware"))]
     Autoware,
@@ -46,7 +46,7 @@ impl Profile {
     }
 
     /// The yaw rate the comfort terms see, from a frame's yaw rate in deg/s (CARLA's unit):
-    /// rad/s for [`Profile::Physical`], left in deg/s for [`Profile::B2dLegacy`] (spec §4). The
+    /// rad/s for [`Profile::Physical`], left in deg/s for [`Profile::B2dLegacy`] (docs/SCORE.md §5). The
     /// streaming monitor and the batch reference both call this one conversion.
     ///
     /// ```
@@ -63,7 +63,7 @@ impl Profile {
     }
 }
 
-/// The six strict comfort bounds (spec section 4, nuPlan's values).
+/// The six strict comfort bounds (docs/SCORE.md §5, nuPlan's values).
 ///
 /// A filtered value `v` passes iff `lon_acc_min < v < lon_acc_max` (longitudinal acceleration)
 /// or `-b < v < b` (every other signal). A value exactly on a bound fails.
@@ -99,7 +99,7 @@ impl Bounds {
         yaw_rate: 0.95,
     };
 
-    /// Autoware's planning envelope (spec v1.4 §16) **\[decision\]**: longitudinal acceleration
+    /// Autoware's planning envelope (docs/SCORE.md §2.4) **\[decision\]**: longitudinal acceleration
     /// -1.0..1.0 m/s², lateral acceleration 1.0 m/s², jerk magnitude and longitudinal jerk
     /// 1.0 m/s³; yaw rate and yaw acceleration as [`Bounds::DEFAULT`].
     ///
@@ -127,7 +127,7 @@ impl Bounds {
     }
 }
 
-/// Penalty factors of DS_safe (spec sections 7 and 8). Scores are f64: they combine with the
+/// Penalty factors of DS_safe (docs/SCORE.md §8 and 8). Scores are f64: they combine with the
 /// evaluator's f64 `score_route` and `score_penalty`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -167,13 +167,13 @@ impl Factors {
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Config {
-    /// Comfort profile (spec section 4; default `physical`).
+    /// Comfort profile (docs/SCORE.md §5; default `physical`).
     pub profile: Profile,
     /// Nominal step period in seconds (20 Hz: 0.05); derivatives of the physical profile use it.
     pub dt: f32,
     /// Sample spacing of the legacy profile's jerks, seconds (0.1: Bench2Drive's bug).
     pub legacy_jerk_spacing: f32,
-    /// Frames per chunk (spec section 3; default 20). At most the monitor's capacity.
+    /// Frames per chunk (docs/SCORE.md §4; default 20). At most the monitor's capacity.
     pub chunk_len: u16,
     /// Fewest frames of a route that still has one (short) comfort chunk
     /// (default 7 = the filter window) **\[decision\]**. At least 7.
@@ -198,7 +198,7 @@ pub struct Config {
 }
 
 impl Config {
-    /// Every default of `SDS-SPEC.md` v1.2.
+    /// Every default of docs/SCORE.md.
     pub const DEFAULT: Config = Config {
         profile: Profile::Physical,
         dt: 0.05,

@@ -1,4 +1,4 @@
-//! Pre-collision deceleration (spec section 5): the raw `a_lon` of the last frames in a fixed
+//! Pre-collision deceleration (docs/SCORE.md §6): the raw `a_lon` of the last frames in a fixed
 //! ring.
 //!
 //! The ring is written and read through `get_mut` and slice iterators only, so no index can be

@@ -6,7 +6,7 @@ use crate::comfort::Failures;
 use crate::frame::Collisions;
 use crate::lateral::Band;
 
-/// The verdict on the collisions of one frame (spec section 5). All collisions of a frame share
+/// The verdict on the collisions of one frame (docs/SCORE.md §6). All collisions of a frame share
 /// it: they share the frame's speed and the 20 frames before it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -38,7 +38,7 @@ impl CollisionVerdict {
     }
 }
 
-/// The comfort verdict of one chunk (spec section 4).
+/// The comfort verdict of one chunk (docs/SCORE.md §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -51,7 +51,7 @@ pub struct ComfortVerdict {
     pub failed: Failures,
 }
 
-/// An anomalous or critical lateral chunk (spec section 6).
+/// An anomalous or critical lateral chunk (docs/SCORE.md §7).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -1,9 +1,9 @@
-//! The per-frame input of the monitor (spec section 2) and its validation.
+//! The per-frame input of the monitor (docs/SCORE.md §3) and its validation.
 
 use crate::error::{Field, FrameError};
 use crate::signal;
 
-/// Collision events aligned to one frame, counted by kind (spec sections 5 and 7).
+/// Collision events aligned to one frame, counted by kind (docs/SCORE.md §6 and 7).
 ///
 /// `layout` counts layout collisions that are *not* work-zone contacts; `workzone` counts those
 /// that are. All four kinds are collisions for the deceleration check.
@@ -70,7 +70,7 @@ pub struct Frame {
     /// Yaw rate `angular_velocity[2]` in CARLA's unit, **degrees per second**; the profile decides
     /// whether it is converted to rad/s.
     pub yaw_rate: f32,
-    /// Planar speed, m/s (spec section 2: 0 at the first frame).
+    /// Planar speed, m/s (docs/SCORE.md §3: 0 at the first frame).
     pub speed: f32,
     /// Unsigned distance to the route reference, m; `None` when unknown (no reference, or a
     /// junction gap).

@@ -1,4 +1,4 @@
-//! Lateral excess per chunk (spec section 6): the running maximum and its band.
+//! Lateral excess per chunk (docs/SCORE.md §7): the running maximum and its band.
 
 use crate::config::Config;
 

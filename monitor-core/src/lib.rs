@@ -47,7 +47,7 @@
 //! (`F32Ext::sqrt(x)`) and sums in a fixed order, so host and firmware agree to the bit.
 //! Scores are f64, as the evaluator's are.
 //!
-//! The kernels [`signal`] and [`sg`] are public: they are the shared f32 kernels of spec §9, which
+//! The kernels [`signal`] and [`sg`] are public: they are the shared f32 kernels of docs/SCORE.md §11, which
 //! the host's batch reference calls too. The state machine's parts (chunk buffer, deceleration
 //! window, lateral chunk) are internal to [`Monitor`].
 //!

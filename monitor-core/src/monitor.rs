@@ -104,7 +104,7 @@ impl<const N: usize> Monitor<N> {
     }
 
     /// Also counts comfort under `profile`, over the same chunks and with the same bounds: for
-    /// example Bench2Drive's smoothness (`b2d-legacy`, spec section 8.2) beside the run's own
+    /// example Bench2Drive's smoothness (`b2d-legacy`, docs/SCORE.md §10.1) beside the run's own
     /// `physical` comfort. The three accelerations are smoothed once for both profiles, so this
     /// costs far less than a second monitor, and counts exactly what one would.
     ///

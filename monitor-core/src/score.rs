@@ -1,4 +1,4 @@
-//! DS_safe (spec section 8): penalty factors applied to the evaluator's recorded scores.
+//! DS_safe (docs/SCORE.md §9): penalty factors applied to the evaluator's recorded scores.
 //!
 //! Scores are f64 because they combine with the evaluator's f64 `score_route` and
 //! `score_penalty`; the per-frame signals stay f32.
@@ -28,7 +28,7 @@ pub fn powu(base: f64, n: u32) -> f64 {
     result
 }
 
-/// What the evaluator recorded for the route, plus its work-zone count (spec section 7).
+/// What the evaluator recorded for the route, plus its work-zone count (docs/SCORE.md §8).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -1,4 +1,4 @@
-//! Savitzky–Golay filter: window 7, polynomial order 2, edge mode "interp" (spec section 4).
+//! Savitzky–Golay filter: window 7, polynomial order 2, edge mode "interp" (docs/SCORE.md §5).
 //!
 //! The least-squares quadratic through 7 samples at `x = -3..=3` is written with the orthogonal
 //! polynomials `1, x, x² - 4` (norms 7, 28, 84). Its value at position `t` weighs sample `x` by

@@ -1,4 +1,4 @@
-//! Per-frame signal kernels (spec section 2), shared bit for bit by the monitor, the host's
+//! Per-frame signal kernels (docs/SCORE.md §3), shared bit for bit by the monitor, the host's
 //! frame builder and the batch reference.
 //!
 //! micromath is called as a function (`F32Ext::sqrt(x)`), never as a method: on the host,
@@ -76,7 +76,7 @@ fn newton_sqrt(s: f32) -> f32 {
     0.5 * (r + s / r)
 }
 
-/// Lateral excess `max(0, |lat_err| - slack)` (spec section 2); NaN stays NaN.
+/// Lateral excess `max(0, |lat_err| - slack)` (docs/SCORE.md §3); NaN stays NaN.
 ///
 /// ```
 /// assert_eq!(monitor_core::signal::excess(-1.0, 0.75), 0.25);
@@ -116,7 +116,7 @@ pub fn round_half_even(x: f32) -> f32 {
     }
 }
 
-/// Phase unwrap with period 2π, restarted at `w[0]` (spec section 4, legacy profile):
+/// Phase unwrap with period 2π, restarted at `w[0]` (docs/SCORE.md §5, legacy profile):
 /// `u_0 = w_0`, `u_i = w_i - 2π Σ_{j=1..i} round_half_even((w_j - w_{j-1}) / 2π)`.
 /// Writes `min(w.len(), out.len())` values.
 ///

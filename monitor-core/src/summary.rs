@@ -2,7 +2,7 @@
 
 use crate::comfort::Failures;
 
-/// Chunks that failed each bound (spec section 10, `comfort.failed`).
+/// Chunks that failed each bound (docs/SCORE.md §13, `comfort.failed`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -41,7 +41,7 @@ impl FailureCounts {
     }
 }
 
-/// Comfort counts (spec section 4).
+/// Comfort counts (docs/SCORE.md §5).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -111,7 +111,7 @@ impl ComfortSummary {
     }
 }
 
-/// Lateral counts (spec section 6).
+/// Lateral counts (docs/SCORE.md §7).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -126,7 +126,7 @@ pub struct LateralSummary {
     pub critical: u32,
 }
 
-/// Collision counts over aligned collisions (spec section 5).
+/// Collision counts over aligned collisions (docs/SCORE.md §6).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -1,4 +1,4 @@
-//! Chunks (spec section 3): frames [20k, 20k+20) form chunk k; comfort uses full chunks (or one
+//! Chunks (docs/SCORE.md §4): frames [20k, 20k+20) form chunk k; comfort uses full chunks (or one
 //! short chunk for 7 <= n < 20) and drops the trailing partial one; lateral uses ceil(n / 20).
 
 mod common;

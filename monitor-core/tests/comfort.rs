@@ -1,4 +1,4 @@
-//! Comfort (spec section 4): the six strict bounds, exactly at and just inside each bound, and
+//! Comfort (docs/SCORE.md §5): the six strict bounds, exactly at and just inside each bound, and
 //! the physical profile's degree-to-radian conversion.
 //!
 //! A filtered value that equals a bound to the bit is hard to write by hand, so each test crafts
@@ -13,7 +13,7 @@ use monitor_core::sg::{self, DERIVATIVE, VALUE};
 use monitor_core::signal::DEG_TO_RAD;
 use monitor_core::{Config, Failures, Frame};
 
-/// The six filtered series of one chunk, physical profile (spec section 4):
+/// The six filtered series of one chunk, physical profile (docs/SCORE.md §5):
 /// lon, lat, mag_jerk, lon_jerk, yaw_acc, yaw_rate.
 struct Series {
     lon: Vec<f32>,

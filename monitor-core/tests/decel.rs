@@ -1,4 +1,4 @@
-//! Pre-collision deceleration (spec section 5): the raw a_lon of the 20 frames before the
+//! Pre-collision deceleration (docs/SCORE.md §6): the raw a_lon of the 20 frames before the
 //! collision frame (k-20 .. k-1), `a_lon <= -0.5` decelerates, `speed < 0.5` exempts, frame 0 is
 //! exempt, every collision of a frame counts.
 

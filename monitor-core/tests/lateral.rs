@@ -1,4 +1,4 @@
-//! Lateral excess (spec sections 2, 3, 6): `excess = max(0, |lat_err| - slack)`, the chunk's
+//! Lateral excess (docs/SCORE.md §3, 3, 6): `excess = max(0, |lat_err| - slack)`, the chunk's
 //! maximum, exclusive bands `0.25 < m <= 0.65` (anomalous) and `m > 0.65` (critical).
 
 mod common;

@@ -1,4 +1,4 @@
-//! The `b2d-legacy` comfort profile (spec section 4): yaw rate left in deg/s and phase-unwrapped
+//! The `b2d-legacy` comfort profile (docs/SCORE.md §5): yaw rate left in deg/s and phase-unwrapped
 //! per chunk, yaw acceleration = the smoothed yaw rate itself, jerks over 0.1 s spacing.
 
 mod common;

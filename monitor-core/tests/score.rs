@@ -1,4 +1,4 @@
-//! DS_safe (spec sections 7, 8):
+//! DS_safe (docs/SCORE.md §8, 8):
 //! `p_safe = score_penalty · (0.5/0.65)^N_wz`,
 //! `DS_safe = score_route · p_safe · 0.8^N_nodecel · 0.95^N_anom · 0.9^N_crit`.
 

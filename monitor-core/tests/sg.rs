@@ -1,4 +1,4 @@
-//! Savitzky–Golay coefficients and filter (spec section 4: window 7, order 2, mode "interp").
+//! Savitzky–Golay coefficients and filter (docs/SCORE.md §5: window 7, order 2, mode "interp").
 //!
 //! The expected tables are worked out by hand from the least-squares quadratic through
 //! `x = -3..=3` evaluated at `t = p - 3` (output position p of a 7-sample window):

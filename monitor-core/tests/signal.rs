@@ -1,4 +1,4 @@
-//! Per-frame kernels (spec section 2) and the micromath policy: the core calls micromath's
+//! Per-frame kernels (docs/SCORE.md §3) and the micromath policy: the core calls micromath's
 //! square root explicitly, and `hypot2` refines it with three Newton steps.
 
 use monitor_core::signal::{dot2, hypot2, round_half_even, DEG_TO_RAD};

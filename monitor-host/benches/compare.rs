@@ -3,7 +3,7 @@
 //! runs of 220 routes, each its own model (9 compared with the baseline), B = 10,000.
 //!
 //! Usage: `cargo bench -p monitor-host --bench compare [-- RUNS ROUTES B REPEATS SEEDS RANK]`
-//! (SEEDS runs per model, default 1; RANK 1 adds `--rank`, v1.4 §14). The runs are
+//! (SEEDS runs per model, default 1; RANK 1 adds `--rank`, docs/SCORE.md §10.3). The runs are
 //! one scored `sds demo --large` run (40 frames a route, so comfort is defined) copied with
 //! per-route scores changed deterministically, so that no two models are equal. Prints
 //! `runs=R routes=N B=B min_s=.. median_s=.. cpu_s=..` (cpu: this process, every thread).
@@ -28,7 +28,7 @@ fn main() {
         ..Inputs::new([run.results])
     };
     let report = score_run(&inputs, &Settings::default()).expect("scored");
-    // SEEDS > 1 groups the runs into models of SEEDS runs each (seeds of one model, §14).
+    // SEEDS > 1 groups the runs into models of SEEDS runs each (seeds of one model, docs/SCORE.md §10.3).
     let seeds = arg(4, 1).max(1);
     let rank = arg(5, 0) == 1;
     let perturbed = |m: usize| {

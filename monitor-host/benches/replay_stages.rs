@@ -14,10 +14,10 @@
 //! | `serde`   | `metric_info::parse_metric_info_serde` (the serde_json visitor alone)       |
 //! | `prepare` | `prepare::prepare`: speeds, lateral error, alignment, `Frame`s              |
 //! | `stream`  | `replay::stream`: the monitor over every frame (Bench2Drive's smoothness, |
-//! |           | §8.2, counted beside the run's comfort, as `replay` does)                  |
+//! |           | docs/SCORE.md §10.1, counted beside the run's comfort, as `replay` does)                  |
 //! | `batch`   | `batch::compute_with`: the batch reference check on the same frames       |
 //! | `replay`  | `replay::replay`: the whole per-route pipeline (locate, read ... score)    |
-//! | `motion`  | `motion::measure` (§8.5 distance, stationary share, moving chunks), with    |
+//! | `motion`  | `motion::measure` (docs/SCORE.md §10.0 distance, stationary share, moving chunks), with    |
 //! |           | the locations and steps it is given (inside `prepare` they exist already)  |
 //!
 //! With `SDS_PARSE_PASSES=N` in the environment it only parses the run's files (read once,

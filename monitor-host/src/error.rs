@@ -62,10 +62,10 @@ pub enum Error {
         /// What is wrong with it.
         state: crate::pipeline::outcome::TelemetryState,
     },
-    /// Route ids appear more than once under `duplicates: error` (spec section 1.5).
+    /// Route ids appear more than once under `duplicates: error` (docs/SCORE.md §14.1).
     #[error(transparent)]
     Duplicates(#[from] DuplicatesError),
-    /// N is smaller than the routes counted in the aggregates (spec section 1.5).
+    /// N is smaller than the routes counted in the aggregates (docs/SCORE.md §14.1).
     #[error(
         "N = {n} is smaller than the {counted} routes counted in the aggregates (a mean over N \
          would exceed its scale){}",
@@ -125,7 +125,7 @@ pub enum Error {
     /// The worker threads could not be started.
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
-    /// The runs cannot be compared (`sds compare`, spec v1.3 section 11).
+    /// The runs cannot be compared (`sds compare`, docs/SCORE.md §10.3).
     #[error(transparent)]
     Compare(#[from] crate::stats::CompareError),
     /// One run of a comparison could not be scored.

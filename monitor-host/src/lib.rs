@@ -16,7 +16,7 @@
 //! ```text
 //! results JSON ─┐  metric_info.json ─┐  route XML ─┐
 //!               v                    v             v
-//! input/     record, results_file, discovery, duplicates, route_set, stored (§1.5),
+//! input/     record, results_file, discovery, duplicates, route_set, stored (docs/SCORE.md §14.1),
 //!            telemetry (types; format picks the reader) ← metric_info, lead_infractions,
 //!            route_xml, collision, labels           │
 //!               │                                   v
@@ -24,16 +24,16 @@
 //!               │                                  junctions
 //!               v                                   │
 //! pipeline/  prepare → align → frame (f32) → replay: Monitor::push / finish → outcome
-//!               │                              └─> reference/batch (must agree, spec §9)
+//!               │                              └─> reference/batch (must agree, docs/SCORE.md §11)
 //!               v
-//! route/     row per route: penalty re-check (§8), efficiency, abilities (§8.2), traces
-//!            (+ protocol/: the records rescored under other evaluators' rules, §8.4)
+//! route/     row per route: penalty re-check (docs/SCORE.md §9), efficiency, abilities (docs/SCORE.md §10.1), traces
+//!            (+ protocol/: the records rescored under other evaluators' rules, docs/PROTOCOLS.md)
 //!               v
-//! aggregate/ one run's aggregates over rows: summary (§8.1), bench2drive (§8.2), groups (§8.3)
+//! aggregate/ one run's aggregates over rows: summary (docs/SCORE.md §10), bench2drive (docs/SCORE.md §10.1), groups (docs/SCORE.md §10.2)
 //!               v
 //! model/     what renderings read: Report (rows + aggregates), RouteFrames, RoundStatus
 //!               v
-//! stats/     several reports compared (spec v1.3 §11)  │  merge/  reports merged (v1.4 §13)
+//! stats/     several reports compared (docs/SCORE.md §10.3)  │  merge/  reports merged (docs/SCORE.md §13.2)
 //!               v
 //! report/    renderings: json, csv, table, html, figure, trace_csv, status
 //!               v

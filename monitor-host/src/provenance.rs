@@ -1,4 +1,4 @@
-//! Where a report comes from (`SDS-SPEC.md` v1.4 §13): the `sds` version, the settings' hash,
+//! Where a report comes from (docs/SCORE.md §13.2): the `sds` version, the settings' hash,
 //! each input file's sha256 and size, and the host name: the report's `inputs.provenance`, so
 //! that parts scored on several nodes show whether they ran the same tool, settings and files.
 //!

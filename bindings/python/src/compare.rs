@@ -1,4 +1,4 @@
-//! `sds.compare` (spec v1.4 section 11): the library's [`CompareRequest`] built from the keyword
+//! `sds.compare` (docs/SCORE.md §10.3): the library's [`CompareRequest`] built from the keyword
 //! arguments (the shared ones through [`RunKwargs`], as `sds.score`), the `sds-compare/1` report converted to Python objects
 //! directly ([`crate::pyser`]). No command line in between. Ctrl-C stops it between routes,
 //! runs and bootstrap blocks, as `sds.score` (`interrupt.rs`).
@@ -32,14 +32,14 @@ struct CompareKwargs<'py> {
     /// Any int: one beyond a machine word is out of range, said as the library says it.
     bootstrap_samples: Bound<'py, PyInt>,
     bootstrap_seed: u64,
-    /// `--rank`: the bootstrap ranking of every model (v1.4 §14).
+    /// `--rank`: the bootstrap ranking of every model (docs/SCORE.md §10.3).
     rank: bool,
-    /// `--repro-halfwidth`: h of `seeds_needed` (v1.4 §14).
+    /// `--repro-halfwidth`: h of `seeds_needed` (docs/SCORE.md §10.3).
     repro_halfwidth: f64,
     /// A callable taking `(done, total)` of the run being scored, or None.
     #[pyo3(default)]
     progress: Option<Py<PyAny>>,
-    /// `--sweep`: a mapping of setting name to its values (v1.5 §18), or None.
+    /// `--sweep`: a mapping of setting name to its values (docs/SCORE.md §10.4), or None.
     sweep: Option<Bound<'py, PyAny>>,
 }
 

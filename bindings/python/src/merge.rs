@@ -1,4 +1,4 @@
-//! `sds.merge` (spec v1.4 §13): the library's [`MergeRequest`] over the parts' files, the merged report converted to Python objects directly ([`crate::pyser`]).
+//! `sds.merge` (docs/SCORE.md §13.2): the library's [`MergeRequest`] over the parts' files, the merged report converted to Python objects directly ([`crate::pyser`]).
 
 use std::path::PathBuf;
 

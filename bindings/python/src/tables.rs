@@ -1,4 +1,4 @@
-//! `sds.long_tables` / `sds.to_pandas` (spec v1.4 §15): the library's own long-table builder
+//! `sds.long_tables` / `sds.to_pandas` (docs/TABLES-SCHEMA.md): the library's own long-table builder
 //! ([`monitor_host::report::long_tables::report_node_tables`], the rows and columns of
 //! `sds score --tables`' `routes.csv` and `events.csv`) over a report's JSON text, returned as
 //! typed columns: no table rule is written again in Python.

@@ -51,7 +51,7 @@ def monitor_lateral(lateral: dict[str, Any]) -> dict[str, Any]:
 
 def monitor_comfort(comfort: dict[str, Any]) -> dict[str, Any]:
     """A report route's `comfort` block without the host's moving comfort (`moving_chunks`,
-    `moving_comfortable`, `moving_score`, §8.5: measured by the host from positions, never by
+    `moving_comfortable`, `moving_score`, docs/SCORE.md §10.0: measured by the host from positions, never by
     the monitor)."""
     return {k: v for k, v in comfort.items() if not k.startswith("moving_")}
 

@@ -1,5 +1,5 @@
 """`sds.merge`: reports scored where the files are, merged into `sds.score` over all of them
-(issue 36, spec v1.4 section 13)."""
+(issue 36, docs/SCORE.md §13.2)."""
 
 from __future__ import annotations
 

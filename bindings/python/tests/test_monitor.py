@@ -183,7 +183,7 @@ def test_settings_and_profile_reach_the_monitor() -> None:
 
 
 def test_autoware_profile_brings_its_bounds() -> None:
-    # Issue 39 (spec v1.4 §16): the autoware profile judges against Autoware's planning envelope.
+    # Issue 39 (docs/SCORE.md §2.4): the autoware profile judges against Autoware's planning envelope.
     cfg = sds.Monitor(profile="autoware").config
     assert cfg["profile"] == "autoware"
     b = cfg["bounds"]

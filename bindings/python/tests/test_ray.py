@@ -1,4 +1,4 @@
-"""Scale-out on an existing engine (spec v1.4 section 13, issue 36): a local Ray cluster of 2
+"""Scale-out on an existing engine (docs/SCORE.md §13.2, issue 36): a local Ray cluster of 2
 CPUs runs one task per TransFuser++ shard, each calling ``sds.score`` on its shard's file with
 the route XML, as a node of a real evaluation would; ``sds.merge`` of the reports the tasks
 return equals ``sds.score`` over all the shards. Skips, saying why, where Ray is not installed

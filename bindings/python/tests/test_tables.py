@@ -1,5 +1,5 @@
 """`sds.long_tables`, `sds.to_pandas`, `sds.to_parquet` and the DuckDB query of USAGE.md
-(issue 37, spec v1.4 §15): the columns and values of `sds score --tables`' routes.csv,
+(issue 37, docs/TABLES-SCHEMA.md): the columns and values of `sds score --tables`' routes.csv,
 events.csv and frames.csv, from the report dict (through the Rust builder) and from the folder,
 typed as docs/TABLES-SCHEMA.md says."""
 

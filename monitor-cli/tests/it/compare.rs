@@ -121,7 +121,7 @@ mod bootstrap_and_gate {
             .unwrap_or_else(|| panic!("no paired row {model} {metric} in {c}"))
     }
 
-    /// SplitMix64 and the percentile bootstrap written out from the spec (§11), independently of
+    /// SplitMix64 and the percentile bootstrap written out from (docs/SCORE.md §10.3), independently of
     /// the library: a fresh generator seeded with `seed`, B resamples of n indices
     /// `floor(((next() >> 11) * 2^-53) * n)`, each resample's mean summed in draw order; the
     /// interval `[stat[floor(0.025 B)], stat[ceil(0.975 B) - 1]]` and `p_better`.
@@ -170,7 +170,7 @@ mod bootstrap_and_gate {
             .collect()
     }
 
-    /// v1.4 §11: each (model, metric) has its own generator seeded with `bootstrap_seed`, so a
+    /// docs/SCORE.md §10.3: each (model, metric) has its own generator seeded with `bootstrap_seed`, so a
     /// protocol, a model added or a model left out changes no other model's figures; one
     /// interval re-derived by hand.
     #[test]
@@ -282,7 +282,7 @@ mod bootstrap_and_gate {
         assert_eq!(tcp_ds["verdict"], "better");
     }
 
-    /// v1.4 §11: comfort undefined on every route (no telemetry) is `no data`, not `within
+    /// docs/SCORE.md §10.3: comfort undefined on every route (no telemetry) is `no data`, not `within
     /// noise`; gated, it fails with exit 5 and says the metric could not be compared; the
     /// tables and the page say `no data`.
     #[test]

@@ -1,4 +1,4 @@
-//! Vehicle logs in MCAP (spec v1.4 §16, issue 39): the demo's telemetry written as ROS 2 logs
+//! Vehicle logs in MCAP (docs/SCORE.md §2.4, issue 39): the demo's telemetry written as ROS 2 logs
 //! by an independent writer gives the same frames and verdicts; hostile logs give errors that
 //! name the file, the topic and the fix.
 
@@ -337,7 +337,7 @@ fn i39_mcap_clock_jumps_back_refused_forward_gaps_counted() {
     assert!(reason.contains("the log time jumps back by"), "{reason}");
     assert!(reason.contains("split it at that time"), "{reason}");
 
-    // A 3 s pause of the recorder: the ticks inside it are gaps, not held frames (v1.5 §16:
+    // A 3 s pause of the recorder: the ticks inside it are gaps, not held frames (docs/SCORE.md §2.4:
     // nothing is held across a gap longer than mcap.max_hold; before, 0.5 s was held).
     let g = tmp.path().join("pause.mcap");
     let mut msgs = drive(4);
@@ -705,7 +705,7 @@ fn i39_mcap_demo_routes_equal_their_telemetry() {
 
         // The frames: the same within the f32 rounding of the monitor's inputs (the f64 values
         // they are rounded from agree to 1e-9), the yaw rate included (positive turning right
-        // on both paths, v1.5 §16).
+        // on both paths, docs/SCORE.md §2.4).
         let a = frame_lines(&sds(&[
             "frames",
             "--results",
@@ -822,7 +822,7 @@ fn i39_autoware_profile_judges_against_the_planning_envelope() {
     let _ = std::io::stderr().flush();
 }
 
-// ---- Issue 46 item 4 (spec v1.5 §16: logs with holes) and issue 47 (round 4: MCAP, merge parts) ----
+// ---- Issue 46 item 4 (docs/SCORE.md §2.4: logs with holes) and issue 47 (round 4: MCAP, merge parts) ----
 
 /// One frame of CARLA telemetry (its left-handed world frame: y to the right of x, the yaw
 /// positive turning right): position, heading, world acceleration, yaw rate in deg/s.

@@ -1,4 +1,4 @@
-//! `sds merge`, the rerun list and the provenance (issue 36, spec v1.4 §13): parts scored where
+//! `sds merge`, the rerun list and the provenance (issue 36, docs/SCORE.md §13.2): parts scored where
 //! the files are, merged into the report `sds score` over all their inputs writes.
 
 use std::path::{Path, PathBuf};

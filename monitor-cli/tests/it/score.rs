@@ -62,7 +62,7 @@ mod protocols {
     }
 
     /// TCP-traj's shape: 20 min-speed entries per route, above and below 100 %, regrouped by 5
-    /// at the harmonic mean (spec v1.4 §8.4 "The min-speed grid"), worked by hand.
+    /// at the harmonic mean (docs/PROTOCOLS.md "The min-speed grid"), worked by hand.
     #[test]
     fn i33_1_min_speed_grid_regroups_twenty_checkpoints() {
         let dir = tempfile::tempdir().unwrap();
@@ -785,7 +785,7 @@ mod i33_lateral {
     }
 }
 
-/// Issue 33 item 7 (spec v1.4 §2 re-acquisition), on a synthetic route: telemetry that starts at
+/// Issue 33 item 7 (docs/SCORE.md §3 re-acquisition), on a synthetic route: telemetry that starts at
 /// step 480 and jumps 501 → 789 stays within 0.3 m of its route (the drive's own offset) and
 /// no chunk is anomalous or critical. Before, the 10 m window needed frames to catch up: the
 /// first frames read 130 m and the frames after the jump 80 m, as critical chunks.

@@ -1,4 +1,4 @@
-//! `sds compare` on seeds, repetitions and rankings (spec v1.4 §14, issue 38): the per-route
+//! `sds compare` on seeds, repetitions and rankings (docs/SCORE.md §10.3, issue 38): the per-route
 //! spread over samples, flaky routes, the seeds a claim needs, and the bootstrap ranking.
 
 use std::path::{Path, PathBuf};

@@ -1,4 +1,4 @@
-//! `sds compare --sweep` (issue 50, spec v1.5 §18): every model's figures at every point of a
+//! `sds compare --sweep` (issue 50, docs/SCORE.md §10.4): every model's figures at every point of a
 //! grid of settings, equal to `sds compare` at that point's settings; the refusals; the tables,
 //! page and long table.
 

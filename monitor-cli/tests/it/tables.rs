@@ -1,4 +1,4 @@
-//! `sds score --tables DIR` (issue 37, spec v1.4 §15): the long tables `routes.csv`,
+//! `sds score --tables DIR` (issue 37, docs/TABLES-SCHEMA.md): the long tables `routes.csv`,
 //! `events.csv` and `frames.csv` hold the JSON report's routes and events and `sds frames`'
 //! output, row for row and value for value; docs/TABLES-SCHEMA.md names every column.
 
@@ -214,7 +214,7 @@ fn tables_equal_the_json_report_and_sds_frames_on_the_demo() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 46 item 5d (spec §15: "step, time, the core frame, the host values"): `frames.csv`
+/// Issue 46 item 5d (docs/TABLES-SCHEMA.md: "step, time, the core frame, the host values"): `frames.csv`
 /// has a `time` column after `frame`, the seconds from the route's first frame, computed as the
 /// events' `time_s` is, so that an event and its frame show the same time.
 #[test]

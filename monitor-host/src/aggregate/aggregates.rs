@@ -1,4 +1,4 @@
-//! Every aggregate of a set of routes (`SDS-SPEC.md` v1.2 §8.1, §8.2, §8.3), computed from the
+//! Every aggregate of a set of routes (docs/SCORE.md §10, docs/SCORE.md §10.1, docs/SCORE.md §10.2), computed from the
 //! report's routes: one breakdown group, the `combined` row, one run of a comparison. f64,
 //! summed in the order the routes are given (input order).
 //!
@@ -83,7 +83,7 @@ pub struct Scores {
     /// From DS to SDS in additive steps (`docs/SCORE.md` "Decomposition"); null when
     /// `mean_ds_safe` is.
     pub decomposition: Option<Decomposition>,
-    /// Distance, stationary time and moving comfort (§8.5).
+    /// Distance, stationary time and moving comfort (docs/SCORE.md §10.0).
     #[serde(flatten)]
     pub motion: MotionAggregates,
 }
@@ -96,9 +96,9 @@ pub struct Aggregates {
     /// The §8.1 scores.
     #[serde(flatten)]
     pub scores: Scores,
-    /// Mean per-route efficiency over the routes that have one (§8.2).
+    /// Mean per-route efficiency over the routes that have one (docs/SCORE.md §10.1).
     pub efficiency: Option<f64>,
-    /// Mean `b2d-legacy` comfort over the routes where it is defined (§8.2).
+    /// Mean `b2d-legacy` comfort over the routes where it is defined (docs/SCORE.md §10.1).
     pub smoothness: Option<f64>,
     /// Ability rates; null when no route has a route XML entry.
     pub ability: Option<AbilityRates>,
@@ -107,7 +107,7 @@ pub struct Aggregates {
     /// Per infraction list (the 12 known ones, then any other), the routes with at least one
     /// entry.
     pub infraction_routes: Counts<usize>,
-    /// Every asked scoring protocol's aggregates (§8.4); absent when none is asked.
+    /// Every asked scoring protocol's aggregates (docs/PROTOCOLS.md); absent when none is asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocols: Option<crate::route::protocol::aggregate::ProtocolScores>,
 }

@@ -1,4 +1,4 @@
-//! Bench2Drive's own benchmark metrics (`SDS-SPEC.md` v1.2 §8.2), beside SDS: driving score,
+//! Bench2Drive's own benchmark metrics (docs/SCORE.md §10.1), beside SDS: driving score,
 //! success rate, efficiency, smoothness and the multi-ability rates, with the routes the
 //! ability rates could not count (`ability_missing`), could not decide (`ability_undecided`) or
 //! decided close to the threshold (`ability_marginal`).
@@ -33,12 +33,12 @@ pub struct Undecided {
     pub reason: String,
 }
 
-/// `summary.bench2drive` of the report (§8.2, §10.1).
+/// `summary.bench2drive` of the report (docs/SCORE.md §10.1, docs/SCORE.md §13).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Bench2Drive {
-    /// §8.1's driving score (Bench2Drive's merge rule).
+    /// docs/SCORE.md §10's driving score (Bench2Drive's merge rule).
     pub driving_score: Option<f64>,
-    /// §8.1's success rate, percent.
+    /// docs/SCORE.md §10's success rate, percent.
     pub success_rate: Option<f64>,
     /// Mean per-route efficiency.
     pub efficiency: Option<f64>,
@@ -54,7 +54,7 @@ pub struct Bench2Drive {
     pub ability_undecided: Vec<Undecided>,
     /// Routes whose `score_route / 100` is within 0.15 of their `junction_completion`.
     pub ability_marginal: Vec<Marginal>,
-    /// The Traffic_Signs counting rule (`ability_rule`, §8.2): `b2d-0.0.4` or `b2d-0.0.3`.
+    /// The Traffic_Signs counting rule (`ability_rule`, docs/SCORE.md §10.1): `b2d-0.0.4` or `b2d-0.0.3`.
     #[serde(deserialize_with = "rule_name")]
     pub ability_rule: crate::named::Name,
 }

@@ -1,4 +1,4 @@
-//! Breakdown groups (`SDS-SPEC.md` v1.2 §8.3): the routes counted in the aggregates, grouped by
+//! Breakdown groups (docs/SCORE.md §10.2): the routes counted in the aggregates, grouped by
 //! scenario type, family, town, weather or a label map of routes; each group gets every §8.1
 //! and §8.2 aggregate over its own routes (N = its routes) and its `infraction_routes`, and the
 //! `combined` row holds the same over all routes.
@@ -133,7 +133,7 @@ name_field!(
     .map(GroupBy::name)
 );
 
-/// The report's `groups` (§10.1).
+/// The report's `groups` (docs/SCORE.md §13).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Groups {
     /// The grouping's name.
@@ -188,7 +188,7 @@ fn order(label: &str) -> (u8, u64, &str) {
     }
 }
 
-/// The breakdown of `routes` by `by` (§8.3): foreign routes are left out; a route counts in
+/// The breakdown of `routes` by `by` (docs/SCORE.md §10.2): foreign routes are left out; a route counts in
 /// every group its key maps to; `combined_n` is the run's N (the combined row's denominator).
 /// `labels` maps keys to labels (required for [`GroupBy::Family`] and [`GroupBy::Route`]);
 /// keys it does not map go to `(unmapped)`, with a warning naming the first few (by route:

@@ -1,4 +1,4 @@
-//! Distance, stationary time and moving comfort over a set of routes (`SDS-SPEC.md` v1.3 §8.5):
+//! Distance, stationary time and moving comfort over a set of routes (docs/SCORE.md §10.0):
 //! part of every [`crate::aggregate::aggregates::Scores`] (the summary, each group, the combined
 //! row, each compared run).
 //!

@@ -1,4 +1,4 @@
-//! The run's summary (`SDS-SPEC.md` v1.2 §8.1, §10.1): the §8.1 scores over N and the counts
+//! The run's summary (docs/SCORE.md §10, docs/SCORE.md §13): the §8.1 scores over N and the counts
 //! behind them (routes found, missing, foreign; problems).
 
 use serde::{Deserialize, Serialize};
@@ -8,10 +8,10 @@ use crate::aggregate::bench2drive::Bench2Drive;
 use crate::pipeline::outcome::{RouteState, TelemetryState};
 use crate::route::row::RouteReport;
 
-/// Benchmark aggregates (spec section 8).
+/// Benchmark aggregates (docs/SCORE.md §9).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Summary {
-    /// N (spec section 1.5): `--expected-routes`, else the route set's size, else the routes
+    /// N (docs/SCORE.md §14.1): `--expected-routes`, else the route set's size, else the routes
     /// kept.
     pub routes: usize,
     /// Routes found in the input and counted (foreign routes are not).
@@ -31,10 +31,10 @@ pub struct Summary {
     pub invalid_records: usize,
     /// Routes where streaming and batch disagreed (must be empty).
     pub batch_disagreements: Vec<String>,
-    /// Bench2Drive's own metrics (§8.2); filled in by [`crate::model::report::assemble`], which
+    /// Bench2Drive's own metrics (docs/SCORE.md §10.1); filled in by [`crate::model::report::assemble`], which
     /// knows the route set.
     pub bench2drive: Option<Bench2Drive>,
-    /// Every asked scoring protocol's aggregates (§8.4, §10.3); absent when none is asked.
+    /// Every asked scoring protocol's aggregates (docs/PROTOCOLS.md, docs/SCORE.md §13); absent when none is asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocols: Option<crate::route::protocol::aggregate::ProtocolScores>,
 }
@@ -42,7 +42,7 @@ pub struct Summary {
 /// The run's summary: the §8.1 `scores` (over N, computed by [`Scores::over`] from the counted
 /// routes' rows), with the counts of the rows behind them (`all`: every row of the report, in
 /// its order; missing routes of the route set are in N, foreign routes left out). From rows
-/// alone, so that a merge of reports (v1.4 §13) computes it as `sds score` does.
+/// alone, so that a merge of reports (docs/SCORE.md §13.2) computes it as `sds score` does.
 pub fn summarize(all: &[RouteReport], scores: Scores, n: usize) -> Summary {
     let found: Vec<&RouteReport> = all
         .iter()

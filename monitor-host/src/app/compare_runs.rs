@@ -1,4 +1,4 @@
-//! Comparing runs end to end (`sds compare`, `SDS-SPEC.md` v1.4 §11): score each run with
+//! Comparing runs end to end (`sds compare`, docs/SCORE.md §10.3): score each run with
 //! [`crate::score_run`], group the runs into models as asked (`seeds`; never by name), and
 //! compare them ([`crate::stats::compare`]). Every front end calls this.
 
@@ -263,7 +263,7 @@ pub fn compare_runs(
     compare_runs_swept(runs, seeds, settings, options, &[], progress)
 }
 
-/// [`compare_runs`], and with a sweep (`axes` not empty, v1.5 §18) every model's figures at
+/// [`compare_runs`], and with a sweep (`axes` not empty, docs/SCORE.md §10.4) every model's figures at
 /// every point of the grid ([`crate::stats::sweep`]) in [`Comparison::sweep`]: each run is
 /// scored once at the given settings and at every point ([`crate::app::run::score_run_points`],
 /// which re-uses what a point does not change); the rest of the report is that of the given
@@ -515,7 +515,7 @@ pub struct CompareRequest {
     pub settings: crate::app::request::RunSettings,
     /// The comparison's options (`fail_if_worse` names are trimmed).
     pub options: CompareOptions,
-    /// The sweep (`--sweep`, v1.5 §18): each setting and its values; empty for none.
+    /// The sweep (`--sweep`, docs/SCORE.md §10.4): each setting and its values; empty for none.
     pub sweep: Vec<SweepAxis>,
 }
 

@@ -1,5 +1,5 @@
 //! Merging the reports of a run scored where its files are (`sds merge`, `sds.merge`,
-//! `SDS-SPEC.md` v1.4 §13): the request each front end fills, over [`crate::merge::merge`].
+//! docs/SCORE.md §13.2): the request each front end fills, over [`crate::merge::merge`].
 
 use std::path::PathBuf;
 
@@ -63,7 +63,7 @@ impl MergeRequest {
         Ok(report)
     }
 
-    /// The long tables of a merged report (spec v1.4 §15): its routes and events, each as a file
+    /// The long tables of a merged report (docs/TABLES-SCHEMA.md): its routes and events, each as a file
     /// name and its bytes. No frames: a merge reads no telemetry (each part's `--tables` wrote
     /// its own).
     ///

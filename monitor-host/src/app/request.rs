@@ -238,7 +238,7 @@ impl ScoreRequest {
         )?)
     }
 
-    /// The long tables of the scored run (spec v1.4 §15): `report`'s routes and events, and the
+    /// The long tables of the scored run (docs/TABLES-SCHEMA.md): `report`'s routes and events, and the
     /// frames of every route with telemetry, read again as `sds frames` reads them; each table
     /// as a file name and its bytes.
     ///

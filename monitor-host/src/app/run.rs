@@ -31,14 +31,14 @@ pub use crate::model::frames::RouteFrames;
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Inputs {
     /// Results: raw evaluator files, merged files, or directories of per-route files, read in
-    /// this order (spec section 1.5's input order).
+    /// this order (docs/SCORE.md §14.1's input order).
     pub results: Vec<PathBuf>,
     /// Telemetry root holding `<save_name>/metric_info.json`.
     pub telemetry: Option<PathBuf>,
     /// Bench2Drive route XML: the lateral reference, the route set (missing and foreign routes,
     /// N) and the abilities' scenario types.
     pub route_xml: Option<PathBuf>,
-    /// Folder of the towns' OpenDRIVE maps (§1.4).
+    /// Folder of the towns' OpenDRIVE maps (docs/SCORE.md §14.3).
     pub maps: Option<PathBuf>,
 }
 

@@ -1,4 +1,4 @@
-//! A run scored with its breakdown (`SDS-SPEC.md` v1.2 §8.3): [`crate::score_run`], then the
+//! A run scored with its breakdown (docs/SCORE.md §10.2): [`crate::score_run`], then the
 //! label files read and checked against the report's routes, then the groups. The one function
 //! every front end calls for `sds score` (the command line, the Python `sds.score`), so a label
 //! file is checked the same way everywhere.

@@ -1,4 +1,4 @@
-//! Which `sds` and which settings scored each run of a comparison (`SDS-SPEC.md` v1.4 §13:
+//! Which `sds` and which settings scored each run of a comparison (docs/SCORE.md §13.2:
 //! "`sds compare` and `merge` show when runs were scored by different versions or settings").
 //!
 //! `sds compare` scores results files itself, all with one version and one set of settings; a

@@ -1,4 +1,4 @@
-//! A watch of an evaluation while it runs (`SDS-SPEC.md` v1.4 §12), once for every front end:
+//! A watch of an evaluation while it runs (docs/USAGE.md §8), once for every front end:
 //! [`Session`] holds the rounds ([`Watcher::round`]), the wait between them, the stop rule
 //! (complete and nothing new, `once`, the timeout, a stop asked for) and the final reading after
 //! a timeout or a stop (retried a few times on a half-written file). A front end supplies only

@@ -1,4 +1,4 @@
-//! Scoring vehicle logs (spec v1.4 §16): each MCAP log (or rosbag2 folder) is one route, named
+//! Scoring vehicle logs (docs/SCORE.md §2.4): each MCAP log (or rosbag2 folder) is one route, named
 //! by its file stem, whose telemetry is made from its ROS 2 messages
 //! ([`crate::input::mcap`]) and fed to the same pipeline as a Bench2Drive route: comfort,
 //! lateral excess against the log's path, braking before its events, distance, stationary
@@ -35,7 +35,7 @@ pub const EVENT_LIST: &str = "collisions_vehicle";
 
 /// What the report says once about every vehicle-log run.
 pub const NO_LEADERBOARD: &str = "vehicle logs have no Leaderboard record: the report holds no \
-    driving score, success rate, DS_safe, SDS or protocols (spec v1.4 §16); comfort, lateral \
+    driving score, success rate, DS_safe, SDS or protocols (docs/SCORE.md §2.4); comfort, lateral \
     excess, braking before events, distance and stationary share are scored as usual";
 
 /// One log as a route: its record (named by the log, its events in [`EVENT_LIST`]), the
@@ -226,7 +226,7 @@ fn empty_log(path: &Path) -> VehicleLog {
     }
 }
 
-/// Scores vehicle logs: each log one route (spec v1.4 §16), the report as [`crate::score_run`]
+/// Scores vehicle logs: each log one route (docs/SCORE.md §2.4), the report as [`crate::score_run`]
 /// makes it, without the figures that need a Leaderboard record (it says so in its warnings).
 ///
 /// ```no_run

@@ -1,4 +1,4 @@
-//! Scoring an evaluation while it runs (`SDS-SPEC.md` v1.4 §12): the same run as `sds score`,
+//! Scoring an evaluation while it runs (docs/USAGE.md §8): the same run as `sds score`,
 //! read again every round, each route replayed again only when something it was made from
 //! changed (its record, its telemetry files or the folders where its missing telemetry was
 //! looked for, the route XML, the maps). [`Watcher::round`] is one round; `sds watch` and
@@ -34,7 +34,7 @@ pub use crate::report::status::duration_text;
 /// (None: a merged file, complete by itself.)
 type Progress = (Option<Stamp>, Option<(u64, u64)>);
 
-/// What tells a changed file or folder (spec §12): its size, modification and status-change
+/// What tells a changed file or folder (docs/USAGE.md §8): its size, modification and status-change
 /// times, and its inode (a `chmod`, a rename over it or a copy keeping the times all change one
 /// of them). `None` for a path that does not exist.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -309,7 +309,7 @@ pub enum RoundOutcome {
     },
 }
 
-/// The figures of a partial report (spec §12's status line).
+/// The figures of a partial report (docs/USAGE.md §8's status line).
 #[derive(Clone, Debug, PartialEq)]
 pub struct WatchStatus {
     /// Routes with a record.

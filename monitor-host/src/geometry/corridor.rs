@@ -1,4 +1,4 @@
-//! The lane corridor (`SDS-SPEC.md` v1.2 §2): per frame, how far the ego is from its reference
+//! The lane corridor (docs/SCORE.md §3): per frame, how far the ego is from its reference
 //! and how much room its lane leaves it, turned into the one lateral value the core takes.
 //!
 //! The reference is the route ([`LateralReference::Route`]: the route XML's polyline, its
@@ -112,7 +112,7 @@ impl<'de> serde::Deserialize<'de> for ReferenceKind {
     }
 }
 
-/// The reference polyline of a route (§1.3, §1.4): its waypoints, each junction gap (a segment
+/// The reference polyline of a route (docs/SCORE.md §2.3, docs/SCORE.md §14.3): its waypoints, each junction gap (a segment
 /// longer than `gap_max`) replaced by the map's lane chain from P to Q when there is one. A gap
 /// without a chain stays a straight segment, which [`LateralTracker`] treats as a gap.
 ///
@@ -287,7 +287,7 @@ impl<'a> Corridor<'a> {
 
     /// [`Corridor::sample`] of a frame at `step` whose previous frame was at `previous` (`None`
     /// for the first frame): the route search re-acquires the reference after a gap of more than
-    /// `reacquire_steps` steps or at a first step that is not 0 (§2, v1.4,
+    /// `reacquire_steps` steps or at a first step that is not 0 (docs/SCORE.md §3, v1.4,
     /// [`crate::geometry::lateral::reacquires`]). Every front end (replay, live monitor, watch)
     /// measures its frames through this, so their lateral values agree.
     ///
@@ -311,8 +311,8 @@ impl<'a> Corridor<'a> {
         self.measure(loc, z, rest)
     }
 
-    /// [`Corridor::sample`] searching the whole rest of the route (§2, v1.4): the first frame
-    /// of a vehicle log's segment (spec v1.5 §16), whatever its step.
+    /// [`Corridor::sample`] searching the whole rest of the route (docs/SCORE.md §3, v1.4): the first frame
+    /// of a vehicle log's segment (docs/SCORE.md §2.4), whatever its step.
     pub fn sample_reacquiring(&mut self, loc: [f64; 2], z: f64) -> Option<LateralSample> {
         self.measure(loc, z, true)
     }

@@ -1,4 +1,4 @@
-//! Which samples of a route's dense route lie in a junction (`SDS-SPEC.md` v1.2 §1.4, §8.2):
+//! Which samples of a route's dense route lie in a junction (docs/SCORE.md §14.3, docs/SCORE.md §10.1):
 //! the input of the Traffic_Signs junction credit. It needs the town's OpenDRIVE map (from the
 //! run's [`TownMaps`], loaded once before replay); without one the answer is the reason it is
 //! unknown, and the credit stays undecided.
@@ -18,12 +18,12 @@ use crate::geometry::map::dense_route;
 use crate::geometry::town_maps::TownMaps;
 use crate::input::route_xml::RouteRef;
 
-/// Which samples of a route's dense route (§1.4) lie in a junction, in order; or why they are
+/// Which samples of a route's dense route (docs/SCORE.md §14.3) lie in a junction, in order; or why they are
 /// not known (no map for the town, ...). The input of the junction credit.
 pub type JunctionSamples = Result<Vec<bool>, String>;
 
 /// The junction flags of `route`'s dense route on the map of `town`, or why they are not
-/// known. `gap_max` decides which XML segments are junction gaps (§1.3).
+/// known. `gap_max` decides which XML segments are junction gaps (docs/SCORE.md §2.3).
 ///
 /// # Errors
 /// Why the town has no map (no `--maps` folder, or where the map was looked for).

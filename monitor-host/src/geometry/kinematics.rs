@@ -1,10 +1,10 @@
-//! Kinematics of the ego from its telemetry, in f64 (`SDS-SPEC.md` v1.2 §2): the per-frame
+//! Kinematics of the ego from its telemetry, in f64 (docs/SCORE.md §3): the per-frame
 //! speed from displacement. The yaw-rate unit of the comfort terms is
 //! [`monitor_core::Profile::comfort_yaw_rate`], shared with the core.
 
 use crate::input::metric_info::TelemetryFrame;
 
-/// Per-frame speed (`SDS-SPEC.md` §2): `speed_0 = 0`,
+/// Per-frame speed (docs/SCORE.md §3): `speed_0 = 0`,
 /// `speed_i = |loc_i - loc_{i-1}| / (dt * (step_i - step_{i-1}))`, 2-D, in f64.
 ///
 /// The distance is `sqrt(dx² + dy²)` (IEEE-exact operations, so every platform agrees). Frames

@@ -1,4 +1,4 @@
-//! The lateral error of a drive against its reference polyline (`SDS-SPEC.md` v1.4 §2): the
+//! The lateral error of a drive against its reference polyline (docs/SCORE.md §3): the
 //! straight segments between consecutive route waypoints, followed with a bounded forward
 //! search that re-acquires the route after a gap in the telemetry or a late start.
 //!
@@ -23,7 +23,7 @@ use std::borrow::Cow;
 use crate::input::route_xml::RouteRef;
 
 /// Follows a drive along a route's reference polyline and yields the lateral error per frame
-/// (`SDS-SPEC.md` §2).
+/// (docs/SCORE.md §3).
 ///
 /// Bounded forward search: the matched segment index `m` starts at 0; for each frame the
 /// candidates are the segments `j >= m` whose start lies at most `lookahead` metres of route length
@@ -110,12 +110,12 @@ impl<'a> LateralTracker<'a> {
     }
 
     /// As [`LateralTracker::next`], with the *reference point*: the nearest point of the matched
-    /// segment, whose lane gives the frame's lane width with a map (§2).
+    /// segment, whose lane gives the frame's lane width with a map (docs/SCORE.md §3).
     pub fn next_with_point(&mut self, loc: [f64; 2]) -> Option<(f64, [f64; 2])> {
         self.search(loc, false)
     }
 
-    /// As [`LateralTracker::next_with_point`], re-acquiring the reference (§2, v1.4): the
+    /// As [`LateralTracker::next_with_point`], re-acquiring the reference (docs/SCORE.md §3, v1.4): the
     /// candidates are every segment `j >= m`, the whole rest of the route, for a frame after a
     /// gap in the telemetry or the first frame of telemetry that starts mid-route
     /// ([`reacquires`] says when). Ties still keep the earlier segment.
@@ -207,7 +207,7 @@ impl<'a> LateralTracker<'a> {
     }
 }
 
-/// Whether a frame at `step` re-acquires the reference (§2, v1.4): the first frame (`previous`
+/// Whether a frame at `step` re-acquires the reference (docs/SCORE.md §3, v1.4): the first frame (`previous`
 /// is `None`) when its step is not 0 (telemetry that starts mid-route), or a frame whose step
 /// exceeds the previous frame's by more than `reacquire_steps` (a gap in the telemetry).
 ///

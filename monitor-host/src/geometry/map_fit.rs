@@ -2,7 +2,7 @@
 //! where the route's frames drove (a wrong town, a map moved or from another build), would make
 //! every frame of the route look off-lane (every chunk critical) or leave it without a lateral
 //! term. Such a map is not used for the route: the route falls back to the route XML, as a town
-//! without a map does (§1.4), and a warning names the map and the distance.
+//! without a map does (docs/SCORE.md §14.3), and a warning names the map and the distance.
 //!
 //! The test: the median, over up to [`MAP_FIT_SAMPLES`] frames spread evenly over the route,
 //! of the 2-D distance from the frame to the nearest driving lane's centre line must be at most

@@ -1,5 +1,5 @@
 //! The nearest frame to a position, fast: a 2-d tree over the frames' locations, with the exact
-//! answer of the plain scan (`SDS-SPEC.md` v1.2 §5): the smallest distance `min` over every frame,
+//! answer of the plain scan (docs/SCORE.md §6): the smallest distance `min` over every frame,
 //! then the earliest frame whose distance is within `tie` of it, if `min <= max_dist`.
 //!
 //! Distances are the scan's own `sqrt(dx² + dy²)` in f64, and every pruning bound is computed

@@ -1,4 +1,4 @@
-//! The maps of a run (`SDS-SPEC.md` v1.2 §1.4): each town's OpenDRIVE map from the `--maps`
+//! The maps of a run (docs/SCORE.md §14.3): each town's OpenDRIVE map from the `--maps`
 //! folder, loaded once before the routes are replayed and shared by every worker thread.
 //!
 //! ```
@@ -26,7 +26,7 @@ pub struct TownMaps {
 }
 
 impl TownMaps {
-    /// Loads the map of each of `towns` (each once, in parallel) from `dir` (§1.4's lookup).
+    /// Loads the map of each of `towns` (each once, in parallel) from `dir` (docs/SCORE.md §14.3's lookup).
     ///
     /// # Errors
     /// A map that was found but cannot be read (the first by town name): a run never falls

@@ -1,4 +1,4 @@
-//! Collision strings of the evaluator's infraction lists (`SDS-SPEC.md` v1.2 §5, §7): the three
+//! Collision strings of the evaluator's infraction lists (docs/SCORE.md §6, docs/SCORE.md §8): the three
 //! collision lists, the parsed string (type, actor id, location), and work-zone contacts.
 //!
 //! ```
@@ -203,7 +203,7 @@ pub(crate) fn parse_python_float(s: &str) -> Option<f64> {
     s.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
-/// The substrings that make a `static.prop.` type a work-zone object (§7), case-sensitive.
+/// The substrings that make a `static.prop.` type a work-zone object (docs/SCORE.md §8), case-sensitive.
 pub const WORKZONE_KEYWORDS: [&str; 6] = [
     "cone",
     "trafficwarning",
@@ -213,7 +213,7 @@ pub const WORKZONE_KEYWORDS: [&str; 6] = [
     "barrel",
 ];
 
-/// §7: `type_id` starts with `static.prop.` and contains one of [`WORKZONE_KEYWORDS`]
+/// docs/SCORE.md §8: `type_id` starts with `static.prop.` and contains one of [`WORKZONE_KEYWORDS`]
 /// (case-sensitive). `static.prop.mesh` (a parked car) and `static.prop.dirtdebris*` are not.
 pub fn is_workzone(type_id: &str) -> bool {
     type_id.starts_with("static.prop.") && WORKZONE_KEYWORDS.iter().any(|k| type_id.contains(k))

@@ -1,4 +1,4 @@
-//! Finding the run's files (`SDS-SPEC.md` v1.2 §1.2): the results files of a directory tree,
+//! Finding the run's files (docs/SCORE.md §2.2): the results files of a directory tree,
 //! and the telemetry (`metric_info.json`) and LEAD `infractions.json` of a record.
 
 use std::collections::HashSet;
@@ -21,7 +21,7 @@ pub struct Found {
 }
 
 /// The candidate results files under `root`: every `*.json` except `metric_info.json` and
-/// `infractions.json`, in byte-wise order of their paths (spec section 1.5's input order).
+/// `infractions.json`, in byte-wise order of their paths (docs/SCORE.md §14.1's input order).
 ///
 /// Symbolic links are followed inside `root` only: a folder link that leads out of it (`up ->
 /// ../..`, which would pull in another run's results) is not followed, with a warning. A folder
@@ -126,7 +126,7 @@ pub fn json_files(root: &Path, warnings: &mut Vec<Warning>) -> Found {
     found
 }
 
-/// Locates a record's `metric_info.json` (`SDS-SPEC.md` §1.2): first
+/// Locates a record's `metric_info.json` (docs/SCORE.md §2.2): first
 /// `<telemetry_root>/<save_name>/metric_info.json`, then `metric_info.json` in the folder of the
 /// result file if that file holds this one record. Returns the first that is a file.
 ///
@@ -188,7 +188,7 @@ pub fn save_name_route(save_name: &str) -> Option<&str> {
     }
 }
 
-/// Why a record's `metric_info.json` was not found (spec section 1.2): what was looked for —
+/// Why a record's `metric_info.json` was not found (docs/SCORE.md §2.2): what was looked for —
 /// the root and the `<save_name>` folder tried, the result file's folder when it holds one
 /// record — and, when the root exists but has no such folder, the closest folder name for the
 /// same route id (e.g. the run's other timestamp).

@@ -1,4 +1,4 @@
-//! Several inputs and duplicate routes (`SDS-SPEC.md` v1.2 §1.5): the records of every
+//! Several inputs and duplicate routes (docs/SCORE.md §14.1): the records of every
 //! `--results` input in input order, and the `duplicates` policy that decides which copy of a
 //! route id is scored.
 //!

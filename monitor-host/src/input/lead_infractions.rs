@@ -1,5 +1,5 @@
 //! LEAD's step-exact collision file, `infractions.json` beside `metric_info.json`
-//! (`SDS-SPEC.md` v1.2 §5): the metric_info step of each infraction and its message.
+//! (docs/SCORE.md §6): the metric_info step of each infraction and its message.
 
 use std::path::{Path, PathBuf};
 

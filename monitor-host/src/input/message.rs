@@ -35,7 +35,7 @@ pub fn min_speed_percent_text(s: &str) -> Option<&str> {
     Some(&rest[..end])
 }
 
-/// What a message's percentage is, as the scoring protocols read it (§8.4): a possible
+/// What a message's percentage is, as the scoring protocols read it (docs/PROTOCOLS.md): a possible
 /// percentage (finite, not negative), an impossible one (negative or beyond f64's range: the
 /// entry is refused), or no number at all.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -3,21 +3,21 @@
 //!
 //! | what | module |
 //! |---|---|
-//! | a route record: infraction lists, scores, meta (§1.1) | [`record`] |
-//! | results files: raw, merged, per-route (§1.1) | [`results_file`] |
-//! | several inputs, duplicate routes (§1.5) | [`duplicates`] |
-//! | the route set, missing and foreign routes, N (§1.5) | [`route_set`] |
-//! | finding files: result trees, telemetry folders (§1.2) | [`discovery`] |
-//! | a route's telemetry, whatever its format; the reader for a file (§1.2) | [`telemetry`] |
-//! | `metric_info.json` telemetry (§1.2) | [`metric_info`] |
-//! | LEAD's step-exact `infractions.json` (§5) | [`lead_infractions`] |
-//! | vehicle logs: MCAP with ROS 2 messages (v1.4 §16) | [`mcap`](mod@mcap) |
-//! | route XML: the lateral reference (§1.3) | [`route_xml`] |
-//! | collision strings (§5, §7) | [`collision`] |
+//! | a route record: infraction lists, scores, meta (docs/SCORE.md §2.1) | [`record`] |
+//! | results files: raw, merged, per-route (docs/SCORE.md §2.1) | [`results_file`] |
+//! | several inputs, duplicate routes (docs/SCORE.md §14.1) | [`duplicates`] |
+//! | the route set, missing and foreign routes, N (docs/SCORE.md §14.1) | [`route_set`] |
+//! | finding files: result trees, telemetry folders (docs/SCORE.md §2.2) | [`discovery`] |
+//! | a route's telemetry, whatever its format; the reader for a file (docs/SCORE.md §2.2) | [`telemetry`] |
+//! | `metric_info.json` telemetry (docs/SCORE.md §2.2) | [`metric_info`] |
+//! | LEAD's step-exact `infractions.json` (docs/SCORE.md §6) | [`lead_infractions`] |
+//! | vehicle logs: MCAP with ROS 2 messages (docs/SCORE.md §2.4) | [`mcap`](mod@mcap) |
+//! | route XML: the lateral reference (docs/SCORE.md §2.3) | [`route_xml`] |
+//! | collision strings (docs/SCORE.md §6, docs/SCORE.md §8) | [`collision`] |
 //! | what infraction messages carry: a position, a percentage | [`message`] |
-//! | label maps for the breakdown (§8.3) | [`labels`] |
+//! | label maps for the breakdown (docs/SCORE.md §10.2) | [`labels`] |
 //! | duplicate JSON keys, refused | [`json_keys`] |
-//! | the figures an input file stores, checked (§1.5) | [`stored`] |
+//! | the figures an input file stores, checked (docs/SCORE.md §14.1) | [`stored`] |
 //! | the one guarded file reader: regular files, bounded size | [`read`] |
 
 pub mod collision;

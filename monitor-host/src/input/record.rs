@@ -1,4 +1,4 @@
-//! One route record of an evaluator results file (`SDS-SPEC.md` v1.2 §1.1, §8 success rule):
+//! One route record of an evaluator results file (docs/SCORE.md §2.1, docs/SCORE.md §9 success rule):
 //! its infraction lists, scores and meta, validated field by field.
 //!
 //! ```
@@ -18,7 +18,7 @@ use std::path::PathBuf;
 
 use serde_json::{Map, Value};
 
-/// The 12 infraction lists of a Leaderboard 2.0 record, in the spec's order (§1.1).
+/// The 12 infraction lists of a Leaderboard 2.0 record, in the spec's order (docs/SCORE.md §2.1).
 pub const KNOWN_LISTS: [&str; 12] = [
     "collisions_pedestrian",
     "collisions_vehicle",
@@ -34,7 +34,7 @@ pub const KNOWN_LISTS: [&str; 12] = [
     "route_timeout",
 ];
 
-/// The one infraction list that does not prevent a success (§8).
+/// The one infraction list that does not prevent a success (docs/SCORE.md §9).
 pub const MIN_SPEED_LIST: &str = "min_speed_infractions";
 
 /// A record's infraction lists: the 12 known lists by name plus any unknown extra lists, the
@@ -130,7 +130,7 @@ pub struct Meta {
     pub duration_system: Option<f64>,
 }
 
-/// One validated route record (§1.1). Unknown extra keys are ignored.
+/// One validated route record (docs/SCORE.md §2.1). Unknown extra keys are ignored.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Record {
     /// `RouteScenario_<xmlid>_rep<k>`.
@@ -149,7 +149,7 @@ pub struct Record {
     pub infractions: Infractions,
     /// `scores.score_route` (0..100).
     pub score_route: f64,
-    /// `scores.score_penalty` (authoritative, §8).
+    /// `scores.score_penalty` (authoritative, docs/SCORE.md §9).
     pub score_penalty: f64,
     /// `scores.score_composed`.
     pub score_composed: f64,
@@ -176,7 +176,7 @@ impl Record {
         }
     }
 
-    /// §8 success: status `Completed` or `Perfect`, and every infraction list except
+    /// docs/SCORE.md §9 success: status `Completed` or `Perfect`, and every infraction list except
     /// `min_speed_infractions` empty (unknown extra lists included).
     pub fn is_success(&self) -> bool {
         matches!(self.status.as_str(), "Completed" | "Perfect")

@@ -1,5 +1,5 @@
 //! Evaluator results files: Bench2Drive / CARLA Leaderboard 2.0 checkpoint JSON
-//! (`SDS-SPEC.md` v1.2 §1.1, §1.2 "Directory input").
+//! (docs/SCORE.md §2.1, docs/SCORE.md §2.2 "Directory input").
 //!
 //! Three shapes are read, all through [`read_results`]:
 //! - a raw evaluator file: `{"_checkpoint": {"global_record", "progress", "records": [..]},
@@ -550,7 +550,7 @@ fn load_dir(root: &Path, set: &mut ResultSet) -> Result<(), ResultsError> {
         });
     }
     // A merge output is skipped only beside raw evaluator files in its own folder: it was made
-    // from them (spec section 1.2). Elsewhere in the tree it is read.
+    // from them (docs/SCORE.md §2.2). Elsewhere in the tree it is read.
     let mut raw_per_folder: HashMap<PathBuf, usize> = HashMap::new();
     for (path, f) in &parsed {
         if !f.merged {

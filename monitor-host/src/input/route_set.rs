@@ -1,4 +1,4 @@
-//! The route set of a run and its N (`SDS-SPEC.md` v1.2 §1.5): which routes the benchmark
+//! The route set of a run and its N (docs/SCORE.md §14.1): which routes the benchmark
 //! holds (from `--routes`), which of them have no record (*missing*), which records are not
 //! part of it (*foreign*), and the denominator N of every aggregate.
 //!
@@ -81,7 +81,7 @@ impl RunRouteSet {
     }
 }
 
-/// The fingerprint of a run's route set (`SDS-SPEC.md` v1.3 §10.3, the report's
+/// The fingerprint of a run's route set (docs/SCORE.md §13, the report's
 /// `inputs.route_set`): how many routes are counted, and the SHA-256 of their ids sorted
 /// byte-wise and joined with `\n`, so two reports show at a glance whether they ran the same
 /// routes.
@@ -186,7 +186,7 @@ pub fn route_subset(mut set: RunRouteSet, subset: RouteSubset) -> RunRouteSet {
     set
 }
 
-/// N (spec section 1.5): `expected` (`--expected-routes`) if given, else the size of the route
+/// N (docs/SCORE.md §14.1): `expected` (`--expected-routes`) if given, else the size of the route
 /// set if there is one, else the number of routes kept (`counted`).
 pub fn benchmark_size(expected: Option<usize>, set: Option<&RunRouteSet>, counted: usize) -> usize {
     expected.or(set.map(RunRouteSet::len)).unwrap_or(counted)

@@ -1,4 +1,4 @@
-//! The Bench2Drive route XML (`SDS-SPEC.md` v1.2 §1.3): `<routes><route id town><waypoints>
+//! The Bench2Drive route XML (docs/SCORE.md §2.3): `<routes><route id town><waypoints>
 //! <position x y z/>...`, read with a streaming XML reader into a [`RouteSet`]. Its waypoints
 //! are the reference of the lateral error ([`crate::geometry::lateral`]).
 //!
@@ -30,15 +30,15 @@ pub struct RouteRef {
     /// The waypoints in document order.
     pub waypoints: Vec<[f64; 2]>,
     /// The waypoints' heights (`z`, 0 when absent), same order: maps use them to choose the
-    /// lane of a point under an overpass (§1.4).
+    /// lane of a point under an overpass (docs/SCORE.md §14.3).
     pub heights: Vec<f64>,
     /// The `type` attribute of the route's first `<scenario>` (inside `<scenarios>`): the
-    /// scenario type Bench2Drive's ability rates read (§8.2).
+    /// scenario type Bench2Drive's ability rates read (docs/SCORE.md §10.1).
     pub scenario_type: Option<String>,
 }
 
 impl RouteRef {
-    /// The waypoints with their heights, `[x, y, z]` (the dense route's input, §1.4).
+    /// The waypoints with their heights, `[x, y, z]` (the dense route's input, docs/SCORE.md §14.3).
     pub fn waypoints_3d(&self) -> Vec<[f64; 3]> {
         self.waypoints
             .iter()

@@ -1,5 +1,5 @@
 //! Where a record came from ([`Source`]) and a route id found more than once ([`Duplicate`]):
-//! the facts of `SDS-SPEC.md` v1.2 §1.5 that warnings name ([`crate::input::warning`]), apart from the
+//! the facts of docs/SCORE.md §14.1 that warnings name ([`crate::input::warning`]), apart from the
 //! policy that decides between copies ([`crate::input::duplicates`]).
 
 use std::path::PathBuf;

@@ -1,4 +1,4 @@
-//! The stored-figure check (`SDS-SPEC.md` v1.2 §1.5): the figures an input file stores (a merge
+//! The stored-figure check (docs/SCORE.md §14.1): the figures an input file stores (a merge
 //! output's `driving score` / `success rate` / `eval num`, or a raw file's non-empty
 //! `global_record`) beside the ones computed over the same file's records with the run's N.
 

@@ -142,7 +142,7 @@ pub enum Warning {
         /// The route ids.
         routes: Vec<String>,
     },
-    /// A record whose route is not in the route set of `--routes` (spec section 1.5).
+    /// A record whose route is not in the route set of `--routes` (docs/SCORE.md §14.1).
     ForeignRoute {
         /// The route id.
         route: String,
@@ -164,7 +164,7 @@ pub enum Warning {
         /// The run's N.
         n: usize,
     },
-    /// A route whose step period fits no multiple of the 0.05 s tick (spec section 1.2).
+    /// A route whose step period fits no multiple of the 0.05 s tick (docs/SCORE.md §2.2).
     StepPeriodUnknown {
         /// Step span `last - first + 1`.
         span: u64,
@@ -174,7 +174,7 @@ pub enum Warning {
         dt: f64,
     },
     /// A route whose missing steps exceed 10 % of its span, so that its period is not inferred
-    /// (spec section 1.2, v1.3): the file holds only part of the run.
+    /// (docs/SCORE.md §2.2, v1.3): the file holds only part of the run.
     StepPeriodPartial {
         /// Missing step numbers.
         gaps: u64,
@@ -244,7 +244,7 @@ pub enum Warning {
     /// The route XML has no usable reference for this route.
     NoReference(RouteError),
     /// A town with routes has no map in the `--maps` folder (once per town): its routes are
-    /// measured against the route XML (§1.4, §2).
+    /// measured against the route XML (docs/SCORE.md §14.3, docs/SCORE.md §3).
     NoMap {
         /// The town.
         town: String,
@@ -288,7 +288,7 @@ pub enum Warning {
         /// Why.
         reason: String,
     },
-    /// Routes whose group key has no label in the label map: grouped as `(unmapped)` (§8.3).
+    /// Routes whose group key has no label in the label map: grouped as `(unmapped)` (docs/SCORE.md §10.2).
     Unmapped {
         /// The grouping (`family`, `weather`).
         by: &'static str,
@@ -297,11 +297,11 @@ pub enum Warning {
         /// Routes concerned.
         routes: usize,
     },
-    /// A route term a scoring protocol could not read as the spec wants (§8.4): what was
+    /// A route term a scoring protocol could not read as the spec wants (docs/PROTOCOLS.md): what was
     /// skipped or approximated.
     Protocol(String),
     /// Records whose min-speed entries were regrouped on Bench2Drive's 20-checkpoint grid under
-    /// the Leaderboard protocols (§8.4 v1.4, "The min-speed grid").
+    /// the Leaderboard protocols (docs/PROTOCOLS.md v1.4, "The min-speed grid").
     MinSpeedRegrouped {
         /// Records on the 20-checkpoint grid.
         records: usize,
@@ -313,15 +313,15 @@ pub enum Warning {
         protocols: Vec<&'static str>,
     },
     /// Routes that count as Fail2Drive successes though they did not finish: `RC < 100` or a
-    /// failed status (§8.4 v1.4; Fail2Drive's rule reads only the infraction lists).
+    /// failed status (docs/PROTOCOLS.md v1.4; Fail2Drive's rule reads only the infraction lists).
     F2dUnfinished {
         /// Their route ids, in report order.
         routes: Vec<String>,
     },
-    /// A route's warning as a report wrote it (a part of `sds merge` read back, v1.4 §13):
+    /// A route's warning as a report wrote it (a part of `sds merge` read back, docs/SCORE.md §13.2):
     /// printed unchanged.
     Recorded(String),
-    /// A vehicle log's note (spec v1.4 §16): messages lost to a cut, sorted out of order,
+    /// A vehicle log's note (docs/SCORE.md §2.4): messages lost to a cut, sorted out of order,
     /// clock gaps, the IMU replaced by the odometry twist, no Leaderboard record.
     VehicleLog {
         /// The MCAP file (or rosbag2 folder); empty for a note about every log of the run.
@@ -329,7 +329,7 @@ pub enum Warning {
         /// What happened and what it means.
         text: String,
     },
-    /// A warning of a part of `sds merge` (v1.4 §13), naming the part.
+    /// A warning of a part of `sds merge` (docs/SCORE.md §13.2), naming the part.
     Part {
         /// The part's file.
         part: PathBuf,

@@ -1,4 +1,4 @@
-//! Merging reports scored where the files are (`SDS-SPEC.md` v1.4 §13): each node scores its
+//! Merging reports scored where the files are (docs/SCORE.md §13.2): each node scores its
 //! shard with `sds score`; [`merge`] reads the parts' JSON reports back into the rows `sds
 //! score` aggregated ([`Report::from_json`]: the types that wrote them) and builds the report with the same code
 //! ([`crate::model::report::assemble_rows`]), so the merge equals `sds score` over the union
@@ -352,7 +352,7 @@ fn vehicle_logs(part: &Part) -> bool {
         .any(|w| w.ends_with(crate::app::vehicle_logs::NO_LEADERBOARD))
 }
 
-/// Merges the reports in `files` (v1.4 §13): reads each ([`read_part`]) and merges them
+/// Merges the reports in `files` (docs/SCORE.md §13.2): reads each ([`read_part`]) and merges them
 /// ([`merge_parts`]).
 ///
 /// # Errors

@@ -1,4 +1,4 @@
-//! The parts of a merged report (`SDS-SPEC.md` v1.4 §13), as its `inputs.parts` lists them;
+//! The parts of a merged report (docs/SCORE.md §13.2), as its `inputs.parts` lists them;
 //! [`crate::merge`] fills them.
 
 use std::path::PathBuf;

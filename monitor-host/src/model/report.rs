@@ -1,4 +1,4 @@
-//! The report model (`SDS-SPEC.md` v1.2 §10): the run's rows and its aggregates, typed until a
+//! The report model (docs/SCORE.md §13): the run's rows and its aggregates, typed until a
 //! rendering ([`crate::report::json`], [`crate::report::csv`], [`crate::report::table`]) turns it
 //! into text. Field order is the JSON report's key order. [`assemble`] aggregates the rows
 //! [`crate::route::row::route_rows`] built; [`Report::group`] adds the breakdown by group.
@@ -34,21 +34,21 @@ pub struct Report {
     pub profile: crate::named::Name,
     /// Every threshold and default.
     pub config: Settings,
-    /// Every results file read, with the figures it stores beside the computed ones (§1.5),
-    /// and the route set's fingerprint (v1.3 §10.3).
+    /// Every results file read, with the figures it stores beside the computed ones (docs/SCORE.md §14.1),
+    /// and the route set's fingerprint (docs/SCORE.md §13).
     pub inputs: ReportInputs,
     /// Under `route_subset: found`, the route set actually scored: the route XML's routes that
     /// have a record. Absent for the whole XML (or without one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub route_subset: Option<SubsetReport>,
-    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (§1.5).
+    /// Copies of duplicated routes left out by `duplicates: first|last|newest` (docs/SCORE.md §14.1).
     pub dropped: Vec<Dropped>,
     /// Per route, in input order.
     #[serde(deserialize_with = "rows")]
     pub routes: Vec<RouteReport>,
     /// Aggregates.
     pub summary: Summary,
-    /// The breakdown by group (§8.3), when asked for ([`Report::group`]).
+    /// The breakdown by group (docs/SCORE.md §10.2), when asked for ([`Report::group`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub groups: Option<Groups>,
     /// Every warning of the run, the per-route ones included (as printed on stderr).
@@ -80,16 +80,16 @@ fn rows<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<RouteReport>, D::E
 /// The report's `inputs`: the files read and the route set's fingerprint.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ReportInputs {
-    /// Every results file read, with its stored and computed figures (§1.5).
+    /// Every results file read, with its stored and computed figures (docs/SCORE.md §14.1).
     #[serde(default)]
     pub files: Vec<InputReport>,
-    /// The counted routes' fingerprint (`{"routes", "sha256"}`, v1.3 §10.3).
+    /// The counted routes' fingerprint (`{"routes", "sha256"}`, docs/SCORE.md §13).
     pub route_set: RouteSetId,
-    /// The `sds` version, settings hash, input files' sha256 and size, host (v1.4 §13). A
+    /// The `sds` version, settings hash, input files' sha256 and size, host (docs/SCORE.md §13.2). A
     /// report written before provenance reads back with an empty one.
     #[serde(default)]
     pub provenance: Provenance,
-    /// A merged report's parts (v1.4 §13): each part's file, sha256, `sds` version and inputs;
+    /// A merged report's parts (docs/SCORE.md §13.2): each part's file, sha256, `sds` version and inputs;
     /// absent for `sds score`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub parts: Option<Vec<crate::model::parts::PartInputs>>,
@@ -123,7 +123,7 @@ impl SubsetReport {
 /// What a run read besides its routes: the pieces of the report that are not per-route.
 #[derive(Clone, Debug, Default)]
 pub struct RunFacts {
-    /// N (spec section 1.5).
+    /// N (docs/SCORE.md §14.1).
     pub n: usize,
     /// The route set, when `--routes` was given.
     pub route_set: Option<RunRouteSet>,
@@ -135,13 +135,13 @@ pub struct RunFacts {
     pub kept: Vec<Kept>,
     /// Run-level warnings.
     pub warnings: Vec<Warning>,
-    /// Where the run comes from (v1.4 §13).
+    /// Where the run comes from (docs/SCORE.md §13.2).
     pub provenance: Provenance,
 }
 
 /// Builds the report from the run's rows (from [`crate::route::row::route_rows`]: the outcomes'
 /// rows in input order, then the missing routes') and the outcomes behind them: the summary
-/// (§8.1), Bench2Drive's metrics (§8.2), and every per-route warning added to the run's
+/// (docs/SCORE.md §10), Bench2Drive's metrics (docs/SCORE.md §10.1), and every per-route warning added to the run's
 /// warnings, naming its route. The figures come from the rows alone ([`assemble_rows`]).
 pub fn assemble(
     routes: Vec<RouteReport>,
@@ -159,7 +159,7 @@ pub fn assemble(
 
 /// The report of `routes` (in the report's order: records in input order, then the missing
 /// routes in route-XML order): every aggregate is computed from the rows alone, so that
-/// [`crate::merge`] builds a merged report with the very code `sds score` uses (v1.4 §13).
+/// [`crate::merge`] builds a merged report with the very code `sds score` uses (docs/SCORE.md §13.2).
 pub fn assemble_rows(mut routes: Vec<RouteReport>, settings: &Settings, facts: RunFacts) -> Report {
     for k in facts.kept {
         if let Some(r) = routes
@@ -218,7 +218,7 @@ pub fn assemble_rows(mut routes: Vec<RouteReport>, settings: &Settings, facts: R
     }
 }
 
-/// The run-level warnings of the scoring protocols (§8.4 v1.4): how many records were
+/// The run-level warnings of the scoring protocols (docs/PROTOCOLS.md v1.4): how many records were
 /// regrouped on Bench2Drive's min-speed grid, and the `f2d` successes that did not finish.
 fn protocol_warnings(counted: &[&RouteReport], settings: &Settings) -> Vec<Warning> {
     use crate::route::protocol::min_speed::MinSpeedGrid;
@@ -257,7 +257,7 @@ fn protocol_warnings(counted: &[&RouteReport], settings: &Settings) -> Vec<Warni
 }
 
 impl Report {
-    /// Adds the breakdown by `by` (§8.3) to the report (`groups`), and its warnings. Label
+    /// Adds the breakdown by `by` (docs/SCORE.md §10.2) to the report (`groups`), and its warnings. Label
     /// maps come from [`crate::input::labels::read_labels`] (or are built in code).
     ///
     /// ```

@@ -1,4 +1,4 @@
-//! Shards that stopped progressing (`SDS-SPEC.md` v1.4 §13, `sds watch` over several shard
+//! Shards that stopped progressing (docs/SCORE.md §13.2, `sds watch` over several shard
 //! checkpoints): a shard whose checkpoint has had no new record for longer than K times its
 //! median route time has likely lost its worker (a dead GPU, a hung CARLA server), which
 //! nobody notices for hours otherwise.

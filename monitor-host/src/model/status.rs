@@ -1,4 +1,4 @@
-//! The status of one round of a watch (`SDS-SPEC.md` v1.4 §12): the one schema of `sds watch
+//! The status of one round of a watch (docs/USAGE.md §8): the one schema of `sds watch
 //! --status-json`'s lines and of `sds.watch`'s `status` dict, made by
 //! [`crate::app::watch::Watcher`] and rendered by [`crate::report::status`].
 
@@ -7,7 +7,7 @@ pub const MAX_INTERVAL: f64 = 86_400.0;
 /// The longest `timeout`: 365 days, s.
 pub const MAX_TIMEOUT: f64 = 31_536_000.0;
 
-/// One round's status (spec §12): the same fields for every round, `sds watch --status-json`'s
+/// One round's status (docs/USAGE.md §8): the same fields for every round, `sds watch --status-json`'s
 /// line and `sds.watch`'s `status` dict alike. A retried round keeps the figures of the last good
 /// reading and adds `retry`.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
@@ -61,6 +61,6 @@ pub struct RoundStatus {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub retry: Option<String>,
     /// Shard checkpoints with no new record for longer than K times their median route time
-    /// ([`crate::model::shard_stall`], v1.4 §13); empty when none is.
+    /// ([`crate::model::shard_stall`], docs/SCORE.md §13.2); empty when none is.
     pub stalled: Vec<crate::model::shard_stall::Stalled>,
 }

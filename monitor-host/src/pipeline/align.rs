@@ -1,4 +1,4 @@
-//! Collision event → telemetry frame alignment (`SDS-SPEC.md` v1.2 §5).
+//! Collision event → telemetry frame alignment (docs/SCORE.md §6).
 //!
 //! An event is aligned by LEAD's step-exact `infractions.json` when one is available (first
 //! unused entry with the exact same message, whose step exists in the telemetry); otherwise by
@@ -36,7 +36,7 @@ pub enum AlignedBy {
     /// By the step of a matching `infractions.json` entry (`"infractions.json"`).
     #[serde(rename = "infractions.json")]
     InfractionsJson,
-    /// By the log time of a vehicle log's event message (`"log time"`, v1.4 §16).
+    /// By the log time of a vehicle log's event message (`"log time"`, docs/SCORE.md §2.4).
     #[serde(rename = "log time")]
     LogTime,
 }
@@ -97,7 +97,7 @@ pub struct EventRef<'a> {
     pub location: Option<[f64; 2]>,
 }
 
-/// Aligns each event, in order (`SDS-SPEC.md` §5).
+/// Aligns each event, in order (docs/SCORE.md §6).
 ///
 /// With `infractions` given, the first *unused* entry whose `message` equals the event's exactly
 /// is consumed; if its step is one of `steps` (sorted, as the telemetry's), that frame is used

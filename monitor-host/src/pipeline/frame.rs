@@ -1,4 +1,4 @@
-//! Frame building (`SDS-SPEC.md` v1.2 §2): one telemetry frame at a time → the monitor's
+//! Frame building (docs/SCORE.md §3): one telemetry frame at a time → the monitor's
 //! [`Frame`]. The batch pipeline ([`crate::pipeline::prepare`]) and the streaming front ends (the
 //! Python `Monitor`) build every frame here, so they agree to the bit.
 
@@ -46,7 +46,7 @@ impl FrameBuilder {
         self.prev.map(|p| p.step)
     }
 
-    /// Starts a new segment (spec v1.5 §16): the next frame has no predecessor (speed 0).
+    /// Starts a new segment (docs/SCORE.md §2.4): the next frame has no predecessor (speed 0).
     pub fn restart(&mut self) {
         self.prev = None;
     }

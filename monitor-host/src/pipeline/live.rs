@@ -1,4 +1,4 @@
-//! Live frame building (`SDS-SPEC.md` v1.2 §2): a simulator's values one tick at a time (what
+//! Live frame building (docs/SCORE.md §3): a simulator's values one tick at a time (what
 //! Bench2Drive's `get_metric_info()` returns: `acceleration`, `angular_velocity`,
 //! `forward_vector`, `right_vector`, `location`, and the step) in, the monitor's [`Frame`]s out,
 //! the same frames `sds score` and `sds frames` build from `metric_info.json`. The replay
@@ -240,7 +240,7 @@ impl<'a> LiveFrames<'a> {
             .push(&t, lat_err.or(sample.map(|s| s.value)), collisions))
     }
 
-    /// Starts a segment of a vehicle log (spec v1.5 §16): the next frame is a fresh start, its
+    /// Starts a segment of a vehicle log (docs/SCORE.md §2.4): the next frame is a fresh start, its
     /// speed 0 (no predecessor) and its lateral reference acquired anew over the whole rest of
     /// the route, whatever its step.
     pub fn start_segment(&mut self) {
@@ -249,7 +249,7 @@ impl<'a> LiveFrames<'a> {
     }
 
     /// The corridor's sample of the next frame: after a gap in the steps, at a first step that
-    /// is not 0, or at a segment's first frame, the route search re-acquires the reference (§2,
+    /// is not 0, or at a segment's first frame, the route search re-acquires the reference (docs/SCORE.md §3,
     /// v1.4).
     fn measure(&mut self, t: &TelemetryFrame) -> Option<LateralSample> {
         if std::mem::take(&mut self.fresh) {

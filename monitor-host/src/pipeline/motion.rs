@@ -1,4 +1,4 @@
-//! How far a route drove and how long it stood (`SDS-SPEC.md` v1.3 §8.5): distance, the share
+//! How far a route drove and how long it stood (docs/SCORE.md §10.0): distance, the share
 //! of stationary frames, and which comfort chunks were driven rather than stood through.
 //!
 //! Bench2Drive's comfort counts a chunk in which the car stands still as comfortable, so a car
@@ -35,7 +35,7 @@ pub struct Motion {
     /// Frames slower than `stationary_speed` / frames (`None` without frames); frame 0 takes
     /// frame 1's speed, a one-frame route counts as stationary.
     pub stationary_share: Option<f64>,
-    /// Per comfort chunk (§3: full chunks of `chunk_len`, or one chunk for a short route of at
+    /// Per comfort chunk (docs/SCORE.md §4: full chunks of `chunk_len`, or one chunk for a short route of at
     /// least `min_chunk` frames), whether it is moving.
     pub moving: Vec<bool>,
     /// The stationary stretches, as frame ranges `[start, end)` (the HTML page's timeline).
@@ -78,7 +78,7 @@ pub fn measure(
     let gap = |i: usize| step_length(locations[i - 1], locations[i]);
     // `+ 0.0`: an empty f64 sum is -0.0, which a one-frame route would report.
     let distance_m = (1..n).map(gap).sum::<f64>() + 0.0;
-    // speed_i (§2) in double precision; frame 0 takes speed_1.
+    // speed_i (docs/SCORE.md §3) in double precision; frame 0 takes speed_1.
     let speed = |i: usize| {
         let span = steps[i].saturating_sub(steps[i - 1]) as f64 * dt;
         if span > 0.0 {
@@ -121,7 +121,7 @@ pub fn measure(
     }
 }
 
-/// [`measure`] over a vehicle log's segments (spec v1.5 §16; `segments`: the index of each
+/// [`measure`] over a vehicle log's segments (docs/SCORE.md §2.4; `segments`: the index of each
 /// segment's first frame, empty for one run of frames): each segment is measured as a route of
 /// its own (no distance across a gap, its first frame taking its second's speed), and the
 /// figures added up. `moving` is indexed as the monitor numbers the chunks of a segmented route

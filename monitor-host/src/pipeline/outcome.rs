@@ -1,5 +1,5 @@
-//! What became of one route: its state, its collision events and its scores (`SDS-SPEC.md`
-//! v1.2 §10). Typed here; the report turns them into text.
+//! What became of one route: its state, its collision events and its scores (docs/SCORE.md
+//! §13). Typed here; the report turns them into text.
 
 use monitor_core::{ComfortSummary, RouteSummary, SafeScore};
 use serde::Deserialize as _;
@@ -49,7 +49,7 @@ impl<'de> serde::Deserialize<'de> for TelemetryState {
     }
 }
 
-/// The state of a route as a whole (`SDS-SPEC.md` v1.2 §10.1). The report's `state` field
+/// The state of a route as a whole (docs/SCORE.md §13). The report's `state` field
 /// prints [`RouteState::name`]; [`std::fmt::Display`] adds an invalid route's reason.
 #[derive(Clone, Debug, PartialEq, Eq)]
 #[non_exhaustive]
@@ -147,7 +147,7 @@ pub struct CollisionEvent {
     pub list: CollisionList,
     /// `type=` of the collision string (`None` when the string does not parse).
     pub type_id: Option<String>,
-    /// A work-zone contact (spec section 7).
+    /// A work-zone contact (docs/SCORE.md §8).
     pub workzone: bool,
     /// The frame it was aligned to.
     pub frame: Option<usize>,
@@ -159,7 +159,7 @@ pub struct CollisionEvent {
     pub time_s: Option<f64>,
     /// Speed at the frame, m/s.
     pub impact_speed: Option<f32>,
-    /// Decelerated before (spec section 5); `None` when unaligned.
+    /// Decelerated before (docs/SCORE.md §6); `None` when unaligned.
     pub decelerated: Option<bool>,
     /// Exempt (standing ego); `None` when unaligned.
     pub exempt: Option<bool>,
@@ -193,13 +193,13 @@ pub struct RouteOutcome {
     pub telemetry: TelemetryState,
     /// The route's step period and where it came from; `None` without telemetry.
     pub period: Option<StepPeriod>,
-    /// Not a member of the route set (spec section 1.5): left out of every aggregate.
+    /// Not a member of the route set (docs/SCORE.md §14.1): left out of every aggregate.
     pub foreign: bool,
     /// Telemetry frames and missing steps (0 without telemetry).
     pub frames: u32,
     /// Missing step numbers.
     pub gaps: u64,
-    /// A vehicle log's segments (spec v1.5 §16); `None` for telemetry.
+    /// A vehicle log's segments (docs/SCORE.md §2.4); `None` for telemetry.
     pub segments: Option<u64>,
     /// The frames and the monitor's per-chunk verdicts; `None` when not replayed.
     pub timeline: Option<RouteTimeline>,
@@ -208,7 +208,7 @@ pub struct RouteOutcome {
     /// DS_safe; `None` when the route could not be scored.
     pub safe: Option<SafeScore>,
     /// Comfort under the `b2d-legacy` profile, whatever the run's profile: Bench2Drive's
-    /// smoothness (§8.2); `None` when the telemetry was not replayed.
+    /// smoothness (docs/SCORE.md §10.1); `None` when the telemetry was not replayed.
     pub legacy_comfort: Option<ComfortSummary>,
     /// Collision events in list order (pedestrian, vehicle, layout).
     pub events: Vec<CollisionEvent>,
@@ -217,13 +217,13 @@ pub struct RouteOutcome {
     pub placed: Vec<crate::pipeline::placement::PlacedEvent>,
     /// `N_wz`.
     pub workzone: u32,
-    /// The batch reference gave the same summary (spec section 9); `None` when not replayed.
+    /// The batch reference gave the same summary (docs/SCORE.md §11); `None` when not replayed.
     pub batch_agrees: Option<bool>,
-    /// Distance, stationary share and moving chunks (§8.5); `None` when not replayed.
+    /// Distance, stationary share and moving chunks (docs/SCORE.md §10.0); `None` when not replayed.
     pub motion: Option<Motion>,
     /// Comfort over the moving chunks; `None` when not replayed.
     pub moving: Option<MovingComfort>,
-    /// What the lateral error is measured against (§2); `None` for an invalid record.
+    /// What the lateral error is measured against (docs/SCORE.md §3); `None` for an invalid record.
     pub reference: Option<ReferenceKind>,
     /// Problems that did not stop the route from being scored (unreadable `infractions.json`,
     /// no reference route in the XML, unparseable collision strings).

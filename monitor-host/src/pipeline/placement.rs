@@ -1,5 +1,5 @@
 //! The evaluator's other infractions, and the stationary stretches, placed on a route's frame
-//! axis (issue 28; the report's per-route `events`). Collisions have their own rule (§5,
+//! axis (issue 28; the report's per-route `events`). Collisions have their own rule (docs/SCORE.md §6,
 //! [`crate::pipeline::align`]); nothing here changes a score.
 //!
 //! Each infraction is placed, in this order:
@@ -49,7 +49,7 @@ use crate::settings::Settings;
 pub enum PlacedBy {
     /// The step of a matching `infractions.json` entry.
     InfractionsJson,
-    /// The frame nearest to the ego position in the message (§5's rule).
+    /// The frame nearest to the ego position in the message (docs/SCORE.md §6's rule).
     Nearest,
     /// The frame of the closest approach to a traffic light or stop sign.
     ClosestApproach,
@@ -72,7 +72,7 @@ impl PlacedBy {
 /// What a message's position is, by list.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Reach {
-    /// The ego's location: §5's `align_max_dist`.
+    /// The ego's location: docs/SCORE.md §6's `align_max_dist`.
     Ego,
     /// A traffic light's or a stop sign's location: `events.signal_reach`.
     Signal,
@@ -127,7 +127,7 @@ pub struct PlacedEvent {
 /// Why an event (a collision or another infraction) stays off the frame axis, as the report's
 /// `events` say it: the route was not replayed (`no telemetry`: none found, or none usable), its
 /// message gives no position (and no `infractions.json` step placed it), or no frame lies near
-/// that position (§5's `align_max_dist`, or `events.signal_reach` for a light or a stop sign).
+/// that position (docs/SCORE.md §6's `align_max_dist`, or `events.signal_reach` for a light or a stop sign).
 ///
 /// ```
 /// use monitor_host::pipeline::placement::unplaced_reason;

@@ -1,4 +1,4 @@
-//! Prepare: a record and its telemetry → the monitor's frames (`SDS-SPEC.md` v1.2 §2, §5).
+//! Prepare: a record and its telemetry → the monitor's frames (docs/SCORE.md §3, docs/SCORE.md §6).
 //!
 //! Signals come from the raw vectors through the core's f32 kernels; speed, lateral error and
 //! collision alignment are computed in f64 on the raw coordinates and rounded to f32 once, when
@@ -63,7 +63,7 @@ pub struct PreparedRoute {
     pub events: Vec<CollisionEvent>,
     /// What the lateral error was measured against.
     pub reference: ReferenceKind,
-    /// Distance, stationary share and moving chunks (§8.5).
+    /// Distance, stationary share and moving chunks (docs/SCORE.md §10.0).
     pub motion: Motion,
     /// The record's other infractions and the long stationary stretches, placed on the frames
     /// where possible ([`placement`]).
@@ -71,7 +71,7 @@ pub struct PreparedRoute {
     /// Per frame, the host-side lateral values behind the frame's `lat_err` (`None` where it is
     /// unknown); empty unless asked for ([`prepare_with`]), as scoring does not need them.
     pub lateral: Vec<Option<LateralSample>>,
-    /// The index of each segment's first frame (a vehicle log cut at its gaps, spec v1.5 §16:
+    /// The index of each segment's first frame (a vehicle log cut at its gaps, docs/SCORE.md §2.4:
     /// each segment streams through a fresh monitor); empty for one run of frames.
     pub segments: Vec<usize>,
 }
@@ -112,7 +112,7 @@ pub fn prepare_with(
     )
 }
 
-/// [`prepare_with`] against a reference given directly (a vehicle log's path, v1.4 §16)
+/// [`prepare_with`] against a reference given directly (a vehicle log's path, docs/SCORE.md §2.4)
 /// rather than looked up in a route XML by the record's id.
 pub fn prepare_on(
     record: &Record,
@@ -185,7 +185,7 @@ pub fn prepare_on(
         .zip(collisions)
         .enumerate()
         .map(|(i, (f, c))| {
-            // A vehicle log's segment starts afresh (spec v1.5 §16).
+            // A vehicle log's segment starts afresh (docs/SCORE.md §2.4).
             if starts.next_if(|&&s| s == i).is_some() {
                 live.start_segment();
             }

@@ -1,5 +1,5 @@
 //! Replay: one loaded record → its telemetry read and prepared → streamed through a fresh
-//! [`Monitor`] → scored, and checked against the batch reference (`SDS-SPEC.md` v1.2 §9, §10).
+//! [`Monitor`] → scored, and checked against the batch reference (docs/SCORE.md §11, docs/SCORE.md §13).
 
 use std::path::{Path, PathBuf};
 
@@ -68,13 +68,13 @@ pub fn stream(prepared: &mut PreparedRoute, config: &Config) -> Result<RouteSumm
 pub struct Streamed {
     /// The route's counts under the run's profile.
     pub summary: RouteSummary,
-    /// Its comfort under `b2d-legacy`, Bench2Drive's smoothness (§8.2), whatever the run's
+    /// Its comfort under `b2d-legacy`, Bench2Drive's smoothness (docs/SCORE.md §10.1), whatever the run's
     /// profile: counted by the same monitor ([`Monitor::with_second_profile`]) unless the run's
     /// profile is `b2d-legacy` already.
     pub legacy_comfort: ComfortSummary,
 }
 
-/// The profile to count beside the run's own so that Bench2Drive's smoothness (§8.2) is
+/// The profile to count beside the run's own so that Bench2Drive's smoothness (docs/SCORE.md §10.1) is
 /// reported under every profile: `b2d-legacy`, unless the run uses it already.
 ///
 /// ```
@@ -90,7 +90,7 @@ pub fn smoothness_profile(config: &Config) -> Option<Profile> {
 
 /// [`stream`], keeping the monitor's per-chunk verdicts in `log`, and counting Bench2Drive's
 /// smoothness beside the run's comfort ([`Streamed`]). A vehicle log's segments
-/// ([`PreparedRoute::segments`], spec v1.5 §16) each stream through a fresh monitor, and their
+/// ([`PreparedRoute::segments`], docs/SCORE.md §2.4) each stream through a fresh monitor, and their
 /// counts are added up; the verdicts keep the route's frame indices, and chunks are numbered
 /// on across segments (each segment's after the `ceil(n / chunk_len)` chunks of those before).
 ///
@@ -167,7 +167,7 @@ pub fn stream_logged(
     })
 }
 
-/// The batch reference of a route's frames (§9), segment by segment as the monitor streams
+/// The batch reference of a route's frames (docs/SCORE.md §11), segment by segment as the monitor streams
 /// them ([`stream_logged`]): the counts added up, and Bench2Drive's smoothness beside them.
 pub fn batch_reference(prepared: &PreparedRoute, core: &Config) -> (RouteSummary, ComfortSummary) {
     let ranges =
@@ -241,7 +241,7 @@ pub fn refusal_in_file_terms(refused: &Refused, step: u64, dt: f32) -> String {
 pub struct RouteTelemetry {
     /// The frames and aligned events.
     pub prepared: PreparedRoute,
-    /// The route's step period (spec section 1.2).
+    /// The route's step period (docs/SCORE.md §2.2).
     pub period: StepPeriod,
     /// The settings of this route: the run's, with the route's `dt`.
     pub settings: Settings,
@@ -562,7 +562,7 @@ fn rescore(out: &mut RouteOutcome, record: &Record, settings: &Settings) {
 }
 
 /// The part of [`replay`] after the telemetry is located: `read` gives the route's telemetry
-/// (or why there is none), which is streamed, scored and checked. A vehicle log (v1.4 §16)
+/// (or why there is none), which is streamed, scored and checked. A vehicle log (docs/SCORE.md §2.4)
 /// comes in here with telemetry made from its messages.
 pub fn replay_read(
     mut out: RouteOutcome,
@@ -600,7 +600,7 @@ pub fn replay_read(
                     summary,
                     legacy_comfort,
                 }) => {
-                    // §9 for every count, Bench2Drive's smoothness included.
+                    // docs/SCORE.md §11 for every count, Bench2Drive's smoothness included.
                     let (reference, legacy_reference) =
                         batch_reference(&prepared, &route_settings.core);
                     out.legacy_comfort = Some(legacy_comfort);
@@ -626,7 +626,7 @@ pub fn replay_read(
                         chunks,
                     );
                     let chunk_len = usize::from(route_settings.core.chunk_len.max(1));
-                    // Each segment's chunks start at its own first frame (v1.5 §16).
+                    // Each segment's chunks start at its own first frame (docs/SCORE.md §2.4).
                     let n = prepared.steps.len();
                     let starts: Vec<usize> =
                         crate::input::telemetry::Telemetry::ranges(&prepared.segments, n)
@@ -672,7 +672,7 @@ pub(crate) fn conclude(
     settings: &Settings,
     summary: Option<RouteSummary>,
 ) -> RouteOutcome {
-    // A route not replayed keeps its collisions, unaligned (spec section 10).
+    // A route not replayed keeps its collisions, unaligned (docs/SCORE.md §13).
     if out.telemetry != TelemetryState::Ok {
         out.events = collision_events(record);
         out.placed = placement::infraction_events(&record.infractions);

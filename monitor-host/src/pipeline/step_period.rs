@@ -1,4 +1,4 @@
-//! The step period of a route (`SDS-SPEC.md` v1.2 §1.2) **\[decision\]**: CARLA ticks at 20 Hz,
+//! The step period of a route (docs/SCORE.md §2.2) **\[decision\]**: CARLA ticks at 20 Hz,
 //! but agents do not all write a telemetry frame every tick (real published `metric_info.json`
 //! exists at 10 Hz). The period is inferred per route from the record's `meta.duration_game` and
 //! the telemetry's step span, unless a fixed `dt` is set.

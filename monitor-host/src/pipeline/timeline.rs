@@ -1,6 +1,6 @@
 //! A route's timeline: the frames the monitor saw, their steps and period, and the per-chunk
 //! verdicts it emitted as it went (comfort: which bounds each chunk failed; lateral: which chunks
-//! were anomalous or critical). The report's collision traces (§10.2) and the HTML report's
+//! were anomalous or critical). The report's collision traces (docs/SCORE.md §14.4) and the HTML report's
 //! timelines are drawn from it; nothing here is recomputed, only kept.
 
 use monitor_core::{ComfortVerdict, Event, Events, Frame, LateralVerdict};
@@ -33,9 +33,9 @@ impl ChunkLog {
     }
 }
 
-/// Seconds of trace kept before a collision (§10.2).
+/// Seconds of trace kept before a collision (docs/SCORE.md §14.4).
 pub const BEFORE_S: f64 = 3.0;
-/// Seconds of trace kept after a collision (§10.2).
+/// Seconds of trace kept after a collision (docs/SCORE.md §14.4).
 pub const AFTER_S: f64 = 1.0;
 
 /// One frame kept for the collision traces.
@@ -67,7 +67,7 @@ pub struct RouteTimeline {
     /// route's `events` (filled by the replay).
     pub chunk_steps: Vec<u64>,
     /// The index of each chunk's first frame, when it is not `c × chunk_len` (a vehicle log's
-    /// segments, spec v1.5 §16); empty otherwise.
+    /// segments, docs/SCORE.md §2.4); empty otherwise.
     pub chunk_frames: Vec<usize>,
 }
 

@@ -1,7 +1,7 @@
 //! The batch reference: the SDS counts of a whole route, computed over whole arrays
-//! (`SDS-SPEC.md` §3-6, §8, §9).
+//! (docs/SCORE.md §4-7, docs/SCORE.md §9, docs/SCORE.md §11).
 //!
-//! Why it exists: §9 requires the streaming monitor ([`monitor_core::Monitor`], one frame at a
+//! Why it exists: docs/SCORE.md §11 requires the streaming monitor ([`monitor_core::Monitor`], one frame at a
 //! time in fixed memory) and a batch computation over whole arrays to agree bit for bit. This
 //! module is that second path, written in the plain style of the spec's formulas so that it can
 //! be read against the spec line by line; the property test `tests/tests/it/streaming_vs_batch.rs`
@@ -59,7 +59,7 @@ pub struct BatchRoute {
     pub lateral: Vec<Option<f32>>,
 }
 
-/// The deceleration verdict of one frame with collisions (spec §5).
+/// The deceleration verdict of one frame with collisions (docs/SCORE.md §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BatchCollision {
     /// Index of the frame in the route (0-based; in the part, for [`compute_part`]).
@@ -70,7 +70,7 @@ pub struct BatchCollision {
     pub exempt: bool,
 }
 
-/// The comfort verdict of one chunk (spec §4).
+/// The comfort verdict of one chunk (docs/SCORE.md §5).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BatchComfort {
     /// Frames in the chunk (`chunk_len`, or fewer for a short route).
@@ -79,7 +79,7 @@ pub struct BatchComfort {
     pub failed: Failures,
 }
 
-/// The counts of one route, computed over whole arrays (spec §3-6).
+/// The counts of one route, computed over whole arrays (docs/SCORE.md §4-7).
 ///
 /// `frames` are assumed valid ([`Frame::validate`]) and `config` valid ([`Config::validate`]);
 /// on other input the counts are unspecified, but nothing panics.
@@ -95,7 +95,7 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
 }
 
 /// [`compute`], and the comfort counts under a `second` profile too (same chunks, same
-/// bounds): for example Bench2Drive's smoothness (`b2d-legacy`, §8.2) beside a `physical` run.
+/// bounds): for example Bench2Drive's smoothness (`b2d-legacy`, docs/SCORE.md §10.1) beside a `physical` run.
 /// The three smoothed accelerations are computed once for both profiles.
 ///
 /// ```
@@ -118,7 +118,7 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 /// `frames` start the route). The counts of consecutive parts add up to the whole route's
 /// ([`RouteSummary::merge`]): the chunks are the same, a collision's deceleration window reaches
 /// into `before`, only the route's first frame is exempt as the first, and a short route's
-/// single chunk (§3) is one only when the part starts the route. So a long drive is checked part
+/// single chunk (docs/SCORE.md §4) is one only when the part starts the route. So a long drive is checked part
 /// by part as its frames pass, without holding it.
 ///
 /// ```
@@ -150,7 +150,7 @@ pub fn compute_part(
     let chunk_len = usize::from(config.chunk_len).max(1);
     let min_chunk = usize::from(config.min_chunk);
 
-    // §2: per-frame arrays.
+    // docs/SCORE.md §3: per-frame arrays.
     let a_lon: Vec<f32> = frames.iter().map(|f| f.a_lon).collect();
     let a_lat: Vec<f32> = frames.iter().map(|f| f.a_lat).collect();
     let a_mag: Vec<f32> = frames.iter().map(|f| f.a_mag).collect();
@@ -160,7 +160,7 @@ pub fn compute_part(
         .map(|f| f.lat_err.map(|e| signal::excess(e, config.slack)))
         .collect();
 
-    // §3-4: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
+    // docs/SCORE.md §4-5: comfort over full chunks; a short route (min_chunk <= n < chunk_len) is one chunk;
     // a chunk shorter than the filter window has no verdict.
     let mut spans: Vec<Range<usize>> = if n >= chunk_len || !starts {
         (0..n / chunk_len)
@@ -184,13 +184,13 @@ pub fn compute_part(
         ))
     });
 
-    // §6: lateral excess over every chunk, the trailing partial one included.
+    // docs/SCORE.md §7: lateral excess over every chunk, the trailing partial one included.
     let lateral: Vec<Option<f32>> = excess
         .chunks(chunk_len)
         .map(|c| c.iter().flatten().copied().reduce(f32::max))
         .collect();
 
-    // §5: pre-collision deceleration.
+    // docs/SCORE.md §6: pre-collision deceleration.
     let window = usize::from(config.decel_window);
     let mut collisions = Vec::new();
     let mut counts = CollisionSummary::default();
@@ -273,14 +273,14 @@ fn within(values: &[f32], lo: f32, hi: f32) -> bool {
 }
 
 /// `lon = SG(a_lon)`, `lat = SG(a_lat)`, `mag = SG(a_mag)`, chunk by chunk: the same under
-/// every profile (§4).
+/// every profile (docs/SCORE.md §5).
 struct Smoothed {
     lon: Vec<f32>,
     lat: Vec<f32>,
     mag: Vec<f32>,
 }
 
-/// The comfort verdict of every chunk under `profile` (§4).
+/// The comfort verdict of every chunk under `profile` (docs/SCORE.md §5).
 fn comfort_chunks(
     s: &Smoothed,
     omega_deg: &[f32],

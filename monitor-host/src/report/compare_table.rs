@@ -1,4 +1,4 @@
-//! The comparison's tables (`sds compare`, `SDS-SPEC.md` v1.3 §11): Bench2Drive's main table and
+//! The comparison's tables (`sds compare`, docs/SCORE.md §10.3): Bench2Drive's main table and
 //! Safe2Drive Table 1 with one row per model (mean ± std over seeds where there are seeds), the
 //! paired table (per model and metric: delta, 95 % interval, `p_better`, verdict), and the flips.
 //! Rendered as text, Markdown or LaTeX by [`crate::report::grid`].
@@ -199,9 +199,9 @@ pub fn compare_tables(c: &Comparison) -> Vec<Grid> {
     }
     flips.note("regressed: success 1 -> 0; fixed: 0 -> 1 (success fraction over seeds); the JSON report lists all, and the top 10 moves");
     let mut out = vec![b2d, t1, paired, flips];
-    // v1.4 §14: the ranking, the seeds line and the flaky routes.
+    // docs/SCORE.md §10.3: the ranking, the seeds line and the flaky routes.
     out.extend(crate::report::seeds_table::seed_tables(c));
-    // v1.5 §18: the sweep, one row per point.
+    // docs/SCORE.md §10.4: the sweep, one row per point.
     out.extend(crate::report::sweep_table::sweep_tables(c));
     out
 }

@@ -1,4 +1,4 @@
-//! The collision figure (`SDS-SPEC.md` v1.2 §10.2, the paper's Figure 2): one SVG of a
+//! The collision figure (docs/SCORE.md §14.4, the paper's Figure 2): one SVG of a
 //! [`CollisionTrace`], two panels sharing the time axis (speed in km/h above, raw `a_lon` in
 //! m/s² below), the collision instant, the deceleration window shaded, the threshold, and the
 //! verdict, route, object and impact speed in the title.

@@ -1,4 +1,4 @@
-//! The comparison's forest plot (`sds compare --format html`, `SDS-SPEC.md` v1.4 §11): per metric
+//! The comparison's forest plot (`sds compare --format html`, docs/SCORE.md §10.3): per metric
 //! a panel, per model a row with its delta against the baseline (a dot) and its 95 % interval
 //! (a bar), and the line of no difference. Green: better, red: worse, grey: within noise; a row
 //! without a compared route says `no data` (so an empty panel says why it is empty).

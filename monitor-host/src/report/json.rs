@@ -1,4 +1,4 @@
-//! The JSON rendering of the report (`SDS-SPEC.md` v1.2 §10): pretty-printed, keys in the
+//! The JSON rendering of the report (docs/SCORE.md §13): pretty-printed, keys in the
 //! model's field order, one trailing newline.
 
 use crate::model::report::Report;

@@ -1,4 +1,4 @@
-//! Long tables (`SDS-SPEC.md` v1.4 §15), for DataFrames, DuckDB and Spark: `routes` (one row
+//! Long tables (docs/TABLES-SCHEMA.md), for DataFrames, DuckDB and Spark: `routes` (one row
 //! per route row of the report), `events` (one row per entry of a route's `events[]`) and
 //! `frames` (one row per frame of a route with telemetry: its `time`, then the values `sds
 //! frames` prints), as CSV. `docs/TABLES-SCHEMA.md` names every column, its type and unit.
@@ -487,7 +487,7 @@ pub fn compare_tables(runs: &[(&str, &str, &Report)]) -> Result<LongTables, Stri
     })
 }
 
-/// The `sweep` table of `sds compare --sweep` (v1.5 §18): one row per point and model, `point`
+/// The `sweep` table of `sds compare --sweep` (docs/SCORE.md §10.4): one row per point and model, `point`
 /// (its index in the report's `sweep.points`), each swept setting's value (a column named after
 /// the setting), then `model`, `ds_safe`, `comfort`, `sds`, `rank`; the cells are the JSON's.
 ///

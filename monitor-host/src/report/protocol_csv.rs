@@ -1,4 +1,4 @@
-//! The scoring protocols' CSV columns (`SDS-SPEC.md` v1.3 §8.4), appended to the per-route and
+//! The scoring protocols' CSV columns (docs/PROTOCOLS.md), appended to the per-route and
 //! per-group CSV when protocols are asked: per route `<id>_penalty`, `<id>_score`,
 //! `<id>_success`; per group `<id>_driving_score`, `<id>_route_completion`,
 //! `<id>_infraction_score`, `<id>_success_rate`, and `f2d_hm`.

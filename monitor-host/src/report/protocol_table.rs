@@ -1,4 +1,4 @@
-//! The protocol table (`SDS-SPEC.md` v1.3 §10.3): one row per asked scoring protocol — DS, RC,
+//! The protocol table (docs/SCORE.md §13): one row per asked scoring protocol — DS, RC,
 //! IS, SR, and HM for `f2d` — in text, Markdown, LaTeX and HTML. `docs/PROTOCOLS.md` explains
 //! every protocol.
 

@@ -1,4 +1,4 @@
-//! The tables of seeds and rankings (`sds compare`, `SDS-SPEC.md` v1.4 §14): the ranking a paper
+//! The tables of seeds and rankings (`sds compare`, docs/SCORE.md §10.3): the ranking a paper
 //! can paste (`rank 2 [2, 3]`, with `--rank`), the seeds line per model (each seed's DS, their
 //! std and the seeds a ±h interval needs), and the flaky routes (route, scenario, town, each
 //! sample's outcome). Every cell goes through [`crate::report::grid`]'s escaping.

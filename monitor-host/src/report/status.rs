@@ -1,4 +1,4 @@
-//! Renderings of a watch round's [`RoundStatus`] (spec §12): one JSON line (`sds watch
+//! Renderings of a watch round's [`RoundStatus`] (docs/USAGE.md §8): one JSON line (`sds watch
 //! --status-json`), and the short duration of the estimate of the time left.
 
 use crate::model::status::RoundStatus;

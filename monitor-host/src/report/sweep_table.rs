@@ -1,4 +1,4 @@
-//! The sweep's table (`sds compare --sweep`, v1.5 §18): one row per point of the grid with
+//! The sweep's table (`sds compare --sweep`, docs/SCORE.md §10.4): one row per point of the grid with
 //! each swept setting's value and every model's SDS and rank there; notes give each model's SDS
 //! range and each pair's order over the grid.
 

@@ -183,7 +183,7 @@ fn any_telemetry(report: &Report) -> bool {
 }
 
 /// The Safe2Drive Table 1 row: DS, SR, DS_safe, Comfort, SDS; beside Comfort, comfort over
-/// the chunks the car drove and the share of frames it stood still (§8.5).
+/// the chunks the car drove and the share of frames it stood still (docs/SCORE.md §10.0).
 pub fn table1(report: &Report) -> Grid {
     let s = &report.summary;
     let mut g = Grid::new("Safe2Drive Table 1: SafeDriving Score", TABLE1_COLUMNS);

@@ -1,4 +1,4 @@
-//! A collision trace (§10.2) as CSV: one line per frame, `t - t_k` first.
+//! A collision trace (docs/SCORE.md §14.4) as CSV: one line per frame, `t - t_k` first.
 
 use std::fmt::Write;
 

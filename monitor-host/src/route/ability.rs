@@ -1,4 +1,4 @@
-//! Bench2Drive's multi-ability rates (`SDS-SPEC.md` v1.2 §8.2): which abilities a route counts
+//! Bench2Drive's multi-ability rates (docs/SCORE.md §10.1): which abilities a route counts
 //! in (by the scenario `type` of its route XML entry), whether it is a success in each, and the
 //! Traffic_Signs junction credit of a failed route.
 //!
@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use crate::geometry::junctions::JunctionSamples;
 use crate::input::record::Record;
 
-/// The five abilities and their scenario types, in Bench2Drive's order (§8.2).
+/// The five abilities and their scenario types, in Bench2Drive's order (docs/SCORE.md §10.1).
 pub const ABILITIES: [(&str, &[&str]); 5] = [
     (
         "Overtaking",
@@ -99,7 +99,7 @@ pub const ABILITIES: [(&str, &[&str]); 5] = [
 /// The ability whose failed routes may earn the junction credit.
 pub const TRAFFIC_SIGNS: &str = "Traffic_Signs";
 
-/// Samples added to the first junction sample's count in `junction_completion` (§8.2).
+/// Samples added to the first junction sample's count in `junction_completion` (docs/SCORE.md §10.1).
 pub const JUNCTION_MARGIN_SAMPLES: f64 = 8.0;
 
 /// A route whose `score_route / 100` lies within this of its `junction_completion` is marginal.
@@ -143,7 +143,7 @@ pub enum JunctionCredit {
         /// `score > junction_completion`.
         credited: bool,
         /// `|score - junction_completion| <= 0.15`: the decision may differ from
-        /// Bench2Drive's (its samples are anchored differently, §1.4).
+        /// Bench2Drive's (its samples are anchored differently, docs/SCORE.md §14.3).
         marginal: bool,
     },
     /// Cannot be decided; the route counts as failed.
@@ -190,7 +190,7 @@ pub fn junction_completion(in_junction: &[bool]) -> Option<f64> {
     Some((first as f64 + 1.0 + JUNCTION_MARGIN_SAMPLES) / in_junction.len() as f64)
 }
 
-/// The route's abilities (§8.2): `scenario_type` is the `type` of its route XML entry;
+/// The route's abilities (docs/SCORE.md §10.1): `scenario_type` is the `type` of its route XML entry;
 /// `samples` is called only for a failed Traffic_Signs route without red-light and stop
 /// infractions, the one case where the junction credit decides.
 ///

@@ -1,6 +1,6 @@
 //! One route's loss from DS to DS_safe, split over its SDS factors (issue 28; `docs/SCORE.md`
-//! "Decomposition"). The route's DS_safe is `score_route × score_penalty × Π fᵢ^nᵢ` (§8) with
-//! four factors: the work-zone contact (`factors.workzone / factors.layout`, §7), the collision
+//! "Decomposition"). The route's DS_safe is `score_route × score_penalty × Π fᵢ^nᵢ` (docs/SCORE.md §9) with
+//! four factors: the work-zone contact (`factors.workzone / factors.layout`, docs/SCORE.md §8), the collision
 //! without deceleration, the anomalous and the critical lateral chunk. The loss
 //! `score_route × score_penalty − DS_safe` is shared in proportion to `nᵢ · −ln fᵢ`, which does not
 //! depend on the order of the product. A factor of 0 (applied at least once) takes the whole loss;

@@ -1,4 +1,4 @@
-//! Bench2Drive's efficiency of one route (`SDS-SPEC.md` v1.2 §8.2): how fast it drove compared
+//! Bench2Drive's efficiency of one route (docs/SCORE.md §10.1): how fast it drove compared
 //! with the surrounding traffic, from its `min_speed_infractions`.
 //!
 //! ```
@@ -14,7 +14,7 @@
 
 use crate::route::penalty::min_speed_percent;
 
-/// Percentages above this are outliers, left out of a route's efficiency (§8.2).
+/// Percentages above this are outliers, left out of a route's efficiency (docs/SCORE.md §10.1).
 pub const EFFICIENCY_MAX: f64 = 1000.0;
 
 /// A route's efficiency: the mean of the `Average speed is X% ...` percentages of its

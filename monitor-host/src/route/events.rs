@@ -1,8 +1,8 @@
 //! Everything that happened on a route that can be placed on its frame axis, in one list
 //! (issue 28; the report's per-route `events`): its collisions (aligned by §5, or unplaced), the
 //! evaluator's other infractions (red lights, stop signs, blocked, min speed, ... placed by
-//! [`crate::pipeline::placement`]'s rules), its anomalous and critical lateral chunks (§6), its
-//! uncomfortable chunks (§4) and its long stationary stretches, each with the frame and step it
+//! [`crate::pipeline::placement`]'s rules), its anomalous and critical lateral chunks (docs/SCORE.md §7), its
+//! uncomfortable chunks (docs/SCORE.md §5) and its long stationary stretches, each with the frame and step it
 //! starts at, the time from the route's first frame and a message. Sorted by frame (stable:
 //! collisions, then infractions, then chunks, then stretches at one frame); events without a
 //! frame come last, listed, never dropped.
@@ -39,7 +39,7 @@ pub struct RouteEvent {
     pub step: Option<u64>,
     /// Seconds from the route's first frame, `(step − first step) × dt`; null when unplaced.
     pub time_s: Option<f64>,
-    /// How it was placed: `infractions.json`, `nearest` (§5's rule on the ego position in the
+    /// How it was placed: `infractions.json`, `nearest` (docs/SCORE.md §6's rule on the ego position in the
     /// message), `closest_approach` (to a traffic light or stop sign), `chunk`, `motion`;
     /// null when unplaced.
     #[serde(default, deserialize_with = "placed_by_name")]

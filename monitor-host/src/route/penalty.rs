@@ -1,5 +1,5 @@
-//! The re-check of a record's `score_penalty` against its infraction lists (`SDS-SPEC.md`
-//! v1.2 §8). It only reports: the recorded penalty stays authoritative.
+//! The re-check of a record's `score_penalty` against its infraction lists (docs/SCORE.md
+//! §9). It only reports: the recorded penalty stays authoritative.
 //!
 //! ```
 //! use monitor_host::route::penalty::recompute_penalty;
@@ -12,7 +12,7 @@
 use crate::input::record::{Infractions, Record};
 use crate::settings::PenaltyFlavour;
 
-/// Per-event factors of the lists with a constant factor (§8), in a fixed order.
+/// Per-event factors of the lists with a constant factor (docs/SCORE.md §9), in a fixed order.
 pub const PENALTY_FACTORS: [(&str, f64); 7] = [
     ("collisions_pedestrian", 0.5),
     ("collisions_vehicle", 0.6),
@@ -66,10 +66,10 @@ pub struct PenaltyCheck {
     pub agrees: bool,
 }
 
-/// Tolerance of the penalty re-check (§8).
+/// Tolerance of the penalty re-check (docs/SCORE.md §9).
 pub const PENALTY_TOLERANCE: f64 = 1e-3;
 
-/// Re-checks `record.score_penalty` against its infraction lists (§8). It only reports.
+/// Re-checks `record.score_penalty` against its infraction lists (docs/SCORE.md §9). It only reports.
 pub fn check_penalty(record: &Record, flavour: PenaltyFlavour) -> PenaltyCheck {
     let recorded = record.score_penalty;
     match recompute_penalty(&record.infractions, flavour) {

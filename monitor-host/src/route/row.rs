@@ -1,10 +1,10 @@
-//! The per-route row of the report (`SDS-SPEC.md` v1.2 §10.1): what one route's record, replay
+//! The per-route row of the report (docs/SCORE.md §13): what one route's record, replay
 //! and checks come to ([`route_report`], [`missing_report`]), and every row of a run with its
 //! collision traces and abilities ([`route_rows`]). Field order is the JSON report's key order.
 //!
 //! New per-route fields go into [`RouteReport`] (and [`route_report`]); new aggregates into
-//! [`crate::aggregate::aggregates::Scores`] (§8.1: the summary, groups and comparisons get them)
-//! or [`crate::aggregate::aggregates::Aggregates`] (§8.2, per group and comparison).
+//! [`crate::aggregate::aggregates::Scores`] (docs/SCORE.md §10: the summary, groups and comparisons get them)
+//! or [`crate::aggregate::aggregates::Aggregates`] (docs/SCORE.md §10.1, per group and comparison).
 
 use serde::{Deserialize, Serialize};
 
@@ -60,7 +60,7 @@ pub struct LateralReport {
     pub anomalous: u32,
     /// `N_crit`.
     pub critical: u32,
-    /// What the lateral error was measured against (§2): `map-route`, `xml`, `map-lane` or
+    /// What the lateral error was measured against (docs/SCORE.md §3): `map-route`, `xml`, `map-lane` or
     /// `none`; null for a route without a valid record.
     pub reference: Option<ReferenceKind>,
 }
@@ -76,7 +76,7 @@ pub struct ComfortReport {
     pub score: Option<f64>,
     /// Chunks failing each bound.
     pub failed: monitor_core::FailureCounts,
-    /// Comfort chunks in which the car moved (§8.5: mean speed at least `motion.moving_speed`).
+    /// Comfort chunks in which the car moved (docs/SCORE.md §10.0: mean speed at least `motion.moving_speed`).
     pub moving_chunks: u32,
     /// Of those, the comfortable ones.
     pub moving_comfortable: u32,
@@ -149,7 +149,7 @@ pub struct RouteReport {
     pub weather_id: Option<String>,
     /// Evaluator status.
     pub status: Option<String>,
-    /// A success (spec section 8): completed and no infraction but minimum speed.
+    /// A success (docs/SCORE.md §9): completed and no infraction but minimum speed.
     pub success: bool,
     /// `scores.score_route`.
     pub score_route: Option<f64>,
@@ -157,7 +157,7 @@ pub struct RouteReport {
     pub score_penalty: Option<f64>,
     /// `scores.score_composed`.
     pub score_composed: Option<f64>,
-    /// Seconds per telemetry step (spec section 1.2); null without telemetry.
+    /// Seconds per telemetry step (docs/SCORE.md §2.2); null without telemetry.
     pub dt: Option<f64>,
     /// `inferred` or `config`; null without telemetry.
     pub dt_source: Option<DtSource>,
@@ -165,15 +165,15 @@ pub struct RouteReport {
     pub frames: u32,
     /// Missing steps.
     pub gaps: u64,
-    /// A vehicle log's segments (spec v1.5 §16): 1 + its gaps longer than `mcap.max_hold`, each
+    /// A vehicle log's segments (docs/SCORE.md §2.4): 1 + its gaps longer than `mcap.max_hold`, each
     /// monitored as a fresh start. Left out for telemetry, whose frames are one run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub segments: Option<u64>,
     /// Entries per infraction list (all 12 lists and any unknown ones).
     pub infractions: InfractionCounts,
-    /// Distance driven, m (§8.5: the 2-D path through the frames); null without frames.
+    /// Distance driven, m (docs/SCORE.md §10.0: the 2-D path through the frames); null without frames.
     pub distance_m: Option<f64>,
-    /// Share of frames slower than `motion.stationary_speed` (§8.5); null without frames.
+    /// Share of frames slower than `motion.stationary_speed` (docs/SCORE.md §10.0); null without frames.
     pub stationary_share: Option<f64>,
     /// Collision counts.
     pub collisions: CollisionCounts,
@@ -182,11 +182,11 @@ pub struct RouteReport {
     /// Comfort.
     pub comfort: ComfortReport,
     /// `C_route` under the `b2d-legacy` profile, whatever the run's profile (Bench2Drive's
-    /// per-route smoothness, §8.2); null when undefined.
+    /// per-route smoothness, docs/SCORE.md §10.1); null when undefined.
     pub smoothness: Option<f64>,
-    /// Bench2Drive's efficiency of the route (§8.2); null when it has none.
+    /// Bench2Drive's efficiency of the route (docs/SCORE.md §10.1); null when it has none.
     pub efficiency: Option<f64>,
-    /// The abilities the route counts in (§8.2); null when the route has no route XML entry.
+    /// The abilities the route counts in (docs/SCORE.md §10.1); null when the route has no route XML entry.
     pub ability: Option<RouteAbility>,
     /// `p_safe`; null when not scored.
     pub p_safe: Option<f64>,
@@ -195,16 +195,16 @@ pub struct RouteReport {
     /// `score_composed − DS_safe` step by step: the evaluator's rounding and the loss to each
     /// SDS factor (`docs/SCORE.md` "Decomposition"); null when not scored.
     pub decomposition: Option<Losses>,
-    /// The min-speed checkpoint grid its record was read on under the protocols (§8.4 v1.4):
+    /// The min-speed checkpoint grid its record was read on under the protocols (docs/PROTOCOLS.md v1.4):
     /// `b2d-20` or `lb-4`; absent when no protocol is asked or the route has no valid record.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub min_speed_grid: Option<MinSpeedGrid>,
-    /// The route under each asked scoring protocol (§8.4, §10.3); absent when none is asked.
+    /// The route under each asked scoring protocol (docs/PROTOCOLS.md, docs/SCORE.md §13); absent when none is asked.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub protocols: Option<RouteProtocols>,
     /// `ok`, `missing` or `invalid: <reason>`.
     pub telemetry: TelemetryState,
-    /// `scored`, `missing`, `foreign` or `invalid` (spec section 10.1).
+    /// `scored`, `missing`, `foreign` or `invalid` (docs/SCORE.md §13).
     pub state: RouteState,
     /// Why the route is invalid, or its telemetry missing or invalid; null otherwise.
     pub reason: Option<String>,
@@ -218,7 +218,7 @@ pub struct RouteReport {
         deserialize_with = "stamp"
     )]
     pub stamp: Option<String>,
-    /// For a route id with several copies: which copy was scored and why (§1.5; `policy`,
+    /// For a route id with several copies: which copy was scored and why (docs/SCORE.md §14.1; `policy`,
     /// `copies`, `stamp`, `why`). Absent otherwise.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub kept: Option<Kept>,
@@ -234,7 +234,7 @@ pub struct RouteReport {
     /// Problems that did not stop the route from being scored.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<Warning>,
-    /// The traces of its aligned collisions (§10.2): rendered as CSV and SVG files and in the
+    /// The traces of its aligned collisions (docs/SCORE.md §14.4): rendered as CSV and SVG files and in the
     /// HTML report, not in the JSON report.
     #[serde(skip)]
     pub traces: Vec<CollisionTrace>,
@@ -247,8 +247,8 @@ pub struct RouteReport {
     #[serde(skip)]
     pub stationary: Vec<(u32, u32)>,
     /// The Leaderboard's driven distance `RC/100 * meta.route_length / 1000`, km, for a route
-    /// with a record (`infractions_per_km`, §8.5); in the JSON report so that a merge of
-    /// reports (v1.4 §13) recomputes `infractions_per_km`.
+    /// with a record (`infractions_per_km`, docs/SCORE.md §10.0); in the JSON report so that a merge of
+    /// reports (docs/SCORE.md §13.2) recomputes `infractions_per_km`.
     pub driven_km: Option<f64>,
 }
 
@@ -287,9 +287,9 @@ impl RouteReport {
 /// its abilities (with the route XML), its scores under the asked protocols and what they warned.
 #[derive(Debug, Default)]
 pub struct RowFacts {
-    /// The collision traces (§10.2).
+    /// The collision traces (docs/SCORE.md §14.4).
     pub traces: Vec<CollisionTrace>,
-    /// The abilities (§8.2).
+    /// The abilities (docs/SCORE.md §10.1).
     pub ability: Option<RouteAbility>,
     /// The min-speed grid the protocols read the record on.
     pub min_speed_grid: Option<MinSpeedGrid>,
@@ -339,7 +339,7 @@ fn row_facts(
         }
     }
     if !settings.protocols.is_empty() {
-        // Protocols read records only (§8.4); invalid records score 0.
+        // Protocols read records only (docs/PROTOCOLS.md); invalid records score 0.
         let asked = &settings.protocols;
         facts.protocols = Some(match o.record() {
             Some(rec) => {
@@ -358,7 +358,7 @@ fn row_facts(
 }
 
 /// Turns one outcome and what is known of it ([`RowFacts`]) into its report entry, with the
-/// penalty re-check of its record (§8) under `settings.penalty_flavour`.
+/// penalty re-check of its record (docs/SCORE.md §9) under `settings.penalty_flavour`.
 pub fn route_report(o: &RouteOutcome, settings: &Settings, facts: RowFacts) -> RouteReport {
     let rec = o.record();
     let count = |name: &str| rec.map_or(0, |r| r.infractions.list(name).len() as u32);
@@ -531,7 +531,7 @@ pub fn missing_report(m: &MissingRoute) -> RouteReport {
     }
 }
 
-/// The routes counted in the aggregates (§1.5): every route but the foreign ones, in the
+/// The routes counted in the aggregates (docs/SCORE.md §14.1): every route but the foreign ones, in the
 /// report's order.
 pub fn counted_routes(routes: &[RouteReport]) -> impl Iterator<Item = &RouteReport> {
     routes.iter().filter(|r| r.state != RouteState::Foreign)

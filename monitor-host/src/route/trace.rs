@@ -1,4 +1,4 @@
-//! Collision traces (`SDS-SPEC.md` v1.2 §10.2, the paper's Figure 2): for every aligned
+//! Collision traces (docs/SCORE.md §14.4, the paper's Figure 2): for every aligned
 //! collision at frame k, the frames from `t_k - 3 s` to `t_k + 1 s` with `t - t_k`, speed, raw
 //! `a_lon` and `lat_err`, and what the verdict was drawn from (the deceleration window, frames
 //! `k - decel_window .. k - 1`, and the threshold). Taken from the route's

@@ -382,7 +382,7 @@ pub const SETTINGS: &[SettingDef] = &[
         "step period where none is inferred; setting it fixes the period of every route (and turns `dt_inference` off)",
         "(20 Hz CARLA ticks; section 14.2)",
         |s, k, v| {
-            // A fixed step period: every route uses it (spec section 1.2).
+            // A fixed step period: every route uses it (docs/SCORE.md §2.2).
             s.core.dt = f32_of(k, v)?;
             s.dt_inference = false;
             Ok(())
@@ -509,7 +509,7 @@ pub const SETTINGS: &[SettingDef] = &[
                 .into_iter()
                 .find(|p| p.name() == v.trim())
                 .ok_or_else(|| bad(k, crate::named::choices(&profiles.map(Profile::name)), v))?;
-            // The profile brings its own bounds (autoware: spec v1.4 §16), unless they were set
+            // The profile brings its own bounds (autoware: docs/SCORE.md §2.4), unless they were set
             // one by one.
             let c = &mut s.core;
             if c.bounds == monitor_core::Bounds::of(c.profile) {
@@ -560,7 +560,7 @@ pub const SETTINGS: &[SettingDef] = &[
 pub const PROTOCOLS_EXPECTED: &str =
     "all, none, or comma-separated ids of b2d, lb2.0, lb2.1, lead-nds, f2d";
 
-/// The core's slack without a map: the default lane's (§2).
+/// The core's slack without a map: the default lane's (docs/SCORE.md §3).
 fn default_lane_slack(s: &Settings) -> f32 {
     (s.lane_width / 2.0 - s.ego_half_width) as f32
 }

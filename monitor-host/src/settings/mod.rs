@@ -1,4 +1,4 @@
-//! Every setting of a run (`SDS-SPEC.md` v1.2 §1.3, §2, §5, §8 and the core's §3-§7): the core's
+//! Every setting of a run (docs/SCORE.md §2.3, docs/SCORE.md §3, docs/SCORE.md §6, docs/SCORE.md §9 and the core's §3-§7): the core's
 //! [`Config`] plus the host's own, with the spec's defaults, validation, and `NAME=VALUE` parsing.
 //!
 //! Names are those of the report's `config` block; a group member is written `group.field`
@@ -66,7 +66,7 @@ pub enum SettingsError {
 }
 
 named_enum! {
-    /// What the lateral error is measured against (`SDS-SPEC.md` v1.2 §2) **\[decision\]**.
+    /// What the lateral error is measured against (docs/SCORE.md §3) **\[decision\]**.
     #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
     pub enum LateralReference {
         /// The route polyline, its junction gaps filled by the map where the town has one
@@ -89,12 +89,12 @@ pub struct Settings {
     pub gap_max: f64,
     /// Forward-search window of the lateral error, m of route length (10.0) **\[decision\]**.
     pub lookahead: f64,
-    /// Re-acquisition of the lateral reference (§2, v1.4): at a frame whose step exceeds the
+    /// Re-acquisition of the lateral reference (docs/SCORE.md §3, v1.4): at a frame whose step exceeds the
     /// previous frame's by more than this (and at a first frame whose step is not 0), the
     /// forward search looks at the whole rest of the route instead of `lookahead` (10)
     /// **\[decision\]**.
     pub reacquire_steps: u64,
-    /// What the lateral error is measured against (§2): the route (`route`, default) or the
+    /// What the lateral error is measured against (docs/SCORE.md §3): the route (`route`, default) or the
     /// nearest driving lane of the map (`lane`) **\[decision\]**.
     pub lateral_reference: LateralReference,
     /// Lane width where no map gives one, m (3.5) **\[decision\]**. Setting it (or
@@ -106,37 +106,37 @@ pub struct Settings {
     pub align_max_dist: f64,
     /// Frames within this of the smallest distance tie; ties go to the earliest, m (1e-3).
     pub align_tie: f64,
-    /// Factors of the penalty re-check (§8).
+    /// Factors of the penalty re-check (docs/SCORE.md §9).
     pub penalty_flavour: PenaltyFlavour,
-    /// Benchmark size N: routes not found count as 0 / failed (§8.1).
+    /// Benchmark size N: routes not found count as 0 / failed (docs/SCORE.md §10).
     pub expected_routes: Option<usize>,
-    /// Which copy of a duplicated route id is scored (§1.5) **\[decision\]**.
+    /// Which copy of a duplicated route id is scored (docs/SCORE.md §14.1) **\[decision\]**.
     pub duplicates: DuplicatePolicy,
     /// Which routes of `--routes` make the route set: `all` (default) or those `found` with a
     /// record **\[decision\]**.
     pub route_subset: RouteSubset,
-    /// Infer each route's step period from its record (§1.2); `false` uses `dt` for every
+    /// Infer each route's step period from its record (docs/SCORE.md §2.2); `false` uses `dt` for every
     /// route. Setting `dt` turns it off.
     pub dt_inference: bool,
     /// Score routes without telemetry without telemetry terms instead of failing them.
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores). Not part of the report: it never changes a number.
     pub threads: Option<usize>,
-    /// Thresholds of the distance and stationary figures (§8.5).
+    /// Thresholds of the distance and stationary figures (docs/SCORE.md §10.0).
     pub motion: MotionSettings,
     /// How the route's `events` place the evaluator's other infractions and stationary
     /// stretches on the frame axis.
     pub events: EventSettings,
-    /// How vehicle logs are cut at their gaps (spec v1.5 §16).
+    /// How vehicle logs are cut at their gaps (docs/SCORE.md §2.4).
     pub mcap: McapSettings,
-    /// Scoring protocols to add (§8.4; default none).
+    /// Scoring protocols to add (docs/PROTOCOLS.md; default none).
     pub protocols: Vec<Protocol>,
-    /// Bench2Drive's Traffic_Signs counting rule (§8.2; default `b2d-0.0.4`).
+    /// Bench2Drive's Traffic_Signs counting rule (docs/SCORE.md §10.1; default `b2d-0.0.4`).
     pub ability_rule: AbilityRule,
     /// Which min-speed checkpoint grid a record's entries are read on under the Leaderboard
-    /// protocols (§8.4 v1.4; default `auto`) **\[decision\]**.
+    /// protocols (docs/PROTOCOLS.md v1.4; default `auto`) **\[decision\]**.
     pub min_speed_grid: MinSpeedGridSetting,
-    /// Name the host in the report's `inputs.provenance` (§13; default true) **\[decision\]**.
+    /// Name the host in the report's `inputs.provenance` (docs/SCORE.md §13.2; default true) **\[decision\]**.
     /// Not part of `config`: it never changes a number, so parts scored with and without it
     /// still merge.
     pub provenance_host: bool,
@@ -533,7 +533,7 @@ impl Default for EventSettings {
     }
 }
 
-/// How vehicle logs are framed (spec v1.5 §16; setting `mcap.max_hold`).
+/// How vehicle logs are framed (docs/SCORE.md §2.4; setting `mcap.max_hold`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct McapSettings {
     /// Two consecutive pose messages further apart than this make a gap, s (0.25)
@@ -549,7 +549,7 @@ impl Default for McapSettings {
     }
 }
 
-/// One scoring protocol (§8.4).
+/// One scoring protocol (docs/PROTOCOLS.md).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Protocol {
     /// Bench2Drive's evaluator: the recorded penalty and score.
@@ -703,7 +703,7 @@ pub fn protocols_text(protocols: &[Protocol]) -> String {
 }
 
 named_enum! {
-    /// The Traffic_Signs counting rule (§8.2): `b2d-0.0.4` or `b2d-0.0.3`.
+    /// The Traffic_Signs counting rule (docs/SCORE.md §10.1): `b2d-0.0.4` or `b2d-0.0.3`.
     #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
     pub enum AbilityRule {
         /// Bench2Drive release 0.0.4: counted once.
@@ -715,7 +715,7 @@ named_enum! {
 }
 
 named_enum! {
-    /// The `min_speed_grid` setting (§8.4 v1.4): on which checkpoint grid a record's min-speed
+    /// The `min_speed_grid` setting (docs/PROTOCOLS.md v1.4): on which checkpoint grid a record's min-speed
     /// entries are read under `lb2.0`, `lb2.1` and `lead-nds`: `auto`, `b2d-20` or `lb-4`.
     ///
     /// ```
@@ -738,7 +738,7 @@ named_enum! {
 }
 
 named_enum! {
-    /// Which evaluator's penalty rules to re-check against (§8): `bench2drive` or
+    /// Which evaluator's penalty rules to re-check against (docs/SCORE.md §9): `bench2drive` or
     /// `leaderboard20` (the name used in reports and settings).
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     pub enum PenaltyFlavour {
@@ -830,7 +830,7 @@ mod tests {
                 None => keys.push(k.clone()),
             }
         }
-        // `provenance.host` changes no figure: not in the config block (v1.4 §13).
+        // `provenance.host` changes no figure: not in the config block (docs/SCORE.md §13.2).
         let names: Vec<&str> = Settings::NAMES
             .into_iter()
             .filter(|n| *n != "provenance.host")

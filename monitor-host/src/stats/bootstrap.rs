@@ -1,4 +1,4 @@
-//! The paired bootstrap of one model and metric (`SDS-SPEC.md` v1.4 §11): the mean of the
+//! The paired bootstrap of one model and metric (docs/SCORE.md §10.3): the mean of the
 //! per-route differences, B resamples of the n routes with replacement, the 95 % percentile
 //! interval, `p_better` and the verdict (`no data` when no route could be compared). Also the
 //! bounds on B ([`SAMPLES`], [`DRAW_BUDGET`]) that keep one comparison's time and memory in check.

@@ -1,4 +1,4 @@
-//! Flips (`SDS-SPEC.md` v1.3 §11): the routes a model newly fails or newly passes against the
+//! Flips (docs/SCORE.md §10.3): the routes a model newly fails or newly passes against the
 //! baseline, and the routes whose DS moved most.
 //!
 //! ```

@@ -1,4 +1,4 @@
-//! Comparing runs (`sds compare`, `SDS-SPEC.md` v1.4 §11): models (one run, or the seeds of one
+//! Comparing runs (`sds compare`, docs/SCORE.md §10.3): models (one run, or the seeds of one
 //! model) compared route by route against a baseline, with paired differences, a bootstrap
 //! interval, a verdict per metric, the routes that flipped, and a regression gate.
 //!
@@ -74,7 +74,7 @@ pub struct Model {
     pub runs: Vec<NamedRun>,
 }
 
-/// The settings of a comparison (§11; **\[decision\]**s keep the spec's defaults).
+/// The settings of a comparison (docs/SCORE.md §10.3; **\[decision\]**s keep the spec's defaults).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CompareOptions {
     /// The baseline model (`None`: the first model).
@@ -88,10 +88,10 @@ pub struct CompareOptions {
     pub bootstrap_seed: u64,
     /// Metrics whose `worse` or `no data` verdict fails the gate (exit 5 of `sds compare`).
     pub fail_if_worse: Vec<String>,
-    /// Rank the models with bootstrap intervals (`--rank`, v1.4 §14).
+    /// Rank the models with bootstrap intervals (`--rank`, docs/SCORE.md §10.3).
     pub rank: bool,
     /// `repro.halfwidth` h (default 1.0 DS point): `seeds_needed` sizes a 95 % interval of a
-    /// model's mean DS no wider than ±h (§14 **\[decision\]**; `--repro-halfwidth`).
+    /// model's mean DS no wider than ±h (docs/SCORE.md §10.3 **\[decision\]**; `--repro-halfwidth`).
     #[serde(rename = "repro.halfwidth")]
     pub repro_halfwidth: f64,
 }
@@ -260,11 +260,11 @@ pub struct Comparison {
     /// The metrics, in the order of [`RouteRow::values`]: [`METRICS`], then `ds@<id>` per
     /// protocol the runs were scored with.
     pub metrics: Vec<String>,
-    /// With `--rank` (v1.4 §14): every model's mean `ds`, rank, rank interval and `p_best`, by
+    /// With `--rank` (docs/SCORE.md §10.3): every model's mean `ds`, rank, rank interval and `p_best`, by
     /// rank, ties by name.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub ranking: Option<Vec<rank::RankRow>>,
-    /// With `--sweep` (v1.5 §18): every model's figures at every point of the grid, the range
+    /// With `--sweep` (docs/SCORE.md §10.4): every model's figures at every point of the grid, the range
     /// of its SDS, and whether each pair's order holds.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sweep: Option<sweep::SweepReport>,

@@ -1,4 +1,4 @@
-//! One row per model (`SDS-SPEC.md` v1.3 §11 `models`): every §8.1 / §8.2 aggregate (and §8.5's
+//! One row per model (docs/SCORE.md §10.3 `models`): every §8.1 / docs/SCORE.md §10.1 aggregate (and §8.5's
 //! moving comfort, stationary share and distance) as the mean
 //! and sample standard deviation over the model's seeds.
 //!
@@ -23,35 +23,35 @@ pub struct ModelRow {
     /// Its runs (seeds), in the order given.
     pub runs: Vec<String>,
     /// Routes each run was aggregated over (N). v1.4 gives `routes` to the per-route spread
-    /// ([`SeedStats::routes`], §14), so the counts are `route_counts`.
+    /// ([`SeedStats::routes`], docs/SCORE.md §10.3), so the counts are `route_counts`.
     pub route_counts: Vec<usize>,
-    /// Driving score (§8.1).
+    /// Driving score (docs/SCORE.md §10).
     pub driving_score: Stat,
-    /// Success rate, % (§8.1).
+    /// Success rate, % (docs/SCORE.md §10).
     pub success_rate: Stat,
-    /// Mean DS_safe (§8.1).
+    /// Mean DS_safe (docs/SCORE.md §10).
     pub mean_ds_safe: Stat,
-    /// Mean comfort (§8.1).
+    /// Mean comfort (docs/SCORE.md §10).
     pub mean_comfort: Stat,
-    /// SDS (§8.1).
+    /// SDS (docs/SCORE.md §10).
     pub sds: Stat,
-    /// Collision rate, % (§8.1).
+    /// Collision rate, % (docs/SCORE.md §10).
     pub collision_rate: Stat,
-    /// Efficiency (§8.2).
+    /// Efficiency (docs/SCORE.md §10.1).
     pub efficiency: Stat,
-    /// Smoothness (§8.2), 0..1.
+    /// Smoothness (docs/SCORE.md §10.1), 0..1.
     pub smoothness: Stat,
-    /// Ability rates (§8.2), 0..1.
+    /// Ability rates (docs/SCORE.md §10.1), 0..1.
     pub ability: AbilityStats,
-    /// The Traffic_Signs counting rule its runs were scored with (`ability_rule`, §8.2).
+    /// The Traffic_Signs counting rule its runs were scored with (`ability_rule`, docs/SCORE.md §10.1).
     pub ability_rule: &'static str,
-    /// Mean moving comfort (v1.3 §8.5).
+    /// Mean moving comfort (docs/SCORE.md §10.0).
     pub mean_comfort_moving: Stat,
-    /// Mean stationary share (v1.3 §8.5), 0..1.
+    /// Mean stationary share (docs/SCORE.md §10.0), 0..1.
     pub mean_stationary_share: Stat,
-    /// Distance driven, km (v1.3 §8.5).
+    /// Distance driven, km (docs/SCORE.md §10.0).
     pub distance_km: Stat,
-    /// Seeds and flaky routes (v1.4 §14): `routes`, `flaky_routes`, `seed_ds`, `seed_std`,
+    /// Seeds and flaky routes (docs/SCORE.md §10.3): `routes`, `flaky_routes`, `seed_ds`, `seed_std`,
     /// `seeds_needed`.
     #[serde(flatten)]
     pub seeds: SeedStats,

@@ -1,4 +1,4 @@
-//! The ranking of many models (`SDS-SPEC.md` v1.4 §14, `--rank`): B resamples of the n compared
+//! The ranking of many models (docs/SCORE.md §10.3, `--rank`): B resamples of the n compared
 //! routes (the route order and draw rule of §11, ONE generator seeded with `bootstrap_seed`, n
 //! draws per resample); per resample each model's mean `ds` over the drawn positions and its rank
 //! `1 + #(models with a strictly greater mean)`. Per model: `rank` on the full route set, the 95 %

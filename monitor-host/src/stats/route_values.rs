@@ -1,4 +1,4 @@
-//! Route keys and per-route values (`SDS-SPEC.md` v1.3 §11): a route's key is its `route_id`
+//! Route keys and per-route values (docs/SCORE.md §10.3): a route's key is its `route_id`
 //! without the `_rep<k>` suffix (the XML id); a run holding several records of one key
 //! (Leaderboard repetitions) gives the key the mean over them; a model's value is the mean over
 //! its seeds.
@@ -16,7 +16,7 @@ use crate::model::report::Report;
 use crate::route::row::{counted_routes, RouteReport};
 use crate::settings::Protocol;
 
-/// The metrics every comparison has, in the bootstrap's order (§11: `ds`, `success`, `ds_safe`,
+/// The metrics every comparison has, in the bootstrap's order (docs/SCORE.md §10.3: `ds`, `success`, `ds_safe`,
 /// `comfort`); the asked protocols' scores follow ([`metric_names`]).
 pub const METRICS: [&str; 4] = ["ds", "success", "ds_safe", "comfort"];
 

@@ -1,4 +1,4 @@
-//! Seeds and flaky routes (`SDS-SPEC.md` v1.4 §14): per model, the spread of each compared
+//! Seeds and flaky routes (docs/SCORE.md §10.3): per model, the spread of each compared
 //! route's `ds` over its seeds and repetitions (each repetition a sample), the routes whose
 //! success share lies strictly between 0 and 1 (flaky), each seed's DS, their sample std, and the
 //! seeds a 95 % interval of the mean DS no wider than ±`repro.halfwidth` needs.
@@ -70,14 +70,14 @@ pub struct FlakyRoute {
     pub outcomes: Vec<Outcome>,
 }
 
-/// A model's seeds (§14): `routes`, `flaky_routes`, `seed_ds`, `seed_std`, `seeds_needed`.
+/// A model's seeds (docs/SCORE.md §10.3): `routes`, `flaky_routes`, `seed_ds`, `seed_std`, `seeds_needed`.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct SeedStats {
     /// Per compared route, in the baseline's route order.
     pub routes: Vec<RouteSpread>,
     /// The keys of the flaky routes, in route order.
     pub flaky_routes: Vec<String>,
-    /// Each seed's DS (§8.1, over the compared routes), in seed order.
+    /// Each seed's DS (docs/SCORE.md §10, over the compared routes), in seed order.
     pub seed_ds: Vec<Option<f64>>,
     /// Sample std of `seed_ds`; null for one seed.
     pub seed_std: Option<f64>,
@@ -105,7 +105,7 @@ pub fn spread(route: &str, samples: &[(f64, bool)]) -> RouteSpread {
     }
 }
 
-/// The seeds a 95 % interval of the mean DS no wider than ±`halfwidth` needs (§14
+/// The seeds a 95 % interval of the mean DS no wider than ±`halfwidth` needs (docs/SCORE.md §10.3
 /// **\[decision\]**): `ceil((1.96 seed_std / h)^2)`; `None` without a std or with h <= 0.
 pub fn seeds_needed(seed_std: Option<f64>, halfwidth: f64) -> Option<u64> {
     let sd = seed_std?;

@@ -1,4 +1,4 @@
-//! SplitMix64, the bootstrap's generator (`SDS-SPEC.md` v1.4 §11): a 64-bit state advanced by
+//! SplitMix64, the bootstrap's generator (docs/SCORE.md §10.3): a 64-bit state advanced by
 //! the golden-ratio increment and mixed by two multiply-xorshift rounds. Written out here so that
 //! every front end (and any other implementation of the spec) draws the same indices. A
 //! comparison makes one per model and metric, each seeded with `bootstrap_seed`.

@@ -1,5 +1,5 @@
-//! The statistic over a model's seeds: mean and sample standard deviation (`SDS-SPEC.md` v1.3
-//! §11), shared by the model rows ([`crate::stats::models`]) and the seed spread
+//! The statistic over a model's seeds: mean and sample standard deviation (docs/SCORE.md
+//! §10.3), shared by the model rows ([`crate::stats::models`]) and the seed spread
 //! ([`crate::stats::seeds`]).
 
 use serde::Serialize;

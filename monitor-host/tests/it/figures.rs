@@ -1,4 +1,4 @@
-//! Collision traces and their figures (§10.2) on the demo run: the traces hold the route's
+//! Collision traces and their figures (docs/SCORE.md §14.4) on the demo run: the traces hold the route's
 //! frames from t_k - 3 s to t_k + 1 s; the SVG holds those values (read back through the
 //! figure's own axis ticks, within a pixel), the collision instant, the shaded deceleration
 //! window, the threshold and the title; two runs give the same bytes (figures, CSV, HTML).

@@ -1,6 +1,6 @@
 //! Reads the real Bench2Drive result fixtures in `shared/fixtures/b2d/` (SOURCES.md describes
 //! each) through `results_file::read_results` and checks them against their own stored totals and the
-//! §7/§8 rules. Skips (passes with a printed reason) when the shared folder is absent.
+//! docs/SCORE.md §8/§8 rules. Skips (passes with a printed reason) when the shared folder is absent.
 
 use std::collections::BTreeMap;
 use std::fs;

@@ -1,4 +1,4 @@
-//! Route XML fixture tests on the real Bench2Drive 220-route file (`SDS-SPEC.md` §1.3).
+//! Route XML fixture tests on the real Bench2Drive 220-route file (docs/SCORE.md §2.3).
 //! Skipped (with a printed reason) when the shared fixtures are absent.
 
 use std::collections::HashSet;

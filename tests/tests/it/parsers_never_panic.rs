@@ -198,7 +198,7 @@ proptest! {
     }
 
     /// Valid but extreme frames (huge, subnormal, signed zeros): streaming and the batch
-    /// reference still agree bit for bit (spec section 9).
+    /// reference still agree bit for bit (docs/SCORE.md §11).
     #[test]
     fn extreme_valid_frames_stream_equals_batch(
         frames in proptest::collection::vec(any_frame(), 0..80),

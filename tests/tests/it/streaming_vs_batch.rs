@@ -240,7 +240,7 @@ fn config() -> impl Strategy<Value = Config> {
         lateral_thresholds(),
         prop_oneof![4 => Just(0.5f32), 1 => Just(0.0), 1 => Just(5.0)],
         prop_oneof![4 => Just(-0.5f32), 1 => Just(0.0), 1 => Just(-4.05)],
-        // Both step periods met in real telemetry (spec section 1.2): 20 Hz and 10 Hz.
+        // Both step periods met in real telemetry (docs/SCORE.md §2.2): 20 Hz and 10 Hz.
         prop_oneof![Just(0.05f32), Just(0.1f32)],
     )
         .prop_flat_map(
@@ -307,7 +307,7 @@ fn factors() -> impl Strategy<Value = Factors> {
 // ---------------------------------------------------------------------------------------------
 // Comparison
 
-/// The lateral events the spec predicts from batch's chunk maxima (§6, exclusive bands).
+/// The lateral events the spec predicts from batch's chunk maxima (docs/SCORE.md §7, exclusive bands).
 fn expected_lateral(b: &BatchRoute, config: &Config) -> Vec<(u32, u32, Band)> {
     b.lateral
         .iter()
@@ -395,7 +395,7 @@ fn check_scores(
     let b = batch::compute(frames, config);
     for f in [factors, &config.factors] {
         let a = score::ds_safe(&s.summary, record, f);
-        // The reference scores its own summary with the one score formula (spec §9).
+        // The reference scores its own summary with the one score formula (docs/SCORE.md §11).
         let c = score::ds_safe(&b.summary, record, f);
         prop_assert_eq!(
             a.p_safe.to_bits(),
@@ -421,7 +421,7 @@ fn check_scores(
 proptest! {
     #![proptest_config(proptest_config(10_000))]
 
-    /// §9: every count, event and score of the streaming monitor equals the batch reference's.
+    /// docs/SCORE.md §11: every count, event and score of the streaming monitor equals the batch reference's.
     #[test]
     fn streaming_equals_batch(
         frames in route(),
@@ -685,7 +685,7 @@ fn demo_town() -> &'static (
 proptest! {
     #![proptest_config(proptest_config(500))]
 
-    /// §9 with map-based lateral values (§2): drives along the demo's junction route (its gap
+    /// docs/SCORE.md §11 with map-based lateral values (docs/SCORE.md §3): drives along the demo's junction route (its gap
     /// filled by the map) with random offsets, under both references and random settings.
     /// The monitor gets the host's per-frame values (`corridor::core_value`); the batch
     /// reference takes the same frames, and they agree bit for bit. Each frame's excess in the
@@ -736,7 +736,7 @@ proptest! {
 proptest! {
     #![proptest_config(proptest_config(500))]
 
-    /// §2 v1.4 re-acquisition, and §9: frames along the demo's straight junction route (x from
+    /// docs/SCORE.md §3 v1.4 re-acquisition, and §9: frames along the demo's straight junction route (x from
     /// 1510 to 1658 at y = -3310, a junction gap without a map; 0.05 m a step) whose telemetry
     /// starts at a random step (often not 0) and jumps ahead by hundreds of steps at random. Every frame beside
     /// a scored segment reads its own offset `|dy|` (the 10 m window alone lags tens of metres

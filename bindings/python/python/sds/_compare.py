@@ -1,4 +1,4 @@
-"""``sds.compare``: runs compared against a baseline (spec v1.4 section 11), from Python."""
+"""``sds.compare``: runs compared against a baseline (docs/SCORE.md §10.3), from Python."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Long tables of a report (spec v1.4 §15), as ``sds score --tables`` writes them.
+"""Long tables of a report (docs/TABLES-SCHEMA.md), as ``sds score --tables`` writes them.
 
 The tables come from the Rust library's own builder (``_sds.long_tables``, the code that writes
 ``routes.csv`` and ``events.csv``): nothing here re-implements a table rule. :func:`long_tables`

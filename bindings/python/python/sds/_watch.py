@@ -1,4 +1,4 @@
-"""``sds.watch``: the score of an evaluation while it runs (spec v1.3 section 12), from Python."""
+"""``sds.watch``: the score of an evaluation while it runs (docs/USAGE.md §8), from Python."""
 
 from __future__ import annotations
 

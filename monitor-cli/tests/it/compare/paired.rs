@@ -1,4 +1,4 @@
-//! `sds compare` (spec v1.4 section 11) end to end on hand-made runs whose per-route scores are
+//! `sds compare` (docs/SCORE.md §10.3) end to end on hand-made runs whose per-route scores are
 //! chosen here: known deltas and verdicts, the bootstrap's draws re-done independently (one
 //! SplitMix64 per model and metric, each seeded with the seed), a one-route case,
 //! n = 0, ties, repetitions averaged, seeds grouped only by `--seeds`, the same-route-set rule
@@ -316,7 +316,7 @@ fn different_route_sets_are_refused_unless_common_routes() {
     // Each model's aggregates run over the shared routes too.
     assert_eq!(c["models"][0]["driving_score"]["mean"], 50.0);
     assert_eq!(c["models"][0]["route_counts"], json!([4]));
-    // v1.4 §14: `routes` is the per-route spread over the compared keys.
+    // docs/SCORE.md §10.3: `routes` is the per-route spread over the compared keys.
     assert_eq!(c["models"][0]["routes"].as_array().map(Vec::len), Some(4));
 }
 
@@ -659,7 +659,7 @@ fn shared_options_score_each_run_as_sds_score() {
     assert_eq!(out.status.code(), Some(2));
 }
 
-/// §11: each asked protocol's score is a compared metric (`ds@<id>`), drawn after the four
+/// docs/SCORE.md §10.3: each asked protocol's score is a compared metric (`ds@<id>`), drawn after the four
 /// base metrics; its delta is the mean of the per-route differences of the runs' own protocol
 /// scores; it can gate; gating on a protocol not asked is refused.
 #[test]

@@ -691,7 +691,7 @@ fn frames_under_maps_and_the_lane_reference_are_what_score_used() {
     );
 }
 
-/// §8.5 on the demo: the route that stands through most of its frames (DemoStandingHit) is
+/// docs/SCORE.md §10.0 on the demo: the route that stands through most of its frames (DemoStandingHit) is
 /// stuck, and its comfort over the chunks it drove is below its comfort (its standing chunks
 /// are all comfortable); a route that never stops has no stationary frame and the same comfort
 /// both ways; the summary's figures follow from the routes'.

@@ -1,4 +1,4 @@
-//! `--group-by route --labels FILE` (§8.3 "any label map"): the demo run split by a label map of
+//! `--group-by route --labels FILE` (docs/SCORE.md §10.2 "any label map"): the demo run split by a label map of
 //! its route ids, checked against sums worked out here from the per-route report.
 
 use std::path::Path;

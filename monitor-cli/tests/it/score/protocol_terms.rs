@@ -1,4 +1,4 @@
-//! Scoring protocols (spec v1.3 §8.4) and the Bench2Drive ability rules (§8.2): every protocol
+//! Scoring protocols (docs/PROTOCOLS.md) and the Bench2Drive ability rules (docs/SCORE.md §10.1): every protocol
 //! term on hand-computed records, the three Leaderboard 2.1 examples, every real fixture under
 //! `all`, TransFuser++'s stored DS, and Bench2Drive 0.0.3's Traffic_Signs arithmetic on PDM-Lite.
 //! The real-fixture tests skip, with a printed reason, when `../shared/fixtures` is absent.
@@ -285,7 +285,7 @@ fn score_json(args: &[&str]) -> Value {
 /// The report without what `--protocol` adds.
 fn strip(mut v: Value) -> Value {
     v["config"].as_object_mut().unwrap().remove("protocols");
-    // The settings' hash (v1.4 §13) covers `protocols` too.
+    // The settings' hash (docs/SCORE.md §13.2) covers `protocols` too.
     if let Some(p) = v["inputs"]["provenance"].as_object_mut() {
         p.remove("settings_sha256");
     }

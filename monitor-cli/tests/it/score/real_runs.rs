@@ -1,4 +1,4 @@
-//! Real runs as people keep them (`SDS-SPEC.md` v1.2 §1.2, §1.5, §10.1), end to end on the real
+//! Real runs as people keep them (docs/SCORE.md §2.2, docs/SCORE.md §14.1, docs/SCORE.md §13), end to end on the real
 //! Bench2Drive files in `../shared/fixtures/b2d`: several inputs and duplicates, the route set
 //! with missing and foreign routes, N, the stored-figure check, the telemetry messages, and
 //! label files. Skips, with a printed reason, when the fixtures are absent.

@@ -1,4 +1,4 @@
-//! `sds watch` (spec §12) against a small evaluator simulator that plays the demo run back: the
+//! `sds watch` (docs/USAGE.md §8) against a small evaluator simulator that plays the demo run back: the
 //! checkpoint rewritten in place (truncated, then written in two parts, so a reader may catch
 //! it half-written), each route's telemetry written when the route ends, a crash whose route is
 //! dropped from the checkpoint on resume and run again, time compressed.
@@ -16,7 +16,7 @@ use super::fresh;
 use monitor_host::{Report, Watcher};
 use serde_json::Value;
 
-/// How the evaluator writes its records (spec §1.1's three input shapes).
+/// How the evaluator writes its records (docs/SCORE.md §2.1's three input shapes).
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Layout {
     /// One raw checkpoint, rewritten in place.

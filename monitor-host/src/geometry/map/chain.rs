@@ -1,4 +1,4 @@
-//! Junction gaps filled by the map (`SDS-SPEC.md` §1.4): the shortest chain of driving lanes,
+//! Junction gaps filled by the map (docs/SCORE.md §14.3): the shortest chain of driving lanes,
 //! in driving direction and without lane changes, from P's projection to Q's projection, drawn
 //! as chords of at most [`PIECE_MAX`] m of centre-line length.
 

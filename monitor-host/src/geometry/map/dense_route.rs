@@ -1,4 +1,4 @@
-//! The dense route (`SDS-SPEC.md` §1.4): samples every [`DENSE_STEP`] m along each pair of
+//! The dense route (docs/SCORE.md §14.3): samples every [`DENSE_STEP`] m along each pair of
 //! consecutive route waypoints' piece of the reference (the straight segment, or the map chain
 //! of a filled junction gap), from P up to and including the first sample closer than
 //! [`DENSE_CUTOFF`] m to Q; each sample says whether it lies in a junction when a map is given.

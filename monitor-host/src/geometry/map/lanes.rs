@@ -1,5 +1,5 @@
-//! Lane geometry: the lane offset, lane widths and the centre line of a lane (`SDS-SPEC.md`
-//! §1.4): the reference point moved along the left normal by
+//! Lane geometry: the lane offset, lane widths and the centre line of a lane (docs/SCORE.md
+//! §14.3): the reference point moved along the left normal by
 //! `t = laneOffset(s) + sign(k) (sum of the widths of lanes 1..|k|-1 + width_k / 2)`, with the
 //! road's elevation as its height.
 

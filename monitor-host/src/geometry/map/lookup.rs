@@ -1,4 +1,4 @@
-//! Finding a town's map in a `--maps` folder (`SDS-SPEC.md` §1.4).
+//! Finding a town's map in a `--maps` folder (docs/SCORE.md §14.3).
 
 use std::path::{Path, PathBuf};
 

@@ -1,4 +1,4 @@
-//! OpenDRIVE maps (`SDS-SPEC.md` §1.4): the lane network of a town, the exact 3-D projection of
+//! OpenDRIVE maps (docs/SCORE.md §14.3): the lane network of a town, the exact 3-D projection of
 //! a point onto it, junction gaps filled with the shortest lane chain, and the 1 m dense route.
 //!
 //! Everything here is f64 and takes and returns CARLA coordinates (OpenDRIVE's with y negated);

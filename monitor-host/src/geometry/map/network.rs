@@ -1,4 +1,4 @@
-//! The lane network (`SDS-SPEC.md` §1.4): every driving lane of positive width, one node per lane
+//! The lane network (docs/SCORE.md §14.3): every driving lane of positive width, one node per lane
 //! and lane section, linked in driving direction by successor/predecessor links within a road,
 //! between roads, and through junction connections. Lane changes are not edges.
 

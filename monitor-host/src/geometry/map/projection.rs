@@ -1,4 +1,4 @@
-//! The exact projection of a point onto the lane network (`SDS-SPEC.md` §1.4): the nearest point
+//! The exact projection of a point onto the lane network (docs/SCORE.md §14.3): the nearest point
 //! of any driving lane's centre line, measured in 3-D with the road's elevation.
 //!
 //! A uniform grid holds short pieces of every lane's centre line (at most [`KNOT_STEP`] m of `s`),

@@ -1,7 +1,7 @@
 //! A road's reference line: its `planView` geometries (`line`, `arc`, `spiral`, `poly3`,
 //! `paramPoly3`) evaluated exactly in f64, in OpenDRIVE's frame.
 //!
-//! `poly3` and `paramPoly3` are evaluated by arc length (`SDS-SPEC.md` §1.4): the point at `s` is
+//! `poly3` and `paramPoly3` are evaluated by arc length (docs/SCORE.md §14.3): the point at `s` is
 //! the point of the curve whose arc length from the geometry's start is `s - s0`; `pRange` only
 //! sets the parameter's range. Clothoid positions and polynomial arc lengths are integrated with
 //! 8-point Gauss–Legendre over steps of at most [`KNOT`] m, exact to rounding.

@@ -1,4 +1,4 @@
-//! Label maps for the breakdown table (`SDS-SPEC.md` v1.2 §8.3): scenario type → family, or
+//! Label maps for the breakdown table (docs/SCORE.md §10.2): scenario type → family, or
 //! weather id → label; a key may have several labels (the route then counts in each group).
 //! A JSON object whose values are a label or a list of labels (`{"7": "ClearNoon",
 //! "Accident": ["obstacles", "static"]}`), CSV / TSV lines `key,label` (`#` starts a comment

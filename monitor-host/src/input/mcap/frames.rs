@@ -1,4 +1,4 @@
-//! The frame rule of vehicle logs (spec v1.5 §16): ticks at a fixed period from the first pose,
+//! The frame rule of vehicle logs (docs/SCORE.md §2.4): ticks at a fixed period from the first pose,
 //! each signal taking its latest message at or before the tick (zero-order hold), never across a
 //! gap (poses more than `mcap.max_hold` apart: the log is cut into segments there); forward and
 //! right from the yaw; the body-frame acceleration rotated into the world frame, so that §2's
@@ -134,7 +134,7 @@ pub struct Framed {
     pub gaps: Vec<(u64, u64)>,
 }
 
-/// The frames of a log (spec v1.5 §16): tick `k` at `t0 + k * dt_ns` for `t0` the first pose's
+/// The frames of a log (docs/SCORE.md §2.4): tick `k` at `t0 + k * dt_ns` for `t0` the first pose's
 /// time, step number `k`, each signal taking its latest message at or before the tick. Two
 /// consecutive poses more than `max_hold_ns` apart make a gap: no tick inside it, nothing held
 /// across it, the frames after it a new segment. A tick whose motion message is missing, older

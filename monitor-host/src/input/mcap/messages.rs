@@ -1,4 +1,4 @@
-//! The ROS 2 message types a vehicle log is read from (spec v1.4 §16): their names, the
+//! The ROS 2 message types a vehicle log is read from (docs/SCORE.md §2.4): their names, the
 //! definitions the reader was written for (checked against the ones embedded in the log's
 //! schemas), and their CDR decoding into the few values the frames need.
 

@@ -1,4 +1,4 @@
-//! Vehicle logs in MCAP with ROS 2 messages (spec v1.4 §16): one log (an `.mcap` file, or a
+//! Vehicle logs in MCAP with ROS 2 messages (docs/SCORE.md §2.4): one log (an `.mcap` file, or a
 //! rosbag2 folder of them) is one route's telemetry, named by its file stem.
 //!
 //! | what | module |
@@ -27,7 +27,7 @@ use self::frames::{MotionSample, PoseSample, Sample};
 use self::messages::RosType;
 use crate::input::telemetry::{Telemetry, TelemetryError};
 
-/// The topics a log's signals are read from (`--topic NAME=TOPIC`; spec v1.4 §16 defaults).
+/// The topics a log's signals are read from (`--topic NAME=TOPIC`; docs/SCORE.md §2.4 defaults).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Topics {
     /// Pose: `nav_msgs/msg/Odometry` or `geometry_msgs/msg/PoseStamped` (default `/odom`).
@@ -611,7 +611,7 @@ fn decode_file(
     }
 }
 
-/// A log read once through (spec v1.5 §16), everything checked, nothing of its poses and IMU
+/// A log read once through (docs/SCORE.md §2.4), everything checked, nothing of its poses and IMU
 /// samples kept: what [`LogScan::frames`] needs to frame it on a second pass, in bounded memory.
 #[derive(Debug)]
 pub struct LogScan {
@@ -898,7 +898,7 @@ pub fn scan_log(
 
 impl LogScan {
     /// Reads the log's poses and IMU a second time and makes its frames as they stream
-    /// (spec v1.5 §16, [`frames::Framer`]), each given to `each` with the events that fall on
+    /// (docs/SCORE.md §2.4, [`frames::Framer`]), each given to `each` with the events that fall on
     /// it: in bounded memory, whatever the log's length (messages out of order wait at most
     /// [`CLOCK_BACK_NS`], a frame one tick for the events after it).
     ///
@@ -1105,7 +1105,7 @@ impl LogScan {
 }
 
 /// Reads the log at `path` (an `.mcap` file or a rosbag2 folder) and makes its frames at the
-/// period `dt` (s), cut into segments at gaps longer than `max_hold` (s), as spec v1.5 §16
+/// period `dt` (s), cut into segments at gaps longer than `max_hold` (s), as docs/SCORE.md §2.4
 /// defines them: [`scan_log`] and [`LogScan::frames`], the frames kept. Scoring does not keep
 /// them (`crate::pipeline::drive`).
 ///

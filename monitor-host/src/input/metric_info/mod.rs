@@ -1,4 +1,4 @@
-//! Bench2Drive per-step telemetry (`metric_info.json`, `SDS-SPEC.md` v1.2 §1.2).
+//! Bench2Drive per-step telemetry (`metric_info.json`, docs/SCORE.md §2.2).
 //!
 //! `metric_info.json` is a JSON object whose keys are decimal step numbers and whose values hold
 //! the ego's `acceleration`, `angular_velocity`, `forward_vector`, `right_vector` and `location`
@@ -65,7 +65,7 @@ pub fn read_metric_info(path: &Path) -> Result<Telemetry, TelemetryError> {
     parse_metric_info(&bytes)
 }
 
-/// Parses the bytes of a `metric_info.json` file: validates every frame (`SDS-SPEC.md` §1.2),
+/// Parses the bytes of a `metric_info.json` file: validates every frame (docs/SCORE.md §2.2),
 /// sorts the frames by step (stable) and counts the gaps.
 ///
 /// Never panics, on any input. Keys other than the five required vectors (`rotation`,

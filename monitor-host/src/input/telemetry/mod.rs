@@ -1,4 +1,4 @@
-//! A route's telemetry, whatever file it was read from (`SDS-SPEC.md` v1.2 §1.2): the frames
+//! A route's telemetry, whatever file it was read from (docs/SCORE.md §2.2): the frames
 //! ([`TelemetryFrame`], [`Telemetry`]) and why a file is invalid ([`TelemetryError`]). The one
 //! place that picks the reader for a file is [`format`](mod@format) ([`format::read_telemetry`]).
 //! Bench2Drive's `metric_info.json` ([`crate::input::metric_info`]) is the one format today; a
@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 /// One telemetry frame, reduced to what the monitor and the host geometry need.
 ///
-/// World-frame 2-D parts only (index 0 and 1 of each vector, `SDS-SPEC.md` §2). Positions stay
+/// World-frame 2-D parts only (index 0 and 1 of each vector, docs/SCORE.md §3). Positions stay
 /// f64 (maps reach ~10 km); the per-frame signal inputs are rounded to f32 once, here.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TelemetryFrame {
@@ -20,7 +20,7 @@ pub struct TelemetryFrame {
     pub step: u64,
     /// `location` x, y in metres.
     pub location: [f64; 2],
-    /// `location` z in metres: chooses the lane under an overpass when a map is given (§1.4).
+    /// `location` z in metres: chooses the lane under an overpass when a map is given (docs/SCORE.md §14.3).
     pub z: f64,
     /// `acceleration` x, y in m/s².
     pub acc: [f32; 2],
@@ -102,11 +102,11 @@ impl TelemetryFrame {
 pub struct Telemetry {
     /// Frames in increasing step order (steps are unique).
     pub frames: Vec<TelemetryFrame>,
-    /// `last_step - first_step + 1 - frames.len()` (`SDS-SPEC.md` §1.2).
+    /// `last_step - first_step + 1 - frames.len()` (docs/SCORE.md §2.2).
     pub gaps: u64,
     /// The index of each segment's first frame, for a vehicle log cut at its gaps (spec v1.5
-    /// §16: each segment is monitored as a fresh start); empty for a telemetry file, whose
-    /// frames are one run chunked consecutively across missing steps (§1.2).
+    /// docs/SCORE.md §2.4: each segment is monitored as a fresh start); empty for a telemetry file, whose
+    /// frames are one run chunked consecutively across missing steps (docs/SCORE.md §2.2).
     pub segments: Vec<usize>,
 }
 
@@ -175,7 +175,7 @@ impl fmt::Display for FieldProblem {
 }
 
 /// Why a telemetry file is invalid. The `Display` text is the reason reported as
-/// `invalid: <reason>` (`SDS-SPEC.md` §1.2): it names the step and the field.
+/// `invalid: <reason>` (docs/SCORE.md §2.2): it names the step and the field.
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum TelemetryError {

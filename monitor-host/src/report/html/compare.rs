@@ -1,4 +1,4 @@
-//! The comparison as one HTML page (`sds compare --format html`, `SDS-SPEC.md` v1.4 §11): the
+//! The comparison as one HTML page (`sds compare --format html`, docs/SCORE.md §10.3): the
 //! tables at full width, the forest plot, the per-route values and deltas (sortable; each route
 //! links to its row in each run), then each run's own tables and route rows.
 

@@ -2,7 +2,7 @@
 //! route as pictures, the headline tables, a sortable and filterable
 //! route table, per route a drill-down (collision figures, comfort and lateral timelines,
 //! warnings) and the run's warnings; and [`compare_page`], the comparison of runs (spec v1.3
-//! §11: tables, forest plot, per-route deltas, each run).
+//! docs/SCORE.md §10.3: tables, forest plot, per-route deltas, each run).
 //!
 //! Self-contained: the style sheet and the one script are inlined, the figures are inline SVG,
 //! nothing is fetched (it opens from a mail attachment). The script only sorts, filters and

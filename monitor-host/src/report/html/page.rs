@@ -104,7 +104,7 @@ pub(super) fn grid(out: &mut String, g: &Grid) {
     }
 }
 
-/// The page of a live round of `sds watch` (spec §12): `page` (the report's page, as `sds score`
+/// The page of a live round of `sds watch` (docs/USAGE.md §8): `page` (the report's page, as `sds score`
 /// writes it) with a tag that reloads it every `refresh` seconds and, first in its body, a banner
 /// saying that it is live: the round and its time, routes done / N, DS over the routes done and
 /// DS of N, the estimate of the time left. The final page of the watch has neither.

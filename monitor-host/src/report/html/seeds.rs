@@ -1,4 +1,4 @@
-//! The seeds and the ranking on the comparison page (`SDS-SPEC.md` v1.4 §14): the models in the
+//! The seeds and the ranking on the comparison page (docs/SCORE.md §10.3): the models in the
 //! order given (the checkpoints of one training run read left to right) with each model's mean
 //! DS and SDS and its rank with the rank's 95 % interval, and per flaky route a strip of its
 //! outcomes across the model's seeds and repetitions (one square per sample: green success,

@@ -1,4 +1,4 @@
-//! The sweep on the comparison page (`sds compare --sweep`, v1.5 §18): each model's rank by SDS
+//! The sweep on the comparison page (`sds compare --sweep`, docs/SCORE.md §10.4): each model's rank by SDS
 //! at every point of the grid, one line per model (rank 1 at the top), so a reader sees at a
 //! glance whether the lines cross; each point's settings under the axis, each dot's SDS in its
 //! tooltip.

@@ -91,7 +91,7 @@ fn standing_chunks(stationary: &[(u32, u32)], chunks: u32, chunk_len: u16) -> Ve
 }
 
 /// The comfort timeline: a row of every failed chunk, one per bound, then the chunks the car
-/// mostly stood through (comfortable by construction: §8.5's moving comfort leaves out the
+/// mostly stood through (comfortable by construction: docs/SCORE.md §10.0's moving comfort leaves out the
 /// chunks it did not drive).
 pub(super) fn comfort(out: &mut String, log: &ChunkLog, chunk_len: u16, stationary: &[(u32, u32)]) {
     let n = log.comfort.len() as u32;

@@ -1,5 +1,5 @@
-//! Which Bench2Drive release's ability rule counts the Traffic_Signs routes (`SDS-SPEC.md`
-//! v1.3 §8.2, setting `ability_rule`).
+//! Which Bench2Drive release's ability rule counts the Traffic_Signs routes (docs/SCORE.md
+//! §10.1, setting `ability_rule`).
 //!
 //! - `b2d-0.0.4` (default): a Traffic_Signs route counts once; a failed one without red-light
 //!   and stop infractions is a success when `score_route / 100 > junction_completion`.

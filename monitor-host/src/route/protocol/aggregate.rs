@@ -1,4 +1,4 @@
-//! The protocols' aggregates over a set of routes (`SDS-SPEC.md` v1.3 §8.4): per protocol,
+//! The protocols' aggregates over a set of routes (docs/PROTOCOLS.md): per protocol,
 //! `driving_score` = Σ score / N, `route_completion` = Σ RC / N, `infraction_score` = Σ penalty
 //! over the routes with a valid record / N under `lb2.0` and `lb2.1` (v1.4: as the
 //! Leaderboard's global statistics compute it, so a route without a record weighs as 0) and the

@@ -1,4 +1,4 @@
-//! The min-speed entries that count as events (`SDS-SPEC.md` v1.4 §8.4, "The min-speed grid"):
+//! The min-speed entries that count as events (docs/PROTOCOLS.md, "The min-speed grid"):
 //! the percentages `P` of `Average speed is P% of the surrounding traffic's one`, read on the
 //! checkpoint grid the record was logged on.
 //!

@@ -1,4 +1,4 @@
-//! Scoring protocols (`SDS-SPEC.md` v1.3 §8.4): the *recorded* events of every route rescored
+//! Scoring protocols (docs/PROTOCOLS.md): the *recorded* events of every route rescored
 //! under the arithmetic of other evaluators — Bench2Drive (`b2d`), CARLA Leaderboard 2.0
 //! (`lb2.0`) and 2.1 (`lb2.1`), LEAD's length-normalised DS (`lead-nds`) and Fail2Drive's
 //! success rule (`f2d`). Nothing is re-run: a rescored route holds the same events, counted
@@ -7,7 +7,7 @@
 //!
 //! One concept per file: the fixed per-event [`terms`], the [`min_speed`] entries that count,
 //! the [`outside_lanes`] factor recovered from the recorded penalty, the per-route [`route`]
-//! score, the [`aggregate`]s over routes, and the Bench2Drive [`ability_rule`] versions (§8.2).
+//! score, the [`aggregate`]s over routes, and the Bench2Drive [`ability_rule`] versions (docs/SCORE.md §10.1).
 //!
 //! ```
 //! use monitor_host::route::protocol::{parse_protocols, Protocol};

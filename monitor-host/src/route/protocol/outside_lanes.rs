@@ -1,8 +1,8 @@
-//! The outside-lanes factor `f_out` of a route (`SDS-SPEC.md` v1.3 §8.4), recovered exactly.
+//! The outside-lanes factor `f_out` of a route (docs/PROTOCOLS.md), recovered exactly.
 //!
 //! The message `... (<Q>% of the completed route)` rounds the percentage; the recorded
 //! `score_penalty` holds the unrounded factor. So when the route's Bench2Drive penalty
-//! re-check agrees (§8), `f_out = score_penalty / prod(fixed factors)`, clamped to [0, 1];
+//! re-check agrees (docs/SCORE.md §9), `f_out = score_penalty / prod(fixed factors)`, clamped to [0, 1];
 //! otherwise `f_out = 1 - Q/100` from the first entry's message, with a warning.
 //!
 //! ```
@@ -55,7 +55,7 @@ pub struct OutsideLanes {
     pub warning: Option<String>,
 }
 
-/// The product of the fixed factors of a record's lists (§8, Bench2Drive's).
+/// The product of the fixed factors of a record's lists (docs/SCORE.md §9, Bench2Drive's).
 pub fn fixed_factor_product(record: &Record) -> f64 {
     let mut p = 1.0f64;
     for t in FIXED_TERMS {
@@ -66,7 +66,7 @@ pub fn fixed_factor_product(record: &Record) -> f64 {
     p
 }
 
-/// The outside-lanes factor of `record` (§8.4).
+/// The outside-lanes factor of `record` (docs/PROTOCOLS.md).
 pub fn outside_lanes_factor(record: &Record) -> OutsideLanes {
     let entries = record.infractions.list(OUTSIDE_LIST);
     let Some(first) = entries.first() else {

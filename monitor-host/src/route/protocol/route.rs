@@ -1,4 +1,4 @@
-//! One route under every asked protocol (`SDS-SPEC.md` v1.3 §8.4): its penalty, its score
+//! One route under every asked protocol (docs/PROTOCOLS.md): its penalty, its score
 //! `RC × penalty` and its success, from the record alone.
 //!
 //! ```
@@ -38,7 +38,7 @@ pub struct RouteScore {
     pub score: f64,
     /// A success under the protocol's rule.
     pub success: bool,
-    /// The min-speed events the protocol charged (§8.4 v1.4): Leaderboard checkpoints below
+    /// The min-speed events the protocol charged (docs/PROTOCOLS.md v1.4): Leaderboard checkpoints below
     /// 100 % under `lb2.0`, `lb2.1` and `lead-nds`; 0 under `b2d` and `f2d`, which charge none.
     pub min_speed_events: usize,
 }

@@ -1,4 +1,4 @@
-//! The fixed per-event terms of the protocols (`SDS-SPEC.md` v1.3 §8.4): per infraction list,
+//! The fixed per-event terms of the protocols (docs/PROTOCOLS.md): per infraction list,
 //! the Leaderboard 2.0 / Bench2Drive factor `v` and the Leaderboard 2.1 cost `c`, and the
 //! min-speed weights. One table, so that no protocol can drift from another.
 //!

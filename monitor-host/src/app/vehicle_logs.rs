@@ -19,6 +19,7 @@ use crate::input::route_xml::RouteRef;
 use crate::input::warning::Warning;
 use crate::model::frames::RouteFrames;
 use crate::model::report::{assemble, Report, RunFacts};
+use crate::model::vehicle_log::{without_leaderboard, NO_LEADERBOARD};
 use crate::pipeline::align::AlignedBy;
 use crate::pipeline::drive::replay_drive;
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
@@ -32,11 +33,6 @@ use crate::settings::{decimal, Settings};
 /// The collision list a log's events go to **\[decision\]**: the event topic says "something
 /// happened here" (a collision or an emergency), and §5's check only needs its time.
 pub const EVENT_LIST: &str = "collisions_vehicle";
-
-/// What the report says once about every vehicle-log run.
-pub const NO_LEADERBOARD: &str = "vehicle logs have no Leaderboard record: the report holds no \
-    driving score, success rate, DS_safe, SDS or protocols (docs/SCORE.md §2.4); comfort, lateral \
-    excess, braking before events, distance and stationary share are scored as usual";
 
 /// One log as a route: its record (named by the log, its events in [`EVENT_LIST`]), the
 /// events' steps, and the path as the route's reference.
@@ -301,42 +297,6 @@ pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Res
     files.dedup();
     report.files_read = files;
     Ok(report)
-}
-
-/// Drops every figure that needs a Leaderboard record (its placeholders stood in for one); the
-/// merge of vehicle-log parts too.
-pub(crate) fn without_leaderboard(report: &mut Report) {
-    for r in &mut report.routes {
-        r.status = None;
-        r.success = false;
-        r.score_route = None;
-        r.score_penalty = None;
-        r.score_composed = None;
-        r.p_safe = None;
-        r.ds_safe = None;
-        r.decomposition = None;
-        r.protocols = None;
-        r.penalty_check = None;
-        r.min_speed_grid = None;
-        r.efficiency = None;
-        r.ability = None;
-    }
-    let s = &mut report.summary;
-    s.scores.driving_score = None;
-    s.scores.success_rate = None;
-    s.scores.mean_ds_safe = None;
-    s.scores.sds = None;
-    s.scores.decomposition = None;
-    s.protocols = None;
-    s.penalty_mismatches.clear();
-    // A log's record is made, never invalid (a merge reads the rows' empty status as invalid).
-    s.invalid_records = 0;
-    if let Some(b) = &mut s.bench2drive {
-        b.driving_score = None;
-        b.success_rate = None;
-        b.efficiency = None;
-        b.ability = None;
-    }
 }
 
 /// The frames of one log as [`score_logs`] streams them (`sds frames --mcap`).

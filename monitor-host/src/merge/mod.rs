@@ -349,7 +349,7 @@ pub(crate) fn first_difference(
 fn vehicle_logs(part: &Part) -> bool {
     part.warnings
         .iter()
-        .any(|w| w.ends_with(crate::app::vehicle_logs::NO_LEADERBOARD))
+        .any(|w| w.ends_with(crate::model::vehicle_log::NO_LEADERBOARD))
 }
 
 /// Merges the reports in `files` (docs/SCORE.md §13.2): reads each ([`read_part`]) and merges them
@@ -549,7 +549,7 @@ fn merge_checked(
     let mut report = assemble_rows(rows, &settings, facts);
     if logs {
         // As `sds score --mcap`: the rows hold no Leaderboard figure, nor does the summary.
-        crate::app::vehicle_logs::without_leaderboard(&mut report);
+        crate::model::vehicle_log::without_leaderboard(&mut report);
     }
     report.route_subset = first.subset.clone();
     report.inputs.parts = Some(parts.iter().map(|p| p.inputs.clone()).collect());

@@ -11,5 +11,6 @@ pub mod read;
 pub mod report;
 pub mod shard_stall;
 pub mod status;
+pub mod vehicle_log;
 
 pub use report::Report;

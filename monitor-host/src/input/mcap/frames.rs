@@ -6,6 +6,10 @@
 
 use crate::input::telemetry::{Telemetry, TelemetryError, TelemetryFrame};
 
+/// A pose gap longer than this is said as a message far from the rest (a clock that was not
+/// set, a stray stamp) **\[decision\]**: its ticks still count as gaps.
+pub const FAR_NS: u64 = 3_600_000_000_000;
+
 /// One pose, decoded, at its log time (ns).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PoseSample {
@@ -231,7 +235,7 @@ pub struct FramerDone {
     pub pose_gaps: Vec<(u64, u64)>,
     /// Gaps between pose messages longer than the hold.
     pub pose_gap_count: u64,
-    /// The gaps longer than [`super::FAR_NS`], whatever their number (a note each).
+    /// The gaps longer than [`FAR_NS`], whatever their number (a note each).
     pub far_gaps: Vec<(u64, u64)>,
 }
 
@@ -300,7 +304,7 @@ impl Framer {
                         if self.done.pose_gaps.len() < Self::KEEP_GAPS {
                             self.done.pose_gaps.push((l.t, p.t));
                         }
-                        if p.t - l.t > super::FAR_NS {
+                        if p.t - l.t > FAR_NS {
                             self.done.far_gaps.push((l.t, p.t));
                         }
                         self.done.pose_gap_count += 1;

@@ -481,9 +481,7 @@ impl Order {
     }
 }
 
-/// A pose gap longer than this is said as a message far from the rest (a clock that was not
-/// set, a stray stamp) **\[decision\]**: its ticks still count as gaps.
-pub const FAR_NS: u64 = 3_600_000_000_000;
+pub use self::frames::FAR_NS;
 
 /// A message of one of the signals, decoded.
 enum Decoded {

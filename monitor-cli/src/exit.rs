@@ -46,6 +46,9 @@ pub fn of(e: &anyhow::Error) -> i32 {
     if let Some(e) = e.downcast_ref::<monitor_host::RequestError>() {
         return code(e.kind());
     }
+    if let Some(e) = e.downcast_ref::<monitor_host::app::rerun::RerunError>() {
+        return code(e.kind());
+    }
     if e.downcast_ref::<super::output::OutputClash>().is_some()
         || e.downcast_ref::<super::output::BadOutputPath>().is_some()
     {

@@ -488,42 +488,22 @@ impl<'a> RerunArgs<'a> {
         Ok(())
     }
 
-    /// The files' bytes, with the warnings to print: ids the list refuses, routes the route XML
-    /// lacks.
+    /// The files' bytes, with the warnings to print (assembled by the library:
+    /// `app::rerun::rerun_files`).
     fn files(&self, report: &monitor_host::Report) -> Result<RerunFiles> {
-        use monitor_host::report::rerun_list::{rerun_xml, RerunList};
-        let list = RerunList::of(report, self.timeouts);
+        // The route XML is read only when its restriction is asked for.
+        let xml = self.xml.and(self.routes);
+        let made = monitor_host::app::rerun::rerun_files(report, self.timeouts, xml)?;
         let mut out = RerunFiles {
-            routes: list.routes.len(),
+            routes: made.list.routes.len(),
+            warnings: made.warnings,
             ..RerunFiles::default()
         };
-        out.warnings.extend(list.refused_warning());
         if let Some(p) = self.list {
-            out.files.push((p.to_path_buf(), list.text().into_bytes()));
+            out.files
+                .push((p.to_path_buf(), made.list.text().into_bytes()));
         }
-        if let (Some(p), Some(xml)) = (self.xml, self.routes) {
-            let bytes = monitor_host::input::read::read_input(
-                xml,
-                monitor_host::input::read::FileKind::RouteXml,
-            )
-            .map_err(|e| anyhow::anyhow!("{}: cannot read: {e}", xml.display()))?;
-            // Every route to run again: an id refused by the list is still the XML's own bytes.
-            let ids: Vec<String> = list
-                .routes
-                .iter()
-                .map(|(id, _)| id.clone())
-                .chain(list.refused.iter().map(|(id, _)| id.clone()))
-                .collect();
-            let (text, absent) =
-                rerun_xml(&bytes, &ids).map_err(|e| anyhow::anyhow!("{}: {e}", xml.display()))?;
-            if !absent.is_empty() {
-                out.warnings.push(format!(
-                    "--rerun-xml: {} route(s) to run again are in no <route> of {}: {}",
-                    absent.len(),
-                    xml.display(),
-                    monitor_host::warning::id_list(&absent)
-                ));
-            }
+        if let (Some(p), Some(text)) = (self.xml, made.xml) {
             out.files.push((p.to_path_buf(), text));
         }
         Ok(out)

@@ -125,6 +125,17 @@ impl Bounds {
             Profile::Physical | Profile::B2dLegacy => Bounds::DEFAULT,
         }
     }
+
+    /// Field-by-field equality usable in `const fn` (`PartialEq` is not).
+    const fn same(&self, other: &Bounds) -> bool {
+        self.lon_acc_min == other.lon_acc_min
+            && self.lon_acc_max == other.lon_acc_max
+            && self.lat_acc == other.lat_acc
+            && self.mag_jerk == other.mag_jerk
+            && self.lon_jerk == other.lon_jerk
+            && self.yaw_acc == other.yaw_acc
+            && self.yaw_rate == other.yaw_rate
+    }
 }
 
 /// Penalty factors of DS_safe (docs/SCORE.md §8 and 8). Scores are f64: they combine with the
@@ -263,6 +274,12 @@ impl Config {
             }
             i += 1;
         }
+        // `Config { profile: Autoware, ..Config::DEFAULT }` would judge Autoware's profile
+        // against the physical bounds: 20/20 comfortable where Autoware's own bounds say 0/20
+        // (docs/SCORE.md §2.4). Bounds of the caller's own choosing are the caller's.
+        if matches!(c.profile, Profile::Autoware) && b.same(&Bounds::DEFAULT) {
+            return Err(ConfigError::ProfileBounds);
+        }
         if !(c.slack.is_finite() && c.slack >= 0.0) {
             return Err(ConfigError::Slack);
         }
@@ -303,3 +320,40 @@ impl Default for Config {
 
 // The defaults must always be a valid configuration for the default capacity.
 const _: () = assert!(Config::DEFAULT.validate(crate::DEFAULT_CAPACITY).is_ok());
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Autoware's profile with the physical profile's default bounds is refused by every front
+    /// end alike (it judged a ±1.8 m/s² drive comfortable); its own bounds, or any bounds the
+    /// caller chose, pass.
+    #[test]
+    fn autoware_with_the_physical_default_bounds_is_refused() {
+        let trap = Config {
+            profile: Profile::Autoware,
+            ..Config::DEFAULT
+        };
+        assert_eq!(trap.validate(20), Err(ConfigError::ProfileBounds));
+        let own = Config {
+            bounds: Bounds::of(Profile::Autoware),
+            ..trap
+        };
+        assert_eq!(own.validate(20), Ok(()));
+        let chosen = Config {
+            bounds: Bounds {
+                lat_acc: 2.0,
+                ..Bounds::DEFAULT
+            },
+            ..trap
+        };
+        assert_eq!(chosen.validate(20), Ok(()));
+        for profile in [Profile::Physical, Profile::B2dLegacy] {
+            let c = Config {
+                profile,
+                ..Config::DEFAULT
+            };
+            assert_eq!(c.validate(20), Ok(()), "{profile:?}");
+        }
+    }
+}

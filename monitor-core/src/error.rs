@@ -115,6 +115,10 @@ pub enum ConfigError {
     StationarySpeed,
     /// Factors must lie in `0 ..= 1` and the layout factor must be positive.
     Factor,
+    /// [`crate::Profile::Autoware`] with [`crate::Bounds::DEFAULT`] (the physical profile's
+    /// bounds): it would judge Autoware's profile against them. Use
+    /// `Bounds::of(Profile::Autoware)` or choose the bounds.
+    ProfileBounds,
 }
 }
 
@@ -202,6 +206,10 @@ impl core::fmt::Display for ConfigError {
             ConfigError::DecelThreshold => "decel_threshold must be finite",
             ConfigError::StationarySpeed => "stationary_speed must be finite and not negative",
             ConfigError::Factor => "factors must lie in 0..=1 and layout must be positive",
+            ConfigError::ProfileBounds => {
+                "profile autoware with the physical profile's default bounds: use autoware's own \
+                 bounds (Bounds::of(Profile::Autoware)) or set the bounds"
+            }
         };
         f.write_str(s)
     }

@@ -110,6 +110,17 @@ impl crate::app::request::RequestError {
     }
 }
 
+impl crate::app::rerun::RerunError {
+    /// [`ErrorKind::Io`] for a route XML that cannot be read, [`ErrorKind::Input`] for
+    /// malformed XML.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            crate::app::rerun::RerunError::Read { .. } => ErrorKind::Io,
+            crate::app::rerun::RerunError::Xml { .. } => ErrorKind::Input,
+        }
+    }
+}
+
 impl crate::app::request::ScoreError {
     /// The refusal's or the run's kind; a table that cannot be built [`ErrorKind::Internal`].
     pub fn kind(&self) -> ErrorKind {

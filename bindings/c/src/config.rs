@@ -183,13 +183,9 @@ impl sds_config {
             stationary_speed: self.stationary_speed,
             factors: self.factors.into(),
         };
+        // The core refuses Autoware's profile with the physical default bounds
+        // (`SDS_RESULT_CONFIG_PROFILE_BOUNDS`), as every front end does.
         config.validate(SDS_CAPACITY)?;
-        // `c = sds_config_default(); c.profile = SDS_PROFILE_AUTOWARE;` would judge Autoware's
-        // profile against the physical bounds: 20/20 comfortable where `sds --profile
-        // autoware` says 0/20 (issue 47 item 11). Refused; sds_config_profile gives its bounds.
-        if profile == Profile::Autoware && config.bounds == Bounds::DEFAULT {
-            return Err(sds_result::ConfigProfileBounds);
-        }
         Ok(config)
     }
 }

@@ -117,6 +117,7 @@ impl From<ConfigError> for sds_result {
             ConfigError::StationarySpeed => sds_result::ConfigStationarySpeed,
             ConfigError::Factor => sds_result::ConfigFactor,
             ConfigError::Capacity => sds_result::ConfigCapacity,
+            ConfigError::ProfileBounds => sds_result::ConfigProfileBounds,
             _ => sds_result::Unknown,
         }
     }
@@ -329,6 +330,10 @@ mod tests {
         assert_eq!(
             sds_result::from(ConfigError::Capacity),
             sds_result::ConfigCapacity
+        );
+        assert_eq!(
+            sds_result::from(ConfigError::ProfileBounds),
+            sds_result::ConfigProfileBounds
         );
     }
 }

@@ -60,10 +60,8 @@ fn sweep_axes(sweep: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<SweepAxis>> {
                 Err(_) => v.str()?.to_string(),
             });
         }
-        out.push(SweepAxis {
-            name,
-            values: texts,
-        });
+        // `--sweep`'s own check: an empty name or value is refused here as there.
+        out.push(SweepAxis::new(&name, &texts).map_err(|e| ConfigError::new_err(message(&e)))?);
     }
     Ok(out)
 }

@@ -250,3 +250,7 @@ def test_sweep_is_the_cli_report(sds_bin: Path, tmp_path: Path) -> None:
         )
     with pytest.raises(sds.ConfigError, match="expected a list of values"):
         sds.compare({"a": (res, tel), "b": (res, tel)}, sweep={"slack": "0.5"})
+    # Issue 48 item 1: each axis is checked by `--sweep`'s own parser.
+    for bad in ({"slack": []}, {"slack": [" "]}, {"": [0.5]}, {"slack": ["0.5,0.9"]}):
+        with pytest.raises(sds.ConfigError, match="expected NAME=V1,V2"):
+            sds.compare({"a": (res, tel), "b": (res, tel)}, sweep=bad)

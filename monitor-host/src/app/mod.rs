@@ -9,6 +9,7 @@ pub mod frames;
 pub mod link;
 pub mod merged;
 pub mod request;
+pub mod rerun;
 pub mod run;
 pub mod scored;
 pub mod scored_by;

@@ -53,6 +53,32 @@ impl SweepAxis {
             values,
         })
     }
+
+    /// One axis from a setting's name and its values, each written as `--sweep` writes it
+    /// (front ends that take a mapping, as Python's `sds.compare(sweep=...)`), checked by
+    /// [`SweepAxis::parse`] itself so that every front end refuses what `--sweep` refuses.
+    ///
+    /// ```
+    /// use monitor_host::stats::sweep::SweepAxis;
+    /// assert_eq!(SweepAxis::new("slack", &["0.5", "0.9"])?, SweepAxis::parse("slack=0.5,0.9")?);
+    /// assert!(SweepAxis::new("slack", &[" "]).is_err());
+    /// # Ok::<(), Box<dyn std::error::Error>>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`SweepError::Syntax`] for an empty name or value, no values, or what `NAME=V1,V2,...`
+    /// cannot say (a name holding `=`, a value holding `,`).
+    pub fn new<S: AsRef<str>>(name: &str, values: &[S]) -> Result<SweepAxis, SweepError> {
+        let values: Vec<&str> = values.iter().map(AsRef::as_ref).collect();
+        let text = format!("{name}={}", values.join(","));
+        let axis = SweepAxis::parse(&text)?;
+        // Read back as the command line reads it: a `=` in the name or a `,` in a value would
+        // make other settings or more values than were given.
+        if axis.name != name.trim() || axis.values.len() != values.len() {
+            return Err(SweepError::Syntax(text));
+        }
+        Ok(axis)
+    }
 }
 
 /// Why a sweep was refused (before any run is scored).
@@ -341,6 +367,33 @@ pub fn values_at(settings: &[String], point: &Settings) -> Vec<(String, Value)> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 48 item 1: an axis given as name and values (Python's `sweep={...}`) is checked
+    /// by `--sweep`'s own parser: what the flag refuses is refused, what it takes is equal.
+    #[test]
+    fn i48_1_axis_from_values_is_checked_as_the_flag_is() {
+        assert_eq!(
+            SweepAxis::new(" slack ", &["0.5", " 0.9"]),
+            SweepAxis::parse("slack=0.5,0.9")
+        );
+        let none: [&str; 0] = [];
+        for (name, values) in [
+            ("", &["0.5"][..]),
+            (" ", &["0.5"][..]),
+            ("slack", &[""][..]),
+            ("slack", &["0.5", " "][..]),
+            ("slack", &none[..]),
+            ("slack", &["0.5,0.9"][..]),
+            ("slack=0.5", &["0.9"][..]),
+        ] {
+            let e = SweepAxis::new(name, values).unwrap_err();
+            assert!(
+                matches!(e, SweepError::Syntax(_)),
+                "{name:?} {values:?}: {e}"
+            );
+            assert!(e.to_string().contains("expected NAME=V1,V2"), "{e}");
+        }
+    }
 
     fn axis(name: &str, n: usize) -> SweepAxis {
         SweepAxis {

@@ -18,7 +18,7 @@
 use monitor_core::link::{
     self, e2e, CheckStatus, Checker, Deframer, LinkConfig, LinkEvent, LinkSummary, Message, Tagged,
 };
-use monitor_core::{Collisions, Config, Event, Frame, Monitor, Profile};
+use monitor_core::{Bounds, Collisions, Config, Event, Frame, Monitor, Profile};
 use proptest::collection::vec;
 use proptest::prelude::*;
 use proptest::test_runner::Config as ProptestConfig;
@@ -95,6 +95,8 @@ fn config() -> impl Strategy<Value = Config> {
         Config {
             profile,
             chunk_len,
+            // Each profile's own bounds (Autoware's with the physical ones is refused).
+            bounds: Bounds::of(profile),
             ..Config::DEFAULT
         }
     })

@@ -18,34 +18,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "check.h"
 #include "frames_jsonl.h"
 #include "sds_monitor.h"
-
-static unsigned passed;
-static unsigned failed;
-
-#define CHECK(cond)                                                      \
-  do {                                                                   \
-    if (cond) {                                                          \
-      passed++;                                                          \
-    } else {                                                             \
-      failed++;                                                          \
-      fprintf(stderr, "%s:%d: FAILED: %s\n", __FILE__, __LINE__, #cond); \
-    }                                                                    \
-  } while (0)
-
-#define CHECK_RESULT(call, want)                                                          \
-  do {                                                                                    \
-    sds_result got_ = (call);                                                             \
-    if (got_ == (want)) {                                                                 \
-      passed++;                                                                           \
-    } else {                                                                              \
-      failed++;                                                                           \
-      fprintf(stderr, "%s:%d: FAILED: %s returned %u (%s), expected %u (%s)\n", __FILE__, \
-              __LINE__, #call, (unsigned)got_, sds_result_str(got_), (unsigned)(want),    \
-              sds_result_str(want));                                                      \
-    }                                                                                     \
-  } while (0)
 
 /* The bytes on each side of the link. */
 typedef struct {

@@ -1,10 +1,11 @@
 //! Helpers shared by the end-to-end tests that run the `sds` binary: running it, the demo run,
 //! the real fixtures (skipped with the reason said when absent), reading its outputs.
 
+use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use serde_json::Value;
+use serde_json::{json, Value};
 
 /// Runs the `sds` binary built for these tests.
 pub fn sds(args: &[&str]) -> Output {
@@ -164,4 +165,49 @@ pub fn no_infractions() -> serde_json::Map<String, Value> {
         .iter()
         .map(|l| (l.to_string(), serde_json::json!([])))
         .collect()
+}
+
+/// The demo run in a temporary folder, and its records (raw evaluator values).
+pub struct Run {
+    pub tmp: tempfile::TempDir,
+    pub records: Vec<Value>,
+}
+
+impl Run {
+    pub fn new() -> Run {
+        let tmp = tempfile::tempdir().unwrap();
+        demo(tmp.path());
+        let doc: Value =
+            serde_json::from_slice(&fs::read(tmp.path().join("results.json")).unwrap()).unwrap();
+        let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
+        Run { tmp, records }
+    }
+
+    pub fn path(&self, p: &str) -> PathBuf {
+        self.tmp.path().join(p)
+    }
+
+    pub fn s(&self, p: &str) -> String {
+        self.path(p).to_str().unwrap().to_string()
+    }
+
+    /// Writes `records` as a raw evaluator file `name` in the run's folder.
+    pub fn write(&self, name: &str, records: &[Value]) -> String {
+        let doc = json!({
+            "_checkpoint": {"global_record": {}, "progress": [records.len(), records.len()],
+                            "records": records},
+            "entry_status": "Finished", "eligible": true, "sensors": [], "values": [], "labels": []
+        });
+        let p = self.path(name);
+        fs::write(&p, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+        p.to_str().unwrap().to_string()
+    }
+
+    /// `sds score --results results --telemetry <demo's>` and `extra`.
+    pub fn score(&self, results: &str, extra: &[&str]) -> Output {
+        let telemetry = self.s("telemetry");
+        let mut args = vec!["score", "--results", results, "--telemetry", &telemetry];
+        args.extend_from_slice(extra);
+        sds(&args)
+    }
 }

@@ -1,57 +1,11 @@
 //! Hostile and careless input: markup in names, planted links, huge counts, interrupted writes.
 
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::process::Output;
+use std::path::Path;
 
 use serde_json::{json, Value};
 
-use crate::common::{self, code, sds, stderr};
-
-/// The demo run in a temporary folder, and its records (raw evaluator values).
-struct Run {
-    tmp: tempfile::TempDir,
-    records: Vec<Value>,
-}
-
-impl Run {
-    fn new() -> Run {
-        let tmp = tempfile::tempdir().unwrap();
-        common::demo(tmp.path());
-        let doc: Value =
-            serde_json::from_slice(&fs::read(tmp.path().join("results.json")).unwrap()).unwrap();
-        let records = doc["_checkpoint"]["records"].as_array().unwrap().clone();
-        Run { tmp, records }
-    }
-
-    fn path(&self, p: &str) -> PathBuf {
-        self.tmp.path().join(p)
-    }
-
-    fn s(&self, p: &str) -> String {
-        self.path(p).to_str().unwrap().to_string()
-    }
-
-    /// Writes `records` as a raw evaluator file `name` in the run's folder.
-    fn write(&self, name: &str, records: &[Value]) -> String {
-        let doc = json!({
-            "_checkpoint": {"global_record": {}, "progress": [records.len(), records.len()],
-                            "records": records},
-            "entry_status": "Finished", "eligible": true, "sensors": [], "values": [], "labels": []
-        });
-        let p = self.path(name);
-        fs::write(&p, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-        p.to_str().unwrap().to_string()
-    }
-
-    /// `sds score --results results --telemetry <demo's>` and `extra`.
-    fn score(&self, results: &str, extra: &[&str]) -> Output {
-        let telemetry = self.s("telemetry");
-        let mut args = vec!["score", "--results", results, "--telemetry", &telemetry];
-        args.extend_from_slice(extra);
-        sds(&args)
-    }
-}
+use crate::common::{code, sds, stderr, Run};
 
 /// Markup a name may carry: HTML, a link, an image, bare URLs, emphasis, code, an entity.
 const MARKUP: [&str; 6] = [

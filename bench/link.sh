@@ -32,7 +32,7 @@ trip=$(for _ in $(seq "$REPEAT"); do
     wall "$SDS" link --results "$RUN/results.json" --telemetry "$RUN/telemetry" \
         --routes "$RUN/routes.xml" --to "exec:$SDS checker" --tap "$OUT/tap" -o "$OUT/link.json"
 done | best)
-frames=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print(sum(sum(x["link"]["statuses"].values()) for x in r["routes"]))' "$OUT/link.json")
+frames=$(python3 -c 'import json,sys; r=json.load(open(sys.argv[1])); print(sum(v for x in r["routes"] for k, v in x["link"]["statuses"].items() if k != "NONEWDATA"))' "$OUT/link.json")
 equal=$(python3 -c 'import json,sys; s=json.load(open(sys.argv[1]))["summary"]; print(s["equal_routes"], s["routes"], sep="/")' "$OUT/link.json")
 bytes=$(stat -c %s "$OUT/tap/sent.bin")
 alone=$(for _ in $(seq "$REPEAT"); do

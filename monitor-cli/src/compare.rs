@@ -145,7 +145,8 @@ pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
         for w in &warnings {
             if let CompareWarning::Run { run, warning } = w {
                 if *run == r.name {
-                    say!("sds: warning: {run}: {}", super::spelling::warning(warning));
+                    let class = if warning.is_note() { "note" } else { "warning" };
+                    say!("sds: {class}: {run}: {}", super::spelling::warning(warning));
                 }
             }
         }

@@ -267,13 +267,6 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     request(args)?.score(progress).map_err(failed)
 }
 
-/// The vehicle-log topics of `--topic NAME=TOPIC` options (docs/SCORE.md §2.4): a signal named
-/// twice, or one topic for two signals, is refused (exit 2).
-fn log_topics(specs: &[String]) -> Result<monitor_host::input::mcap::Topics> {
-    use monitor_host::input::mcap::{McapError, Topics};
-    Topics::parse(specs).map_err(|m| monitor_host::Error::from(McapError::Options(m)).into())
-}
-
 fn style(format: Format) -> Option<Style> {
     match format {
         Format::Table => Some(Style::Text),

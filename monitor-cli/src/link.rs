@@ -97,7 +97,7 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
             maps: args.run.maps.clone(),
         },
         mcap: args.mcap.clone(),
-        topics: crate::log_topics(&args.topics)?,
+        topics: args.topics.clone(),
         settings,
         target,
         pace: match args.pace {
@@ -110,6 +110,7 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
     let report = request.run().map_err(|e| match e {
         LinkError::Settings(e) => anyhow::Error::new(e),
         LinkError::Run(e) => anyhow::Error::new(e),
+        LinkError::Request(e) => anyhow::Error::new(e),
         other => anyhow::Error::new(other),
     })?;
     let text = serde_json::to_string_pretty(&report)? + "\n";
@@ -124,14 +125,7 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
 
 /// `sds checker`: the checker on standard input and output, until the input ends.
 pub fn checker(args: &CheckerArgs) -> Result<i32> {
-    let pairs = args
-        .set
-        .iter()
-        .map(|s| match s.split_once('=') {
-            Some((n, v)) => (n.to_string(), v.to_string()),
-            None => (s.clone(), String::new()),
-        })
-        .collect::<Vec<_>>();
+    let pairs = crate::args::overrides(&args.set)?;
     let (link, rest) = link_config(&pairs)?;
     if let Some((n, v)) = rest.first() {
         anyhow::bail!(SettingsError::Value {

@@ -52,7 +52,7 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
     }
     .merge()?;
     for w in &report.warnings {
-        say!("sds: warning: {w}");
+        say!("sds: {}", super::spelling::line(w));
     }
     let options = TableOptions::default();
     let name = args

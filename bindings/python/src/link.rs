@@ -5,12 +5,11 @@ use std::path::PathBuf;
 
 use monitor_host::app::link::{LinkError, LinkRequest};
 use monitor_host::app::request::RunSettings;
-use monitor_host::input::mcap::Topics;
 use monitor_host::live_link::{Inject, Pace, Target};
 use monitor_host::Inputs;
 use pyo3::prelude::*;
 
-use crate::errors::{run_error, settings_error, ConfigError, IoError};
+use crate::errors::{request_error, run_error, settings_error, ConfigError, IoError};
 use crate::pyser::to_python;
 
 /// Plays a run to a checker (see the Python `sds.link`); returns the report as Python objects.
@@ -54,7 +53,7 @@ pub fn link<'py>(
             ..Inputs::new(results)
         },
         mcap: Vec::new(),
-        topics: Topics::default(),
+        topics: Vec::new(),
         settings: RunSettings {
             overrides,
             ..RunSettings::default()
@@ -67,6 +66,7 @@ pub fn link<'py>(
     let report = py.detach(|| request.run()).map_err(|e| match e {
         LinkError::Settings(e) => settings_error(&e),
         LinkError::Run(e) => run_error(&e),
+        LinkError::Request(e) => request_error(&e),
         other => IoError::new_err(monitor_host::error::message(&other)),
     })?;
     to_python(py, &report)

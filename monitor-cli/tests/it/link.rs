@@ -193,6 +193,14 @@ fn i49_2_bad_target_and_faults_are_usage_errors() {
     let out = sds(&["checker", "--set", "link.window=99"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("link.window"));
+    // A vehicle log's topic without a log: refused by the library's request, as `sds score` is.
+    let (_, code, stderr) = link(dir.path(), &["--topic", "path=/path"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("no log is given"), "{stderr}");
+    // `--set` without `=`: the settings' own syntax error.
+    let out = sds(&["checker", "--set", "link.window"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("link.window"));
 }
 
 /// Issue 49 item 5: a real route through the link. The fixtures hold no telemetry of a whole

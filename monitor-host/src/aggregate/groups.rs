@@ -121,17 +121,7 @@ pub struct GroupRow {
     pub aggregates: Aggregates,
 }
 
-name_field!(
-    by_name,
-    [
-        GroupBy::Scenario,
-        GroupBy::Family,
-        GroupBy::Town,
-        GroupBy::Weather,
-        GroupBy::Route
-    ]
-    .map(GroupBy::name)
-);
+name_field!(by_name, GroupBy::NAMES);
 
 /// The report's `groups` (docs/SCORE.md §13).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -24,7 +24,7 @@ pub fn period_notes(report: &Report) -> Vec<Warning> {
         else {
             continue;
         };
-        if dt == 0.05 {
+        if dt == crate::pipeline::step_period::TICK {
             continue;
         }
         match by_dt.iter_mut().find(|(d, _)| *d == dt) {

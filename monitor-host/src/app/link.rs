@@ -5,9 +5,8 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::RunSettings;
+use crate::app::request::{log_topics, RequestError, RunSettings};
 use crate::app::run::{run_frames, Inputs};
-use crate::input::mcap::Topics;
 use crate::input::results_file::read_results;
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
@@ -22,8 +21,8 @@ pub struct LinkRequest {
     pub inputs: Inputs,
     /// Vehicle logs instead (each one route).
     pub mcap: Vec<PathBuf>,
-    /// The logs' topics.
-    pub topics: Topics,
+    /// The logs' topics, as `--topic NAME=TOPIC` gives them (refused without a log).
+    pub topics: Vec<String>,
     /// The options of a scored run (profile, `--set`). Its `link.*` overrides are the
     /// checker's link settings ([`link_config`]); the doer judges acceptance with the same.
     pub settings: RunSettings,
@@ -89,6 +88,9 @@ pub enum LinkError {
     /// The inputs.
     #[error(transparent)]
     Run(#[from] crate::error::Error),
+    /// The request itself (topics without a log).
+    #[error(transparent)]
+    Request(#[from] RequestError),
     /// The target.
     #[error(transparent)]
     Target(#[from] TargetError),
@@ -170,6 +172,7 @@ impl LinkRequest {
     /// # Errors
     /// [`LinkError`].
     pub fn run(&self) -> Result<LinkReport, LinkError> {
+        let topics = log_topics(!self.mcap.is_empty(), &self.topics)?;
         // The link settings are the checker's, not the monitor's.
         let (link, overrides) = link_config(&self.settings.overrides)?;
         let settings = RunSettings {
@@ -199,7 +202,7 @@ impl LinkRequest {
             }
         } else {
             for log in &self.mcap {
-                let frames = crate::app::vehicle_logs::log_frames(log, &self.topics, &settings)
+                let frames = crate::app::vehicle_logs::log_frames(log, &topics, &settings)
                     .map_err(|e| crate::error::message(&e));
                 routes.push((crate::input::mcap::log_name(log), frames));
             }

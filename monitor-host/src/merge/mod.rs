@@ -594,9 +594,8 @@ fn merge_checked(
     report.warnings = warnings;
     report.files_read = parts.iter().map(|p| p.file.clone()).collect();
     if let Some(by) = &first.group_by {
-        let g = match by.as_str() {
-            "scenario" => GroupBy::Scenario,
-            "town" => GroupBy::Town,
+        let g = match GroupBy::from_name(by) {
+            Some(g @ (GroupBy::Scenario | GroupBy::Town)) => g,
             _ => {
                 return Err(MergeError::Groups {
                     file: first.file.clone(),

@@ -43,6 +43,8 @@ struct BatchCheck {
     /// The segment's last `decel_window` frames before the part.
     before: Vec<Frame>,
     part: Vec<Frame>,
+    /// Whether a part of the segment was checked already (the next part does not start it).
+    started: bool,
 }
 
 /// A drive's state as its frames pass.
@@ -85,7 +87,14 @@ impl Drive<'_> {
             return;
         }
         let config = &self.config;
-        let b = batch::compute_part(&c.before, &c.part, config, smoothness_profile(config));
+        let b = batch::compute_part(
+            &c.before,
+            &c.part,
+            !c.started,
+            config,
+            smoothness_profile(config),
+        );
+        c.started = true;
         self.batch_total.merge(&b.summary);
         self.batch_legacy
             .merge(&b.second_comfort.unwrap_or(b.summary.comfort));
@@ -129,6 +138,7 @@ impl Drive<'_> {
                 self.check = BatchCheck {
                     before: Vec::new(),
                     part: Vec::new(),
+                    started: false,
                 };
                 self.chunks_before +=
                     ((end - self.seg_start) as u32).div_ceil(self.chunk_len as u32);
@@ -270,6 +280,7 @@ pub fn replay_drive(
         check: BatchCheck {
             before: Vec::new(),
             part: Vec::new(),
+            started: false,
         },
         batch_total: RouteSummary::ZERO,
         batch_legacy: ComfortSummary::ZERO,

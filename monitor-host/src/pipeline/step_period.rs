@@ -19,7 +19,7 @@ use crate::input::warning::Warning;
 use crate::settings::{decimal, Settings};
 
 /// The CARLA tick the periods are multiples of, s.
-const TICK: f64 = 0.05;
+pub(crate) const TICK: f64 = 0.05;
 /// Fewest steps for an inference.
 const MIN_SPAN: u64 = 20;
 

@@ -110,12 +110,13 @@ pub fn compute(frames: &[Frame], config: &Config) -> BatchRoute {
 /// assert_eq!(route.second_comfort.unwrap().comfortable, 0); // 40 "rad/s"
 /// ```
 pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) -> BatchRoute {
-    compute_part(&[], frames, config, second)
+    compute_part(&[], frames, true, config, second)
 }
 
-/// [`compute_with`] over part of a route: `frames` start at a chunk boundary of the route, and
-/// `before` holds the route's frames before them (the last `decel_window` at least; empty when
-/// `frames` start the route). The counts of consecutive parts add up to the whole route's
+/// [`compute_with`] over part of a route: `frames` start at a chunk boundary of the route,
+/// `before` holds the route's frames before them (the last `decel_window` at least), and
+/// `starts` says whether `frames` start the route (said, not read from an empty `before`: with
+/// `decel_window` 0 every part's `before` is empty). The counts of consecutive parts add up to the whole route's
 /// ([`RouteSummary::merge`]): the chunks are the same, a collision's deceleration window reaches
 /// into `before`, only the route's first frame is exempt as the first, and a short route's
 /// single chunk (docs/SCORE.md §4) is one only when the part starts the route. So a long drive is checked part
@@ -134,18 +135,18 @@ pub fn compute_with(frames: &[Frame], config: &Config, second: Option<Profile>) 
 /// let mut parts = RouteSummary::ZERO;
 /// for (a, b) in [(0usize, 40), (40, 80), (80, 95)] {
 ///     let before = &frames[a.saturating_sub(window)..a];
-///     parts.merge(&batch::compute_part(before, &frames[a..b], &config, None).summary);
+///     parts.merge(&batch::compute_part(before, &frames[a..b], a == 0, &config, None).summary);
 /// }
 /// assert_eq!(parts, whole);
 /// ```
 pub fn compute_part(
     before: &[Frame],
     frames: &[Frame],
+    starts: bool,
     config: &Config,
     second: Option<Profile>,
 ) -> BatchRoute {
     let n = frames.len();
-    let starts = before.is_empty();
     // A valid config has chunk_len >= 7; never let 0 reach `chunks`.
     let chunk_len = usize::from(config.chunk_len).max(1);
     let min_chunk = usize::from(config.min_chunk);
@@ -373,6 +374,30 @@ fn lateral_summary(maxima: &[Option<f32>], config: &Config) -> LateralSummary {
 mod tests {
     use super::*;
     use monitor_core::{score, Collisions, Factors, RecordScores};
+
+    /// With `decel_window` 0 every part's `before` is empty; a later part must still not count
+    /// as the route's start (its first frame exempt, a short remainder a route's one chunk).
+    #[test]
+    fn parts_add_up_with_no_decel_window() {
+        let config = Config {
+            decel_window: 0,
+            ..Config::DEFAULT
+        };
+        let mut frames = vec![
+            Frame {
+                speed: 5.0,
+                ..Frame::default()
+            };
+            95
+        ];
+        frames[40].a_lon = -9.0;
+        let whole = compute(&frames, &config).summary;
+        let mut parts = RouteSummary::ZERO;
+        for (a, b) in [(0usize, 40), (40, 80), (80, 95)] {
+            parts.merge(&compute_part(&[], &frames[a..b], a == 0, &config, None).summary);
+        }
+        assert_eq!(parts, whole);
+    }
 
     fn cruise(n: usize) -> Vec<Frame> {
         vec![

@@ -10,15 +10,6 @@ use monitor_host::SettingsError;
 use crate::args::{DuplicatesArg, RunArgs};
 use crate::output::write_output;
 
-/// `--pace`.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum PaceArg {
-    /// One frame per frame period.
-    Realtime,
-    /// As fast as the checker reads.
-    Fast,
-}
-
 /// Arguments of `sds link`.
 #[derive(Debug, clap::Args)]
 pub struct LinkArgs {
@@ -45,8 +36,8 @@ pub struct LinkArgs {
     #[arg(long, value_name = "TARGET")]
     pub to: String,
     /// `fast` (default): as fast as the checker reads; `realtime`: one frame per period.
-    #[arg(long, value_enum, default_value = "fast")]
-    pub pace: PaceArg,
+    #[arg(long, value_parser = crate::args::named(Pace::ALL, Pace::name), default_value = "fast")]
+    pub pace: Pace,
     /// Faults on the bytes the checker receives:
     /// `drop=P,corrupt=P,duplicate=P,reorder=P,stall=SECONDS,seed=N`.
     #[arg(long, value_name = "FAULTS")]
@@ -100,10 +91,7 @@ pub fn link(args: &LinkArgs) -> Result<i32> {
         topics: args.topics.clone(),
         settings,
         target,
-        pace: match args.pace {
-            PaceArg::Realtime => Pace::Realtime,
-            PaceArg::Fast => Pace::Fast,
-        },
+        pace: args.pace,
         inject,
         tap: args.tap.clone(),
     };

@@ -32,15 +32,9 @@ pub fn link<'py>(
             .map_err(|e: monitor_host::live_link::transport::TargetError| {
                 ConfigError::new_err(e.to_string())
             })?;
-    let pace = match pace {
-        "fast" => Pace::Fast,
-        "realtime" => Pace::Realtime,
-        other => {
-            return Err(ConfigError::new_err(format!(
-                "pace={other:?}: expected \"fast\" or \"realtime\""
-            )))
-        }
-    };
+    let pace = Pace::from_name(pace).ok_or_else(|| {
+        ConfigError::new_err(format!("pace={pace:?}: expected {}", Pace::choices()))
+    })?;
     let inject: Inject =
         inject
             .parse()

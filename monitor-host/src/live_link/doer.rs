@@ -23,15 +23,17 @@ use monitor_core::{Config, Event, Frame, Monitor};
 use crate::live_link::inject::Inject;
 use crate::live_link::transport::Connection;
 
-/// How fast frames are sent.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Pace {
-    /// One frame per frame period, as the vehicle makes them.
-    Realtime,
-    /// As fast as the stream takes them (the checker's reading paces the writer).
-    #[default]
-    Fast,
+named_enum! {
+    /// How fast frames are sent (`--pace`, `pace=`).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+    #[serde(rename_all = "lowercase")]
+    pub enum Pace {
+        /// One frame per frame period, as the vehicle makes them.
+        Realtime = "realtime",
+        /// As fast as the stream takes them (the checker's reading paces the writer).
+        #[default]
+        Fast = "fast",
+    }
 }
 
 /// The check statuses of a route's frame messages, named as the report names them.

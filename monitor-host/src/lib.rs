@@ -103,6 +103,7 @@ pub use app::merged::MergeRequest;
 pub use app::request::{RequestError, RunSettings, ScoreRequest};
 pub use app::session::{Session, WatchRequest};
 pub use app::{compare_runs, run, scored, watch};
+pub use app::{frames::FramesRequest, link::LinkRequest};
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
 pub use demo::DemoError;
 pub use error::Error;

@@ -1,7 +1,20 @@
 """Type stubs of the extension module ``sds._sds`` (Rust, PyO3)."""
 
 import os
-from typing import Any, Dict, Iterable, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import (
+    Any,
+    Callable,
+    Dict,
+    Iterable,
+    Iterator,
+    List,
+    Literal,
+    Mapping,
+    Optional,
+    Sequence,
+    Tuple,
+    Union,
+)
 
 __version__: str
 FIELDS: List[str]
@@ -25,8 +38,8 @@ class IoError(SdsError):
 
 class SdsWarning(UserWarning):
     """A warning of the report (its ``warnings``): a problem that did not stop scoring, as the
-    ``sds`` command prints it after ``sds: warning: ``. ``sds.score``, ``sds.compare`` and
-    ``sds.merge`` raise one per warning with ``warnings.warn``."""
+    ``sds`` command prints it after ``sds: warning: ``. ``sds.score``, ``sds.frames``,
+    ``sds.compare`` and ``sds.merge`` raise one per warning, at the caller's line."""
 
 class FeatureUnavailableError(SdsError):
     """An option this build of sds does not have yet."""
@@ -43,48 +56,99 @@ def error_table() -> List[Tuple[str, int, type]]:
 def cli_main(argv: Sequence[str]) -> int:
     """Runs the ``sds`` command line with ``argv`` (program name first); returns its status."""
 
-def score(results: Sequence[str], options: Mapping[str, Any]) -> Dict[str, Any]:
-    """Scores a run through the library; ``options`` holds every keyword argument of
-    ``sds.score`` but ``results``, by name. Returns the report (see ``sds.score``)."""
+# The entry points: their types here, their docs once, in the Rust doc comments (pyo3 makes them
+# `__doc__`; `help(sds.score)` shows them with the signature).
+
+_Path = Union[str, "os.PathLike[str]"]
+_Settings = Mapping[str, Union[str, int, float, bool]]
+
+def score(
+    results: Union[_Path, Sequence[_Path], None] = None,
+    *,
+    telemetry: Optional[_Path] = None,
+    routes: Optional[_Path] = None,
+    maps: Optional[_Path] = None,
+    profile: str = "physical",
+    duplicates: str = "error",
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    settings: Optional[_Settings] = None,
+    group_by: Optional[str] = None,
+    labels: Optional[_Path] = None,
+    jobs: Optional[int] = None,
+    progress: Union[bool, Callable[[int, int], Any], None] = None,
+    protocols: Optional[Sequence[str]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
+    mcap: Union[_Path, Sequence[_Path], None] = None,
+    topics: Optional[Sequence[str]] = None,
+) -> Dict[str, Any]: ...
 
 def frames(
-    results: Sequence[str],
+    results: Union[_Path, Sequence[_Path], None] = None,
     *,
     route_id: Optional[str] = None,
-    mcap: Optional[str] = None,
-    topics: Sequence[str] = ...,
-    telemetry: Optional[str] = None,
-    routes: Optional[str] = None,
-    maps: Optional[str] = None,
+    mcap: Optional[_Path] = None,
+    topics: Optional[Sequence[str]] = None,
+    telemetry: Optional[_Path] = None,
+    routes: Optional[_Path] = None,
+    maps: Optional[_Path] = None,
     profile: str = "physical",
     duplicates: Optional[str] = None,
-    settings: Optional[Mapping[str, Union[str, int, float, bool]]] = None,
-) -> Tuple[str, List[str]]:
-    """The frames of one route (or vehicle log) through the library's ``FramesRequest``: the
-    JSON lines ``sds frames`` prints, and the warnings met reading them (see ``sds.frames``)."""
+    settings: Optional[_Settings] = None,
+) -> List[Dict[str, Any]]: ...
 
 def compare(
-    runs: Sequence[Tuple[str, str, Optional[str]]], options: Mapping[str, Any]
-) -> Tuple[Dict[str, Any], List[str]]:
-    """Compares runs through the library: each run ``(name, results, telemetry or None)``;
-    ``options`` holds every keyword argument of ``sds.compare`` but ``runs``, by name (``seeds``
-    as ``(model, [run, ...])`` pairs). Returns the report (see ``sds.compare``) and the
-    warnings ``sds compare`` prints, built once by the library: each run's (``"<run>: ..."``),
-    the runs' missing maps said once for all of them, then the comparison's own."""
+    runs: Mapping[str, Union[_Path, Tuple[_Path, _Path]]],
+    *,
+    seeds: Optional[Mapping[str, Sequence[str]]] = None,
+    baseline: Optional[str] = None,
+    routes: Optional[_Path] = None,
+    maps: Optional[_Path] = None,
+    profile: str = "physical",
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    common_routes: bool = False,
+    fail_if_worse: Optional[Sequence[str]] = None,
+    bootstrap_samples: Optional[int] = None,
+    bootstrap_seed: int = 0,
+    settings: Optional[_Settings] = None,
+    jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
+    rank: bool = False,
+    repro_halfwidth: float = 1.0,
+    progress: Optional[Callable[[int, int], Any]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
+    sweep: Optional[Mapping[str, Sequence[Union[str, int, float, bool]]]] = None,
+) -> Dict[str, Any]: ...
 
-def merge(parts: Sequence[str], duplicates: str, host: bool) -> Dict[str, Any]:
-    """Merges ``sds score`` JSON reports through the library (see ``sds.merge``)."""
+def merge(
+    parts: Union[_Path, Sequence[_Path]],
+    *,
+    duplicates: str = "error",
+    host: bool = True,
+) -> Dict[str, Any]: ...
 
 def link(
-    results: Sequence[str],
-    telemetry: Optional[str],
+    results: Union[_Path, Sequence[_Path], None] = None,
+    *,
     to: str,
-    pace: str,
-    inject: str,
-    tap: Optional[str],
-    overrides: Sequence[Tuple[str, str]],
-) -> Dict[str, Any]:
-    """Plays a run to a checker through the library (see ``sds.link``)."""
+    telemetry: Optional[_Path] = None,
+    routes: Optional[_Path] = None,
+    maps: Optional[_Path] = None,
+    mcap: Union[_Path, Sequence[_Path], None] = None,
+    topics: Optional[Sequence[str]] = None,
+    profile: str = "physical",
+    duplicates: Optional[str] = None,
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    settings: Optional[_Settings] = None,
+    jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
+    pace: Literal["fast", "realtime"] = "fast",
+    inject: Optional[str] = None,
+    tap: Optional[_Path] = None,
+) -> Dict[str, Any]: ...
 
 def long_tables(
     report_json: str,
@@ -96,9 +160,27 @@ def render(file: str, name: str) -> List[Tuple[str, str]]:
     """The HTML page and the figures of the ``sds score`` JSON report in ``file``:
     ``[(file name, text), ...]`` (``report.html``, ``decomposition.svg``, ``routes.svg``)."""
 
-def watch(results: Sequence[str], options: Mapping[str, Any]) -> "Watch":
-    """A watch of a run through the library's ``Watcher``; ``options`` holds every keyword
-    argument of ``sds.watch`` but ``results``, by name. Nothing is read until ``next()``."""
+def watch(
+    results: Union[_Path, Sequence[_Path]],
+    *,
+    telemetry: Optional[_Path] = None,
+    routes: Optional[_Path] = None,
+    maps: Optional[_Path] = None,
+    interval: float = 10.0,
+    timeout: Optional[float] = None,
+    profile: str = "physical",
+    duplicates: str = "error",
+    expected_routes: Optional[int] = None,
+    allow_missing_telemetry: bool = False,
+    settings: Optional[_Settings] = None,
+    group_by: Optional[str] = None,
+    labels: Optional[_Path] = None,
+    jobs: Optional[int] = None,
+    protocols: Optional[Sequence[str]] = None,
+    on_round: Optional[Callable[[Dict[str, Any], Dict[str, Any]], Any]] = None,
+    route_subset: Optional[Literal["all", "found"]] = None,
+    stall_factor: Optional[float] = None,
+) -> "Watch": ...
 
 class Watch(Iterator[Dict[str, Any]]):
     """The iterator of partial reports ``sds.watch`` returns: one round per ``next()``."""

@@ -98,14 +98,22 @@ pub fn link<'py>(
     let inject: Inject = inject.unwrap_or("").parse().map_err(
         |e: monitor_host::live_link::inject::InjectError| ConfigError::new_err(e.to_string()),
     )?;
+    let results = results.map(Paths::into_vec).unwrap_or_default();
+    let mcap = mcap.map(Paths::into_vec).unwrap_or_default();
+    // `sds link` refuses both (its options conflict); the request itself plays the logs alone.
+    if !results.is_empty() && !mcap.is_empty() {
+        return Err(ConfigError::new_err(
+            "results and mcap: results and vehicle logs are played apart: give one or the other",
+        ));
+    }
     let request = LinkRequest {
         inputs: Inputs {
-            results: results.map(Paths::into_vec).unwrap_or_default(),
+            results,
             telemetry,
             route_xml: routes,
             maps,
         },
-        mcap: mcap.map(Paths::into_vec).unwrap_or_default(),
+        mcap,
         topics: topics
             .map(|t| t.list("topics"))
             .transpose()?

@@ -89,3 +89,30 @@ def test_i48_1_log_options_refused_as_the_cli_refuses(demo: Demo, log: Path) -> 
         sds.frames(mcap=log, topics="pose=/odom")  # type: ignore[arg-type]
     with pytest.raises(sds.InputError):
         sds.frames(demo.results, route_id="RouteScenario_1_rep0", telemetry=demo.telemetry)
+
+
+def test_i48_1_link_plays_vehicle_logs(sds_bin: Path, demo: Demo, log: Path, tmp_path: Path) -> None:
+    """`sds.link(mcap=[...])` plays a vehicle log to the checker as `sds link --mcap` does (the
+    same report but the exchange's wall-clock latencies), its topics as given."""
+    checker = f"exec:{sds_bin} checker"
+    got = sds.link(mcap=[log], topics=["pose=/odom", "imu=/imu"], to=checker, profile="autoware")
+    out = tmp_path / "link.json"
+    code, _, err = run_cli(
+        sds_bin,
+        ["link", "--mcap", str(log), "--topic", "pose=/odom", "--topic", "imu=/imu", "--to", checker,
+         "--profile", "autoware", "-o", str(out)],
+    )
+    assert code == 0, err
+    expected = json.loads(out.read_text())
+    for r in (got, expected):
+        for route in r["routes"]:
+            route["link"].pop("latency_ms")
+    assert got == expected
+    assert [r["route_id"] for r in got["routes"]] == [ROUTE]
+    assert got["routes"][0]["frames"] > 0 and got["summary"]["equal_routes"] == 1
+    # The log's frames are the ones `sds.frames` reads from it.
+    assert got["routes"][0]["frames"] == len(sds.frames(mcap=log))
+    with pytest.raises(sds.ConfigError, match="played apart"):
+        sds.link(demo.results, mcap=[log], to=checker)
+    with pytest.raises(sds.ConfigError, match="names a vehicle log's topic"):
+        sds.link(demo.results, telemetry=demo.telemetry, topics=["pose=/odom"], to=checker)

@@ -1,20 +1,23 @@
 //! `sds._sds`: the extension module of the Python package `sds`, a thin layer over
 //! `monitor-host` and `monitor-core` (no scoring logic here).
 //!
-//! - `score` (`score.rs`): the library's [`monitor_host::score_labelled`] with `Inputs`,
-//!   `Settings` and label files built from the keyword arguments (`options.rs`, shared by every
-//!   scored-run function), the report converted to Python objects directly (`pyser.rs`), GIL
-//!   released while scoring;
+//! The entry points `score`, `frames`, `compare`, `watch`, `merge` and `link` are the package's
+//! own functions (`sds.score` is `_sds.score`): typed keyword arguments
+//! (`#[pyo3(signature = ...)]`; the shared ones and the named choices in `options.rs`), their
+//! docs in their doc comments (`__doc__`), their types in `_sds.pyi`, the report's warnings
+//! raised as `sds.SdsWarning` at the caller's line. Each builds its command's request:
+//!
+//! - `score` (`score.rs`): the library's `ScoreRequest` (results or vehicle logs), the report
+//!   converted to Python objects directly (`pyser.rs`), GIL released while scoring;
 //! - `frames` (`frames.rs`): the library's `FramesRequest` (a route of a run, or a vehicle
 //!   log), the frames as `sds frames` prints them;
-//! - `compare` (`compare.rs`): the library's `compare_runs` with the runs, `Settings` (the same
-//!   `options.rs`) and the comparison's options built from the keyword arguments, the
-//!   `sds-compare/1` report converted by `pyser.rs`, GIL released while scoring;
-//! - `watch` (`watch.rs`): the library's [`monitor_host::Watcher`] as an iterator of partial
-//!   reports (`Watch`), one round per `next()`, the same options (`options.rs`) and conversion
-//!   (`pyser.rs`) as `score`, GIL released while sleeping and scoring;
-//! - `merge` (`merge.rs`): the library's `merge::merge` over `sds score` JSON reports, the
-//!   merged report converted by `pyser.rs`, GIL released while merging;
+//! - `compare` (`compare.rs`): the library's `CompareRequest`, the `sds-compare/1` report
+//!   converted by `pyser.rs`, GIL released while scoring;
+//! - `watch` (`watch.rs`): the library's watch `Session` as an iterator of partial
+//!   reports (`Watch`), one round per `next()`, GIL released while sleeping and scoring;
+//! - `merge` (`merge.rs`): the library's `MergeRequest` over `sds score` JSON reports, GIL
+//!   released while merging;
+//! - `link` (`link.rs`): the library's `LinkRequest`, the options of `sds link`;
 //! - `long_tables` (`tables.rs`): the library's long-table builder over a report's JSON text,
 //!   typed columns for `sds.to_pandas` and `sds.to_parquet`;
 //! - `render` (`render.rs`): a report file's HTML page and figures, for `sds.log`;

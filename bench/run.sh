@@ -3,8 +3,11 @@
 # (end to end, stage by stage, scaling). Prints one table of every figure against its goal.
 # Not part of CI. Takes about 5 minutes on 2 cores; see docs/PERFORMANCE.md.
 #
-# Usage: bench/run.sh [--quick]
+# Usage: bench/run.sh [--quick | --b2d]
 #   --quick   a small large run (44 routes x 4,000 frames) and a short scaling series.
+#   --b2d     only the ratio to Bench2Drive's comfort script (B2D_SCRIPT must be set): its one
+#             run and sds score --jobs 1 (best of REPS) on the same B2D_ROUTES-route run, about
+#             a minute instead of the whole bench.
 # Environment:
 #   CARGO_TARGET_DIR  cargo's target dir (default: target/ in the repository)
 #   BENCH_DIR         where generated runs go (default: $CARGO_TARGET_DIR/bench-run); never committed
@@ -29,8 +32,13 @@ ROOT=$(pwd)
 TARGET=${CARGO_TARGET_DIR:-$ROOT/target}
 export CARGO_TARGET_DIR=$TARGET
 OUT=${BENCH_DIR:-$TARGET/bench-run}
-QUICK=0
+QUICK=0; B2D_ONLY=0
 [[ "${1:-}" == "--quick" ]] && QUICK=1
+[[ "${1:-}" == "--b2d" ]] && B2D_ONLY=1
+if [[ $B2D_ONLY == 1 && ! -f ${B2D_SCRIPT:-} ]]; then
+    echo "bench: --b2d needs B2D_SCRIPT=<Bench2Drive>/tools/efficiency_smoothness_benchmark.py" >&2
+    exit 2
+fi
 LARGE_ROUTES=${LARGE_ROUTES:-$([[ $QUICK == 1 ]] && echo 44 || echo 220)}
 LARGE_FRAMES=${LARGE_FRAMES:-4000}
 WIDE_ROUTES=${WIDE_ROUTES:-44}
@@ -63,13 +71,15 @@ HAVE_VG=0; command -v valgrind >/dev/null && HAVE_VG=1
 # ---------------------------------------------------------------------------------------------
 say "building (release)"
 cargo build --release -p sds-cli --bin sds >>"$LOG" 2>&1
-cargo bench -p monitor-host --no-run >>"$LOG" 2>&1
+[[ $B2D_ONLY == 1 ]] || cargo bench -p monitor-host --no-run >>"$LOG" 2>&1
 SDS=$TARGET/release/sds
 bench_exe() { # newest executable of a bench target
     ls -t "$TARGET"/release/deps/"$1"-* 2>/dev/null | grep -v '\.d$' | head -n1
 }
-CORE_FRAMES=$(bench_exe core_frames)
-STAGES=$(bench_exe replay_stages)
+if [[ $B2D_ONLY == 0 ]]; then
+    CORE_FRAMES=$(bench_exe core_frames)
+    STAGES=$(bench_exe replay_stages)
+fi
 
 LOAD_START=$(cut -d' ' -f1-3 /proc/loadavg)
 CPU_MODEL=$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//' || echo unknown)
@@ -81,6 +91,7 @@ calc() { awk "BEGIN { printf \"${2:-%.1f}\", $1 }"; }
 status() { awk "BEGIN { print (($1) ? \"met\" : \"NOT met\") }"; }
 
 # ---------------------------------------------------------------------------------------------
+if [[ $B2D_ONLY == 0 ]]; then
 say "core: criterion (time per frame)"
 cargo bench -p monitor-host --bench core -- --warm-up-time 1 --measurement-time 4 >>"$LOG" 2>&1
 median_ns() { # criterion's median point estimate, ns per iteration: group bench
@@ -105,6 +116,7 @@ if [[ $HAVE_VG == 1 ]]; then
     IR_AMORT=$(calc "($I40K - $I20K) / 20000" %.1f)
     IR_END=$((I20 - I19))
     IR_MID=$((I19 - I18))
+fi
 fi
 
 # ---------------------------------------------------------------------------------------------
@@ -149,6 +161,7 @@ score() {
     echo "$w $c $r"
 }
 
+if [[ $B2D_ONLY == 0 ]]; then
 LARGE=$OUT/large
 say "host: large run ${LARGE_ROUTES} x ${LARGE_FRAMES} in $LARGE"
 gen_run "$LARGE" "$LARGE_ROUTES" "$LARGE_FRAMES"
@@ -190,6 +203,7 @@ MMB=$(calc "$(tel_bytes "$MID") / 1e6")
 read -r _ MC MR <<<"$(score "$MID" 1)"
 MBS_MID=$(calc "$MMB / $MC" %.0f)
 RSS_MID=$(calc "$MR / 1024" %.1f)
+fi
 
 # Bench2Drive's comfort script beside sds on the same run, CPU time of one invocation each (its
 # one run takes half a minute; sds's figure is its best of REPS).
@@ -219,6 +233,18 @@ if [[ -n ${B2D_SCRIPT:-} && -f ${B2D_SCRIPT:-} ]]; then
     fi
 else
     say "B2D_SCRIPT not set: the ratio to Bench2Drive's script is n/a (see the header)"
+fi
+
+if [[ $B2D_ONLY == 1 ]]; then
+    cat <<EOF
+
+Load at start / end: $LOAD_START / $(cut -d' ' -f1-3 /proc/loadavg); $NPROC cores, $CPU_MODEL
+
+| figure | measured | goal | status |
+|---|---|---|---|
+| Bench2Drive's comfort script / sds score --jobs 1, CPU, $B2D_ROUTES-route run ($BMB MB) | ${B2D_RATIO}x ($B2D_CPU s / $B2C s; smoothness $B2D_SM / $SDS_SM; its peak RSS $B2D_RSS MB) | >= 150x | $([[ $B2D_RATIO == n/a ]] && echo n/a || status "$B2D_RATIO >= 150") |
+EOF
+    exit 0
 fi
 
 say "host: stages (single thread, 3 runs: the smallest CPU time of each stage)"

@@ -1,5 +1,5 @@
 //! End to end: `sds demo DIR`, then `sds score` on it, checked against figures worked out by hand
-//! from the demo's scripts (monitor-host/src/demo.rs).
+//! from the demo's scripts (monitor-host/src/demo/mod.rs).
 
 use std::path::Path;
 

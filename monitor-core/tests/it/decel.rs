@@ -2,9 +2,7 @@
 //! collision frame (k-20 .. k-1), `a_lon <= -0.5` decelerates, `speed < 0.5` exempts, frame 0 is
 //! exempt, every collision of a frame counts.
 
-mod common;
-
-use common::{collision_verdicts, cruise, run};
+use crate::common::{collision_verdicts, cruise, run};
 use monitor_core::{Collisions, Config, Frame};
 
 const K: usize = 30;

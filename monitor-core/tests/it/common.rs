@@ -1,5 +1,4 @@
-//! Helpers shared by the integration tests of monitor-core.
-#![allow(dead_code)]
+//! Helpers shared by the feature modules: a route run through the monitor, frames, verdicts.
 
 use monitor_core::{Config, Event, Finished, Frame, Monitor};
 
@@ -21,11 +20,6 @@ pub fn cruise() -> Frame {
         speed: 5.0,
         ..Frame::default()
     }
-}
-
-/// `n` copies of `f`.
-pub fn frames(n: usize, f: Frame) -> Vec<Frame> {
-    vec![f; n]
 }
 
 /// The comfort verdicts of a route's events, in order.

@@ -1,9 +1,7 @@
 //! Robustness: every class of f32 in every field, misuse of the state machine, impossible
 //! configurations, extreme but finite routes, and the fixed size of the monitor.
 
-mod common;
-
-use common::{comfort_verdicts, run};
+use crate::common::{comfort_verdicts, run};
 use monitor_core::{
     Collisions, Config, ConfigError, Factors, Field, Frame, FrameError, Monitor, MonitorError,
     Profile, MONITOR_SIZE,
@@ -80,7 +78,7 @@ fn every_bit_pattern_class_in_every_field() {
             let mut m = warmed_up();
             let before = format!("{m:?}");
             let summary = *m.summary();
-            let mut f = common::cruise();
+            let mut f = crate::common::cruise();
             set(&mut f, field, v);
             let r = m.push(&f);
             // The documented rule (Frame::validate): non-finite -> NonFinite(field); a negative
@@ -104,7 +102,7 @@ fn every_bit_pattern_class_in_every_field() {
             }
             // The route goes on (and ends) without panicking either way.
             for _ in 0..30 {
-                m.push(&common::cruise()).unwrap();
+                m.push(&crate::common::cruise()).unwrap();
             }
             m.finish().unwrap();
         }

@@ -6,9 +6,7 @@
 //! here with the public kernels (`SG`, `SG'`), and a scan over consecutive f32 parameters for one
 //! whose filtered extreme has exactly the bound's bits (asserted before the monitor sees it).
 
-mod common;
-
-use common::{comfort_verdicts, run};
+use crate::common::{comfort_verdicts, run};
 use monitor_core::sg::{self, DERIVATIVE, VALUE};
 use monitor_core::signal::DEG_TO_RAD;
 use monitor_core::{Config, Failures, Frame};

@@ -1,9 +1,7 @@
 //! Chunks (docs/SCORE.md §4): frames [20k, 20k+20) form chunk k; comfort uses full chunks (or one
 //! short chunk for 7 <= n < 20) and drops the trailing partial one; lateral uses ceil(n / 20).
 
-mod common;
-
-use common::{comfort_verdicts, lateral_verdicts, run};
+use crate::common::{comfort_verdicts, lateral_verdicts, run};
 use monitor_core::{Config, Frame};
 
 #[test]

@@ -1,9 +1,7 @@
 //! Lateral excess (docs/SCORE.md §3, 3, 6): `excess = max(0, |lat_err| - slack)`, the chunk's
 //! maximum, exclusive bands `0.25 < m <= 0.65` (anomalous) and `m > 0.65` (critical).
 
-mod common;
-
-use common::{lateral_verdicts, run};
+use crate::common::{lateral_verdicts, run};
 use monitor_core::signal::excess;
 use monitor_core::{Band, Config, Frame};
 

@@ -1,9 +1,7 @@
 //! The `b2d-legacy` comfort profile (docs/SCORE.md §5): yaw rate left in deg/s and phase-unwrapped
 //! per chunk, yaw acceleration = the smoothed yaw rate itself, jerks over 0.1 s spacing.
 
-mod common;
-
-use common::{comfort_verdicts, run};
+use crate::common::{comfort_verdicts, run};
 use monitor_core::sg::{self, DERIVATIVE, VALUE};
 use monitor_core::signal::{self, unwrap};
 use monitor_core::{Config, Failures, Frame, Profile};

@@ -357,13 +357,36 @@ pub enum Warning {
 impl Warning {
     /// True for a note: a fact worth saying that asks nothing of the user (the `sds` command
     /// prints it after `sds: note: `).
+    ///
+    /// A note read back from a report (a part of `sds merge`, a saved run of `sds compare`)
+    /// stays a note: the JSON report keeps warnings and notes as text, so it is known by how
+    /// its text ends.
+    ///
+    /// ```
+    /// use monitor_host::Warning;
+    /// let note = Warning::Untraced { collisions: 2, cap: 8 };
+    /// assert!(note.is_note());
+    /// assert!(Warning::Recorded(note.to_string()).is_note());
+    /// assert!(!Warning::Recorded("a warning".into()).is_note());
+    /// ```
     pub fn is_note(&self) -> bool {
-        matches!(
-            self,
-            Warning::PeriodInferred { .. } | Warning::Untraced { .. }
-        )
+        match self {
+            Warning::PeriodInferred { .. } | Warning::Untraced { .. } => true,
+            Warning::Route { warning, .. } => warning.is_note(),
+            Warning::Recorded(text) | Warning::Part { text, .. } => {
+                NOTE_ENDS.iter().any(|end| text.ends_with(end))
+            }
+            _ => false,
+        }
     }
 }
+
+/// How the notes' texts end ([`Warning::PeriodInferred`], [`Warning::Untraced`]), written by
+/// their `Display` and read by [`Warning::is_note`] for a note read back as text.
+const NOTE_ENDS: [&str; 2] = [
+    " (the setting dt=SECONDS fixes the period of every route)",
+    "; every collision is in the JSON report's events)",
+];
 
 impl std::fmt::Display for Warning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -567,15 +590,15 @@ impl std::fmt::Display for Warning {
             ),
             Warning::PeriodInferred { dt, routes } => write!(
                 f,
-                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
-                 (the setting dt=SECONDS fixes the period of every route)",
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {}{}",
                 routes.len(),
-                id_list(routes)
+                id_list(routes),
+                NOTE_ENDS[0]
             ),
             Warning::Untraced { collisions, cap } => write!(
                 f,
-                "{collisions} more collision(s) without a trace (at most {cap} per route; every \
-                 collision is in the JSON report's events)"
+                "{collisions} more collision(s) without a trace (at most {cap} per route{}",
+                NOTE_ENDS[1]
             ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,

@@ -288,8 +288,7 @@ pub fn replay_drive(
             d.monitor.verdicts_onto(&mut events);
             let (total, legacy) = (d.monitor.total, d.monitor.legacy);
             out.legacy_comfort = Some(legacy);
-            out.batch_agrees =
-                Some(d.agrees && d.batch_total == total && d.batch_legacy == legacy);
+            out.batch_agrees = Some(d.agrees && d.batch_total == total && d.batch_legacy == legacy);
             out.telemetry = TelemetryState::Ok;
             let (motion, marks) = d.meter.finish();
             out.moving = Some(MovingComfort::count(&motion.moving, &d.log.comfort));
@@ -326,7 +325,6 @@ pub fn replay_drive(
 
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeMap;
     use std::path::Path;
 
     use super::*;
@@ -336,54 +334,18 @@ mod tests {
     use crate::pipeline::prepare::prepare_on;
     use crate::pipeline::replay::{replay_read, unreplayed, RouteTelemetry};
 
-    const ODOMETRY: &str = "std_msgs/Header header\nstring child_frame_id\n\
-        geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n";
-    const IMU: &str = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n\
-        float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n\
-        float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n\
-        float64[9] linear_acceleration_covariance\n";
-    const PATH: &str = "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n";
-    const T0: u64 = 1_700_000_000_000_000_000;
+    use crate::demo::drive::{write_messages, Cdr, LogOptions, Message, IMU, ODOMETRY, PATH, T0};
+
     const MS: u64 = 1_000_000;
 
-    struct Cdr(Vec<u8>);
-    impl Cdr {
-        fn new(t: u64) -> Cdr {
-            let mut c = Cdr(vec![0, 1, 0, 0]);
-            c.header(t);
-            c
-        }
-        fn align(&mut self, n: usize) {
-            while !(self.0.len() - 4).is_multiple_of(n) {
-                self.0.push(0);
-            }
-        }
-        fn u32(&mut self, v: u32) -> &mut Self {
-            self.align(4);
-            self.0.extend_from_slice(&v.to_le_bytes());
-            self
-        }
-        fn string(&mut self, s: &str) -> &mut Self {
-            self.u32(s.len() as u32 + 1);
-            self.0.extend_from_slice(s.as_bytes());
-            self.0.push(0);
-            self
-        }
-        fn header(&mut self, t: u64) -> &mut Self {
-            self.u32((t / 1_000_000_000) as u32)
-                .u32((t % 1_000_000_000) as u32)
-                .string("map")
-        }
-        fn f64s(&mut self, v: &[f64]) -> &mut Self {
-            for x in v {
-                self.align(8);
-                self.0.extend_from_slice(&x.to_le_bytes());
-            }
-            self
-        }
+    /// A message's CDR, its header stamped `t`.
+    fn stamped(t: u64) -> Cdr {
+        let mut c = Cdr::new();
+        c.header(t);
+        c
     }
 
-    type Msg = (&'static str, &'static str, &'static str, u64, Vec<u8>);
+    type Msg = Message<'static>;
 
     /// A drive with what the streaming must get right: stops (standing events), hard braking
     /// and collisions (before the first pose, on frames, in a gap, after the last), recorder
@@ -412,7 +374,7 @@ mod tests {
             yaw += wz * 0.05;
             x += v * yaw.cos() * 0.05;
             let y = 0.4 * (s / 11.0).sin();
-            let mut c = Cdr::new(t);
+            let mut c = stamped(t);
             c.string("base_link");
             c.f64s(&[x, y, 0.0, 0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()]);
             c.f64s(&[0.0; 36])
@@ -420,7 +382,7 @@ mod tests {
                 .f64s(&[0.0; 36]);
             out.push(("/odom", "nav_msgs/msg/Odometry", ODOMETRY, t, c.0));
             if imu {
-                let mut c = Cdr::new(t + 3 * MS);
+                let mut c = stamped(t + 3 * MS);
                 c.f64s(&[
                     0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                 ]);
@@ -441,7 +403,7 @@ mod tests {
             out.push(("/events", "std_msgs/msg/Empty", "", t, vec![0, 1, 0, 0]));
         }
         if path {
-            let mut c = Cdr::new(T0);
+            let mut c = stamped(T0);
             c.u32(400);
             for k in 0..400 {
                 c.header(T0)
@@ -453,31 +415,11 @@ mod tests {
     }
 
     fn write(path: &Path, messages: &[Msg]) {
-        let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-        let opts = mcap::WriteOptions::new()
-            .chunk_size(Some(16_384))
-            .compression(None);
-        let mut w = opts.create(file).unwrap();
-        let mut channels: BTreeMap<&str, u16> = BTreeMap::new();
-        for (i, (topic, schema, def, t, data)) in messages.iter().enumerate() {
-            let id = match channels.get(topic) {
-                Some(id) => *id,
-                None => {
-                    let s = w.add_schema(schema, "ros2msg", def.as_bytes()).unwrap();
-                    let id = w.add_channel(s, topic, "cdr", &BTreeMap::new()).unwrap();
-                    channels.insert(topic, id);
-                    id
-                }
-            };
-            let header = mcap::records::MessageHeader {
-                channel_id: id,
-                sequence: i as u32,
-                log_time: *t,
-                publish_time: *t,
-            };
-            w.write_to_known_channel(&header, data).unwrap();
-        }
-        w.finish().unwrap();
+        let options = LogOptions {
+            chunk_size: 16_384,
+            ..LogOptions::default()
+        };
+        write_messages(path, options, messages).unwrap();
     }
 
     /// The log's record and path, as `sds score --mcap` makes them.

@@ -189,7 +189,13 @@ impl SegmentMonitor {
             .map_err(|error| Refused::Frame { index, error })?;
         // Most frames have no event.
         if !events.is_empty() {
-            keep(&events, self.start, self.chunks_before, log, &mut self.verdicts);
+            keep(
+                &events,
+                self.start,
+                self.chunks_before,
+                log,
+                &mut self.verdicts,
+            );
         }
         Ok(())
     }
@@ -200,8 +206,16 @@ impl SegmentMonitor {
         let Some(mut m) = self.monitor.take() else {
             return Ok(false);
         };
-        let done = m.finish().map_err(|error| Refused::Frame { index: end, error })?;
-        keep(&done.events, self.start, self.chunks_before, log, &mut self.verdicts);
+        let done = m
+            .finish()
+            .map_err(|error| Refused::Frame { index: end, error })?;
+        keep(
+            &done.events,
+            self.start,
+            self.chunks_before,
+            log,
+            &mut self.verdicts,
+        );
         self.total.merge(&done.summary);
         self.legacy
             .merge(m.second_comfort().unwrap_or(&done.summary.comfort));

@@ -89,105 +89,17 @@ fn i51_1_heap_grows_at_most_4_kb_a_route_beyond_the_report() {
 
 // ---- goal 2: a drive's length ----
 
-/// CDR (little-endian) of the two ROS 2 messages a drive needs, aligned from the 4-byte header.
-fn cdr(t: u64, body: &[f64], child: bool) -> Vec<u8> {
-    let mut c = vec![0u8, 1, 0, 0];
-    let align = |c: &mut Vec<u8>, n: usize| {
-        while !(c.len() - 4).is_multiple_of(n) {
-            c.push(0);
-        }
-    };
-    let string = |c: &mut Vec<u8>, s: &str| {
-        align(c, 4);
-        c.extend_from_slice(&(s.len() as u32 + 1).to_le_bytes());
-        c.extend_from_slice(s.as_bytes());
-        c.push(0);
-    };
-    c.extend_from_slice(&((t / 1_000_000_000) as u32).to_le_bytes());
-    c.extend_from_slice(&((t % 1_000_000_000) as u32).to_le_bytes());
-    string(&mut c, "map");
-    if child {
-        string(&mut c, "base_link");
-    }
-    for x in body {
-        align(&mut c, 8);
-        c.extend_from_slice(&x.to_le_bytes());
-    }
-    c
-}
-
-const ODOMETRY: &str = "std_msgs/Header header\nstring child_frame_id\n\
-    geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n";
-const IMU: &str = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n\
-    float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n\
-    float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n\
-    float64[9] linear_acceleration_covariance\n";
-
-/// Writes a drive of `seconds` at 20 Hz (odometry and IMU along a weave, an event every 5
-/// minutes, a 2 s recorder pause every 10 minutes: a new segment).
-fn write_drive(path: &std::path::Path, seconds: u64) {
-    use std::collections::BTreeMap;
-    let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-    let mut w = mcap::WriteOptions::new()
-        .chunk_size(Some(1 << 18))
-        .compression(None)
-        .create(file)
-        .unwrap();
-    let none = BTreeMap::new();
-    let s_odom = w.add_schema("nav_msgs/msg/Odometry", "ros2msg", ODOMETRY.as_bytes());
-    let s_imu = w.add_schema("sensor_msgs/msg/Imu", "ros2msg", IMU.as_bytes());
-    let s_ev = w.add_schema("std_msgs/msg/Empty", "ros2msg", b"");
-    let odom = w
-        .add_channel(s_odom.unwrap(), "/odom", "cdr", &none)
-        .unwrap();
-    let imu = w.add_channel(s_imu.unwrap(), "/imu", "cdr", &none).unwrap();
-    let ev = w
-        .add_channel(s_ev.unwrap(), "/events", "cdr", &none)
-        .unwrap();
-    let (mut x, mut y, mut yaw) = (0.0f64, 0.0f64, 0.0f64);
-    for i in 0..seconds * 20 {
-        if i % 12_000 >= 11_960 {
-            continue;
-        }
-        let t = 1_700_000_000_000_000_000 + i * 50_000_000;
-        let s = i as f64 * 0.05;
-        let (v, wz) = (8.0 + 2.0 * (s / 40.0).sin(), 0.15 * (s / 7.0).sin());
-        yaw += wz * 0.05;
-        x += v * yaw.cos() * 0.05;
-        y += v * yaw.sin() * 0.05;
-        let h = |channel_id| mcap::records::MessageHeader {
-            channel_id,
-            sequence: i as u32,
-            log_time: t,
-            publish_time: t,
-        };
-        let mut pose = vec![x, y, 0.0, 0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()];
-        pose.extend([0.0; 36]);
-        pose.extend([v, 0.0, 0.0, 0.0, 0.0, wz]);
-        pose.extend([0.0; 36]);
-        w.write_to_known_channel(&h(odom), &cdr(t, &pose, true))
-            .unwrap();
-        let mut m = vec![0.0, 0.0, 0.0, 1.0];
-        m.extend([0.0; 9]);
-        m.extend([0.0, 0.0, wz]);
-        m.extend([0.0; 9]);
-        m.extend([0.3 * (s / 3.1).sin(), v * wz, 9.8]);
-        m.extend([0.0; 9]);
-        w.write_to_known_channel(&h(imu), &cdr(t, &m, false))
-            .unwrap();
-        if i % 6_000 == 3_000 {
-            w.write_to_known_channel(&h(ev), &[0, 1, 0, 0]).unwrap();
-        }
-    }
-    w.finish().unwrap();
-}
-
 /// (peak heap while scoring a drive of `seconds`, heap its report holds), bytes.
 fn score_drive(seconds: u64) -> (usize, usize) {
     use monitor_host::input::mcap::Topics;
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join(format!("drive{seconds}.mcap"));
-    write_drive(&log, seconds);
+    // A pause every 10 minutes, an event every 5 (the library's writer).
+    let weave = monitor_host::demo::drive::Weave {
+        seconds,
+        ..Default::default()
+    };
+    monitor_host::demo::drive::write_weave(&log, &weave).unwrap();
     let topics = Topics {
         event: Some("/events".into()),
         ..Topics::default()

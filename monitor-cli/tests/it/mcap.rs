@@ -2,7 +2,6 @@
 //! by an independent writer gives the same frames and verdicts; hostile logs give errors that
 //! name the file, the topic and the fix.
 
-use std::collections::BTreeMap;
 use std::fs;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -12,57 +11,14 @@ use serde_json::Value;
 
 use crate::common::{self, sds};
 
-// ---- a minimal ROS 2 log writer for the hostile logs (the `mcap` crate's writer, our CDR) ----
+// ---- the hostile logs, written by the library's writer (monitor_host::demo::drive) ----
 
-/// CDR (little-endian) of a few ROS 2 messages, aligned from the end of the 4-byte header.
-struct Cdr(Vec<u8>);
-
-impl Cdr {
-    fn new() -> Cdr {
-        Cdr(vec![0, 1, 0, 0])
-    }
-    fn align(&mut self, n: usize) {
-        while !(self.0.len() - 4).is_multiple_of(n) {
-            self.0.push(0);
-        }
-    }
-    fn u32(&mut self, v: u32) -> &mut Self {
-        self.align(4);
-        self.0.extend_from_slice(&v.to_le_bytes());
-        self
-    }
-    fn f64(&mut self, v: f64) -> &mut Self {
-        self.align(8);
-        self.0.extend_from_slice(&v.to_le_bytes());
-        self
-    }
-    fn string(&mut self, s: &str) -> &mut Self {
-        self.u32(s.len() as u32 + 1);
-        self.0.extend_from_slice(s.as_bytes());
-        self.0.push(0);
-        self
-    }
-    fn header(&mut self, t: u64) -> &mut Self {
-        self.u32((t / 1_000_000_000) as u32)
-            .u32((t % 1_000_000_000) as u32)
-            .string("map")
-    }
-    fn f64s(&mut self, v: &[f64]) -> &mut Self {
-        for x in v {
-            self.f64(*x);
-        }
-        self
-    }
-}
+use monitor_host::demo::drive::{
+    self as ros, write_messages, Cdr, LogOptions, LogWriter, IMU, ODOMETRY, POSE_STAMPED,
+};
 
 fn odometry(t: u64, x: f64, y: f64, yaw: f64, vx: f64) -> Vec<u8> {
-    let mut c = Cdr::new();
-    c.header(t).string("base_link");
-    c.f64s(&[x, y, 0.0, 0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()]);
-    c.f64s(&[0.0; 36])
-        .f64s(&[vx, 0.0, 0.0, 0.0, 0.0, 0.0])
-        .f64s(&[0.0; 36]);
-    c.0
+    ros::odometry(t, [x, y, yaw], vx, 0.0)
 }
 
 fn pose_stamped(t: u64, x: f64, y: f64) -> Vec<u8> {
@@ -72,52 +28,18 @@ fn pose_stamped(t: u64, x: f64, y: f64) -> Vec<u8> {
 }
 
 fn imu(t: u64, ax: f64, ay: f64, wz: f64) -> Vec<u8> {
-    let mut c = Cdr::new();
-    c.header(t).f64s(&[0.0, 0.0, 0.0, 1.0]).f64s(&[0.0; 9]);
-    c.f64s(&[0.0, 0.0, wz])
-        .f64s(&[0.0; 9])
-        .f64s(&[ax, ay, 0.0])
-        .f64s(&[0.0; 9]);
-    c.0
+    ros::imu(t, [ax, ay, 0.0], wz)
 }
-
-const ODOMETRY: &str = "std_msgs/Header header\nstring child_frame_id\n\
-    geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n";
-const POSE_STAMPED: &str = "std_msgs/Header header\ngeometry_msgs/Pose pose\n";
-const IMU: &str = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n\
-    float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n\
-    float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n\
-    float64[9] linear_acceleration_covariance\n";
 
 /// Writes an MCAP log of `(topic, schema name, definition, log time, data)` messages, in the
 /// order given.
 fn write_log(path: &Path, chunked: bool, messages: &[(&str, &str, &str, u64, Vec<u8>)]) {
-    let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
-    let opts = mcap::WriteOptions::new()
-        .use_chunks(chunked)
-        .chunk_size(Some(4096))
-        .compression(None);
-    let mut w = opts.create(file).unwrap();
-    let mut channels: BTreeMap<String, u16> = BTreeMap::new();
-    for (i, (topic, schema, def, t, data)) in messages.iter().enumerate() {
-        let id = match channels.get(*topic) {
-            Some(id) => *id,
-            None => {
-                let s = w.add_schema(schema, "ros2msg", def.as_bytes()).unwrap();
-                let id = w.add_channel(s, topic, "cdr", &BTreeMap::new()).unwrap();
-                channels.insert(topic.to_string(), id);
-                id
-            }
-        };
-        let header = mcap::records::MessageHeader {
-            channel_id: id,
-            sequence: i as u32,
-            log_time: *t,
-            publish_time: *t,
-        };
-        w.write_to_known_channel(&header, data).unwrap();
-    }
-    w.finish().unwrap();
+    let options = LogOptions {
+        chunked,
+        chunk_size: 4096,
+        ..LogOptions::default()
+    };
+    write_messages(path, options, messages).unwrap();
 }
 
 const MS: u64 = 1_000_000;
@@ -400,40 +322,23 @@ fn i39_mcap_without_imu_takes_the_odometry_twist() {
 /// Writes a vehicle log of `seconds` straight at 5 m/s with camera-sized messages (256 KiB at
 /// 10 Hz) beside the pose and IMU (50 Hz), streaming (the writer holds one chunk).
 fn write_big_log(path: &Path, seconds: u64) {
-    let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
-    let opts = mcap::WriteOptions::new()
-        .chunk_size(Some(1 << 20))
-        .compression(None);
-    let mut w = opts.create(file).unwrap();
-    let none = BTreeMap::new();
-    let odom_s = w
-        .add_schema("nav_msgs/msg/Odometry", "ros2msg", ODOMETRY.as_bytes())
-        .unwrap();
-    let imu_s = w
-        .add_schema("sensor_msgs/msg/Imu", "ros2msg", IMU.as_bytes())
-        .unwrap();
-    let cam_s = w
-        .add_schema("sensor_msgs/msg/Image", "ros2msg", b"")
-        .unwrap();
-    let odom = w.add_channel(odom_s, "/odom", "cdr", &none).unwrap();
-    let imu_c = w.add_channel(imu_s, "/imu", "cdr", &none).unwrap();
-    let cam = w.add_channel(cam_s, "/camera", "cdr", &none).unwrap();
+    let options = LogOptions {
+        chunk_size: 1 << 20,
+        ..LogOptions::default()
+    };
+    let mut w = LogWriter::create(path, options).unwrap();
     let image = vec![7u8; 256 << 10];
     for i in 0..seconds * 50 {
         let t = T0 + i * 20 * MS;
-        let h = |channel_id| mcap::records::MessageHeader {
-            channel_id,
-            sequence: i as u32,
-            log_time: t,
-            publish_time: t,
-        };
         let x = 5.0 * i as f64 * 0.02;
-        w.write_to_known_channel(&h(odom), &odometry(t, x, 0.0, 0.0, 5.0))
+        let odom = odometry(t, x, 0.0, 0.0, 5.0);
+        w.write("/odom", "nav_msgs/msg/Odometry", ODOMETRY, t, &odom)
             .unwrap();
-        w.write_to_known_channel(&h(imu_c), &imu(t, 0.1, 0.0, 0.0))
-            .unwrap();
+        let a = imu(t, 0.1, 0.0, 0.0);
+        w.write("/imu", "sensor_msgs/msg/Imu", IMU, t, &a).unwrap();
         if i % 5 == 0 {
-            w.write_to_known_channel(&h(cam), &image).unwrap();
+            w.write("/camera", "sensor_msgs/msg/Image", "", t, &image)
+                .unwrap();
         }
     }
     w.finish().unwrap();
@@ -855,8 +760,6 @@ pub(crate) fn metric_info(frames: &[CarlaFrame]) -> String {
     serde_json::to_string(&map).unwrap()
 }
 
-const PATH_DEF: &str = "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n";
-
 /// A `nav_msgs/msg/Path` of `points` (x, y, z).
 fn path_msg(t: u64, points: &[[f64; 3]]) -> Vec<u8> {
     let mut c = Cdr::new();
@@ -884,7 +787,7 @@ fn log_of(
         out.push((
             "/path",
             "nav_msgs/msg/Path",
-            PATH_DEF,
+            ros::PATH,
             T0,
             path_msg(T0, &mirrored),
         ));
@@ -1514,40 +1417,20 @@ fn r4_05_a_stray_time_stamp_costs_nothing_and_is_said() {
 /// Writes a log of 2 s of the drive beside one zstd-compressed message of `mib` MiB on
 /// /camera (nobody reads it), with or without the message index records after each chunk.
 fn write_camera_log(path: &Path, mib: usize, indexed: bool) {
-    let file = std::io::BufWriter::new(fs::File::create(path).unwrap());
-    let opts = mcap::WriteOptions::new()
-        .chunk_size(Some(1 << 20))
-        .compression(Some(mcap::Compression::Zstd))
-        .emit_message_indexes(indexed);
-    let mut w = opts.create(file).unwrap();
-    let none = BTreeMap::new();
-    let cam_s = w
-        .add_schema("sensor_msgs/msg/Image", "ros2msg", b"")
-        .unwrap();
-    let cam = w.add_channel(cam_s, "/camera", "cdr", &none).unwrap();
-    let image = vec![0u8; mib << 20];
-    let h = mcap::records::MessageHeader {
-        channel_id: cam,
-        sequence: 0,
-        log_time: T0,
-        publish_time: T0,
+    let options = LogOptions {
+        chunk_size: 1 << 20,
+        zstd: true,
+        indexed,
+        ..LogOptions::default()
     };
-    w.write_to_known_channel(&h, &image).unwrap();
+    let mut w = LogWriter::create(path, options).unwrap();
+    let image = vec![0u8; mib << 20];
+    w.write("/camera", "sensor_msgs/msg/Image", "", T0, &image)
+        .unwrap();
     drop(image);
     w.flush().unwrap();
-    let mut channels: BTreeMap<&str, u16> = BTreeMap::new();
-    for (i, (topic, schema, def, t, data)) in drive(2).into_iter().enumerate() {
-        let id = *channels.entry(topic).or_insert_with(|| {
-            let s = w.add_schema(schema, "ros2msg", def.as_bytes()).unwrap();
-            w.add_channel(s, topic, "cdr", &none).unwrap()
-        });
-        let h = mcap::records::MessageHeader {
-            channel_id: id,
-            sequence: i as u32,
-            log_time: t,
-            publish_time: t,
-        };
-        w.write_to_known_channel(&h, &data).unwrap();
+    for (topic, schema, def, t, data) in drive(2) {
+        w.write(topic, schema, def, t, &data).unwrap();
     }
     w.finish().unwrap();
 }

@@ -761,3 +761,52 @@ fn i48_2_collisions_placed_by_log_time_merge() {
         .count();
     assert_eq!(kept, placed);
 }
+
+/// Review of issue 48, item 4: a part's note (the demo's 10 Hz route, whose step period is
+/// inferred) is read back as a note: the merged report keeps it under the part's name, and
+/// `sds merge` prints it as `sds: note: `, not as a warning; a merge of that merge too.
+#[test]
+fn i48_r4_a_parts_note_is_merged_and_printed_as_a_note() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    demo(dir);
+    let extra = demo_args(dir);
+    let extra: Vec<&str> = extra.iter().map(String::as_str).collect();
+    let part = dir.join("part.json");
+    let scored = score_to(&part, &[&dir.join("results.json")], &extra);
+    let note = "step period inferred as 0.1 s";
+    assert!(
+        scored["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().starts_with(note)),
+        "{}",
+        scored["warnings"]
+    );
+    let merged = dir.join("m.json");
+    let again = dir.join("mm.json");
+    for (parts, out, said) in [
+        (&part, &merged, format!("part {}: {note}", s(&part))),
+        (
+            &merged,
+            &again,
+            format!("part {}: part {}: {note}", s(&merged), s(&part)),
+        ),
+    ] {
+        let (code, err) = run(&["merge", &s(parts), "-o", &s(out)]);
+        assert_eq!(code, 0, "{err}");
+        let v = read(out);
+        assert!(
+            v["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|w| w.as_str().unwrap().starts_with(&said)),
+            "{}",
+            v["warnings"]
+        );
+        assert!(err.contains(&format!("sds: note: {said}")), "{err}");
+        assert!(!err.contains(&format!("sds: warning: {said}")), "{err}");
+    }
+}

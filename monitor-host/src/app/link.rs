@@ -6,8 +6,7 @@
 use std::path::PathBuf;
 
 use crate::app::request::{log_topics, RequestError, RunSettings};
-use crate::app::run::{run_frames, Inputs};
-use crate::input::results_file::read_results;
+use crate::app::run::{named_frames, Inputs};
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
 use crate::live_link::transport::{Target, TargetError};
@@ -183,21 +182,7 @@ impl LinkRequest {
         let mut routes: Vec<(String, Result<crate::model::frames::RouteFrames, String>)> =
             Vec::new();
         if self.mcap.is_empty() {
-            let mut ids = std::collections::HashMap::new();
-            for path in &self.inputs.results {
-                if let Ok(set) = read_results(path) {
-                    for r in set.records {
-                        if let Ok(rec) = &r.entry {
-                            ids.insert((r.source.clone(), r.index), rec.route_id.clone());
-                        }
-                    }
-                }
-            }
-            for (source, frames) in run_frames(&self.inputs, &settings)? {
-                let id = ids
-                    .get(&(source.file.clone(), source.index))
-                    .cloned()
-                    .unwrap_or_else(|| format!("{}#{}", source.file.display(), source.index));
+            for (id, (_, frames)) in named_frames(&self.inputs, &settings)? {
                 routes.push((id, frames.map_err(|e| crate::error::message(&e))));
             }
         } else {

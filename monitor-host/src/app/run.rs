@@ -735,6 +735,18 @@ pub type SourcedFrames = (Source, Result<RouteFrames, Error>);
 /// # Errors
 /// As [`score_run`] (the inputs as a whole).
 pub fn run_frames(inputs: &Inputs, settings: &Settings) -> Result<Vec<SourcedFrames>, Error> {
+    Ok(named_frames(inputs, settings)?
+        .into_iter()
+        .map(|(_, frames)| frames)
+        .collect())
+}
+
+/// [`run_frames`], each with its record's route id: `sds link` names the routes it plays
+/// without reading the results files again.
+pub(crate) fn named_frames(
+    inputs: &Inputs,
+    settings: &Settings,
+) -> Result<Vec<(String, SourcedFrames)>, Error> {
     let (kept, routes, files_read) = frame_records(inputs, settings)?;
     if let Some(dir) = &inputs.maps {
         check_maps_folder(dir)?;
@@ -751,8 +763,8 @@ pub fn run_frames(inputs: &Inputs, settings: &Settings) -> Result<Vec<SourcedFra
         .collect();
     Ok(kept
         .par_iter()
-        .filter(|l| l.entry.is_ok())
-        .map(|l| {
+        .filter_map(|l| Some((l, l.entry.as_ref().ok()?.route_id.clone())))
+        .map(|(l, id)| {
             let frames = frames_of(
                 l,
                 inputs,
@@ -761,7 +773,7 @@ pub fn run_frames(inputs: &Inputs, settings: &Settings) -> Result<Vec<SourcedFra
                 &maps,
                 files_read.clone(),
             );
-            (Source::of(l), frames)
+            (id, (Source::of(l), frames))
         })
         .collect())
 }

@@ -113,7 +113,7 @@ pub fn read_report(file: &Path, host: bool) -> Result<(Report, ScoredBy), Result
         sds_version: part.inputs.sds_version.clone(),
         config: part.config.clone(),
     };
-    let report = merge::merge_parts(std::slice::from_ref(&part), DuplicatePolicy::Error, host)
+    let report = merge::merge_parts(vec![part], DuplicatePolicy::Error, host)
         .map_err(|e| format("(an sds report)", crate::error::message(&e)))?;
     Ok((report, by))
 }

@@ -357,69 +357,44 @@ pub enum Warning {
 impl Warning {
     /// True for a note: a fact worth saying that asks nothing of the user (the `sds` command
     /// prints it after `sds: note: `).
+    ///
+    /// A note read back from a report (a part of `sds merge`, a saved run of `sds compare`)
+    /// stays a note: the JSON report keeps warnings and notes as text, so it is known by how
+    /// its text ends.
+    ///
+    /// ```
+    /// use monitor_host::Warning;
+    /// let note = Warning::Untraced { collisions: 2, cap: 8 };
+    /// assert!(note.is_note());
+    /// assert!(Warning::Recorded(note.to_string()).is_note());
+    /// assert!(!Warning::Recorded("a warning".into()).is_note());
+    /// ```
     pub fn is_note(&self) -> bool {
-        matches!(
-            self,
-            Warning::PeriodInferred { .. } | Warning::Untraced { .. }
-        )
-    }
-}
-
-impl std::fmt::Display for Warning {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        // Each family of warnings is written by its own function (`Warning::fmt_*`); the few
-        // that pass a text on are written here.
         match self {
-            Warning::NoRecords { .. }
-            | Warning::Unfinished { .. }
-            | Warning::StoredTotalsIgnored { .. }
-            | Warning::UnknownStatus { .. }
-            | Warning::ComposedScore { .. }
-            | Warning::UnreadableResults { .. }
-            | Warning::MergedSkipped { .. }
-            | Warning::CannotList { .. }
-            | Warning::LinkLeavesRoot { .. }
-            | Warning::CannotRead { .. }
-            | Warning::StoredFigures { .. }
-            | Warning::EvalNum { .. }
-            | Warning::LeadInfractions { .. }
-            | Warning::UnparseableCollision { .. } => self.fmt_results(f),
-            Warning::DuplicatesScored { .. }
-            | Warning::DuplicatesDropped { .. }
-            | Warning::NewestByOrder { .. }
-            | Warning::NewestYearWrap { .. }
-            | Warning::EarlierAttempt { .. }
-            | Warning::ForeignRoute { .. } => self.fmt_route_set(f),
-            Warning::StepPeriodUnknown { .. }
-            | Warning::StepPeriodPartial { .. }
-            | Warning::LargeGaps { .. }
-            | Warning::NoTelemetry { .. }
-            | Warning::PeriodInferred { .. }
-            | Warning::Untraced { .. } => self.fmt_telemetry(f),
-            Warning::AllGaps { .. }
-            | Warning::NoReference(..)
-            | Warning::NoMap { .. }
-            | Warning::NoMaps { .. }
-            | Warning::MapNotServing { .. } => self.fmt_reference(f),
-            Warning::LabelsMissKeys { .. }
-            | Warning::Unmapped { .. }
-            | Warning::Protocol(..)
-            | Warning::MinSpeedRegrouped { .. }
-            | Warning::F2dUnfinished { .. } => self.fmt_groups(f),
-            Warning::Route { route, warning } => write!(f, "{route}: {warning}"),
-            Warning::Recorded(text) => f.write_str(text),
-            Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
-            Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
-            Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
+            Warning::PeriodInferred { .. } | Warning::Untraced { .. } => true,
+            Warning::Route { warning, .. } => warning.is_note(),
+            Warning::Recorded(text) | Warning::Part { text, .. } => {
+                NOTE_ENDS.iter().any(|end| text.ends_with(end))
+            }
+            _ => false,
         }
     }
 }
 
-impl Warning {
-    /// The results files and what was read from them: records, stored figures, unreadable or
-    /// skipped files.
-    fn fmt_results(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+/// How the notes' texts end ([`Warning::PeriodInferred`], [`Warning::Untraced`]), written by
+/// their `Display` and read by [`Warning::is_note`] for a note read back as text.
+const NOTE_ENDS: [&str; 2] = [
+    " (the setting dt=SECONDS fixes the period of every route)",
+    "; every collision is in the JSON report's events)",
+];
+
+impl std::fmt::Display for Warning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        // One match over every variant, by family: a new variant cannot compile without its
+        // text.
         match self {
+            // The results files and what was read from them: records, stored figures,
+            // unreadable or skipped files.
             Warning::NoRecords {
                 file,
                 entry_status,
@@ -531,14 +506,8 @@ impl Warning {
                 "{}: unparseable collision string ({reason}): counted, not aligned",
                 list.name()
             ),
-            // The other families are written by `Display::fmt` or their own function.
-            _ => unreachable!("{self:?} is not of this family"),
-        }
-    }
-
-    /// Which copy of a route was kept (the duplicates policy) and routes outside the route set.
-    fn fmt_route_set(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
+            // Which copy of a route was kept (the duplicates policy) and routes outside the
+            // route set.
             Warning::DuplicatesScored { ids, first } => write!(
                 f,
                 "duplicates: all: {ids} route id(s) scored more than once, each copy counts in N \
@@ -603,14 +572,7 @@ impl Warning {
                  every aggregate",
                 routes_file.display()
             ),
-            // The other families are written by `Display::fmt` or their own function.
-            _ => unreachable!("{self:?} is not of this family"),
-        }
-    }
-
-    /// The telemetry: its step period, its gaps, none found.
-    fn fmt_telemetry(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
+            // The telemetry: its step period, its gaps, none found.
             Warning::StepPeriodUnknown {
                 span,
                 duration_game,
@@ -628,15 +590,15 @@ impl Warning {
             ),
             Warning::PeriodInferred { dt, routes } => write!(
                 f,
-                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {} \
-                 (the setting dt=SECONDS fixes the period of every route)",
+                "step period inferred as {dt} s (not the 0.05 s tick) for {} route(s): {}{}",
                 routes.len(),
-                id_list(routes)
+                id_list(routes),
+                NOTE_ENDS[0]
             ),
             Warning::Untraced { collisions, cap } => write!(
                 f,
-                "{collisions} more collision(s) without a trace (at most {cap} per route; every \
-                 collision is in the JSON report's events)"
+                "{collisions} more collision(s) without a trace (at most {cap} per route{}",
+                NOTE_ENDS[1]
             ),
             Warning::LargeGaps { gaps, span } => write!(
                 f,
@@ -668,14 +630,7 @@ impl Warning {
                      (telemetry), or allow_missing_telemetry to score without telemetry terms",
                 )
             }
-            // The other families are written by `Display::fmt` or their own function.
-            _ => unreachable!("{self:?} is not of this family"),
-        }
-    }
-
-    /// The lateral reference: maps that are absent or serve no route, routes without one.
-    fn fmt_reference(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
+            // The lateral reference: maps that are absent or serve no route, routes without one.
             Warning::AllGaps {
                 file,
                 route,
@@ -752,14 +707,7 @@ impl Warning {
                 }
                 Ok(())
             }
-            // The other families are written by `Display::fmt` or their own function.
-            _ => unreachable!("{self:?} is not of this family"),
-        }
-    }
-
-    /// Label files, groups and the scoring protocols.
-    fn fmt_groups(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
+            // Label files, groups and the scoring protocols.
             Warning::LabelsMissKeys { file, keys, count } => write!(
                 f,
                 "{}: no label for {count} key(s) ({}{}): those routes fall in \"(unmapped)\"",
@@ -796,8 +744,12 @@ impl Warning {
                 routes.len(),
                 id_list(routes)
             ),
-            // The other families are written by `Display::fmt` or their own function.
-            _ => unreachable!("{self:?} is not of this family"),
+            // Texts passed on: a route's, a part's, a report's read back, a vehicle log's.
+            Warning::Route { route, warning } => write!(f, "{route}: {warning}"),
+            Warning::Recorded(text) => f.write_str(text),
+            Warning::Part { part, text } => write!(f, "part {}: {text}", part.display()),
+            Warning::VehicleLog { file, text } if file.as_os_str().is_empty() => f.write_str(text),
+            Warning::VehicleLog { file, text } => write!(f, "{}: {text}", file.display()),
         }
     }
 }

@@ -208,7 +208,7 @@ pub struct InputsRefusal {
 }
 
 /// One part, read.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct Part {
     /// The file.
     pub file: PathBuf,
@@ -387,15 +387,16 @@ pub fn merge(
 /// [`MergeError::Duplicate`], [`MergeError::Policy`], [`MergeError::TooFewRoutes`],
 /// [`MergeError::Groups`], [`MergeError::MixedKinds`].
 pub fn merge_parts(
-    parts: &[Part],
+    parts: Vec<Part>,
     duplicates: DuplicatePolicy,
     host: bool,
 ) -> Result<Report, MergeError> {
+    // Taken by value: the merged rows are the parts' own, moved, not copies.
     let first = parts.first().ok_or(MergeError::NoParts)?;
     for p in &parts[1..] {
         check_part(first, p)?;
     }
-    merge_checked(parts.to_vec(), duplicates, host)
+    merge_checked(parts, duplicates, host)
 }
 
 /// What a part must share with the first: its settings, route set, scoring inputs and kind

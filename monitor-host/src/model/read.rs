@@ -124,30 +124,39 @@ impl Report {
     /// [`FormatError`]: not JSON, another schema, or the first field that is not what this
     /// version writes, with its JSON path.
     pub fn from_json(bytes: &[u8]) -> Result<Report, FormatError> {
-        // The schema first, so that another file says what it is before a field is missed.
-        #[derive(serde::Deserialize)]
-        struct Head {
-            schema: Option<serde_json::Value>,
-        }
-        let head: Head =
-            serde_json::from_slice(bytes).map_err(|e| whole(format!("not JSON: {e}")))?;
-        match head.schema {
-            Some(serde_json::Value::String(s)) if s == SCHEMA => {}
-            Some(serde_json::Value::String(s)) => {
-                return Err(whole(format!("schema {s}, not {SCHEMA}")))
-            }
-            _ => return Err(whole(format!("no \"schema\": \"{SCHEMA}\""))),
-        }
+        // One parse: a report that reads is of this schema (its `schema` field admits only
+        // SCHEMA). Only on failure is the head looked at, so that another file says what it
+        // is (not JSON, another schema) before a missed field is named.
         let mut de = serde_json::Deserializer::from_slice(bytes);
-        let report: Result<Report, _> = serde_path_to_error::deserialize(&mut de);
-        match report {
-            Ok(r) => Ok(r),
-            Err(e) => Err(FormatError {
-                path: e.path().to_string(),
-                why: plain(&e.inner().to_string()),
-                written_by: written_by(bytes),
-            }),
-        }
+        let e = match serde_path_to_error::deserialize::<_, Report>(&mut de) {
+            // Trailing bytes after the report: not JSON, said by the head's parse below.
+            Ok(report) if de.end().is_ok() => return Ok(report),
+            Ok(_) => None,
+            Err(e) => Some(e),
+        };
+        schema_of(bytes)?;
+        let Some(e) = e else {
+            return Err(whole("not JSON: trailing characters".into()));
+        };
+        Err(FormatError {
+            path: e.path().to_string(),
+            why: plain(&e.inner().to_string()),
+            written_by: written_by(bytes),
+        })
+    }
+}
+
+/// The head of a file that did not read as a report: not JSON, or no or another schema.
+fn schema_of(bytes: &[u8]) -> Result<(), FormatError> {
+    #[derive(serde::Deserialize)]
+    struct Head {
+        schema: Option<serde_json::Value>,
+    }
+    let head: Head = serde_json::from_slice(bytes).map_err(|e| whole(format!("not JSON: {e}")))?;
+    match head.schema {
+        Some(serde_json::Value::String(s)) if s == SCHEMA => Ok(()),
+        Some(serde_json::Value::String(s)) => Err(whole(format!("schema {s}, not {SCHEMA}"))),
+        _ => Err(whole(format!("no \"schema\": \"{SCHEMA}\""))),
     }
 }
 
@@ -222,5 +231,23 @@ mod tests {
             "expected a whole number, got integer `-1`"
         );
         assert_eq!(plain("missing field `frames`"), "missing field `frames`");
+    }
+
+    /// One parse, the errors as when the head was parsed first: the file's kind before a
+    /// missed field.
+    #[test]
+    fn a_file_that_is_not_a_report_says_what_it_is() {
+        let said = |b: &[u8]| Report::from_json(b).unwrap_err().to_string();
+        assert!(said(b"{\"schema\": ").starts_with("not JSON: "));
+        assert!(said(b"{\"schema\": \"sds-report/1\"} x").starts_with("not JSON: trailing"));
+        assert_eq!(said(br#"{"routes": 1}"#), "no \"schema\": \"sds-report/1\"");
+        assert_eq!(
+            said(br#"{"schema": "sds-compare/1", "routes": 1}"#),
+            "schema sds-compare/1, not sds-report/1"
+        );
+        assert_eq!(
+            said(br#"{"schema": "sds-report/1"}"#),
+            ".: missing field `profile` at line 1 column 26"
+        );
     }
 }

@@ -16,7 +16,7 @@
 //! whole (the test `drive_streams_what_the_held_frames_give`; `bench/drive-memory.sh` compares
 //! the reports with another binary's).
 
-use monitor_core::{Collisions, ComfortSummary, Event, Frame, Monitor, RouteSummary};
+use monitor_core::{Collisions, ComfortSummary, Frame, RouteSummary};
 
 use crate::geometry::corridor::{Corridor, ReferenceKind};
 use crate::input::mcap::{LogScan, LogTick, McapError};
@@ -29,7 +29,9 @@ use crate::pipeline::motion::{MotionMeter, MovingComfort};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::placement;
 use crate::pipeline::prepare::collision_events;
-use crate::pipeline::replay::{conclude, refusal_in_file_terms, smoothness_profile, Refused};
+use crate::pipeline::replay::{
+    conclude, refusal_in_file_terms, smoothness_profile, Refused, SegmentMonitor,
+};
 use crate::pipeline::step_period::{DtSource, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, TimelineKeeper};
 use crate::reference::batch;
@@ -56,18 +58,14 @@ struct Drive<'a> {
     live: LiveFrames<'a>,
     /// Why the monitor refused the route, and the step of the refused frame once known.
     refused: Option<(Refused, Option<u64>)>,
-    monitor: Option<Monitor>,
+    monitor: SegmentMonitor,
     log: ChunkLog,
-    verdicts: Vec<monitor_core::CollisionVerdict>,
-    total: RouteSummary,
-    legacy: ComfortSummary,
     check: BatchCheck,
     batch_total: RouteSummary,
     batch_legacy: ComfortSummary,
     /// Comfort verdicts of the monitor compared with the batch's so far.
     compared: usize,
     agrees: bool,
-    chunks_before: u32,
     seg_start: usize,
     meter: MotionMeter,
     keeper: TimelineKeeper,
@@ -116,34 +114,20 @@ impl Drive<'_> {
     /// Ends a segment: the monitor's last verdicts and counts, the batch check's last part.
     /// `end`: the index of the frame after it, `step`: that frame's step, if any.
     fn close(&mut self, end: usize, step: Option<u64>) {
-        let Some(mut m) = self.monitor.take() else {
-            return;
-        };
         if self.refused.is_some() {
             return;
         }
-        match m.finish() {
-            Ok(done) => {
-                keep(
-                    &done.events,
-                    self.seg_start,
-                    self.chunks_before,
-                    &mut self.log,
-                    &mut self.verdicts,
-                );
-                self.total.merge(&done.summary);
-                self.legacy
-                    .merge(m.second_comfort().unwrap_or(&done.summary.comfort));
+        match self.monitor.end(end, &mut self.log) {
+            Ok(true) => {
                 self.check_part();
                 self.check = BatchCheck {
                     before: Vec::new(),
                     part: Vec::new(),
                     started: false,
                 };
-                self.chunks_before +=
-                    ((end - self.seg_start) as u32).div_ceil(self.chunk_len as u32);
             }
-            Err(error) => self.refused = Some((Refused::Frame { index: end, error }, step)),
+            Ok(false) => {}
+            Err(refused) => self.refused = Some((refused, step)),
         }
     }
 
@@ -171,17 +155,10 @@ impl Drive<'_> {
             }
             self.seg_start = index;
             self.live.start_segment();
-            let mut m: Monitor = match Monitor::new(self.config) {
-                Ok(m) => m,
-                Err(e) => {
-                    self.refused = Some((Refused::Config(e), Some(first)));
-                    return;
-                }
-            };
-            if let Some(profile) = smoothness_profile(&self.config) {
-                m = m.with_second_profile(profile);
+            if let Err(refused) = self.monitor.start(index) {
+                self.refused = Some((refused, Some(first)));
+                return;
             }
-            self.monitor = Some(m);
         }
         let mut collisions = Collisions::NONE;
         for &e in tick.events {
@@ -199,22 +176,12 @@ impl Drive<'_> {
                 ev.impact_speed = Some(frame.speed);
             }
         }
-        let Some(m) = self.monitor.as_mut() else {
+        if !self.monitor.is_open() {
             return;
-        };
-        match m.push(&frame) {
-            Ok(evs) if !evs.is_empty() => keep(
-                &evs,
-                self.seg_start,
-                self.chunks_before,
-                &mut self.log,
-                &mut self.verdicts,
-            ),
-            Ok(_) => {}
-            Err(error) => {
-                self.refused = Some((Refused::Frame { index, error }, Some(step)));
-                return;
-            }
+        }
+        if let Err(refused) = self.monitor.push(index, &frame, &mut self.log) {
+            self.refused = Some((refused, Some(step)));
+            return;
         }
         self.check.part.push(frame);
         if self.check.part.len() == PART_CHUNKS * self.chunk_len {
@@ -262,21 +229,16 @@ pub fn replay_drive(
         false,
         settings.lateral_reference,
     ));
+    let monitor = SegmentMonitor::new(config);
     let mut d = Drive {
         config,
         dt,
         chunk_len,
         events: collision_events(record),
         live: LiveFrames::with_corridor(Corridor::new(reference, None, settings), config.dt),
-        // Checked once, before any frame, as a route without frames would be.
-        refused: Monitor::<{ monitor_core::DEFAULT_CAPACITY }>::new(config)
-            .err()
-            .map(|e| (Refused::Config(e), None)),
-        monitor: None,
+        refused: monitor.check().err().map(|refused| (refused, None)),
+        monitor,
         log: ChunkLog::default(),
-        verdicts: Vec::new(),
-        total: RouteSummary::ZERO,
-        legacy: ComfortSummary::ZERO,
         check: BatchCheck {
             before: Vec::new(),
             part: Vec::new(),
@@ -286,7 +248,6 @@ pub fn replay_drive(
         batch_legacy: ComfortSummary::ZERO,
         compared: 0,
         agrees: true,
-        chunks_before: 0,
         seg_start: 0,
         meter: MotionMeter::new(
             dt,
@@ -324,17 +285,10 @@ pub fn replay_drive(
         }
         None => {
             let mut events = d.events;
-            for ev in &mut events {
-                if let Some(k) = ev.frame {
-                    if let Some(v) = d.verdicts.iter().find(|v| v.frame as usize == k) {
-                        ev.decelerated = Some(v.decelerated);
-                        ev.exempt = Some(v.exempt);
-                    }
-                }
-            }
-            out.legacy_comfort = Some(d.legacy);
-            out.batch_agrees =
-                Some(d.agrees && d.batch_total == d.total && d.batch_legacy == d.legacy);
+            d.monitor.verdicts_onto(&mut events);
+            let (total, legacy) = (d.monitor.total, d.monitor.legacy);
+            out.legacy_comfort = Some(legacy);
+            out.batch_agrees = Some(d.agrees && d.batch_total == total && d.batch_legacy == legacy);
             out.telemetry = TelemetryState::Ok;
             let (motion, marks) = d.meter.finish();
             out.moving = Some(MovingComfort::count(&motion.moving, &d.log.comfort));
@@ -363,42 +317,14 @@ pub fn replay_drive(
             timeline.chunk_steps = d.chunk_steps;
             timeline.chunk_frames = d.chunk_frames;
             out.timeline = Some(timeline);
-            Some(d.total)
+            Some(total)
         }
     };
     Ok(conclude(out, record, settings, summary))
 }
 
-/// Keeps a `push` or `finish`'s events: collision verdicts at the route's frame index, chunk
-/// verdicts numbered on across segments.
-fn keep(
-    events: &monitor_core::Events,
-    offset: usize,
-    chunks_before: u32,
-    log: &mut ChunkLog,
-    verdicts: &mut Vec<monitor_core::CollisionVerdict>,
-) {
-    for e in events {
-        match *e {
-            Event::Collision(mut v) => {
-                v.frame += offset as u32;
-                verdicts.push(v);
-            }
-            Event::Comfort(mut c) => {
-                c.chunk += chunks_before;
-                log.comfort.push(c);
-            }
-            Event::Lateral(mut l) => {
-                l.chunk += chunks_before;
-                log.lateral.push(l);
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
-    use std::collections::BTreeMap;
     use std::path::Path;
 
     use super::*;
@@ -408,54 +334,18 @@ mod tests {
     use crate::pipeline::prepare::prepare_on;
     use crate::pipeline::replay::{replay_read, unreplayed, RouteTelemetry};
 
-    const ODOMETRY: &str = "std_msgs/Header header\nstring child_frame_id\n\
-        geometry_msgs/PoseWithCovariance pose\ngeometry_msgs/TwistWithCovariance twist\n";
-    const IMU: &str = "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\n\
-        float64[9] orientation_covariance\ngeometry_msgs/Vector3 angular_velocity\n\
-        float64[9] angular_velocity_covariance\ngeometry_msgs/Vector3 linear_acceleration\n\
-        float64[9] linear_acceleration_covariance\n";
-    const PATH: &str = "std_msgs/Header header\ngeometry_msgs/PoseStamped[] poses\n";
-    const T0: u64 = 1_700_000_000_000_000_000;
+    use crate::demo::drive::{write_messages, Cdr, LogOptions, Message, IMU, ODOMETRY, PATH, T0};
+
     const MS: u64 = 1_000_000;
 
-    struct Cdr(Vec<u8>);
-    impl Cdr {
-        fn new(t: u64) -> Cdr {
-            let mut c = Cdr(vec![0, 1, 0, 0]);
-            c.header(t);
-            c
-        }
-        fn align(&mut self, n: usize) {
-            while !(self.0.len() - 4).is_multiple_of(n) {
-                self.0.push(0);
-            }
-        }
-        fn u32(&mut self, v: u32) -> &mut Self {
-            self.align(4);
-            self.0.extend_from_slice(&v.to_le_bytes());
-            self
-        }
-        fn string(&mut self, s: &str) -> &mut Self {
-            self.u32(s.len() as u32 + 1);
-            self.0.extend_from_slice(s.as_bytes());
-            self.0.push(0);
-            self
-        }
-        fn header(&mut self, t: u64) -> &mut Self {
-            self.u32((t / 1_000_000_000) as u32)
-                .u32((t % 1_000_000_000) as u32)
-                .string("map")
-        }
-        fn f64s(&mut self, v: &[f64]) -> &mut Self {
-            for x in v {
-                self.align(8);
-                self.0.extend_from_slice(&x.to_le_bytes());
-            }
-            self
-        }
+    /// A message's CDR, its header stamped `t`.
+    fn stamped(t: u64) -> Cdr {
+        let mut c = Cdr::new();
+        c.header(t);
+        c
     }
 
-    type Msg = (&'static str, &'static str, &'static str, u64, Vec<u8>);
+    type Msg = Message<'static>;
 
     /// A drive with what the streaming must get right: stops (standing events), hard braking
     /// and collisions (before the first pose, on frames, in a gap, after the last), recorder
@@ -484,7 +374,7 @@ mod tests {
             yaw += wz * 0.05;
             x += v * yaw.cos() * 0.05;
             let y = 0.4 * (s / 11.0).sin();
-            let mut c = Cdr::new(t);
+            let mut c = stamped(t);
             c.string("base_link");
             c.f64s(&[x, y, 0.0, 0.0, 0.0, (yaw / 2.0).sin(), (yaw / 2.0).cos()]);
             c.f64s(&[0.0; 36])
@@ -492,7 +382,7 @@ mod tests {
                 .f64s(&[0.0; 36]);
             out.push(("/odom", "nav_msgs/msg/Odometry", ODOMETRY, t, c.0));
             if imu {
-                let mut c = Cdr::new(t + 3 * MS);
+                let mut c = stamped(t + 3 * MS);
                 c.f64s(&[
                     0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
                 ]);
@@ -513,7 +403,7 @@ mod tests {
             out.push(("/events", "std_msgs/msg/Empty", "", t, vec![0, 1, 0, 0]));
         }
         if path {
-            let mut c = Cdr::new(T0);
+            let mut c = stamped(T0);
             c.u32(400);
             for k in 0..400 {
                 c.header(T0)
@@ -525,31 +415,11 @@ mod tests {
     }
 
     fn write(path: &Path, messages: &[Msg]) {
-        let file = std::io::BufWriter::new(std::fs::File::create(path).unwrap());
-        let opts = mcap::WriteOptions::new()
-            .chunk_size(Some(16_384))
-            .compression(None);
-        let mut w = opts.create(file).unwrap();
-        let mut channels: BTreeMap<&str, u16> = BTreeMap::new();
-        for (i, (topic, schema, def, t, data)) in messages.iter().enumerate() {
-            let id = match channels.get(topic) {
-                Some(id) => *id,
-                None => {
-                    let s = w.add_schema(schema, "ros2msg", def.as_bytes()).unwrap();
-                    let id = w.add_channel(s, topic, "cdr", &BTreeMap::new()).unwrap();
-                    channels.insert(topic, id);
-                    id
-                }
-            };
-            let header = mcap::records::MessageHeader {
-                channel_id: id,
-                sequence: i as u32,
-                log_time: *t,
-                publish_time: *t,
-            };
-            w.write_to_known_channel(&header, data).unwrap();
-        }
-        w.finish().unwrap();
+        let options = LogOptions {
+            chunk_size: 16_384,
+            ..LogOptions::default()
+        };
+        write_messages(path, options, messages).unwrap();
     }
 
     /// The log's record and path, as `sds score --mcap` makes them.

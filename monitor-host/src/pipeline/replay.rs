@@ -4,8 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use monitor_core::{
-    score, ComfortSummary, Config, ConfigError, Event, Monitor, MonitorError, Profile,
-    RecordScores, RouteSummary,
+    score, CollisionVerdict, ComfortSummary, Config, ConfigError, Event, Monitor, MonitorError,
+    Profile, RecordScores, RouteSummary,
 };
 
 use crate::geometry::corridor::ReferenceKind;
@@ -19,7 +19,7 @@ use crate::input::route_xml::RouteSet;
 use crate::input::telemetry::format::read_telemetry as read_telemetry_file;
 use crate::input::warning::Warning;
 use crate::pipeline::motion::MovingComfort;
-use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
+use crate::pipeline::outcome::{CollisionEvent, RouteOutcome, TelemetryState};
 use crate::pipeline::placement;
 use crate::pipeline::prepare::{collision_events, prepare_with, PreparedRoute};
 use crate::pipeline::step_period::{self, StepPeriod};
@@ -101,70 +101,167 @@ pub fn stream_logged(
     config: &Config,
     log: &mut ChunkLog,
 ) -> Result<Streamed, Refused> {
-    // Checked once, before any frame, as a route without frames would be.
-    Monitor::<{ monitor_core::DEFAULT_CAPACITY }>::new(*config).map_err(Refused::Config)?;
-    let n = prepared.frames.len();
-    let ranges = crate::input::telemetry::Telemetry::ranges(&prepared.segments, n);
-    let chunk_len = u32::from(config.chunk_len.max(1));
-    let mut verdicts = Vec::new();
-    let mut total = RouteSummary::ZERO;
-    let mut legacy = ComfortSummary::ZERO;
-    let mut chunks_before = 0u32;
+    let mut monitor = SegmentMonitor::new(*config);
+    monitor.check()?;
+    let ranges =
+        crate::input::telemetry::Telemetry::ranges(&prepared.segments, prepared.frames.len());
     for range in ranges {
-        let offset = range.start;
-        let mut monitor: Monitor = Monitor::new(*config).map_err(Refused::Config)?;
-        if let Some(profile) = smoothness_profile(config) {
-            monitor = monitor.with_second_profile(profile);
+        monitor.start(range.start)?;
+        for (index, f) in prepared.frames[range.clone()].iter().enumerate() {
+            monitor.push(range.start + index, f, log)?;
         }
-        let mut keep = |events: &monitor_core::Events| {
-            for e in events {
-                match *e {
-                    Event::Collision(mut v) => {
-                        v.frame += offset as u32;
-                        verdicts.push(v);
-                    }
-                    Event::Comfort(mut c) => {
-                        c.chunk += chunks_before;
-                        log.comfort.push(c);
-                    }
-                    Event::Lateral(mut l) => {
-                        l.chunk += chunks_before;
-                        log.lateral.push(l);
-                    }
+        monitor.end(range.end, log)?;
+    }
+    monitor.verdicts_onto(&mut prepared.events);
+    Ok(Streamed {
+        summary: monitor.total,
+        legacy_comfort: monitor.legacy,
+    })
+}
+
+/// The monitor over a route's segments (docs/SCORE.md §2.4), for a route streamed whole
+/// ([`stream_logged`]) and a drive streamed as its log is read ([`crate::pipeline::drive`]):
+/// a fresh monitor per segment, the collision verdicts at the route's frame indices, the
+/// chunks numbered on across segments (each segment's after the `ceil(n / chunk_len)` chunks
+/// of those before), the counts added up.
+pub(crate) struct SegmentMonitor {
+    config: Config,
+    monitor: Option<Monitor>,
+    /// The route's index of the open segment's first frame.
+    start: usize,
+    chunks_before: u32,
+    verdicts: Vec<CollisionVerdict>,
+    /// The counts of the segments ended, added up.
+    pub(crate) total: RouteSummary,
+    /// Bench2Drive's smoothness of the segments ended, added up.
+    pub(crate) legacy: ComfortSummary,
+}
+
+impl SegmentMonitor {
+    pub(crate) fn new(config: Config) -> SegmentMonitor {
+        SegmentMonitor {
+            config,
+            monitor: None,
+            start: 0,
+            chunks_before: 0,
+            verdicts: Vec::new(),
+            total: RouteSummary::ZERO,
+            legacy: ComfortSummary::ZERO,
+        }
+    }
+
+    /// The configuration, checked once before any frame, as a route without frames would be.
+    pub(crate) fn check(&self) -> Result<(), Refused> {
+        Monitor::<{ monitor_core::DEFAULT_CAPACITY }>::new(self.config)
+            .map(drop)
+            .map_err(Refused::Config)
+    }
+
+    /// Whether a segment is open.
+    pub(crate) fn is_open(&self) -> bool {
+        self.monitor.is_some()
+    }
+
+    /// Opens a segment at the route's frame `start` (the one before ended).
+    pub(crate) fn start(&mut self, start: usize) -> Result<(), Refused> {
+        let mut m: Monitor = Monitor::new(self.config).map_err(Refused::Config)?;
+        if let Some(profile) = smoothness_profile(&self.config) {
+            m = m.with_second_profile(profile);
+        }
+        self.monitor = Some(m);
+        self.start = start;
+        Ok(())
+    }
+
+    /// The route's frame `index` through the open segment's monitor (none open: nothing), its
+    /// chunk verdicts into `log`.
+    pub(crate) fn push(
+        &mut self,
+        index: usize,
+        frame: &monitor_core::Frame,
+        log: &mut ChunkLog,
+    ) -> Result<(), Refused> {
+        let Some(m) = self.monitor.as_mut() else {
+            return Ok(());
+        };
+        let events = m
+            .push(frame)
+            .map_err(|error| Refused::Frame { index, error })?;
+        // Most frames have no event.
+        if !events.is_empty() {
+            keep(
+                &events,
+                self.start,
+                self.chunks_before,
+                log,
+                &mut self.verdicts,
+            );
+        }
+        Ok(())
+    }
+
+    /// Ends the open segment before the route's frame `end`: its last verdicts and its counts.
+    /// False when none was open.
+    pub(crate) fn end(&mut self, end: usize, log: &mut ChunkLog) -> Result<bool, Refused> {
+        let Some(mut m) = self.monitor.take() else {
+            return Ok(false);
+        };
+        let done = m
+            .finish()
+            .map_err(|error| Refused::Frame { index: end, error })?;
+        keep(
+            &done.events,
+            self.start,
+            self.chunks_before,
+            log,
+            &mut self.verdicts,
+        );
+        self.total.merge(&done.summary);
+        self.legacy
+            .merge(m.second_comfort().unwrap_or(&done.summary.comfort));
+        let chunk_len = u32::from(self.config.chunk_len.max(1));
+        self.chunks_before += ((end - self.start) as u32).div_ceil(chunk_len);
+        Ok(true)
+    }
+
+    /// The collision verdicts onto the route's events, by frame index.
+    pub(crate) fn verdicts_onto(&self, events: &mut [CollisionEvent]) {
+        for ev in events {
+            if let Some(k) = ev.frame {
+                if let Some(v) = self.verdicts.iter().find(|v| v.frame as usize == k) {
+                    ev.decelerated = Some(v.decelerated);
+                    ev.exempt = Some(v.exempt);
                 }
             }
-        };
-        for (index, f) in prepared.frames[range.clone()].iter().enumerate() {
-            let events = monitor.push(f).map_err(|error| Refused::Frame {
-                index: offset + index,
-                error,
-            })?;
-            // Most frames have no event.
-            if !events.is_empty() {
-                keep(&events);
-            }
-        }
-        let done = monitor.finish().map_err(|error| Refused::Frame {
-            index: range.end,
-            error,
-        })?;
-        keep(&done.events);
-        total.merge(&done.summary);
-        legacy.merge(monitor.second_comfort().unwrap_or(&done.summary.comfort));
-        chunks_before += (range.len() as u32).div_ceil(chunk_len);
-    }
-    for ev in &mut prepared.events {
-        if let Some(k) = ev.frame {
-            if let Some(v) = verdicts.iter().find(|v| v.frame as usize == k) {
-                ev.decelerated = Some(v.decelerated);
-                ev.exempt = Some(v.exempt);
-            }
         }
     }
-    Ok(Streamed {
-        summary: total,
-        legacy_comfort: legacy,
-    })
+}
+
+/// Keeps a `push` or `finish`'s events: collision verdicts at the route's frame index
+/// (`offset`: the segment's first), chunk verdicts numbered on across segments.
+fn keep(
+    events: &monitor_core::Events,
+    offset: usize,
+    chunks_before: u32,
+    log: &mut ChunkLog,
+    verdicts: &mut Vec<CollisionVerdict>,
+) {
+    for e in events {
+        match *e {
+            Event::Collision(mut v) => {
+                v.frame += offset as u32;
+                verdicts.push(v);
+            }
+            Event::Comfort(mut c) => {
+                c.chunk += chunks_before;
+                log.comfort.push(c);
+            }
+            Event::Lateral(mut l) => {
+                l.chunk += chunks_before;
+                log.lateral.push(l);
+            }
+        }
+    }
 }
 
 /// The batch reference of a route's frames (docs/SCORE.md §11), segment by segment as the monitor streams

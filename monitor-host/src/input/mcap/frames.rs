@@ -38,22 +38,12 @@ pub struct MotionSample {
     pub yaw_rate: f64,
 }
 
-/// The world-frame motion from the odometry twist: differences of the twist rotated into the
-/// world frame between consecutive poses (the first pose of a segment takes its second's), and
-/// its yaw rate. No difference reaches across a gap (two poses more than `max_hold_ns` apart).
-pub fn twist_motion(poses: &[PoseSample], max_hold_ns: u64) -> Vec<MotionSample> {
-    let mut twist = TwistMotion::new(max_hold_ns);
-    let mut out: Vec<MotionSample> = Vec::with_capacity(poses.len());
-    for p in poses {
-        out.extend(twist.push(*p));
-    }
-    out.extend(twist.finish());
-    out
-}
-
-/// [`twist_motion`] one pose at a time (poses in time order): a pose's motion sample needs the
-/// pose after it (a segment's first pose takes its second's difference), so each sample comes
-/// out one pose late, and the last one from [`TwistMotion::finish`].
+/// The world-frame motion from the odometry twist, one pose at a time (poses in time order):
+/// differences of the twist rotated into the world frame between consecutive poses, and its
+/// yaw rate. A pose's motion sample needs the pose after it (a segment's first pose takes its
+/// second's difference), so each sample comes out one pose late, and the last one from
+/// [`TwistMotion::finish`]. No difference reaches across a gap (two poses more than
+/// `max_hold_ns` apart).
 #[derive(Debug, Clone)]
 pub struct TwistMotion {
     max_hold_ns: u64,
@@ -133,9 +123,8 @@ pub struct Framed {
     pub telemetry: Telemetry,
     /// Tick time (ns) of each frame.
     pub times: Vec<u64>,
-    /// The gaps between pose messages longer than the hold: (last pose before, first after), ns
-    /// (the first [`Framer::KEEP_GAPS`]).
-    pub gaps: Vec<(u64, u64)>,
+    /// Gaps between pose messages longer than the hold.
+    pub pose_gaps: u64,
 }
 
 /// The frames of a log (docs/SCORE.md §2.4): tick `k` at `t0 + k * dt_ns` for `t0` the first pose's
@@ -181,7 +170,7 @@ pub fn frames(
         framer.push(Sample::Motion(*m), &mut each)?;
     }
     let done = framer.finish(&mut each)?;
-    out.gaps = done.pose_gaps;
+    out.pose_gaps = done.pose_gap_count;
     out.telemetry = Telemetry {
         frames,
         gaps: done.missing,
@@ -230,9 +219,6 @@ pub struct FramerDone {
     pub missing: u64,
     /// Segments.
     pub segments: u64,
-    /// The gaps between pose messages longer than the hold: (last pose before, first after),
-    /// ns; only the first [`Framer::KEEP_GAPS`] are kept, `pose_gap_count` counts them all.
-    pub pose_gaps: Vec<(u64, u64)>,
     /// Gaps between pose messages longer than the hold.
     pub pose_gap_count: u64,
     /// The gaps longer than [`FAR_NS`], whatever their number (a note each).
@@ -264,9 +250,6 @@ pub struct Framer {
 }
 
 impl Framer {
-    /// Gaps kept in [`FramerDone::pose_gaps`] (they are counted beyond).
-    pub const KEEP_GAPS: usize = 1024;
-
     /// A framer at period `dt_ns`, holding a message at most `max_hold_ns`.
     pub fn new(dt_ns: u64, max_hold_ns: u64) -> Self {
         Framer {
@@ -301,9 +284,6 @@ impl Framer {
                         self.fresh = true;
                     }
                     Some(l) if p.t - l.t > self.hold_ns => {
-                        if self.done.pose_gaps.len() < Self::KEEP_GAPS {
-                            self.done.pose_gaps.push((l.t, p.t));
-                        }
                         if p.t - l.t > FAR_NS {
                             self.done.far_gaps.push((l.t, p.t));
                         }
@@ -465,7 +445,7 @@ mod tests {
         assert_eq!(tel.frames.len(), 2);
         assert_eq!(tel.gaps, 59);
         assert_eq!(tel.segments, vec![0, 1]);
-        assert_eq!(framed.gaps, vec![(0, 3 * s)]);
+        assert_eq!(framed.pose_gaps, 1);
         assert_eq!(tel.frames.last().unwrap().step, 60);
     }
 

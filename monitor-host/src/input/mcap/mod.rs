@@ -306,6 +306,16 @@ pub enum McapError {
         /// The topics the log holds.
         available: String,
     },
+    /// The file changed between the check of the log and the making of its frames.
+    #[error(
+        "{}: the file changed while it was read (its size or its pose and IMU messages differ \
+         from the first pass's): score it again once it is written",
+        file.display()
+    )]
+    Changed {
+        /// The file (the log's first).
+        file: PathBuf,
+    },
     /// The frames are invalid (a value that is not finite).
     #[error("{}: {source}", file.display())]
     Frames {
@@ -633,10 +643,8 @@ pub struct LogScan {
     max_hold: f64,
     dt_ns: u64,
     hold_ns: u64,
-    poses: u64,
-    imu: u64,
-    /// The motion comes from the odometry twist (no IMU messages).
-    twist: bool,
+    /// What the first pass saw of the poses and IMU: the second must see the same.
+    seen: Seen,
     /// Notes of the first pass (cuts, corrupt chunks, order, the IMU fallback).
     notes: Vec<String>,
     /// Path messages.
@@ -644,6 +652,16 @@ pub struct LogScan {
     /// The path topic named but without messages: said after the frames (whose errors come
     /// first).
     path_missing: Option<McapError>,
+}
+
+/// What a pass over a log saw of the signals the frames are made of: each file's size, and per
+/// signal the messages and the latest log time. The two passes must agree (the file did not
+/// change between them).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+struct Seen {
+    bytes: u64,
+    poses: (u64, u64),
+    imu: (u64, u64),
 }
 
 /// One frame of a log as [`LogScan::frames`] makes it.
@@ -749,7 +767,7 @@ pub fn scan_log(
     };
     let mut seen: BTreeMap<String, stream::TopicCount> = BTreeMap::new();
     let (mut pose_order, mut imu_order) = (Order::default(), Order::default());
-    let (mut pose_min, mut pose_max) = (u64::MAX, 0u64);
+    let mut pose_min = u64::MAX;
     let mut any_twist = false;
     let mut events: Vec<(u64, String)> = Vec::new();
     let mut path_msgs: (u64, Option<Vec<[f64; 3]>>) = (0, None);
@@ -759,7 +777,6 @@ pub fn scan_log(
             Decoded::Pose(p) => {
                 pose_order.see(p.t);
                 pose_min = pose_min.min(p.t);
-                pose_max = pose_max.max(p.t);
                 any_twist |= p.twist.is_some();
             }
             Decoded::Imu(m) => imu_order.see(m.t),
@@ -838,7 +855,7 @@ pub fn scan_log(
             ));
         }
     }
-    if pose_min == pose_max {
+    if pose_min == pose_order.max {
         return Err(McapError::NoDrive {
             file: first,
             topic: topics.pose.clone(),
@@ -885,9 +902,11 @@ pub fn scan_log(
         max_hold,
         dt_ns,
         hold_ns,
-        poses: pose_order.n,
-        imu: imu_order.n,
-        twist,
+        seen: Seen {
+            bytes,
+            poses: (pose_order.n, pose_order.max),
+            imu: (imu_order.n, imu_order.max),
+        },
         notes,
         path_messages: path_msgs.0,
         path_missing,
@@ -912,7 +931,8 @@ impl LogScan {
         let (dt_ns, hold_ns) = (self.dt_ns, self.hold_ns);
         let events = &self.events;
         let mut framer = frames::Framer::new(dt_ns, hold_ns);
-        let mut twist = self.twist.then(|| frames::TwistMotion::new(hold_ns));
+        // No IMU messages: the motion comes from the odometry twist.
+        let mut twist = (self.seen.imu.0 == 0).then(|| frames::TwistMotion::new(hold_ns));
         let mut event_frames: Vec<Option<usize>> = vec![None; events.len()];
         // The latest frame, held until the next one says which events fall on it.
         let mut held: Option<(frames::Tick, usize)> = None;
@@ -954,8 +974,8 @@ impl LogScan {
         };
         let mut heap: std::collections::BinaryHeap<std::cmp::Reverse<Waiting>> =
             std::collections::BinaryHeap::new();
-        let (mut poses_seen, mut imu_seen) = (0u64, 0u64);
-        let (mut pose_max, mut imu_max) = (0u64, 0u64);
+        let (mut pose_order, mut imu_order) = (Order::default(), Order::default());
+        let mut bytes = 0u64;
         let mut seq = 0u64;
         let mut failed: Option<McapError> = None;
         let mut feed = |s: Sample, framer: &mut frames::Framer| -> Result<(), TelemetryError> {
@@ -966,7 +986,7 @@ impl LogScan {
             }
             framer.push(s, &mut tick)
         };
-        let (poses, imu) = (self.poses, self.imu);
+        let (poses, imu) = (self.seen.poses.0, self.seen.imu.0);
         let pose_topic = self.topics.pose.clone();
         let imu_topic = self.topics.imu.clone();
         let wanted = |t: &str| t == pose_topic || t == imu_topic;
@@ -977,13 +997,11 @@ impl LogScan {
                 }
                 let sample = match d {
                     Decoded::Pose(p) => {
-                        poses_seen += 1;
-                        pose_max = pose_max.max(p.t);
+                        pose_order.see(p.t);
                         Sample::Pose(p)
                     }
                     Decoded::Imu(m) => {
-                        imu_seen += 1;
-                        imu_max = imu_max.max(m.t);
+                        imu_order.see(m.t);
                         Sample::Motion(m)
                     }
                     _ => return,
@@ -1003,7 +1021,11 @@ impl LogScan {
                         max.saturating_sub(CLOCK_BACK_NS)
                     }
                 };
-                let w = mark(poses_seen, poses, pose_max).min(mark(imu_seen, imu, imu_max));
+                let w = mark(pose_order.n, poses, pose_order.max).min(mark(
+                    imu_order.n,
+                    imu,
+                    imu_order.max,
+                ));
                 while heap.peek().is_some_and(|top| top.0.t < w) {
                     let Some(std::cmp::Reverse(top)) = heap.pop() else {
                         break;
@@ -1015,10 +1037,18 @@ impl LogScan {
                 }
             };
             let wanted_here: &dyn Fn(&str) -> bool = &wanted;
-            decode_file(file, &self.topics, wanted_here, &mut on)?;
+            bytes += decode_file(file, &self.topics, wanted_here, &mut on)?.bytes;
         }
         if let Some(e) = failed {
             return Err(e);
+        }
+        let seen = Seen {
+            bytes,
+            poses: (pose_order.n, pose_order.max),
+            imu: (imu_order.n, imu_order.max),
+        };
+        if seen != self.seen {
+            return Err(McapError::Changed { file: first });
         }
         while let Some(std::cmp::Reverse(top)) = heap.pop() {
             feed(top.sample, &mut framer).map_err(frames_err)?;
@@ -1150,4 +1180,39 @@ pub fn read_log(
         bytes: scan.bytes,
         notes: framed.notes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::demo::drive::{write_weave, Weave};
+
+    /// Review of issue 48, item 8: a log rewritten between the first pass and the frames is
+    /// refused, naming it; the same log again frames.
+    #[test]
+    fn a_log_changed_between_the_passes_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = dir.path().join("drive.mcap");
+        let weave = |seconds| Weave {
+            seconds,
+            ..Weave::default()
+        };
+        write_weave(&log, &weave(60)).unwrap();
+        let topics = Topics::default();
+        let mut scan = scan_log(&log, &topics, 0.05, 0.25).unwrap();
+        write_weave(&log, &weave(60)).unwrap();
+        let framed = scan.frames(|_| {}).unwrap();
+        assert_eq!(framed.frames, 1_200);
+        let mut scan = scan_log(&log, &topics, 0.05, 0.25).unwrap();
+        write_weave(&log, &weave(61)).unwrap();
+        let e = scan.frames(|_| {}).unwrap_err();
+        assert!(
+            matches!(&e, McapError::Changed { file } if *file == log),
+            "{e}"
+        );
+        assert!(
+            e.to_string().contains("the file changed while it was read"),
+            "{e}"
+        );
+    }
 }

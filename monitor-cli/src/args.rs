@@ -6,10 +6,10 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use monitor_core::Profile;
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::app::request::RunSettings;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
 use monitor_host::settings::SettingsError;
+use monitor_host::RunSettings;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]

@@ -100,7 +100,7 @@ pub use input::warning;
 // The run-level doors, also at their earlier paths (`monitor_host::run::...`).
 pub use app::compare_runs::CompareRequest;
 pub use app::merged::MergeRequest;
-pub use app::request::{RequestError, RunSettings, ScoreRequest};
+pub use app::request::{RequestError, ScoreRequest};
 pub use app::session::{Session, WatchRequest};
 pub use app::{compare_runs, run, scored, watch};
 pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
@@ -120,6 +120,6 @@ pub use run::{
     Progress, ReplayCache, RouteFrames,
 };
 pub use scored::{score_labelled, LabelFiles, Scored};
-pub use settings::{RunOptions, Settings, SettingsError};
+pub use settings::{RunSettings, Settings, SettingsError};
 pub use warning::Warning;
 pub use watch::{RoundOutcome, RoundStatus, RouteCache, Watcher};

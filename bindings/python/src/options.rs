@@ -3,9 +3,9 @@
 //! spells them; the library maps them to settings ([`RunSettings::settings`]).
 
 use monitor_core::Profile;
-use monitor_host::app::request::RunSettings;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
+use monitor_host::RunSettings;
 use pyo3::prelude::*;
 use pyo3::types::PyBool;
 

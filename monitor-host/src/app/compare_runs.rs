@@ -512,7 +512,7 @@ pub struct CompareRequest {
     /// The maps folder every run is scored with.
     pub maps: Option<PathBuf>,
     /// The options each run is scored with.
-    pub settings: crate::app::request::RunSettings,
+    pub settings: crate::settings::RunSettings,
     /// The comparison's options (`fail_if_worse` names are trimmed).
     pub options: CompareOptions,
     /// The sweep (`--sweep`, docs/SCORE.md §10.4): each setting and its values; empty for none.

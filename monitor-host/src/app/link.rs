@@ -5,12 +5,13 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::{log_topics, RequestError, RunSettings};
+use crate::app::request::{log_topics, RequestError};
 use crate::app::run::{run_frames, Inputs};
 use crate::input::results_file::read_results;
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
 use crate::live_link::transport::{Target, TargetError};
+use crate::settings::RunSettings;
 use crate::settings::SettingsError;
 use monitor_core::link::LinkConfig;
 

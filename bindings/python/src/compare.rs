@@ -5,10 +5,10 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::compare_runs::{CompareRequest, CompareWarning, RunSpec, Seeds};
 use monitor_host::error::message;
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::{CompareError, CompareOptions};
+use monitor_host::{CompareRequest, CompareWarning, RunSpec, Seeds};
 use monitor_host::{NoProgress, Progress};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyInt};

@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::frames::{Frames, FramesRequest};
 use monitor_host::report::frames::frame_lines;
 use monitor_host::Inputs;
+use monitor_host::{Frames, FramesRequest};
 use pyo3::prelude::*;
 
 use crate::errors::{score_error, SdsError};

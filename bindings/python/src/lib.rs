@@ -1,7 +1,7 @@
 //! `sds._sds`: the extension module of the Python package `sds`, a thin layer over
 //! `monitor-host` and `monitor-core` (no scoring logic here).
 //!
-//! - `score` (`score.rs`): the library's [`monitor_host::score_labelled`] with `Inputs`,
+//! - `score` (`score.rs`): the library's [`monitor_host::ScoreRequest`] with `Inputs`,
 //!   `Settings` and label files built from the keyword arguments (`options.rs`, shared by every
 //!   scored-run function), the report converted to Python objects directly (`pyser.rs`), GIL
 //!   released while scoring;

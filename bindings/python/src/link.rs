@@ -3,10 +3,10 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::link::{LinkError, LinkRequest};
 use monitor_host::live_link::{Inject, Pace, Target};
 use monitor_host::Inputs;
 use monitor_host::RunSettings;
+use monitor_host::{LinkError, LinkRequest};
 use pyo3::prelude::*;
 
 use crate::errors::{request_error, run_error, settings_error, ConfigError, IoError};

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::merged::MergeRequest;
 use monitor_host::input::duplicates::DuplicatePolicy;
+use monitor_host::MergeRequest;
 use monitor_host::NoProgress;
 use pyo3::prelude::*;
 

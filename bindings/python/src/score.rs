@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::app::request::ScoreRequest;
+use monitor_host::ScoreRequest;
 use monitor_host::{Inputs, LabelFiles, NoProgress, Progress};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

@@ -4,9 +4,9 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::{log_topics, RequestError, ScoreError};
+use crate::app::run::vehicle_logs::log_frames;
 use crate::app::run::{route_frames, Inputs};
-use crate::app::vehicle_logs::log_frames;
+use crate::app::score::{log_topics, RequestError, ScoreError};
 use crate::model::frames::RouteFrames;
 use crate::settings::RunSettings;
 use crate::settings::Settings;

@@ -5,8 +5,8 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::{log_topics, RequestError};
 use crate::app::run::{run_frames, Inputs};
+use crate::app::score::{log_topics, RequestError};
 use crate::input::results_file::read_results;
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
@@ -203,7 +203,7 @@ impl LinkRequest {
             }
         } else {
             for log in &self.mcap {
-                let frames = crate::app::vehicle_logs::log_frames(log, &topics, &settings)
+                let frames = crate::app::run::vehicle_logs::log_frames(log, &topics, &settings)
                     .map_err(|e| crate::error::message(&e));
                 routes.push((crate::input::mcap::log_name(log), frames));
             }

@@ -1,15 +1,15 @@
 //! What a front end asks of a scored run, typed: [`ScoreRequest`] (with [`RunSettings`], the
 //! options every scored run takes) (`sds score`, `sds.score`; `sds watch` and `sds.watch` through
-//! [`crate::app::session::WatchRequest`]). Each front end fills a request from its own spelling
+//! [`crate::app::watch::WatchRequest`]). Each front end fills a request from its own spelling
 //! (clap's arguments, Python's keyword arguments) and calls it; the mapping to [`Settings`], the
 //! checks and the calls into the library are here, once.
 
 use std::path::PathBuf;
 
 use crate::aggregate::groups::GroupBy;
+use crate::app::run::scored::{score_labelled, LabelFiles, Scored};
+use crate::app::run::vehicle_logs::score_logs;
 use crate::app::run::{run_frames, Inputs, Progress};
-use crate::app::scored::{score_labelled, LabelFiles, Scored};
-use crate::app::vehicle_logs::score_logs;
 use crate::error::Error;
 use crate::input::mcap::Topics;
 use crate::input::record::KNOWN_LISTS;
@@ -62,7 +62,7 @@ pub enum RequestError {
 /// One run to score (`sds score`, `sds.score`): its files, settings, label files and breakdown.
 ///
 /// ```
-/// use monitor_host::app::request::ScoreRequest;
+/// use monitor_host::app::score::ScoreRequest;
 /// use monitor_host::{demo, Inputs, NoProgress};
 ///
 /// let dir = tempfile::tempdir()?;
@@ -133,7 +133,7 @@ impl ScoreRequest {
         if !self.logs.is_empty() {
             let topics = log_topics(true, &self.topics)?;
             let mut report = score_logs(&self.logs, &topics, &settings)?;
-            crate::app::diagnostics::add_notes(&mut report);
+            crate::app::run::diagnostics::add_notes(&mut report);
             return Ok(Scored {
                 report,
                 families: None,

@@ -77,7 +77,7 @@
 // Two audited exceptions are allowed where they are, each with its SAFETY comment: the
 // telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
 // check before the runtime starts (monitor-cli/src/output.rs), and glibc's malloc_trim between
-// routes (app/run.rs).
+// routes (app/run/mod.rs).
 #![deny(unsafe_code)]
 
 #[macro_use]

@@ -6,10 +6,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use monitor_core::Profile;
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::app::request::RunSettings;
+use monitor_host::demo::LargeLayout;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
-use monitor_host::settings::SettingsError;
+use monitor_host::settings::{AbilityRule, SettingsError};
+use monitor_host::RunSettings;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
 #[derive(Debug, Parser)]
@@ -39,15 +40,6 @@ pub enum Format {
     Html,
 }
 
-/// Telemetry layouts of `sds demo --large`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LayoutArg {
-    /// Bench2Drive's six keys per frame (what its agents write).
-    B2d,
-    /// Thirteen keys per frame (the six plus velocity, speed, controls, gps, compass).
-    Wide,
-}
-
 /// A clap parser whose choices are a library enum's names (`named_enum!`, or the core's
 /// `Profile`): the library spells each value once; the command line mirrors none.
 pub fn named<T: Copy + Send + Sync + 'static>(
@@ -61,9 +53,6 @@ pub fn named<T: Copy + Send + Sync + 'static>(
             .expect("clap checked the name against these values")
     })
 }
-
-/// The duplicate policy of `--duplicates` (the library's; `link.rs` names it so).
-pub type DuplicatesArg = DuplicatePolicy;
 
 /// The options `sds score` and `sds compare` share, defined once; [`RunArgs::request`] maps
 /// them to the library's [`RunSettings`], as the Python `sds.score` does.
@@ -103,7 +92,8 @@ pub struct RunArgs {
     /// Bench2Drive's Traffic_Signs counting rule (docs/SCORE.md §10.1): `b2d-0.0.4` (default) or
     /// `b2d-0.0.3`, the rule of the table most papers cite (every Traffic_Signs route counted
     /// twice). The same as `--set ability_rule=RULE`.
-    #[arg(long = "ability-rule", value_name = "RULE", value_parser = ["b2d-0.0.4", "b2d-0.0.3"])]
+    #[arg(long = "ability-rule", value_name = "RULE",
+          value_parser = clap::builder::PossibleValuesParser::new(AbilityRule::NAMES))]
     pub ability_rule: Option<String>,
 }
 
@@ -346,9 +336,11 @@ pub enum Command {
         /// Frames per route of the large run.
         #[arg(long, default_value_t = 4000)]
         large_frames: usize,
-        /// Keys per frame of the large run's telemetry.
-        #[arg(long, value_enum, default_value_t = LayoutArg::B2d)]
-        layout: LayoutArg,
+        /// Keys per frame of the large run's telemetry: `b2d` (Bench2Drive's six keys per
+        /// frame, what its agents write) or `wide` (thirteen: the six plus velocity, speed,
+        /// controls, gps, compass).
+        #[arg(long, value_parser = named(LargeLayout::ALL, LargeLayout::name), default_value = "b2d")]
+        layout: LargeLayout,
         /// Routes of the large run that collide (at frame 2,000).
         #[arg(long, default_value_t = 0)]
         large_collisions: usize,
@@ -360,41 +352,37 @@ pub enum Command {
     /// Print the monitor's input frames of one route as JSON lines (serde-json-core encoding),
     /// each with the host-side values behind it (`host`: step, reference, distance to it, slack,
     /// lane width). Takes every option of `score` that changes a frame.
-    Frames {
-        /// Results file or directory (repeatable, as for `score`).
-        #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
-        results: Vec<PathBuf>,
-        /// A vehicle log (MCAP file or rosbag2 folder) instead of results (docs/SCORE.md §2.4).
-        #[arg(long, value_name = "FILE")]
-        mcap: Option<PathBuf>,
-        /// A vehicle log's topic, `NAME=TOPIC` (as for `score`).
-        #[arg(long = "topic", value_name = "NAME=TOPIC", requires = "mcap")]
-        topics: Vec<String>,
-        /// Telemetry root.
-        #[arg(long)]
-        telemetry: Option<PathBuf>,
-        /// Route XML.
-        #[arg(long)]
-        routes: Option<PathBuf>,
-        /// The towns' OpenDRIVE maps (as for `score`).
-        #[arg(long)]
-        maps: Option<PathBuf>,
-        /// Comfort profile (changes the configuration the frames are checked against).
-        #[arg(long, value_parser = named(&Profile::ALL, Profile::name), default_value = "physical")]
-        profile: Profile,
-        /// Which copy of a duplicated route id to print (as for `score`).
-        #[arg(long, value_parser = named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
-        duplicates: Option<DuplicatePolicy>,
-        /// Override a setting, e.g. `lateral_reference=lane`, `dt=0.1` (as for `score`).
-        #[arg(long = "set", value_name = "NAME=VALUE")]
-        set: Vec<String>,
-        /// The route id (`RouteScenario_<id>_rep<k>`).
-        #[arg(long, required_unless_present = "mcap")]
-        route_id: Option<String>,
-        /// Write here instead of standard output.
-        #[arg(short = 'o', long)]
-        output: Option<PathBuf>,
-    },
+    Frames(FramesArgs),
+}
+
+/// Arguments of `sds frames`.
+#[derive(Debug, clap::Args)]
+pub struct FramesArgs {
+    /// Results file or directory (repeatable, as for `score`).
+    #[arg(long, required_unless_present = "mcap", conflicts_with = "mcap")]
+    pub results: Vec<PathBuf>,
+    /// A vehicle log (MCAP file or rosbag2 folder) instead of results (docs/SCORE.md §2.4).
+    #[arg(long, value_name = "FILE")]
+    pub mcap: Option<PathBuf>,
+    /// A vehicle log's topic, `NAME=TOPIC` (as for `score`).
+    #[arg(long = "topic", value_name = "NAME=TOPIC", requires = "mcap")]
+    pub topics: Vec<String>,
+    /// Telemetry root.
+    #[arg(long)]
+    pub telemetry: Option<PathBuf>,
+    /// The options of `score` (the route XML, the maps, the profile, `--set`, ...): one
+    /// definition, so an option that changes a frame is read here as there.
+    #[command(flatten)]
+    pub run: RunArgs,
+    /// Which copy of a duplicated route id to print (as for `score`).
+    #[arg(long, value_parser = named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
+    pub duplicates: Option<DuplicatePolicy>,
+    /// The route id (`RouteScenario_<id>_rep<k>`).
+    #[arg(long, required_unless_present = "mcap")]
+    pub route_id: Option<String>,
+    /// Write here instead of standard output.
+    #[arg(short = 'o', long)]
+    pub output: Option<PathBuf>,
 }
 
 /// Arguments of `sds watch`.

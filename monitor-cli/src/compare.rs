@@ -13,13 +13,13 @@ use super::exit::{
 };
 use super::output::write_output;
 use super::style;
-use monitor_host::app::compare_runs::{CompareRequest, CompareWarning, Compared, RunSpec, Seeds};
 use monitor_host::report::grid::Style;
 use monitor_host::report::long_tables::{compare_tables, sweep_table, SWEEP_TABLE, TABLE_NAMES};
 use monitor_host::report::{compare_table, html};
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::CompareOptions;
 use monitor_host::NoProgress;
+use monitor_host::{CompareRequest, CompareWarning, Compared, RunSpec, Seeds};
 
 /// A run argument: `NAME=RESULTS[:TELEMETRY]` or `RESULTS[:TELEMETRY]` (named by its folder or
 /// file stem). A RESULTS path that exists as written is never split at a colon.

@@ -46,7 +46,7 @@ pub fn of(e: &anyhow::Error) -> i32 {
     if let Some(e) = e.downcast_ref::<monitor_host::RequestError>() {
         return code(e.kind());
     }
-    if let Some(e) = e.downcast_ref::<monitor_host::app::rerun::RerunError>() {
+    if let Some(e) = e.downcast_ref::<monitor_host::RerunError>() {
         return code(e.kind());
     }
     if e.downcast_ref::<super::output::OutputClash>().is_some()

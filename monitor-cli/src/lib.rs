@@ -41,18 +41,16 @@ use anyhow::Result;
 use clap::Parser;
 
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::app::frames::{Frames, FramesRequest};
-use monitor_host::app::request::{ScoreError, ScoreRequest};
 use monitor_host::report::grid::Style;
 use monitor_host::report::table::{self, TableOptions};
 use monitor_host::report::{csv, html, json, long_tables};
-use monitor_host::{
-    demo, Inputs, LabelFiles, Progress, RunSettings, SettingsError, TelemetryState,
-};
+use monitor_host::{demo, Inputs, LabelFiles, Progress, SettingsError, TelemetryState};
+use monitor_host::{Frames, FramesRequest};
+use monitor_host::{ScoreError, ScoreRequest};
 
-use args::{Cli, Command, Format, LayoutArg, RunArgs, ScoreArgs};
+use args::{Cli, Command, Format, RunArgs, ScoreArgs};
 
-pub use monitor_host::app::scored::Scored;
+pub use monitor_host::Scored;
 use output::write_output;
 
 /// Runs the `sds` command line with `args` (the first is the program name, as in
@@ -135,10 +133,6 @@ fn run(cli: Cli) -> Result<i32> {
                 );
             }
             let run = if large {
-                let layout = match layout {
-                    LayoutArg::B2d => demo::LargeLayout::Bench2Drive,
-                    LayoutArg::Wide => demo::LargeLayout::Wide,
-                };
                 demo::write_large_with(&dir, large_routes, large_frames, layout, large_collisions)?
             } else {
                 demo::write(&dir)?
@@ -169,35 +163,18 @@ fn run(cli: Cli) -> Result<i32> {
             }
             score(&demo_args(&run))
         }
-        Command::Frames {
-            results,
-            mcap,
-            topics,
-            telemetry,
-            routes,
-            maps,
-            profile,
-            duplicates,
-            set,
-            route_id,
-            output,
-        } => {
+        Command::Frames(args) => {
             let request = FramesRequest {
                 inputs: Inputs {
-                    results,
-                    telemetry,
-                    route_xml: routes,
-                    maps,
+                    results: args.results,
+                    telemetry: args.telemetry,
+                    route_xml: args.run.routes.clone(),
+                    maps: args.run.maps.clone(),
                 },
-                settings: RunSettings {
-                    profile,
-                    duplicates,
-                    overrides: args::overrides(&set)?,
-                    ..RunSettings::default()
-                },
-                route_id,
-                log: mcap,
-                topics,
+                settings: args.run.request(args.duplicates, None)?,
+                route_id: args.route_id,
+                log: args.mcap,
+                topics: args.topics,
             };
             let Frames { route_id, frames } = request.frames().map_err(failed)?;
             for w in &frames.warnings {
@@ -205,7 +182,7 @@ fn run(cli: Cli) -> Result<i32> {
             }
             let lines =
                 monitor_host::report::frames::frame_lines(&frames).map_err(anyhow::Error::msg)?;
-            write_output(output.as_deref(), &lines, &frames.files_read)?;
+            write_output(args.output.as_deref(), &lines, &frames.files_read)?;
             Ok(0)
         }
     }
@@ -482,11 +459,11 @@ impl<'a> RerunArgs<'a> {
     }
 
     /// The files' bytes, with the warnings to print (assembled by the library:
-    /// `app::rerun::rerun_files`).
+    /// `app::run::rerun::rerun_files`).
     fn files(&self, report: &monitor_host::Report) -> Result<RerunFiles> {
         // The route XML is read only when its restriction is asked for.
         let xml = self.xml.and(self.routes);
-        let made = monitor_host::app::rerun::rerun_files(report, self.timeouts, xml)?;
+        let made = monitor_host::rerun_files(report, self.timeouts, xml)?;
         let mut out = RerunFiles {
             routes: made.list.routes.len(),
             warnings: made.warnings,

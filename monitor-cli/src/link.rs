@@ -3,11 +3,12 @@
 use std::path::PathBuf;
 
 use anyhow::Result;
-use monitor_host::app::link::{link_config, LinkError, LinkRequest};
+use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::live_link::{Inject, Pace, Target};
 use monitor_host::SettingsError;
+use monitor_host::{link_config, LinkError, LinkRequest};
 
-use crate::args::{DuplicatesArg, RunArgs};
+use crate::args::RunArgs;
 use crate::output::write_output;
 
 /// Arguments of `sds link`.
@@ -30,8 +31,8 @@ pub struct LinkArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Which copy of a duplicated route id to play (as for `score`).
-    #[arg(long, value_parser = crate::args::named(DuplicatesArg::ALL, DuplicatesArg::name))]
-    pub duplicates: Option<DuplicatesArg>,
+    #[arg(long, value_parser = crate::args::named(DuplicatePolicy::ALL, DuplicatePolicy::name))]
+    pub duplicates: Option<DuplicatePolicy>,
     /// The checker: `serial:DEVICE[@BAUD]`, `tcp:HOST:PORT` or `exec:COMMAND`.
     #[arg(long, value_name = "TARGET")]
     pub to: String,

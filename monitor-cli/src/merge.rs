@@ -6,10 +6,10 @@ use anyhow::Result;
 use super::args::{Format, MergeArgs};
 use super::output::{write_output, write_output_with};
 use super::{style, RerunArgs};
-use monitor_host::app::merged::MergeRequest;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::report::table::{self, TableOptions};
 use monitor_host::report::{csv, html, json, long_tables};
+use monitor_host::MergeRequest;
 
 /// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
 pub fn merge(args: &MergeArgs) -> Result<i32> {

@@ -1,5 +1,5 @@
 //! `sds watch`: the report of an evaluation kept current while it runs (docs/USAGE.md §8), over the
-//! library's [`monitor_host::app::session::Session`] (the rounds, the stop rule, the final reading);
+//! library's [`monitor_host::Session`] (the rounds, the stop rule, the final reading);
 //! this file is the command's spelling, its wait (signals) and its output. Rounds every `--interval` seconds; after each scored
 //! round the report is written atomically to `-o` (the HTML page with a refresh tag while the
 //! watch runs) and one status line is printed; the last round's report, written when the route
@@ -11,9 +11,9 @@ use anyhow::Result;
 
 use super::args::{Format, ScoreArgs, WatchArgs};
 use super::output::{self, write_output};
-use monitor_host::app::request::RequestError;
-use monitor_host::app::session::{Step, Stop, Wake, WatchRequest};
-use monitor_host::app::watch::{RoundOutcome, RoundStatus};
+use monitor_host::RequestError;
+use monitor_host::{RoundOutcome, RoundStatus};
+use monitor_host::{Step, Stop, Wake, WatchRequest};
 
 /// Runs `sds watch`; returns the exit code (as `sds score`'s for the final report).
 pub fn watch(args: &WatchArgs) -> Result<i32> {

@@ -25,7 +25,7 @@ pub enum Error {
     /// The settings are invalid.
     #[error(transparent)]
     Settings(#[from] SettingsError),
-    /// A vehicle log that cannot be read (for [`crate::app::vehicle_logs::log_frames`]).
+    /// A vehicle log that cannot be read (for [`crate::app::run::vehicle_logs::log_frames`]).
     #[error(transparent)]
     VehicleLog(Box<crate::input::mcap::McapError>),
     /// No record of this route in the results (for [`crate::route_frames`]).

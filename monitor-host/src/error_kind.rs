@@ -103,31 +103,31 @@ impl SettingsError {
     }
 }
 
-impl crate::app::request::RequestError {
+impl crate::app::score::RequestError {
     /// Always [`ErrorKind::Option`]: a request refused before any work is the caller's.
     pub fn kind(&self) -> ErrorKind {
         ErrorKind::Option
     }
 }
 
-impl crate::app::rerun::RerunError {
+impl crate::app::run::rerun::RerunError {
     /// [`ErrorKind::Io`] for a route XML that cannot be read, [`ErrorKind::Input`] for
     /// malformed XML.
     pub fn kind(&self) -> ErrorKind {
         match self {
-            crate::app::rerun::RerunError::Read { .. } => ErrorKind::Io,
-            crate::app::rerun::RerunError::Xml { .. } => ErrorKind::Input,
+            crate::app::run::rerun::RerunError::Read { .. } => ErrorKind::Io,
+            crate::app::run::rerun::RerunError::Xml { .. } => ErrorKind::Input,
         }
     }
 }
 
-impl crate::app::request::ScoreError {
+impl crate::app::score::ScoreError {
     /// The refusal's or the run's kind; a table that cannot be built [`ErrorKind::Internal`].
     pub fn kind(&self) -> ErrorKind {
         match self {
-            crate::app::request::ScoreError::Request(e) => e.kind(),
-            crate::app::request::ScoreError::Run(e) => e.kind(),
-            crate::app::request::ScoreError::Tables(_) => ErrorKind::Internal,
+            crate::app::score::ScoreError::Request(e) => e.kind(),
+            crate::app::score::ScoreError::Run(e) => e.kind(),
+            crate::app::score::ScoreError::Tables(_) => ErrorKind::Internal,
         }
     }
 }

@@ -5,9 +5,12 @@
 //! [`monitor_core::Monitor`], checks every route against a batch reference, and reports per-route
 //! and benchmark scores as the project's definition (v1.5, `docs/SCORE.md`) gives them.
 //!
-//! One entry point scores a run: [`score_run`] (or [`score_run_with`] to follow its progress);
-//! the front ends call the typed requests of [`app`] around it. The `sds` binary, the tests and
-//! the bindings hold no scoring logic.
+//! Each command is one typed request of [`app`] ([`ScoreRequest`], [`CompareRequest`],
+//! [`WatchRequest`], [`MergeRequest`], [`FramesRequest`], [`LinkRequest`]), with the options every
+//! scored run takes in [`RunSettings`]; the front ends fill one from their own spelling and call
+//! it. [`score_run`] (a run at typed [`Settings`], no notes, no labels) stays public for the tests
+//! and benchmarks that set a field directly. The `sds` binary, the tests and the bindings hold
+//! no scoring logic.
 //! The command line itself is the crate `sds-cli` (`monitor-cli/`), whose small library target
 //! lets the `sds` binary and the Python package's `sds` command run the same code.
 //!
@@ -37,9 +40,9 @@
 //!               v
 //! report/    renderings: json, csv, table, html, figure, trace_csv, status
 //!               v
-//! app/       the doors every front end calls: typed requests (ScoreRequest, CompareRequest,
-//!            WatchRequest, MergeRequest), run (score_run), scored, compare_runs, watch, and the
-//!            one watch Session
+//! app/       the commands every front end calls, one file each with its request: score,
+//!            compare, watch (+ the watch's Session and Watcher), merge, frames, link; and run/,
+//!            what they share (score_run, label files, saved reports, vehicle logs, reruns, notes)
 //!               v
 //! cli/       the `sds` command line (and the Python binding, outside this crate): requests
 //!            built from their own spelling
@@ -52,18 +55,20 @@
 //! layer's error type is re-exported here too), and [`demo`] (writes the built-in demo run).
 //!
 //! ```
-//! use monitor_host::{demo, report, score_run, Inputs, Settings};
+//! use monitor_core::Profile;
+//! use monitor_host::{demo, report, Inputs, NoProgress, RunSettings, ScoreRequest};
 //!
 //! let dir = tempfile::tempdir()?;
 //! let run = demo::write(dir.path())?;
-//! let mut settings = Settings::default();
-//! settings.set("profile", "b2d-legacy")?;
-//! let inputs = Inputs {
-//!     telemetry: Some(run.telemetry),
-//!     route_xml: Some(run.routes),
-//!     ..Inputs::new([run.results])
+//! let request = ScoreRequest {
+//!     settings: RunSettings { profile: Profile::B2dLegacy, ..RunSettings::default() },
+//!     ..ScoreRequest::new(Inputs {
+//!         telemetry: Some(run.telemetry),
+//!         route_xml: Some(run.routes),
+//!         ..Inputs::new([run.results])
+//!     })
 //! };
-//! let report = score_run(&inputs, &settings)?;
+//! let report = request.score(&NoProgress)?.report;
 //! let json = report::json::json(&report)?;
 //! assert!(json.starts_with(b"{\n  \"schema\": \"sds-report/1\""));
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -72,7 +77,7 @@
 // Two audited exceptions are allowed where they are, each with its SAFETY comment: the
 // telemetry scanner's ASCII number token (input/metric_info/scan.rs) and the closed-stdout
 // check before the runtime starts (monitor-cli/src/output.rs), and glibc's malloc_trim between
-// routes (app/run.rs).
+// routes (app/run/mod.rs).
 #![deny(unsafe_code)]
 
 #[macro_use]
@@ -97,14 +102,20 @@ pub mod settings;
 pub mod stats;
 pub use input::warning;
 
-// The run-level doors, also at their earlier paths (`monitor_host::run::...`).
-pub use app::compare_runs::CompareRequest;
-pub use app::merged::MergeRequest;
-pub use app::request::{RequestError, RunSettings, ScoreRequest};
-pub use app::session::{Session, WatchRequest};
-pub use app::{compare_runs, run, scored, watch};
-pub use app::{frames::FramesRequest, link::LinkRequest};
-pub use compare_runs::{compare_runs, Compared, RunInputs, Seeds};
+// The commands' requests and what they return, at the crate root: the stable names every front
+// end imports (the modules under `app/` may move).
+pub use app::compare::{CompareRequest, CompareWarning, Compared, RunInputs, RunSpec, Seeds};
+pub use app::frames::{Frames, FramesRequest};
+pub use app::link::{link_config, LinkError, LinkReport, LinkRequest};
+pub use app::merge::MergeRequest;
+pub use app::run::rerun::{rerun_files, RerunError, RerunFiles};
+pub use app::run::scored::{LabelFiles, Scored};
+pub use app::run::{
+    route_frames, run_frames, score_run, Inputs, NoProgress, Progress, ReplayCache, RouteFrames,
+};
+pub use app::score::{RequestError, ScoreError, ScoreRequest};
+pub use app::watch::watcher::{RoundOutcome, RoundStatus, RouteCache, Watcher};
+pub use app::watch::{Session, Step, Stop, Wake, WatchRequest};
 pub use demo::DemoError;
 pub use error::Error;
 pub use error_kind::ErrorKind;
@@ -116,11 +127,5 @@ pub use input::telemetry::TelemetryError;
 pub use model::Report;
 pub use pipeline::outcome::{RouteState, TelemetryState};
 pub use pipeline::replay::Refused;
-pub use run::{
-    route_frames, run_frames, score_run, score_run_cached, score_run_with, Inputs, NoProgress,
-    Progress, ReplayCache, RouteFrames,
-};
-pub use scored::{score_labelled, LabelFiles, Scored};
-pub use settings::{RunOptions, Settings, SettingsError};
+pub use settings::{RunSettings, Settings, SettingsError};
 pub use warning::Warning;
-pub use watch::{RoundOutcome, RoundStatus, RouteCache, Watcher};

@@ -6,8 +6,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 
-use monitor_host::app::run::{score_run, Inputs};
 use monitor_host::Settings;
+use monitor_host::{score_run, Inputs};
 
 struct Counting;
 
@@ -91,7 +91,6 @@ fn i51_1_heap_grows_at_most_4_kb_a_route_beyond_the_report() {
 
 /// (peak heap while scoring a drive of `seconds`, heap its report holds), bytes.
 fn score_drive(seconds: u64) -> (usize, usize) {
-    use monitor_host::input::mcap::Topics;
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join(format!("drive{seconds}.mcap"));
     // A pause every 10 minutes, an event every 5 (the library's writer).
@@ -100,17 +99,19 @@ fn score_drive(seconds: u64) -> (usize, usize) {
         ..Default::default()
     };
     monitor_host::demo::drive::write_weave(&log, &weave).unwrap();
-    let topics = Topics {
-        event: Some("/events".into()),
-        ..Topics::default()
-    };
-    let settings = Settings {
-        threads: Some(1),
-        ..Settings::default()
+    // `sds score --mcap LOG --topic event=/events --jobs 1`.
+    let request = monitor_host::ScoreRequest {
+        logs: vec![log],
+        topics: vec!["event=/events".into()],
+        settings: monitor_host::RunSettings {
+            jobs: Some(1),
+            ..Default::default()
+        },
+        ..Default::default()
     };
     let before = NOW.load(Relaxed);
     PEAK.store(before, Relaxed);
-    let report = monitor_host::app::vehicle_logs::score_logs(&[log], &topics, &settings).unwrap();
+    let report = request.score(&monitor_host::NoProgress).unwrap().report;
     let peak = PEAK.load(Relaxed) - before;
     let held = NOW.load(Relaxed).saturating_sub(before);
     let route = &report.routes[0];

@@ -6,11 +6,11 @@
 
 use std::path::PathBuf;
 
-use monitor_host::compare_runs::{CompareWarning, RunSpec};
 use monitor_host::error::message;
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::{CompareError, CompareOptions};
-use monitor_host::{CompareRequest, NoProgress, Progress, Seeds};
+use monitor_host::{CompareRequest, CompareWarning, RunSpec, Seeds};
+use monitor_host::{NoProgress, Progress};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyInt, PyMapping, PyString};
 

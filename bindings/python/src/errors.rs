@@ -2,11 +2,11 @@
 //! [`ErrorKind`] ([`exception`]), as the `sds` command's exit code is. Every message is the text
 //! the `sds` command prints after `sds: error: ` (without the command's option spellings).
 
-use monitor_host::app::request::{RequestError, ScoreError};
 use monitor_host::error::message;
 use monitor_host::merge::MergeError;
 use monitor_host::pipeline::live::LiveError;
 use monitor_host::{Error, ErrorKind, SettingsError};
+use monitor_host::{RequestError, ScoreError};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyKeyboardInterrupt, PyUserWarning};
 use pyo3::prelude::*;

@@ -3,9 +3,9 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::frames::Frames;
 use monitor_host::report::frames::frame_lines;
-use monitor_host::{FramesRequest, Inputs};
+use monitor_host::Inputs;
+use monitor_host::{Frames, FramesRequest};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 

@@ -4,9 +4,8 @@
 
 use std::path::PathBuf;
 
-use monitor_host::app::link::LinkError;
 use monitor_host::live_link::{Inject, Pace, Target};
-use monitor_host::{Inputs, LinkRequest};
+use monitor_host::{Inputs, LinkError, LinkRequest};
 use pyo3::prelude::*;
 
 use crate::errors::{request_error, run_error, settings_error, ConfigError, IoError};

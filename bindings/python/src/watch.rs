@@ -12,8 +12,8 @@ use std::path::PathBuf;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use monitor_host::app::session::{Step, Stop, Wake};
-use monitor_host::{Error, RoundOutcome, Session, WatchRequest};
+use monitor_host::{Error, RoundOutcome};
+use monitor_host::{Session, Step, Stop, Wake, WatchRequest};
 use pyo3::exceptions::PyStopIteration;
 use pyo3::prelude::*;
 

@@ -12,6 +12,7 @@ mod mcap;
 mod merge;
 mod perf;
 mod regression;
+mod requests;
 mod score;
 mod seeds;
 mod sweep;

@@ -7,7 +7,7 @@ use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 use monitor_host::report::json::json;
-use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
+use monitor_host::{demo, Inputs, LabelFiles, NoProgress, RoundOutcome, Settings};
 use monitor_host::{Report, RoundStatus, ScoreRequest, WatchRequest, Watcher};
 use serde_json::Value;
 
@@ -206,16 +206,12 @@ fn j(r: &Report) -> String {
     String::from_utf8(json(r).unwrap()).unwrap()
 }
 
+/// What `sds score` writes for these inputs, default settings.
 fn fresh(inputs: &Inputs) -> Report {
-    score_labelled(
-        inputs,
-        &Settings::default(),
-        &LabelFiles::default(),
-        None,
-        &NoProgress,
-    )
-    .unwrap()
-    .report
+    ScoreRequest::new(inputs.clone())
+        .score(&NoProgress)
+        .unwrap()
+        .report
 }
 
 fn scored(w: &mut Watcher) -> (Report, RoundStatus) {
@@ -982,7 +978,8 @@ fn i33_2_live_page_says_it_is_live() {
     assert!(page.contains("9 / 12 routes done"));
     assert!(page.contains("over the routes done") && page.contains("of N"));
     assert!(page.contains("left"));
-    let year = monitor_host::watch::utc(std::time::SystemTime::now())[..4].to_string();
+    let year =
+        monitor_host::app::watch::watcher::utc(std::time::SystemTime::now())[..4].to_string();
     assert!(page.contains(&format!("at {year}-")));
     live.interrupt();
     let o = live.finish(Duration::from_secs(60));
@@ -1177,7 +1174,7 @@ fn i36_watch_says_when_a_shard_stalls() {
 /// the wait is the front end's, asked for at most the interval.
 #[test]
 fn i35_session_stops_when_complete_and_nothing_new() {
-    use monitor_host::app::session::{Step, Stop, Wake};
+    use monitor_host::{Step, Stop, Wake};
     let dir = tempfile::tempdir().unwrap();
     let run = demo::write(dir.path()).unwrap();
     // Files older than the racy second: the second round can trust them unchanged.
@@ -1227,7 +1224,7 @@ fn i35_session_stops_when_complete_and_nothing_new() {
 /// front end's `Wake::Abort` (Python's Ctrl-C) gives up at once, with no final reading.
 #[test]
 fn i35_session_timeout_reads_once_more_and_abort_gives_up() {
-    use monitor_host::app::session::{Step, Stop, Wake};
+    use monitor_host::{Step, Stop, Wake};
     let dir = tempfile::tempdir().unwrap();
     let run = demo::write(dir.path()).unwrap();
     std::thread::sleep(Duration::from_millis(1100)); // past the racy second

@@ -4,10 +4,11 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::{log_topics, RequestError, RunSettings, ScoreError};
+use crate::app::run::vehicle_logs::log_frames;
 use crate::app::run::{route_frames, Inputs};
-use crate::app::vehicle_logs::log_frames;
+use crate::app::score::{log_topics, RequestError, ScoreError};
 use crate::model::frames::RouteFrames;
+use crate::settings::RunSettings;
 use crate::settings::Settings;
 
 /// The frames of one route (`sds frames`, `sds.frames`): a route of a run by its id, or a

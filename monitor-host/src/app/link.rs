@@ -5,11 +5,12 @@
 
 use std::path::PathBuf;
 
-use crate::app::request::{log_topics, RequestError, RunSettings};
 use crate::app::run::{named_frames, Inputs};
+use crate::app::score::{log_topics, RequestError};
 use crate::live_link::doer::{Pace, PlayError, Player, RouteLink};
 use crate::live_link::inject::Inject;
 use crate::live_link::transport::{Target, TargetError};
+use crate::settings::RunSettings;
 use crate::settings::SettingsError;
 use monitor_core::link::LinkConfig;
 
@@ -187,7 +188,7 @@ impl LinkRequest {
             }
         } else {
             for log in &self.mcap {
-                let frames = crate::app::vehicle_logs::log_frames(log, &topics, &settings)
+                let frames = crate::app::run::vehicle_logs::log_frames(log, &topics, &settings)
                     .map_err(|e| crate::error::message(&e));
                 routes.push((crate::input::mcap::log_name(log), frames));
             }

@@ -312,7 +312,7 @@ pub fn read_part(file: &Path) -> Result<Part, MergeError> {
 }
 
 /// The first key (in the report's order) whose value differs, with both values (also
-/// [`crate::app::scored_by`]'s).
+/// [`crate::app::run::scored_by`]'s).
 pub(crate) fn first_difference(
     a: &Value,
     b: &Value,

@@ -1,6 +1,6 @@
 //! The status of one round of a watch (docs/USAGE.md §8): the one schema of `sds watch
 //! --status-json`'s lines and of `sds.watch`'s `status` dict, made by
-//! [`crate::app::watch::Watcher`] and rendered by [`crate::report::status`].
+//! [`crate::app::watch::watcher::Watcher`] and rendered by [`crate::report::status`].
 
 /// The longest `interval` between rounds: one day, s.
 pub const MAX_INTERVAL: f64 = 86_400.0;
@@ -38,7 +38,7 @@ pub struct RoundStatus {
     /// `timeout` ([`crate::report::rerun_list::crashes`]; a `Failed - TickRuntime` route is the
     /// agent's outcome, not a crash).
     pub crashes: usize,
-    /// Estimated seconds left (`crate::app::watch::WatchStatus::seconds_left`).
+    /// Estimated seconds left (`crate::app::watch::watcher::WatchStatus::seconds_left`).
     pub seconds_left: Option<f64>,
     /// Routes replayed this round.
     pub rescored: usize,
@@ -48,7 +48,7 @@ pub struct RoundStatus {
     pub rescored_routes: Vec<String>,
     /// Something changed since the previous scored round.
     pub changed: bool,
-    /// The route set is complete (`crate::app::watch::WatchStatus::complete`).
+    /// The route set is complete (`crate::app::watch::watcher::WatchStatus::complete`).
     pub complete: bool,
     /// Rounds retried (a results file caught half-written) since the previous good reading; a
     /// retried round counts itself.

@@ -201,12 +201,13 @@ impl Drive<'_> {
 /// replay, `record` and `reference` the log's record and path, `notes` the reader's notes as
 /// warnings.
 ///
-/// `sds score --mcap` calls it through [`crate::app::vehicle_logs::score_logs`]:
+/// `sds score --mcap` calls it through [`crate::app::run::vehicle_logs::score_logs`]:
 ///
 /// ```no_run
-/// use monitor_host::{input::mcap::Topics, app::vehicle_logs::score_logs, Settings};
+/// use monitor_host::{NoProgress, ScoreRequest};
 /// // An 8-hour drive: the frames are scored as they are made, none held.
-/// let report = score_logs(&["drive_8h.mcap".into()], &Topics::default(), &Settings::default())?;
+/// let request = ScoreRequest { logs: vec!["drive_8h.mcap".into()], ..ScoreRequest::default() };
+/// let report = request.score(&NoProgress)?.report;
 /// assert_eq!(report.routes[0].batch_agrees, Some(true));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```

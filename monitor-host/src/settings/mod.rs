@@ -944,26 +944,29 @@ mod tests {
     }
 }
 
-/// The options every front end of a scored run shares (`sds score`, `sds compare`, the Python
-/// `sds.score`), before the overrides by name: one mapping to [`Settings`] for all of them.
+/// The options every scored run takes (`sds score`, `sds compare`, `sds watch`, `sds frames`,
+/// `sds link` and their Python functions), mapped to [`Settings`] once ([`RunSettings::settings`]).
+/// The named options come first, as settings of their names, then `overrides` in order (which can
+/// override them).
 ///
 /// ```
 /// use monitor_core::Profile;
-/// use monitor_host::settings::RunOptions;
+/// use monitor_host::RunSettings;
 ///
-/// let options = RunOptions {
+/// let options = RunSettings {
 ///     profile: Profile::B2dLegacy,
 ///     expected_routes: Some(220),
+///     protocols: Some(vec!["lb2.1".into()]),
 ///     overrides: vec![("slack".into(), "0.9".into())],
-///     ..RunOptions::default()
+///     ..RunSettings::default()
 /// };
 /// let s = options.settings()?;
 /// assert_eq!((s.core.profile, s.expected_routes), (Profile::B2dLegacy, Some(220)));
 /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
 /// # Ok::<(), monitor_host::SettingsError>(())
 /// ```
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct RunOptions {
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSettings {
     /// The comfort profile.
     pub profile: Profile,
     /// Benchmark size N.
@@ -973,35 +976,41 @@ pub struct RunOptions {
     /// Score routes without telemetry without telemetry terms.
     pub allow_missing_telemetry: bool,
     /// Worker threads (`None`: all cores).
-    pub threads: Option<usize>,
-    /// The scoring protocols, as a typed list (`None`: the setting's default, or an override's);
-    /// [`protocols_of`] reads a front end's list of ids.
-    pub protocols: Option<Vec<Protocol>>,
-    /// Overrides by name, applied in order after the options above (`--set NAME=VALUE`).
+    pub jobs: Option<usize>,
+    /// Which routes of the route XML make the route set (setting `route_subset`).
+    pub route_subset: Option<RouteSubset>,
+    /// Scoring protocols to add, ids or `all` (setting `protocols`; an item may hold ids joined
+    /// by commas).
+    pub protocols: Option<Vec<String>>,
+    /// Bench2Drive's Traffic_Signs counting rule, one of [`AbilityRule::NAMES`] (setting
+    /// `ability_rule`).
+    pub ability_rule: Option<String>,
+    /// Settings by name, applied in order after the options above (`--set NAME=VALUE`).
     pub overrides: Vec<(String, String)>,
 }
 
-impl Default for RunOptions {
-    /// The defaults: physical profile, no option given, no override.
+impl Default for RunSettings {
+    /// The physical profile, no option given, no override.
     fn default() -> Self {
-        RunOptions {
+        RunSettings {
             profile: Profile::Physical,
             expected_routes: None,
             duplicates: None,
             allow_missing_telemetry: false,
-            threads: None,
+            jobs: None,
+            route_subset: None,
             protocols: None,
+            ability_rule: None,
             overrides: Vec::new(),
         }
     }
 }
 
-impl RunOptions {
+impl RunSettings {
     /// The settings: the defaults, the options, then the overrides in order, validated.
     ///
     /// # Errors
-    /// An override that names no setting or whose value does not parse, or settings that do
-    /// not validate.
+    /// A setting that names no setting, or whose value does not parse or validate.
     pub fn settings(&self) -> Result<Settings, SettingsError> {
         let mut s = Settings::default();
         s.core.profile = self.profile;
@@ -1011,11 +1020,24 @@ impl RunOptions {
             s.duplicates = d;
         }
         s.allow_missing_telemetry = self.allow_missing_telemetry;
-        s.threads = self.threads;
+        s.threads = self.jobs;
         if let Some(p) = &self.protocols {
-            s.protocols = p.clone();
+            // A typed list, not text parsed back.
+            let ids: Vec<&str> = p.iter().flat_map(|x| x.split(',')).collect();
+            s.protocols = protocols_of(&ids)?;
         }
-        s.apply_pairs(self.overrides.iter().map(|(n, v)| (n, v)))?;
+        // The named options as settings of their names, before the overrides (which win).
+        let named = self
+            .route_subset
+            .map(|r| ("route_subset".to_string(), r.name().to_string()))
+            .into_iter()
+            .chain(
+                self.ability_rule
+                    .iter()
+                    .map(|r| ("ability_rule".to_string(), r.clone())),
+            );
+        let pairs: Vec<(String, String)> = named.chain(self.overrides.iter().cloned()).collect();
+        s.apply_pairs(pairs.iter().map(|(n, v)| (n, v)))?;
         Ok(s)
     }
 }

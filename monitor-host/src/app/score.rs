@@ -1,24 +1,20 @@
-//! What a front end asks of a scored run, typed: [`RunSettings`] (the options every scored run
-//! takes) and [`ScoreRequest`] (`sds score`, `sds.score`; `sds watch` and `sds.watch` through
-//! [`crate::app::session::WatchRequest`]). Each front end fills a request from its own spelling
+//! What a front end asks of a scored run, typed: [`ScoreRequest`] (with [`RunSettings`], the
+//! options every scored run takes) (`sds score`, `sds.score`; `sds watch` and `sds.watch` through
+//! [`crate::app::watch::WatchRequest`]). Each front end fills a request from its own spelling
 //! (clap's arguments, Python's keyword arguments) and calls it; the mapping to [`Settings`], the
 //! checks and the calls into the library are here, once.
 
 use std::path::PathBuf;
 
-use monitor_core::Profile;
-
 use crate::aggregate::groups::GroupBy;
+use crate::app::run::scored::{score_labelled, LabelFiles, Scored};
+use crate::app::run::vehicle_logs::score_logs;
 use crate::app::run::{run_frames, Inputs, Progress};
-use crate::app::scored::{score_labelled, LabelFiles, Scored};
-use crate::app::vehicle_logs::score_logs;
 use crate::error::Error;
-use crate::input::duplicates::DuplicatePolicy;
 use crate::input::mcap::Topics;
 use crate::input::record::KNOWN_LISTS;
-use crate::input::route_set::RouteSubset;
 use crate::model::Report;
-use crate::settings::{protocols_of, RunOptions, Settings, SettingsError};
+use crate::settings::{RunSettings, Settings, SettingsError};
 
 /// Why a request is refused before any work: a usage error of the front end (the `sds` command
 /// exits 2; Python raises `ConfigError`). Each front end may name its own option.
@@ -63,94 +59,10 @@ pub enum RequestError {
     },
 }
 
-/// The options every scored run takes (`sds score`, `sds compare`, `sds watch` and their Python
-/// functions), mapped to [`Settings`] once ([`RunSettings::settings`]). The named options come
-/// first, as settings of their names, then `overrides` in order (which can override them).
-#[derive(Clone, Debug, PartialEq)]
-pub struct RunSettings {
-    /// The comfort profile.
-    pub profile: Profile,
-    /// Benchmark size N.
-    pub expected_routes: Option<usize>,
-    /// The duplicate policy (`None`: the setting's default, or an override's).
-    pub duplicates: Option<DuplicatePolicy>,
-    /// Score routes without telemetry without telemetry terms.
-    pub allow_missing_telemetry: bool,
-    /// Worker threads (`None`: all cores).
-    pub jobs: Option<usize>,
-    /// Which routes of the route XML make the route set (setting `route_subset`).
-    pub route_subset: Option<RouteSubset>,
-    /// Scoring protocols to add, ids or `all` (setting `protocols`).
-    pub protocols: Option<Vec<String>>,
-    /// Bench2Drive's Traffic_Signs counting rule (setting `ability_rule`).
-    pub ability_rule: Option<String>,
-    /// Settings by name, applied in order after the options above.
-    pub overrides: Vec<(String, String)>,
-}
-
-impl Default for RunSettings {
-    /// The physical profile, no option given, no override.
-    fn default() -> Self {
-        RunSettings {
-            profile: Profile::Physical,
-            expected_routes: None,
-            duplicates: None,
-            allow_missing_telemetry: false,
-            jobs: None,
-            route_subset: None,
-            protocols: None,
-            ability_rule: None,
-            overrides: Vec::new(),
-        }
-    }
-}
-
-impl RunSettings {
-    /// The settings: the defaults, the options, then the overrides in order, validated.
-    ///
-    /// ```
-    /// use monitor_host::app::request::RunSettings;
-    /// let s = RunSettings { protocols: Some(vec!["lb2.1".into()]),
-    ///                       overrides: vec![("slack".into(), "0.9".into())],
-    ///                       ..Default::default() }.settings()?;
-    /// assert_eq!(s.get("slack").as_deref(), Some("0.9"));
-    /// # Ok::<(), monitor_host::SettingsError>(())
-    /// ```
-    ///
-    /// # Errors
-    /// A setting that names no setting, or whose value does not parse or validate.
-    pub fn settings(&self) -> Result<Settings, SettingsError> {
-        let named = self
-            .route_subset
-            .map(|r| ("route_subset".to_string(), r.name().to_string()))
-            .into_iter()
-            .chain(
-                self.ability_rule
-                    .iter()
-                    .map(|r| ("ability_rule".to_string(), r.clone())),
-            );
-        RunOptions {
-            profile: self.profile,
-            expected_routes: self.expected_routes,
-            duplicates: self.duplicates,
-            allow_missing_telemetry: self.allow_missing_telemetry,
-            threads: self.jobs,
-            // A typed list, not text parsed back (an item may still hold ids joined by commas).
-            protocols: self
-                .protocols
-                .as_ref()
-                .map(|p| protocols_of(&p.iter().flat_map(|x| x.split(',')).collect::<Vec<_>>()))
-                .transpose()?,
-            overrides: named.chain(self.overrides.iter().cloned()).collect(),
-        }
-        .settings()
-    }
-}
-
 /// One run to score (`sds score`, `sds.score`): its files, settings, label files and breakdown.
 ///
 /// ```
-/// use monitor_host::app::request::ScoreRequest;
+/// use monitor_host::app::score::ScoreRequest;
 /// use monitor_host::{demo, Inputs, NoProgress};
 ///
 /// let dir = tempfile::tempdir()?;
@@ -221,7 +133,7 @@ impl ScoreRequest {
         if !self.logs.is_empty() {
             let topics = log_topics(true, &self.topics)?;
             let mut report = score_logs(&self.logs, &topics, &settings)?;
-            crate::app::diagnostics::add_notes(&mut report);
+            crate::app::run::diagnostics::add_notes(&mut report);
             return Ok(Scored {
                 report,
                 families: None,

@@ -5,11 +5,13 @@
 //! the wait ([`Session::next`]'s `wait`: the `sds` command sleeps and checks its signals, Python
 //! releases the GIL and checks its own) and renders what each step returns.
 
+pub mod watcher;
+
 use std::time::{Duration, Instant};
 
-use crate::app::request::{RequestError, ScoreRequest};
-use crate::app::scored::Scored;
-use crate::app::watch::{RoundOutcome, Watcher, RACY};
+use crate::app::run::scored::Scored;
+use crate::app::score::{RequestError, ScoreRequest};
+use crate::app::watch::watcher::{RoundOutcome, Watcher, RACY};
 use crate::error::Error;
 use crate::model::status::RoundStatus;
 
@@ -23,9 +25,9 @@ const LAST_PAUSE: Duration = Duration::from_millis(200);
 pub struct WatchRequest {
     /// The run, as `sds score` scores it.
     pub score: ScoreRequest,
-    /// Seconds between rounds: above 0, at most [`crate::app::watch::MAX_INTERVAL`].
+    /// Seconds between rounds: above 0, at most [`crate::app::watch::watcher::MAX_INTERVAL`].
     pub interval: f64,
-    /// Stop after this many seconds (0 to [`crate::app::watch::MAX_TIMEOUT`]), with a final reading.
+    /// Stop after this many seconds (0 to [`crate::app::watch::watcher::MAX_TIMEOUT`]), with a final reading.
     pub timeout: Option<f64>,
     /// One round, then stop.
     pub once: bool,
@@ -52,8 +54,8 @@ impl WatchRequest {
     /// The session of the request (nothing is read until its first [`Session::next`]).
     ///
     /// ```
-    /// use monitor_host::app::request::ScoreRequest;
-    /// use monitor_host::app::session::{Step, Stop, Wake, WatchRequest};
+    /// use monitor_host::app::score::ScoreRequest;
+    /// use monitor_host::app::watch::{Step, Stop, Wake, WatchRequest};
     /// use monitor_host::{demo, Inputs};
     ///
     /// let dir = tempfile::tempdir()?;
@@ -114,7 +116,8 @@ fn no_logs(score: &ScoreRequest) -> Result<(), RequestError> {
 
 /// The interval, checked.
 fn interval(secs: f64) -> Result<Duration, RequestError> {
-    crate::app::watch::interval(secs).map_err(|bound| RequestError::Interval { given: secs, bound })
+    crate::app::watch::watcher::interval(secs)
+        .map_err(|bound| RequestError::Interval { given: secs, bound })
 }
 
 /// K of the stalled-shard rule, checked: a number above 0.
@@ -128,7 +131,8 @@ fn stall_factor(k: f64) -> Result<f64, RequestError> {
 
 /// The timeout, checked.
 fn timeout(secs: f64) -> Result<Duration, RequestError> {
-    crate::app::watch::timeout(secs).map_err(|bound| RequestError::Timeout { given: secs, bound })
+    crate::app::watch::watcher::timeout(secs)
+        .map_err(|bound| RequestError::Timeout { given: secs, bound })
 }
 
 /// What ended a front end's wait.

@@ -58,23 +58,24 @@ enum LabelKey {
     Route,
 }
 
-/// Scores a run ([`crate::score_run_with`]), reads each label file and checks it against the report's
+/// Scores a run ([`crate::app::run::score_run_with`]; `sds score` and `sds.score` call it through
+/// [`crate::ScoreRequest`]), reads each label file and checks it against the report's
 /// routes (no key matching any route is an error, routes without a label a warning in the
 /// report), then breaks the routes down `by` (the report's `groups`) with its label map.
 ///
 /// ```
 /// use monitor_host::aggregate::groups::GroupBy;
-/// use monitor_host::{demo, score_labelled, Inputs, LabelFiles, NoProgress, Settings};
+/// use monitor_host::{demo, Inputs, NoProgress, ScoreRequest};
 ///
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;
 /// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-/// let scored = score_labelled(&inputs, &Settings::default(), &LabelFiles::default(),
-///                             Some(GroupBy::Town), &NoProgress)?;
+/// let request = ScoreRequest { group_by: Some(GroupBy::Town), ..ScoreRequest::new(inputs) };
+/// let scored = request.score(&NoProgress)?;
 /// assert!(scored.report.groups.is_some());
 /// // A grouping by family needs its map, checked before anything is scored.
-/// let e = score_labelled(&inputs, &Settings::default(), &LabelFiles::default(),
-///                        Some(GroupBy::Family), &NoProgress).unwrap_err();
+/// let request = ScoreRequest { group_by: Some(GroupBy::Family), ..request };
+/// let e = request.score(&NoProgress).unwrap_err();
 /// assert_eq!(e.to_string(), "group_by = family needs its label map (families)");
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -83,7 +84,7 @@ enum LabelKey {
 /// As [`crate::score_run`], and before scoring [`Error::UnusedLabels`] (a route label map
 /// without `by` = [`GroupBy::Route`]) and [`Error::NeedsLabels`] (`by` needs a map not given);
 /// after it [`Error::Labels`] (a label file cannot be read or matches no route).
-pub fn score_labelled(
+pub(crate) fn score_labelled(
     inputs: &Inputs,
     settings: &Settings,
     files: &LabelFiles,
@@ -98,7 +99,7 @@ pub fn score_labelled(
 ///
 /// # Errors
 /// As [`score_labelled`].
-pub fn score_labelled_cached(
+pub(crate) fn score_labelled_cached(
     inputs: &Inputs,
     settings: &Settings,
     files: &LabelFiles,
@@ -143,7 +144,7 @@ pub fn score_labelled_cached(
         let map = label_of(by, families.as_ref(), weathers.as_ref(), labels.as_ref());
         report.group(by, map)?;
     }
-    crate::app::diagnostics::add_notes(&mut report);
+    crate::app::run::diagnostics::add_notes(&mut report);
     Ok(Scored {
         report,
         families,

@@ -226,10 +226,14 @@ fn empty_log(path: &Path) -> VehicleLog {
 /// makes it, without the figures that need a Leaderboard record (it says so in its warnings).
 ///
 /// ```no_run
-/// use monitor_host::{input::mcap::Topics, app::vehicle_logs::score_logs, Settings};
-/// let mut settings = Settings::default();
-/// settings.set("profile", "autoware")?;
-/// let report = score_logs(&["drive.mcap".into()], &Topics::default(), &settings)?;
+/// use monitor_core::Profile;
+/// use monitor_host::{NoProgress, RunSettings, ScoreRequest};
+/// let request = ScoreRequest {
+///     logs: vec!["drive.mcap".into()],
+///     settings: RunSettings { profile: Profile::Autoware, ..RunSettings::default() },
+///     ..ScoreRequest::default()
+/// };
+/// let report = request.score(&NoProgress)?.report;
 /// assert!(report.summary.scores.driving_score.is_none());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
@@ -237,7 +241,11 @@ fn empty_log(path: &Path) -> VehicleLog {
 /// # Errors
 /// [`Error`] for invalid settings. A log that cannot be read is an invalid route of the report,
 /// its reason naming the file, the topic and the fix.
-pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Result<Report, Error> {
+pub(crate) fn score_logs(
+    logs: &[PathBuf],
+    topics: &Topics,
+    settings: &Settings,
+) -> Result<Report, Error> {
     settings.validate()?;
     if logs.is_empty() {
         return Err(Error::EmptyRun { inputs: Vec::new() });
@@ -303,7 +311,11 @@ pub fn score_logs(logs: &[PathBuf], topics: &Topics, settings: &Settings) -> Res
 ///
 /// # Errors
 /// [`Error::VehicleLog`] naming the file, topic and fix; invalid settings.
-pub fn log_frames(path: &Path, topics: &Topics, settings: &Settings) -> Result<RouteFrames, Error> {
+pub(crate) fn log_frames(
+    path: &Path,
+    topics: &Topics,
+    settings: &Settings,
+) -> Result<RouteFrames, Error> {
     settings.validate()?;
     let log = read_log(
         path,

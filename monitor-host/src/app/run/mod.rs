@@ -1,5 +1,16 @@
-//! Scoring a run: the one entry point every front end calls (the `sds` binary, tests, and the
-//! Python and C bindings to come).
+//! A run scored route by route, what every command that scores shares (docs/USAGE.md): the
+//! commands' requests ([`crate::app::score`], [`crate::app::compare`], [`crate::app::watch`],
+//! [`crate::app::frames`], [`crate::app::link`]) call it; no command of its own.
+//!
+//! Beside it: [`scored`] (the label files read and checked around a scored run), [`scored_by`]
+//! (a saved report read back), [`vehicle_logs`] (MCAP logs and rosbag2 folders scored),
+//! [`rerun`] (the routes to run again), [`diagnostics`] (the notes about a scored run).
+
+pub mod diagnostics;
+pub mod rerun;
+pub mod scored;
+pub mod scored_by;
+pub mod vehicle_logs;
 
 use std::path::{Path, PathBuf};
 
@@ -70,7 +81,7 @@ pub trait Progress: Sync {
     }
 }
 
-/// Keeps routes' replays between runs (`sds watch`'s [`crate::app::watch::RouteCache`]): given a
+/// Keeps routes' replays between runs (`sds watch`'s [`crate::app::watch::watcher::RouteCache`]): given a
 /// record, returns its earlier replay when nothing it was made from changed, else calls
 /// `replay`.
 pub trait ReplayCache: Sync {
@@ -86,7 +97,11 @@ impl Progress for NoProgress {}
 
 /// Scores a run: reads the results (and the route XML), replays every route through the
 /// streaming monitor on a thread pool, checks it against the batch reference, and builds the
-/// report. See [`score_run_with`] to follow the progress.
+/// report.
+///
+/// The commands call it through their requests ([`crate::ScoreRequest`], which also adds the
+/// notes about the run and reads the label files); it stays public as the door at typed
+/// [`Settings`] that the tests and benchmarks call with a field set directly.
 ///
 /// A front end decides its exit status from the report's data ([`Report::has_problems`],
 /// [`Report::problem_routes`]), never from its rendering.
@@ -118,7 +133,7 @@ pub fn score_run(inputs: &Inputs, settings: &Settings) -> Result<Report, Error> 
 ///
 /// # Errors
 /// As [`score_run`].
-pub fn score_run_with(
+pub(crate) fn score_run_with(
     inputs: &Inputs,
     settings: &Settings,
     progress: &dyn Progress,
@@ -132,7 +147,7 @@ pub fn score_run_with(
 ///
 /// # Errors
 /// As [`score_run`].
-pub fn score_run_cached(
+pub(crate) fn score_run_cached(
     inputs: &Inputs,
     settings: &Settings,
     progress: &dyn Progress,
@@ -149,23 +164,9 @@ pub fn score_run_cached(
 /// change a route's figures ([`crate::settings::defs::sweep_names`]); the first point's decide
 /// the rest (the duplicates policy, the route set, N).
 ///
-/// ```
-/// use monitor_host::{demo, Inputs, NoProgress, Settings};
-/// use monitor_host::app::run::{score_run, score_run_points};
-/// let dir = tempfile::tempdir()?;
-/// let run = demo::write(dir.path())?;
-/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-/// let mut strict = Settings::default();
-/// strict.set("critical_excess", "0.3")?;
-/// let points = [Settings::default(), strict.clone()];
-/// let reports = score_run_points(&inputs, &points, &NoProgress)?;
-/// assert_eq!(reports[1].summary, score_run(&inputs, &strict)?.summary);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-///
 /// # Errors
 /// As [`score_run`] (any point's invalid settings included).
-pub fn score_run_points(
+pub(crate) fn score_run_points(
     inputs: &Inputs,
     points: &[Settings],
     progress: &dyn Progress,
@@ -877,5 +878,34 @@ fn map_warnings(maps: &TownMaps, towns: &[Option<&str>], settings: &Settings) ->
             reason: reason.clone(),
             lane_fallback: lane,
         }],
+    }
+}
+
+#[cfg(test)]
+mod points_tests {
+    use super::*;
+
+    /// Each point's report is the one `score_run` gives at that point.
+    #[test]
+    fn points_score_as_single_runs() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = crate::demo::write(dir.path()).unwrap();
+        let inputs = Inputs {
+            telemetry: Some(run.telemetry),
+            ..Inputs::new([run.results])
+        };
+        let mut strict = Settings::default();
+        strict.set("critical_excess", "0.3").unwrap();
+        let points = [Settings::default(), strict.clone()];
+        let reports = score_run_points(&inputs, &points, &NoProgress).unwrap();
+        assert_eq!(
+            reports[1].summary,
+            score_run(&inputs, &strict).unwrap().summary
+        );
+        assert_eq!(reports.len(), 2);
+        assert_eq!(
+            reports[0].summary,
+            score_run(&inputs, &Settings::default()).unwrap().summary
+        );
     }
 }

@@ -19,8 +19,8 @@ use std::time::{Duration, SystemTime};
 
 use crate::aggregate::aggregates::Scores;
 use crate::aggregate::groups::GroupBy;
+use crate::app::run::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::app::run::{Inputs, NoProgress, ReplayCache};
-use crate::app::scored::{score_labelled_cached, LabelFiles, Scored};
 use crate::error::Error;
 use crate::input::record::LoadedRecord;
 use crate::input::results_file::{read_results, ResultsError};
@@ -108,21 +108,6 @@ pub const RACY: Duration = Duration::from_secs(1);
 /// A file modified within `racy` of the moment it was stamped may have changed again within the
 /// clock's resolution (git's "racily clean" problem): such a replay is not kept. Nor is one whose
 /// telemetry could not be opened (a read error is never cached: a `chmod` mends it).
-///
-/// ```
-/// use monitor_host::{demo, score_run_cached, Inputs, NoProgress, RouteCache, Settings};
-///
-/// let dir = tempfile::tempdir()?;
-/// let run = demo::write(dir.path())?;
-/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-/// let cache = RouteCache::new(std::time::Duration::ZERO);
-/// let first = score_run_cached(&inputs, &Settings::default(), &NoProgress, Some(&cache))?;
-/// assert_eq!(cache.end_round().rescored, run.route_ids.len());
-/// let again = score_run_cached(&inputs, &Settings::default(), &NoProgress, Some(&cache))?;
-/// assert_eq!(cache.end_round().rescored, 0); // nothing changed: nothing replayed
-/// assert_eq!(first, again);
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
 #[derive(Debug)]
 pub struct RouteCache {
     racy: Duration,
@@ -334,7 +319,7 @@ pub struct WatchStatus {
 /// says the bound; the front end names its option.
 ///
 /// ```
-/// use monitor_host::watch::interval;
+/// use monitor_host::app::watch::watcher::interval;
 /// assert_eq!(interval(0.5).unwrap(), std::time::Duration::from_millis(500));
 /// assert!(interval(1e19).unwrap_err().contains("86400"));
 /// assert!(interval(f64::NAN).is_err() && interval(0.0).is_err());
@@ -355,7 +340,7 @@ pub fn interval(secs: f64) -> Result<Duration, String> {
 /// The timeout, checked: from 0 to [`MAX_TIMEOUT`] s.
 ///
 /// ```
-/// use monitor_host::watch::timeout;
+/// use monitor_host::app::watch::watcher::timeout;
 /// assert_eq!(timeout(0.0).unwrap(), std::time::Duration::ZERO);
 /// for bad in [f64::INFINITY, 1e300, f64::NAN, -5.0] {
 ///     assert!(timeout(bad).unwrap_err().contains("31536000"));
@@ -807,7 +792,7 @@ fn half_written(path: &Path) -> bool {
 /// ```
 /// use std::time::{Duration, SystemTime};
 /// let t = SystemTime::UNIX_EPOCH + Duration::from_secs(1_795_801_533);
-/// assert_eq!(monitor_host::watch::utc(t), "2026-11-27T17:45:33Z");
+/// assert_eq!(monitor_host::app::watch::watcher::utc(t), "2026-11-27T17:45:33Z");
 /// ```
 pub fn utc(t: SystemTime) -> String {
     let secs = t
@@ -858,4 +843,29 @@ fn results_files(results: &[PathBuf]) -> Vec<PathBuf> {
         }
     }
     files
+}
+
+#[cfg(test)]
+mod cache_tests {
+    use super::*;
+    use crate::app::run::score_run_cached;
+    use crate::settings::Settings;
+
+    /// A second round over unchanged files replays nothing and gives the same report.
+    #[test]
+    fn unchanged_round_replays_nothing() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = crate::demo::write(dir.path()).unwrap();
+        let inputs = Inputs {
+            telemetry: Some(run.telemetry),
+            ..Inputs::new([run.results])
+        };
+        let cache = RouteCache::new(Duration::ZERO);
+        let s = Settings::default();
+        let first = score_run_cached(&inputs, &s, &NoProgress, Some(&cache)).unwrap();
+        assert_eq!(cache.end_round().rescored, run.route_ids.len());
+        let again = score_run_cached(&inputs, &s, &NoProgress, Some(&cache)).unwrap();
+        assert_eq!(cache.end_round().rescored, 0);
+        assert_eq!(first, again);
+    }
 }

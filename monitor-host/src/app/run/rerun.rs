@@ -49,12 +49,12 @@ pub enum RerunError {
 /// again, an id the list refuses included (it is the XML's own bytes there).
 ///
 /// ```
-/// use monitor_host::app::rerun::rerun_files;
+/// use monitor_host::app::run::rerun::rerun_files;
 /// use monitor_host::model::report::{assemble_rows, RunFacts};
 /// let empty = assemble_rows(Vec::new(), &Default::default(), RunFacts::default());
 /// let files = rerun_files(&empty, false, None)?;
 /// assert!(files.list.routes.is_empty() && files.xml.is_none() && files.warnings.is_empty());
-/// # Ok::<(), monitor_host::app::rerun::RerunError>(())
+/// # Ok::<(), monitor_host::app::run::rerun::RerunError>(())
 /// ```
 ///
 /// # Errors

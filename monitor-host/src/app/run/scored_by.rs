@@ -9,7 +9,7 @@
 //! runs and the first setting that differs.
 //!
 //! ```
-//! use monitor_host::app::scored_by::{differences, ScoredBy};
+//! use monitor_host::app::run::scored_by::{differences, ScoredBy};
 //! let a = ScoredBy { sds_version: Some("0.1.0".into()),
 //!                    config: serde_json::json!({"profile": "physical", "slack": 0.82}) };
 //! let b = ScoredBy { config: serde_json::json!({"profile": "physical", "slack": 0.5}), ..a.clone() };
@@ -123,7 +123,7 @@ pub fn read_report(file: &Path, host: bool) -> Result<(Report, ScoredBy), Result
 ///
 /// # Errors
 /// As [`read_report`] ([`Error::Results`]) or [`crate::app::run::score_run_with`].
-pub fn score_or_read(
+pub(crate) fn score_or_read(
     inputs: &Inputs,
     settings: &Settings,
     progress: &dyn Progress,

@@ -59,7 +59,7 @@ pub fn untraced_note(report: &Report) -> Option<Warning> {
 
 #[cfg(test)]
 mod tests {
-    use crate::app::request::ScoreRequest;
+    use crate::app::score::ScoreRequest;
     use crate::{demo, Inputs, NoProgress, Warning};
 
     /// Issue 48 item 2: the demo's 10 Hz route is noted in the report itself (once, as a note),

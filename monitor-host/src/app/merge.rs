@@ -11,7 +11,7 @@ use crate::model::Report;
 /// Reports to merge into one.
 ///
 /// ```
-/// use monitor_host::app::merged::MergeRequest;
+/// use monitor_host::app::merge::MergeRequest;
 /// use monitor_host::{demo, report, score_run, Inputs, Settings};
 ///
 /// let dir = tempfile::tempdir()?;

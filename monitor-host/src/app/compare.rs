@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::app::request::{RequestError, ScoreError};
 use crate::app::run::{Inputs, Progress};
+use crate::app::score::{RequestError, ScoreError};
 use crate::error::Error;
 use crate::input::warning::Warning;
 use crate::settings::Settings;
@@ -29,7 +29,7 @@ pub struct RunInputs {
 /// end of `sds compare` uses this default.
 ///
 /// ```
-/// use monitor_host::compare_runs::telemetry_beside;
+/// use monitor_host::app::compare::telemetry_beside;
 /// use std::path::Path;
 /// assert_eq!(telemetry_beside(Path::new("out/results.json")), Path::new("out"));
 /// assert_eq!(telemetry_beside(Path::new("results.json")), Path::new("."));
@@ -114,7 +114,7 @@ impl Compared {
 /// listed once, and each run's count of routes in them (instead of one long line per run).
 ///
 /// ```
-/// use monitor_host::compare_runs::maps_warning;
+/// use monitor_host::app::compare::maps_warning;
 /// use monitor_host::Warning;
 /// let w = |towns: &[(&str, usize)]| Warning::NoMaps {
 ///     towns: towns.iter().map(|(t, n)| (t.to_string(), *n)).collect(),
@@ -232,63 +232,19 @@ pub fn group_runs(runs: Vec<NamedRun>, seeds: &[Seeds]) -> Result<Vec<Model>, Er
 }
 
 /// Scores every run (in order, each on the thread pool [`crate::score_run`] makes) and compares
-/// them. `progress` hears each run's routes; once it says [`Progress::cancelled`], the run being
-/// scored stops between routes and no further run or bootstrap block starts
-/// ([`Error::Cancelled`]). The options are checked before any run is scored.
-///
-/// ```
-/// use monitor_host::compare_runs::{compare_runs, RunInputs};
-/// use monitor_host::stats::CompareOptions;
-/// use monitor_host::{demo, Inputs, NoProgress, Settings};
-/// let dir = tempfile::tempdir()?;
-/// let run = demo::write(dir.path())?;
-/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-/// let runs = ["base", "new"].map(|n| RunInputs { name: n.into(), inputs: inputs.clone() });
-/// let c = compare_runs(&runs, &[], &Settings::default(), &CompareOptions::default(), &NoProgress)?;
-/// assert_eq!(c.comparison.paired.len(), 4); // new vs base: ds, success, ds_safe, comfort
-/// assert!(c.comparison.gate_failures().is_empty());
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
-///
-/// # Errors
-/// A run's [`Error`] (naming it is the caller's: the order is the order given),
-/// [`Error::Compare`], or [`Error::Cancelled`].
-pub fn compare_runs(
-    runs: &[RunInputs],
-    seeds: &[Seeds],
-    settings: &Settings,
-    options: &CompareOptions,
-    progress: &dyn Progress,
-) -> Result<Compared, Error> {
-    compare_runs_swept(runs, seeds, settings, options, &[], progress)
-}
-
-/// [`compare_runs`], and with a sweep (`axes` not empty, docs/SCORE.md §10.4) every model's figures at
+/// them; with a sweep (`axes` not empty, docs/SCORE.md §10.4) also every model's figures at
 /// every point of the grid ([`crate::stats::sweep`]) in [`Comparison::sweep`]: each run is
 /// scored once at the given settings and at every point ([`crate::app::run::score_run_points`],
 /// which re-uses what a point does not change); the rest of the report is that of the given
-/// settings. The grid is checked before any run is scored.
-///
-/// ```
-/// use monitor_host::compare_runs::{compare_runs_swept, RunInputs};
-/// use monitor_host::stats::{sweep::SweepAxis, CompareOptions};
-/// use monitor_host::{demo, Inputs, NoProgress, Settings};
-/// let dir = tempfile::tempdir()?;
-/// let run = demo::write(dir.path())?;
-/// let inputs = Inputs { telemetry: Some(run.telemetry), ..Inputs::new([run.results]) };
-/// let runs = ["base", "new"].map(|n| RunInputs { name: n.into(), inputs: inputs.clone() });
-/// let axes = [SweepAxis::parse("critical_excess=0.45,0.65")?];
-/// let c = compare_runs_swept(&runs, &[], &Settings::default(), &CompareOptions::default(),
-///                            &axes, &NoProgress)?;
-/// let sweep = c.comparison.sweep.expect("swept");
-/// assert_eq!(sweep.points.len(), 2);
-/// assert!(sweep.pairs[0].order_stable); // the same run twice: tied everywhere
-/// # Ok::<(), Box<dyn std::error::Error>>(())
-/// ```
+/// settings. `progress` hears each run's routes; once it says [`Progress::cancelled`], the run
+/// being scored stops between routes and no further run or bootstrap block starts
+/// ([`Error::Cancelled`]). The options and the grid are checked before any run is scored.
 ///
 /// # Errors
-/// As [`compare_runs`]; [`CompareError::Sweep`] for a refused grid or a run given as a report.
-pub fn compare_runs_swept(
+/// A run's [`Error`] (naming it is the caller's: the order is the order given),
+/// [`Error::Compare`] ([`CompareError::Sweep`] for a refused grid or a run given as a report),
+/// or [`Error::Cancelled`].
+pub(crate) fn compare_runs(
     runs: &[RunInputs],
     seeds: &[Seeds],
     settings: &Settings,
@@ -304,7 +260,7 @@ pub fn compare_runs_swept(
     };
     if !grid.is_empty() {
         if let Some((r, f)) = runs.iter().find_map(|r| match r.inputs.results.as_slice() {
-            [f] if crate::app::scored_by::is_report(f) => Some((r, f)),
+            [f] if crate::app::run::scored_by::is_report(f) => Some((r, f)),
             _ => None,
         }) {
             return Err(Error::Compare(CompareError::Sweep(SweepError::Report {
@@ -332,12 +288,12 @@ pub fn compare_runs_swept(
             }));
         }
         let scored_here = if grid.is_empty() {
-            crate::app::scored_by::score_or_read(&r.inputs, settings, progress)
+            crate::app::run::scored_by::score_or_read(&r.inputs, settings, progress)
         } else {
             crate::app::run::score_run_points(&r.inputs, &points, progress).map(|mut reports| {
                 let main = reports.remove(0);
                 at_points.push(reports.into_iter().map(sweep_figures_only).collect());
-                let by = crate::app::scored_by::ScoredBy::of(&main);
+                let by = crate::app::run::scored_by::ScoredBy::of(&main);
                 (main, by)
             })
         };
@@ -373,14 +329,14 @@ pub fn compare_runs_swept(
         comparison.sweep = Some(sweep_report(runs, &models, axes, &grid, at_points));
     }
     // Runs scored by another sds version or other settings (reports given as runs).
-    let by: Vec<(&str, &crate::app::scored_by::ScoredBy)> = runs
+    let by: Vec<(&str, &crate::app::run::scored_by::ScoredBy)> = runs
         .iter()
         .map(|r| r.name.as_str())
         .zip(&scored_by)
         .collect();
     comparison
         .warnings
-        .extend(crate::app::scored_by::differences(&by));
+        .extend(crate::app::run::scored_by::differences(&by));
     // One results file given as two runs: as seeds their spread is 0 and says nothing.
     let real = |r: &RunInputs| -> Vec<PathBuf> {
         r.inputs
@@ -489,7 +445,7 @@ pub struct RunSpec {
 /// run shares, the options each run is scored with and those of the comparison.
 ///
 /// ```
-/// use monitor_host::app::compare_runs::{CompareRequest, RunSpec};
+/// use monitor_host::app::compare::{CompareRequest, RunSpec};
 /// use monitor_host::{demo, NoProgress};
 /// let dir = tempfile::tempdir()?;
 /// let run = demo::write(dir.path())?;
@@ -498,7 +454,8 @@ pub struct RunSpec {
 /// let request = CompareRequest { runs: vec![spec("base"), spec("new")],
 ///                                ..CompareRequest::default() };
 /// let c = request.compare(&NoProgress)?;
-/// assert_eq!(c.comparison.paired.len(), 4);
+/// assert_eq!(c.comparison.paired.len(), 4); // new vs base: ds, success, ds_safe, comfort
+/// assert!(c.comparison.gate_failures().is_empty());
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -512,7 +469,7 @@ pub struct CompareRequest {
     /// The maps folder every run is scored with.
     pub maps: Option<PathBuf>,
     /// The options each run is scored with.
-    pub settings: crate::app::request::RunSettings,
+    pub settings: crate::settings::RunSettings,
     /// The comparison's options (`fail_if_worse` names are trimmed).
     pub options: CompareOptions,
     /// The sweep (`--sweep`, docs/SCORE.md §10.4): each setting and its values; empty for none.
@@ -575,7 +532,7 @@ impl CompareRequest {
     /// As [`CompareRequest::validate`], then [`compare_runs`]'s.
     pub fn compare(&self, progress: &dyn Progress) -> Result<Compared, ScoreError> {
         let settings = self.validate()?;
-        Ok(compare_runs_swept(
+        Ok(compare_runs(
             &self.run_inputs(),
             &self.seeds,
             &settings,
@@ -583,5 +540,36 @@ impl CompareRequest {
             &self.sweep,
             progress,
         )?)
+    }
+}
+
+#[cfg(test)]
+mod request_tests {
+    use super::*;
+    use crate::app::run::NoProgress;
+
+    /// A sweep through the request: every point scored, the same run twice tied everywhere.
+    #[test]
+    fn sweep_scores_every_point() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = crate::demo::write(dir.path()).unwrap();
+        let spec = |name: &str| RunSpec {
+            name: name.into(),
+            results: run.results.clone(),
+            telemetry: Some(run.telemetry.clone()),
+        };
+        let request = CompareRequest {
+            runs: vec![spec("base"), spec("new")],
+            sweep: vec![SweepAxis::parse("critical_excess=0.45,0.65").unwrap()],
+            ..CompareRequest::default()
+        };
+        let sweep = request
+            .compare(&NoProgress)
+            .unwrap()
+            .comparison
+            .sweep
+            .expect("swept");
+        assert_eq!(sweep.points.len(), 2);
+        assert!(sweep.pairs[0].order_stable);
     }
 }

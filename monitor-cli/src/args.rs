@@ -9,7 +9,7 @@ use monitor_host::aggregate::groups::GroupBy;
 use monitor_host::demo::LargeLayout;
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::input::route_set::RouteSubset;
-use monitor_host::settings::{AbilityRule, SettingsError};
+use monitor_host::settings::{AbilityRule, LateralReference, SettingsError};
 use monitor_host::RunSettings;
 
 /// `sds`: the SafeDriving Score of Bench2Drive runs.
@@ -95,6 +95,12 @@ pub struct RunArgs {
     #[arg(long = "ability-rule", value_name = "RULE",
           value_parser = clap::builder::PossibleValuesParser::new(AbilityRule::NAMES))]
     pub ability_rule: Option<String>,
+    /// What the lateral error is measured against (docs/SCORE.md §3): `route` (the route
+    /// polyline, its junction gaps filled by the map; default) or `lane` (the nearest driving
+    /// lane of the map; a town without a map falls back to the route, with a warning). The same
+    /// as `--set lateral_reference=...`.
+    #[arg(long, value_parser = named(LateralReference::ALL, LateralReference::name))]
+    pub lateral_reference: Option<LateralReference>,
 }
 
 impl RunArgs {
@@ -122,6 +128,7 @@ impl RunArgs {
                 .as_ref()
                 .map(|l| l.split(',').map(str::to_string).collect()),
             ability_rule: self.ability_rule.clone(),
+            lateral_reference: self.lateral_reference,
             overrides,
         })
     }

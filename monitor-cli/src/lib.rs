@@ -48,7 +48,7 @@ use monitor_host::{demo, Inputs, LabelFiles, Progress, SettingsError, TelemetryS
 use monitor_host::{Frames, FramesRequest};
 use monitor_host::{ScoreError, ScoreRequest};
 
-use args::{Cli, Command, Format, RunArgs, ScoreArgs};
+use args::{Cli, Command, Format, ScoreArgs};
 
 pub use monitor_host::Scored;
 use output::write_output;
@@ -155,13 +155,13 @@ fn run(cli: Cli) -> Result<i32> {
                 output: Some(html.clone()),
                 traces: Some(dir.join("traces")),
                 figures: Some(dir.join("figures")),
-                ..demo_args(&run)
+                ..demo_args(&run)?
             })?;
             say!("sds: the demo's HTML report: {}", html.display());
             if code != 0 {
                 return Ok(code);
             }
-            score(&demo_args(&run))
+            score(&demo_args(&run)?)
         }
         Command::Frames(args) => {
             let request = FramesRequest {
@@ -253,39 +253,26 @@ fn style(format: Format) -> Option<Style> {
     }
 }
 
-/// `sds score` of the demo run: the table on standard output.
-fn demo_args(run: &demo::DemoRun) -> ScoreArgs {
-    ScoreArgs {
-        results: vec![run.results.clone()],
-        telemetry: Some(run.telemetry.clone()),
-        mcap: vec![],
-        topics: vec![],
-        run: RunArgs {
-            routes: Some(run.routes.clone()),
-            maps: Some(run.maps.clone()),
-            profile: monitor_core::Profile::Physical,
-            expected_routes: None,
-            allow_missing_telemetry: false,
-            set: vec![],
-            jobs: None,
-            protocol: None,
-            ability_rule: None,
-        },
-        duplicates: None,
-        route_subset: None,
-        format: Format::Table,
-        output: None,
-        group_by: None,
-        families: None,
-        weathers: None,
-        labels: None,
-        infractions: vec![],
-        traces: None,
-        figures: None,
-        rerun_list: None,
-        rerun_xml: None,
-        rerun_timeouts: false,
-        tables: None,
+/// `sds score` of the demo run: the table on standard output. Parsed as the command line
+/// would parse it, so an option added to `sds score` needs nothing here.
+fn demo_args(run: &demo::DemoRun) -> Result<ScoreArgs> {
+    let argv: [&std::ffi::OsStr; 12] = [
+        "sds".as_ref(),
+        "score".as_ref(),
+        "--results".as_ref(),
+        run.results.as_os_str(),
+        "--telemetry".as_ref(),
+        run.telemetry.as_os_str(),
+        "--routes".as_ref(),
+        run.routes.as_os_str(),
+        "--maps".as_ref(),
+        run.maps.as_os_str(),
+        "--format".as_ref(),
+        "table".as_ref(),
+    ];
+    match Cli::try_parse_from(argv)?.command {
+        Command::Score(args) => Ok(args),
+        other => anyhow::bail!("the demo's arguments parsed as {other:?}, not sds score"),
     }
 }
 

@@ -182,8 +182,9 @@ impl Shared<'_> {
                 })
                 .transpose()?,
             protocols: self.protocols.map(|p| p.list("protocols")).transpose()?,
-            ability_rule: None,
             overrides: self.settings.map(|s| s.0).unwrap_or_default(),
+            // An option one function takes alone is set by that function on the result.
+            ..RunSettings::default()
         })
     }
 }

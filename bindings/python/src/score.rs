@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use monitor_host::aggregate::groups::GroupBy;
+use monitor_host::settings::LateralReference;
 use monitor_host::{Inputs, LabelFiles, NoProgress, Progress, RunSettings, ScoreRequest};
 use pyo3::prelude::*;
 
@@ -187,6 +188,11 @@ impl Run<'_> {
 ///         ``"all"`` (every route of the XML; one without a record counts as 0) or ``"found"``
 ///         (those with a record: a run of 20 routes scored over 20). None: the setting
 ///         ``route_subset`` (default ``"all"``, or from ``settings``).
+///     lateral_reference: What the lateral error is measured against
+///         (``--lateral-reference``): ``"route"`` (the route polyline, its junction gaps filled
+///         by the map) or ``"lane"`` (the nearest driving lane of the map; a town without a map
+///         falls back to the route, with a warning). None: the setting ``lateral_reference``
+///         (default ``"route"``, or from ``settings``).
 ///     mcap: Vehicle logs scored instead of ``results`` (``--mcap``): MCAP files of ROS 2
 ///         messages or rosbag2 folders, each one route named by its file stem. The report
 ///         holds no driving score, success rate, DS_safe or SDS (a log has no Leaderboard
@@ -221,7 +227,8 @@ impl Run<'_> {
 #[pyo3(signature = (results=None, *, telemetry=None, routes=None, maps=None, profile="physical",
                     duplicates="error", expected_routes=None, allow_missing_telemetry=false,
                     settings=None, group_by=None, labels=None, jobs=None, progress=None,
-                    protocols=None, route_subset=None, mcap=None, topics=None))]
+                    protocols=None, route_subset=None, lateral_reference=None, mcap=None,
+                    topics=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn score<'py>(
     py: Python<'py>,
@@ -240,20 +247,33 @@ pub fn score<'py>(
     progress: Option<Bound<'py, PyAny>>,
     protocols: Option<Strings>,
     route_subset: Option<&str>,
+    lateral_reference: Option<&str>,
     mcap: Option<Paths>,
     topics: Option<Strings>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let settings = Shared {
-        profile,
-        duplicates: Some(duplicates),
-        expected_routes,
-        allow_missing_telemetry,
-        settings,
-        jobs,
-        protocols,
-        route_subset,
-    }
-    .request()?;
+    let settings = RunSettings {
+        lateral_reference: lateral_reference
+            .map(|r| {
+                named(
+                    "lateral_reference",
+                    r,
+                    LateralReference::from_name,
+                    LateralReference::choices,
+                )
+            })
+            .transpose()?,
+        ..Shared {
+            profile,
+            duplicates: Some(duplicates),
+            expected_routes,
+            allow_missing_telemetry,
+            settings,
+            jobs,
+            protocols,
+            route_subset,
+        }
+        .request()?
+    };
     let request = Run {
         results,
         telemetry,

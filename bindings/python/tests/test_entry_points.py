@@ -102,6 +102,8 @@ def test_i48_1_choices_are_the_librarys(demo: Demo, sds_bin: Path) -> None:
         (lambda: sds.score(demo.results, duplicates="one"), 'duplicates="one"', ["score", *base, "--duplicates", "one"]),
         (lambda: sds.score(demo.results, route_subset="some"),  # type: ignore[arg-type]
          'route_subset="some"', ["score", *base, "--route-subset", "some"]),
+        (lambda: sds.score(demo.results, lateral_reference="road"),  # type: ignore[arg-type]
+         'lateral_reference="road"', ["score", *base, "--lateral-reference", "road"]),
         (lambda: sds.score(demo.results, group_by="colour"), 'group_by="colour"', ["score", *base, "--group-by", "colour"]),
         (lambda: sds.watch(demo.results, profile="fast"), 'profile="fast"', ["score", *base, "--profile", "fast"]),
         (lambda: sds.merge([demo.results], duplicates="one"), 'duplicates="one"', ["merge", str(demo.results), "--duplicates", "one"]),
@@ -179,3 +181,17 @@ def test_i48_1_paths_take_one_or_many(demo: Demo) -> None:
     for given in (str(demo.results), [demo.results], (str(demo.results),)):
         again = sds.score(given, telemetry=str(demo.telemetry))  # type: ignore[arg-type]
         assert again["summary"] == one["summary"]
+
+
+def test_i48_1_lateral_reference_is_a_named_option(demo: Demo) -> None:
+    """`lateral_reference=` (added in the four places docs/DESIGN.md lists): the report of
+    `settings={"lateral_reference": ...}`, given before the overrides (a later setting wins)."""
+    kw: Dict[str, Any] = dict(telemetry=demo.telemetry, routes=demo.routes, maps=demo.root / "maps")
+    route = sds.score(demo.results, **kw)
+    lane = sds.score(demo.results, lateral_reference="lane", **kw)
+    assert route["config"]["lateral_reference"] == "route"
+    assert lane["config"]["lateral_reference"] == "lane"
+    assert lane == sds.score(demo.results, settings={"lateral_reference": "lane"}, **kw)
+    assert lane["routes"] != route["routes"]
+    again = sds.score(demo.results, lateral_reference="lane", settings={"lateral_reference": "route"}, **kw)
+    assert again == route

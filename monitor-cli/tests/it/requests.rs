@@ -106,3 +106,41 @@ fn i48_1_frames_takes_every_score_option() {
     assert_eq!(code(&out), 0, "{}", stderr(&out));
     assert_ne!(out.stdout, plain.stdout, "--set slack was not read");
 }
+
+/// `--lateral-reference` (a named option added after the move to one request per command, in
+/// the four places docs/DESIGN.md "Adding a named option to score" lists): the same report as
+/// `--set lateral_reference=...`, given before the overrides (a later `--set` wins), and its
+/// choices are the library's names.
+#[test]
+fn i48_1_lateral_reference_is_a_named_option() {
+    use monitor_host::settings::LateralReference;
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::demo(dir.path());
+    let maps = s(&dir.path().join("maps"));
+    let json = |extra: &[&str]| {
+        let mut args = vec!["--maps", maps.as_str(), "--format", "json"];
+        args.extend_from_slice(extra);
+        let out = crate::common::score_demo(dir.path(), None, &args);
+        assert_eq!(code(&out), 0, "{extra:?}: {}", stderr(&out));
+        out.stdout
+    };
+    let config = |bytes: &[u8]| -> String {
+        let v: serde_json::Value = serde_json::from_slice(bytes).unwrap();
+        v["config"]["lateral_reference"].as_str().unwrap().to_string()
+    };
+    let route = json(&[]);
+    let lane = json(&["--lateral-reference", "lane"]);
+    assert_eq!(config(&route), "route");
+    assert_eq!(config(&lane), "lane");
+    assert_eq!(lane, json(&["--set", "lateral_reference=lane"]));
+    assert_ne!(lane, route, "--lateral-reference lane changed nothing");
+    // Named options come before the overrides: the later `--set` wins.
+    assert_eq!(
+        route,
+        json(&["--lateral-reference", "lane", "--set", "lateral_reference=route"])
+    );
+    let out = crate::common::score_demo(dir.path(), None, &["--lateral-reference", "nope"]);
+    assert_eq!(code(&out), 2);
+    let listed = format!("[possible values: {}]", LateralReference::NAMES.join(", "));
+    assert!(stderr(&out).contains(&listed), "{}", stderr(&out));
+}

@@ -985,6 +985,8 @@ pub struct RunSettings {
     /// Bench2Drive's Traffic_Signs counting rule, one of [`AbilityRule::NAMES`] (setting
     /// `ability_rule`).
     pub ability_rule: Option<String>,
+    /// What the lateral error is measured against (setting `lateral_reference`, docs/SCORE.md §3).
+    pub lateral_reference: Option<LateralReference>,
     /// Settings by name, applied in order after the options above (`--set NAME=VALUE`).
     pub overrides: Vec<(String, String)>,
 }
@@ -1001,6 +1003,7 @@ impl Default for RunSettings {
             route_subset: None,
             protocols: None,
             ability_rule: None,
+            lateral_reference: None,
             overrides: Vec::new(),
         }
     }
@@ -1035,6 +1038,10 @@ impl RunSettings {
                 self.ability_rule
                     .iter()
                     .map(|r| ("ability_rule".to_string(), r.clone())),
+            )
+            .chain(
+                self.lateral_reference
+                    .map(|r| ("lateral_reference".to_string(), r.name().to_string())),
             );
         let pairs: Vec<(String, String)> = named.chain(self.overrides.iter().cloned()).collect();
         s.apply_pairs(pairs.iter().map(|(n, v)| (n, v)))?;

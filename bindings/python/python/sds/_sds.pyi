@@ -79,6 +79,7 @@ def score(
     progress: Union[bool, Callable[[int, int], Any], None] = None,
     protocols: Optional[Sequence[str]] = None,
     route_subset: Optional[Literal["all", "found"]] = None,
+    lateral_reference: Optional[Literal["route", "lane"]] = None,
     mcap: Union[_Path, Sequence[_Path], None] = None,
     topics: Optional[Sequence[str]] = None,
 ) -> Dict[str, Any]: ...

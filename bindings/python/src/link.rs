@@ -99,12 +99,6 @@ pub fn link<'py>(
     )?;
     let results = results.map(Paths::into_vec).unwrap_or_default();
     let mcap = mcap.map(Paths::into_vec).unwrap_or_default();
-    // `sds link` refuses both (its options conflict); the request itself plays the logs alone.
-    if !results.is_empty() && !mcap.is_empty() {
-        return Err(ConfigError::new_err(
-            "results and mcap: results and vehicle logs are played apart: give one or the other",
-        ));
-    }
     let request = LinkRequest {
         inputs: Inputs {
             results,

@@ -126,7 +126,10 @@ fn i48_1_lateral_reference_is_a_named_option() {
     };
     let config = |bytes: &[u8]| -> String {
         let v: serde_json::Value = serde_json::from_slice(bytes).unwrap();
-        v["config"]["lateral_reference"].as_str().unwrap().to_string()
+        v["config"]["lateral_reference"]
+            .as_str()
+            .unwrap()
+            .to_string()
     };
     let route = json(&[]);
     let lane = json(&["--lateral-reference", "lane"]);
@@ -137,7 +140,12 @@ fn i48_1_lateral_reference_is_a_named_option() {
     // Named options come before the overrides: the later `--set` wins.
     assert_eq!(
         route,
-        json(&["--lateral-reference", "lane", "--set", "lateral_reference=route"])
+        json(&[
+            "--lateral-reference",
+            "lane",
+            "--set",
+            "lateral_reference=route"
+        ])
     );
     let out = crate::common::score_demo(dir.path(), None, &["--lateral-reference", "nope"]);
     assert_eq!(code(&out), 2);

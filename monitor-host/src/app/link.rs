@@ -172,6 +172,13 @@ impl LinkRequest {
     /// # Errors
     /// [`LinkError`].
     pub fn run(&self) -> Result<LinkReport, LinkError> {
+        // Refused before the checker is contacted, as `ScoreRequest::validate` refuses both.
+        if !self.mcap.is_empty() && !self.inputs.results.is_empty() {
+            return Err(RequestError::Log(
+                "results and vehicle logs (--mcap) are played apart: give one or the other".into(),
+            )
+            .into());
+        }
         let topics = log_topics(!self.mcap.is_empty(), &self.topics)?;
         // The link settings are the checker's, not the monitor's.
         let (link, overrides) = link_config(&self.settings.overrides)?;
@@ -226,5 +233,30 @@ impl LinkRequest {
             routes: played,
             unplayed,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Results and logs together are refused before the checker is contacted (the target is a
+    /// command that would fail if it were run).
+    #[test]
+    fn results_and_logs_are_refused_before_any_connection() {
+        let request = LinkRequest {
+            inputs: Inputs::new(["results.json"]),
+            mcap: vec!["drive.mcap".into()],
+            topics: Vec::new(),
+            settings: RunSettings::default(),
+            target: "exec:false".parse().unwrap(),
+            pace: Pace::Fast,
+            inject: Inject::default(),
+            tap: None,
+        };
+        match request.run() {
+            Err(LinkError::Request(RequestError::Log(m))) => assert!(m.contains("apart"), "{m}"),
+            other => panic!("expected the request refused, got {other:?}"),
+        }
     }
 }

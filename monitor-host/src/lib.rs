@@ -95,6 +95,7 @@ pub mod report;
 pub mod route;
 pub mod settings;
 pub mod stats;
+pub mod write;
 pub use input::warning;
 
 // The run-level doors, also at their earlier paths (`monitor_host::run::...`).

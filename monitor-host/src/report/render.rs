@@ -198,3 +198,52 @@ pub fn render_compare(
         (_, None) => return Err(CompareFormatError::Unsupported(format)),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every format renders the demo run as its own module does, and `write` streams the same
+    /// bytes as `render` returns.
+    #[test]
+    fn every_format_is_its_renderer() {
+        let dir = tempfile::tempdir().unwrap();
+        let run = crate::demo::write(dir.path()).unwrap();
+        let inputs = crate::Inputs {
+            telemetry: Some(run.telemetry),
+            ..crate::Inputs::new([run.results])
+        };
+        let report = crate::score_run(&inputs, &crate::Settings::default()).unwrap();
+        let options = RenderOptions {
+            name: "demo".into(),
+            ..RenderOptions::default()
+        };
+        for &format in Format::ALL {
+            let bytes = render(&report, format, &options).unwrap();
+            let mut streamed = Vec::new();
+            write(&report, format, &options, &mut streamed).unwrap();
+            assert_eq!(bytes, streamed, "{}", format.name());
+            let direct = match format {
+                Format::Json => json::json(&report).unwrap(),
+                Format::Csv => csv::csv(&report),
+                Format::Html => html::page(&report, &options.tables, "demo").into_bytes(),
+                _ => table::render(
+                    &table::report_tables(&report, &options.tables),
+                    format.style().unwrap(),
+                )
+                .into_bytes(),
+            };
+            assert_eq!(bytes, direct, "{}", format.name());
+        }
+    }
+
+    /// A comparison has every format but CSV, and says so with the names.
+    #[test]
+    fn a_comparison_refuses_csv_by_name() {
+        let e = CompareFormatError::Unsupported(Format::Csv);
+        assert_eq!(
+            e.to_string(),
+            "sds compare writes json, table, markdown, latex or html, not csv"
+        );
+    }
+}

@@ -63,7 +63,7 @@ impl FileSet {
 
 /// Raises `IoError` when `path` is a link or anything but a regular file; returns whether a
 /// regular file is there (to refuse a whole set before writing any of it).
-#[pyfunction]
-pub fn refuse_unsafe(path: PathBuf) -> PyResult<bool> {
+#[pyfunction(name = "refuse_unsafe")]
+pub fn refuse_special(path: PathBuf) -> PyResult<bool> {
     write::refuse::refuse_unsafe(&path).map_err(|e| io_error(&e))
 }

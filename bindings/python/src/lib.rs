@@ -67,7 +67,7 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(link::link, m)?)?;
     m.add_function(wrap_pyfunction!(tables::long_tables, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
-    m.add_function(wrap_pyfunction!(files::refuse_unsafe, m)?)?;
+    m.add_function(wrap_pyfunction!(files::refuse_special, m)?)?;
     m.add_class::<files::FileSet>()?;
     m.add_class::<watch::Watch>()?;
     m.add_class::<monitor::Monitor>()?;

@@ -140,9 +140,16 @@ pub fn write(
 ///
 /// ```
 /// use monitor_host::report::render::{render, Format, RenderOptions};
-/// let report = monitor_host::Report::default();
-/// let json = render(&report, Format::Json, &RenderOptions::default()).unwrap();
-/// assert!(json.ends_with(b"}\n"));
+/// use monitor_host::{demo, score_run, Inputs, Settings};
+/// let dir = tempfile::tempdir()?;
+/// let run = demo::write(dir.path())?;
+/// let report = score_run(&Inputs::new([run.results]), &Settings::default())?;
+/// let options = RenderOptions { name: "demo".into(), ..RenderOptions::default() };
+/// let csv = render(&report, Format::Csv, &options)?;
+/// assert!(csv.starts_with(b"route_id,"));
+/// let page = render(&report, Format::Html, &options)?;
+/// assert!(String::from_utf8(page)?.contains("<title>"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 ///
 /// # Errors

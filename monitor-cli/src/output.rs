@@ -203,22 +203,8 @@ fn place_all(dir: &Path, files: &[(PathBuf, Vec<u8>)], inputs: &[PathBuf]) -> Re
     Ok(PENDING.place_all(dir, files, inputs)?)
 }
 
-/// The figure files of the run: `decomposition.svg` (the waterfall from DS to SDS; left out
-/// when the run has no decomposition) and `routes.svg` (DS and DS_safe per route).
-fn figure_files(report: &monitor_host::report::Report) -> Vec<(&'static str, Vec<u8>)> {
-    use monitor_host::report::{route_chart, waterfall};
-    let decomposition = report.summary.scores.decomposition.as_ref();
-    [
-        ("decomposition.svg", decomposition.map(waterfall::svg)),
-        ("routes.svg", Some(route_chart::svg(&report.routes))),
-    ]
-    .into_iter()
-    .filter_map(|(name, svg)| svg.map(|s| (name, s.into_bytes())))
-    .collect()
-}
-
 /// The names `--figures DIR` may write (to refuse an `-o` among them).
-pub const FIGURE_NAMES: [&str; 2] = ["decomposition.svg", "routes.svg"];
+pub use monitor_host::report::render::FIGURE_NAMES;
 
 /// Writes the run's pictures into `dir` (created if needed) and returns the names written,
 /// leaving them to the caller's [`commit`] or [`roll_back`], as [`place_traces`].
@@ -227,9 +213,12 @@ pub fn place_figures(
     report: &monitor_host::report::Report,
     inputs: &[PathBuf],
 ) -> Result<Vec<&'static str>> {
-    let named = figure_files(report);
+    let named = monitor_host::report::render::figures(report);
     let names = named.iter().map(|(n, _)| *n).collect();
-    let files: Vec<(PathBuf, Vec<u8>)> = named.into_iter().map(|(n, b)| (dir.join(n), b)).collect();
+    let files: Vec<(PathBuf, Vec<u8>)> = named
+        .into_iter()
+        .map(|(n, svg)| (dir.join(n), svg.into_bytes()))
+        .collect();
     place_all(dir, &files, inputs).map_err(|e| {
         e.context(format!(
             "--figures {}: no figure written and no report (fix the folder, or leave out --figures)",

@@ -7,7 +7,6 @@ use std::path::PathBuf;
 
 use monitor_host::input::duplicates::DuplicatePolicy;
 use monitor_host::report::render::{self as report_render, Format, RenderOptions};
-use monitor_host::report::{route_chart, waterfall};
 use pyo3::prelude::*;
 
 use crate::errors::InputError;
@@ -31,9 +30,10 @@ pub fn render(py: Python<'_>, file: PathBuf, name: &str) -> PyResult<Vec<(String
         "report.html".to_string(),
         String::from_utf8_lossy(&page).into_owned(),
     )];
-    if let Some(d) = report.summary.scores.decomposition.as_ref() {
-        out.push(("decomposition.svg".to_string(), waterfall::svg(d)));
-    }
-    out.push(("routes.svg".to_string(), route_chart::svg(&report.routes)));
+    out.extend(
+        report_render::figures(&report)
+            .into_iter()
+            .map(|(n, svg)| (n.to_string(), svg)),
+    );
     Ok(out)
 }

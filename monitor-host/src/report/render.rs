@@ -10,7 +10,7 @@ use crate::model::report::Report;
 use crate::model::status::RoundStatus;
 use crate::report::grid::Style;
 use crate::report::table::{self, TableOptions};
-use crate::report::{compare_table, csv, html, json};
+use crate::report::{compare_table, csv, html, json, route_chart, waterfall};
 use crate::stats::{Comparison, Model};
 
 named_enum! {
@@ -162,6 +162,22 @@ pub fn render(report: &Report, format: Format, options: &RenderOptions<'_>) -> i
     let mut out = Vec::new();
     write(report, format, options, &mut out)?;
     Ok(out)
+}
+
+/// The names of the run's figures (`--figures DIR`, the pictures `sds.log` logs).
+pub const FIGURE_NAMES: [&str; 2] = ["decomposition.svg", "routes.svg"];
+
+/// The run's figures by file name: `decomposition.svg` (the waterfall from DS to SDS; left out
+/// when the run has no decomposition) and `routes.svg` (DS and DS_safe per route).
+pub fn figures(report: &Report) -> Vec<(&'static str, String)> {
+    let decomposition = report.summary.scores.decomposition.as_ref();
+    [
+        (FIGURE_NAMES[0], decomposition.map(waterfall::svg)),
+        (FIGURE_NAMES[1], Some(route_chart::svg(&report.routes))),
+    ]
+    .into_iter()
+    .filter_map(|(name, svg)| svg.map(|s| (name, s)))
+    .collect()
 }
 
 /// The formats of a comparison (`sds compare`): every format but `csv`.

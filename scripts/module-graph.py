@@ -41,6 +41,7 @@ STAGES = [
     ("model",),  # what the renderings read: the Report, a route's frames, a watch round's status
     ("stats", "merge"),  # several reports: compared (stats) or merged into one (merge)
     ("report",),  # renderings
+    ("write",),  # the rules of writing files: atomic, links and inputs refused, a set all or nothing
     ("live_link",),  # the doer's side of the live link: byte streams, fault injection (core only)
     ("app", "error", "error_kind"),  # the run-level doors every front end calls, the errors they
     # return, and each error's kind

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 
 use monitor_core::Profile;
 use monitor_host::aggregate::groups::GroupBy;
@@ -21,24 +21,8 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Report formats.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum Format {
-    /// The JSON report of docs/SCORE.md §13.
-    Json,
-    /// The papers' tables as text: Bench2Drive's main table, Safe2Drive Table 1, Table 2-style
-    /// breakdown, and with `--group-by weather` the Table 3-style infraction table.
-    Table,
-    /// The same tables in Markdown.
-    Markdown,
-    /// The same tables in LaTeX (booktabs).
-    Latex,
-    /// One line per route (with `--group-by`: one line per group, then `combined`).
-    Csv,
-    /// One self-contained HTML page: the tables, a sortable route table, per route its
-    /// collision figures and chunk timelines, the warnings (`sds compare`: runs side by side).
-    Html,
-}
+/// Report formats: the library's ([`monitor_host::report::render::Format`]), named there once.
+pub use monitor_host::report::render::Format;
 
 /// A clap parser whose choices are a library enum's names (`named_enum!`, or the core's
 /// `Profile`): the library spells each value once; the command line mirrors none.
@@ -52,6 +36,17 @@ pub fn named<T: Copy + Send + Sync + 'static>(
             .find(|v| name(**v) == s)
             .expect("clap checked the name against these values")
     })
+}
+
+/// The parser of `--format`: [`named`] over the library's formats, each with its help line.
+fn formats() -> impl clap::builder::TypedValueParser<Value = Format> {
+    use clap::builder::{PossibleValue, TypedValueParser as _};
+    clap::builder::PossibleValuesParser::new(
+        Format::ALL
+            .iter()
+            .map(|f| PossibleValue::new(f.name()).help(f.help())),
+    )
+    .map(|s| Format::from_name(&s).expect("clap checked the name against these values"))
 }
 
 /// The options `sds score` and `sds compare` share, defined once; [`RunArgs::request`] maps
@@ -183,7 +178,7 @@ pub struct ScoreArgs {
     #[arg(long, value_parser = named(RouteSubset::ALL, RouteSubset::name))]
     pub route_subset: Option<RouteSubset>,
     /// Output format.
-    #[arg(long, value_enum, default_value = "json")]
+    #[arg(long, value_parser = formats(), default_value = "json")]
     pub format: Format,
     /// Write the report here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
@@ -296,7 +291,7 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Output format (`csv` is not available here).
-    #[arg(long, value_enum, default_value = "table")]
+    #[arg(long, value_parser = formats(), default_value = "table")]
     pub format: Format,
     /// Write here (atomically) instead of standard output.
     #[arg(short = 'o', long)]
@@ -424,7 +419,7 @@ pub struct MergeArgs {
     #[arg(required = true, value_name = "PART")]
     pub parts: Vec<PathBuf>,
     /// Output format (the formats of `sds score`).
-    #[arg(long, value_enum, default_value = "json")]
+    #[arg(long, value_parser = formats(), default_value = "json")]
     pub format: Format,
     /// Output file (default: standard output); never one of the parts.
     #[arg(short = 'o', long)]

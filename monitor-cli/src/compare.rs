@@ -7,15 +7,13 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 
-use super::args::{CompareArgs, Format};
+use super::args::CompareArgs;
 use super::exit::{
     ROUTE_PROBLEMS as EXIT_ROUTE_PROBLEMS, USAGE as EXIT_USAGE, WORSE as EXIT_WORSE,
 };
 use super::output::write_output;
-use super::style;
-use monitor_host::report::grid::Style;
 use monitor_host::report::long_tables::{compare_tables, sweep_table, SWEEP_TABLE, TABLE_NAMES};
-use monitor_host::report::{compare_table, html};
+use monitor_host::report::render::{self, CompareFormatError, COMPARE_FORMATS};
 use monitor_host::stats::sweep::SweepAxis;
 use monitor_host::stats::CompareOptions;
 use monitor_host::NoProgress;
@@ -169,12 +167,13 @@ pub fn compare_report(args: &CompareArgs) -> Result<(Compared, bool)> {
 
 /// `sds compare`.
 pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
-    let Some(style) = style(args.format)
-        .or(matches!(args.format, Format::Json | Format::Html).then_some(Style::Text))
-    else {
-        say!("sds: error: sds compare writes json, table, markdown, latex or html, not csv");
+    if !COMPARE_FORMATS.contains(&args.format) {
+        say!(
+            "sds: error: {}",
+            CompareFormatError::Unsupported(args.format)
+        );
         return Ok(EXIT_USAGE);
-    };
+    }
     if let (Some(out), Some(dir)) = (&args.output, &args.tables) {
         let tables: Vec<_> = TABLE_NAMES[..2]
             .iter()
@@ -192,16 +191,7 @@ pub(super) fn compare(args: &CompareArgs) -> Result<i32> {
         Err(e) => return Err(e),
     };
     let c = &compared.comparison;
-    let bytes = match args.format {
-        Format::Json => {
-            let mut v = serde_json::to_vec_pretty(c)?;
-            v.push(b'\n');
-            v
-        }
-        Format::Html => html::compare_page(c, &compared.models).into_bytes(),
-        _ => monitor_host::report::table::render(&compare_table::compare_tables(c), style)
-            .into_bytes(),
-    };
+    let bytes = render::render_compare(c, &compared.models, args.format)?;
     // Never write over any run's input.
     let inputs_read: Vec<PathBuf> = compared
         .models

@@ -41,9 +41,9 @@ use anyhow::Result;
 use clap::Parser;
 
 use monitor_host::aggregate::groups::GroupBy;
-use monitor_host::report::grid::Style;
-use monitor_host::report::table::{self, TableOptions};
-use monitor_host::report::{csv, html, json, long_tables};
+use monitor_host::report::long_tables;
+use monitor_host::report::render::{self, RenderOptions};
+use monitor_host::report::table::TableOptions;
 use monitor_host::{demo, Inputs, LabelFiles, Progress, SettingsError, TelemetryState};
 use monitor_host::{Frames, FramesRequest};
 use monitor_host::{ScoreError, ScoreRequest};
@@ -200,7 +200,7 @@ pub fn request(args: &ScoreArgs) -> Result<ScoreRequest, SettingsError> {
         labels: label_files(args),
         group_by: args
             .group_by
-            .or(style(args.format).map(|_| GroupBy::Scenario)),
+            .or(args.format.style().map(|_| GroupBy::Scenario)),
         infractions: args.infractions.clone(),
         logs: args.mcap.clone(),
         topics: args.topics.clone(),
@@ -244,15 +244,6 @@ pub fn score_report(args: &ScoreArgs, progress: &dyn Progress) -> Result<Scored>
     request(args)?.score(progress).map_err(failed)
 }
 
-fn style(format: Format) -> Option<Style> {
-    match format {
-        Format::Table => Some(Style::Text),
-        Format::Markdown => Some(Style::Markdown),
-        Format::Latex => Some(Style::Latex),
-        Format::Json | Format::Csv | Format::Html => None,
-    }
-}
-
 /// `sds score` of the demo run: the table on standard output. Parsed as the command line
 /// would parse it, so an option added to `sds score` needs nothing here.
 fn demo_args(run: &demo::DemoRun) -> Result<ScoreArgs> {
@@ -276,37 +267,32 @@ fn demo_args(run: &demo::DemoRun) -> Result<ScoreArgs> {
     }
 }
 
-fn table_options(args: &ScoreArgs) -> TableOptions {
-    TableOptions {
-        extra_infractions: args.infractions.clone(),
+/// The rendering options of `sds score` (and of `sds watch`'s rounds: `live`).
+fn render_options<'a>(
+    args: &ScoreArgs,
+    live: Option<(f64, &'a monitor_host::RoundStatus)>,
+) -> RenderOptions<'a> {
+    RenderOptions {
+        tables: TableOptions {
+            extra_infractions: args.infractions.clone(),
+        },
+        name: render::run_name(&args.results),
+        live,
     }
 }
 
-/// The run's name in the HTML page: the results' file (or folder) names, never their paths (a
-/// page is shared; an absolute path tells where the files sat).
-fn run_name(args: &ScoreArgs) -> String {
-    args.results
-        .iter()
-        .map(|p| {
-            p.file_name().map_or_else(
-                || p.display().to_string(),
-                |n| n.to_string_lossy().into_owned(),
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-/// The report in `args.format`, as `sds score` writes it (`sds watch` too).
-fn render(args: &ScoreArgs, report: &monitor_host::Report) -> Result<Vec<u8>> {
-    Ok(match (args.format, style(args.format)) {
-        (Format::Json, _) => json::json(report)?,
-        (Format::Csv, _) => csv::groups_csv(report).unwrap_or_else(|| csv::csv(report)),
-        (Format::Html, _) => html::page(report, &table_options(args), &run_name(args)).into_bytes(),
-        (_, Some(style)) => {
-            table::render(&table::report_tables(report, &table_options(args)), style).into_bytes()
-        }
-        (_, None) => unreachable!("every table format has a style"),
+/// Writes the report in `args.format` to `-o` or standard output, as `sds score` and `sds
+/// watch` write it (JSON streamed: a large run's text is never held beside its report).
+fn write_report(
+    args: &ScoreArgs,
+    out: Option<&std::path::Path>,
+    report: &monitor_host::Report,
+    live: Option<(f64, &monitor_host::RoundStatus)>,
+    inputs_read: &[std::path::PathBuf],
+) -> Result<()> {
+    let options = render_options(args, live);
+    output::write_output_with(out, inputs_read, &|w| {
+        render::write(report, args.format, &options, w)
     })
 }
 
@@ -322,17 +308,9 @@ fn score(args: &ScoreArgs) -> Result<i32> {
     for w in &report.warnings {
         say!("sds: {}", spelling::line(w));
     }
-    // JSON is streamed to its file: a large run's text is never held beside its report.
-    let bytes = match args.format {
-        Format::Json => None,
-        _ => Some(render(args, &report)?),
-    };
     let inputs_read = request(args)?.inputs_read(&report);
-    write_all(args, &report, &inputs_read, || match &bytes {
-        Some(bytes) => write_output(args.output.as_deref(), bytes, &inputs_read),
-        None => output::write_output_with(args.output.as_deref(), &inputs_read, &|w| {
-            json::write(&report, w)
-        }),
+    write_all(args, &report, &inputs_read, || {
+        write_report(args, args.output.as_deref(), &report, None, &inputs_read)
     })?;
 
     // The exit status comes from the report's data, never from its rendering.

@@ -3,12 +3,12 @@
 
 use anyhow::Result;
 
-use super::args::{Format, MergeArgs};
-use super::output::{write_output, write_output_with};
-use super::{style, RerunArgs};
+use super::args::MergeArgs;
+use super::output::write_output_with;
+use super::RerunArgs;
 use monitor_host::input::duplicates::DuplicatePolicy;
-use monitor_host::report::table::{self, TableOptions};
-use monitor_host::report::{csv, html, json, long_tables};
+use monitor_host::report::long_tables;
+use monitor_host::report::render::{self, RenderOptions};
 use monitor_host::MergeRequest;
 
 /// Runs `sds merge`: 0, or 3 when the merged report has a problem route (as `sds score`).
@@ -48,34 +48,17 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
         duplicates: args.duplicates.unwrap_or(DuplicatePolicy::Error),
         host,
         // The table formats break down by scenario, as `sds score` does.
-        by_scenario: style(args.format).is_some(),
+        by_scenario: args.format.style().is_some(),
     }
     .merge()?;
     for w in &report.warnings {
         say!("sds: {}", super::spelling::line(w));
     }
-    let options = TableOptions::default();
-    let name = args
-        .parts
-        .iter()
-        .map(|p| {
-            p.file_name().map_or_else(
-                || p.display().to_string(),
-                |n| n.to_string_lossy().into_owned(),
-            )
-        })
-        .collect::<Vec<_>>()
-        .join(", ");
-    // JSON is written as it is rendered (below): a merge of 220,000 rows is never held twice,
-    // as rows and as text.
-    let bytes = match (args.format, style(args.format)) {
-        (Format::Json, _) => None,
-        (Format::Csv, _) => Some(csv::groups_csv(&report).unwrap_or_else(|| csv::csv(&report))),
-        (Format::Html, _) => Some(html::page(&report, &options, &name).into_bytes()),
-        (_, Some(style)) => {
-            Some(table::render(&table::report_tables(&report, &options), style).into_bytes())
-        }
-        (_, None) => anyhow::bail!("no renderer for {:?}", args.format),
+    // Rendered as it is written (below): a merge of 220,000 rows is never held twice, as rows
+    // and as JSON text.
+    let options = RenderOptions {
+        name: render::run_name(&args.parts),
+        ..RenderOptions::default()
     };
     // The long tables, then the report, all or nothing (as `sds score`).
     let tables = match &args.tables {
@@ -94,12 +77,9 @@ pub fn merge(args: &MergeArgs) -> Result<i32> {
             super::output::place_tables(dir, files, &report.files_read)?;
         }
         rerun.place(&report.files_read)?;
-        match &bytes {
-            Some(bytes) => write_output(args.output.as_deref(), bytes, &report.files_read),
-            None => write_output_with(args.output.as_deref(), &report.files_read, &|w| {
-                json::write(&report, w)
-            }),
-        }
+        write_output_with(args.output.as_deref(), &report.files_read, &|w| {
+            render::write(&report, args.format, &options, w)
+        })
     })();
     match written {
         Ok(()) => super::output::commit(),

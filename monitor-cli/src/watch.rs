@@ -9,8 +9,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
-use super::args::{Format, ScoreArgs, WatchArgs};
-use super::output::{self, write_output};
+use super::args::{ScoreArgs, WatchArgs};
+use super::output;
 use monitor_host::RequestError;
 use monitor_host::{RoundOutcome, RoundStatus};
 use monitor_host::{Step, Stop, Wake, WatchRequest};
@@ -171,13 +171,8 @@ fn write_round(
     report: &monitor_host::Report,
     live: Option<(f64, &RoundStatus)>,
 ) -> Result<()> {
-    let mut bytes = super::render(a, report)?;
-    if let (Format::Html, Some((secs, status))) = (a.format, live) {
-        bytes =
-            monitor_host::report::html::live_page(&String::from_utf8_lossy(&bytes), status, secs)
-                .into_bytes();
-    }
-    write_output(Some(out), &bytes, &super::request(a)?.inputs_read(report))
+    let inputs_read = super::request(a)?.inputs_read(report);
+    super::write_report(a, Some(out), report, live, &inputs_read)
 }
 
 fn pct(x: Option<f64>) -> String {

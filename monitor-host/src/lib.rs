@@ -100,6 +100,7 @@ pub mod report;
 pub mod route;
 pub mod settings;
 pub mod stats;
+pub mod write;
 pub use input::warning;
 
 // The commands' requests and what they return, at the crate root: the stable names every front

@@ -21,6 +21,7 @@
 //! - `long_tables` (`tables.rs`): the library's long-table builder over a report's JSON text,
 //!   typed columns for `sds.to_pandas` and `sds.to_parquet`;
 //! - `render` (`render.rs`): a report file's HTML page and figures, for `sds.log`;
+//! - `FileSet`, `refuse_unsafe` (`files.rs`): the library's write rules, for `sds._files`;
 //! - `Monitor` (`monitor.rs`): the streaming monitor fed one `get_metric_info()` dict per tick,
 //!   its frames built by the library's [`monitor_host::pipeline::live`];
 //! - `cli_main`: the package's `sds` command: the user's own argument list handed unchanged to
@@ -33,6 +34,7 @@
 mod compare;
 mod convert;
 mod errors;
+mod files;
 mod frames;
 mod interrupt;
 mod link;
@@ -68,6 +70,8 @@ fn _sds(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(link::link, m)?)?;
     m.add_function(wrap_pyfunction!(tables::long_tables, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(files::refuse_special, m)?)?;
+    m.add_class::<files::FileSet>()?;
     m.add_class::<watch::Watch>()?;
     m.add_class::<monitor::Monitor>()?;
     m.add(

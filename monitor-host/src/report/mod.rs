@@ -4,6 +4,7 @@
 //!
 //! | rendering | module |
 //! |---|---|
+//! | the report (or a comparison) in a `--format`: the one dispatch | [`render`] |
 //! | JSON (the full report) | [`json`] |
 //! | CSV (one line per route) | [`mod@csv`] |
 //! | tables (Bench2Drive's main table, Safe2Drive Tables 1-3) | [`table`] |
@@ -33,6 +34,7 @@ pub mod json;
 pub mod long_tables;
 pub mod protocol_csv;
 pub mod protocol_table;
+pub mod render;
 pub mod rerun_list;
 pub mod route_chart;
 pub mod seeds_table;

@@ -161,6 +161,18 @@ def render(file: str, name: str) -> List[Tuple[str, str]]:
     """The HTML page and the figures of the ``sds score`` JSON report in ``file``:
     ``[(file name, text), ...]`` (``report.html``, ``decomposition.svg``, ``routes.svg``)."""
 
+def refuse_unsafe(path: str) -> bool:
+    """Raises ``IoError`` when ``path`` is a link or anything but a regular file; returns
+    whether a regular file is there (the library's write rules)."""
+
+class FileSet:
+    """The library's all-or-nothing file set (``sds._files.FileSet`` wraps it)."""
+
+    def __init__(self, folder: str) -> None: ...
+    def place(self, path: str, write: Callable[[int], object]) -> None: ...
+    def commit(self) -> None: ...
+    def roll_back(self) -> None: ...
+
 def watch(
     results: Union[_Path, Sequence[_Path]],
     *,

@@ -21,7 +21,7 @@ pub struct Cli {
     pub command: Command,
 }
 
-/// Report formats: the library's ([`monitor_host::report::render::Format`]), named there once.
+/// Report formats: the library's (`report::render::Format`), named there once.
 pub use monitor_host::report::render::Format;
 
 /// A clap parser whose choices are a library enum's names (`named_enum!`, or the core's

@@ -25,7 +25,7 @@ pub enum Error {
     /// The settings are invalid.
     #[error(transparent)]
     Settings(#[from] SettingsError),
-    /// A vehicle log that cannot be read (for [`crate::app::run::vehicle_logs::log_frames`]).
+    /// A vehicle log that cannot be read (`sds score --mcap`, `sds frames --mcap`).
     #[error(transparent)]
     VehicleLog(Box<crate::input::mcap::McapError>),
     /// No record of this route in the results (for [`crate::route_frames`]).
@@ -136,10 +136,10 @@ pub enum Error {
         /// Why.
         error: Box<Error>,
     },
-    /// A label file cannot be read, or matches no route (for [`crate::score_labelled`]).
+    /// A label file cannot be read, or matches no route (for [`crate::ScoreRequest`]).
     #[error(transparent)]
     Labels(#[from] LabelsError),
-    /// A breakdown needs a label map that was not given (for [`crate::score_labelled`]).
+    /// A breakdown needs a label map that was not given (for [`crate::ScoreRequest`]).
     #[error(transparent)]
     NeedsLabels(#[from] NeedsLabels),
     /// A route label map was given without the breakdown by route that reads it.

@@ -526,10 +526,10 @@ impl CompareRequest {
         }
     }
 
-    /// Scores and compares the runs ([`compare_runs`]).
+    /// Scores and compares the runs.
     ///
     /// # Errors
-    /// As [`CompareRequest::validate`], then [`compare_runs`]'s.
+    /// As [`CompareRequest::validate`], then the runs' own errors.
     pub fn compare(&self, progress: &dyn Progress) -> Result<Compared, ScoreError> {
         let settings = self.validate()?;
         Ok(compare_runs(

@@ -123,7 +123,7 @@ impl ScoreRequest {
         Ok(settings)
     }
 
-    /// Scores the run ([`score_labelled`]), or its vehicle logs ([`score_logs`]), telling
+    /// Scores the run (with its label files), or its vehicle logs, telling
     /// `progress`.
     ///
     /// # Errors

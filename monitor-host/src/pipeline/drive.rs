@@ -201,7 +201,7 @@ impl Drive<'_> {
 /// replay, `record` and `reference` the log's record and path, `notes` the reader's notes as
 /// warnings.
 ///
-/// `sds score --mcap` calls it through [`crate::app::run::vehicle_logs::score_logs`]:
+/// `sds score --mcap` calls it through [`crate::ScoreRequest`]:
 ///
 /// ```no_run
 /// use monitor_host::{NoProgress, ScoreRequest};

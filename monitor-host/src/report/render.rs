@@ -136,7 +136,7 @@ pub fn write(
     out.write_all(&bytes)
 }
 
-/// [`write`] into bytes.
+/// [`write()`] into bytes.
 ///
 /// ```
 /// use monitor_host::report::render::{render, Format, RenderOptions};

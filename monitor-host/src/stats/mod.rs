@@ -6,7 +6,7 @@
 //! same n gives the same resamples of route positions (common random numbers), so adding a model,
 //! a metric or a protocol changes no other figure.
 //!
-//! [`compare`] works on reports already made; [`crate::app::compare::compare_runs`] scores the
+//! [`compare`] works on reports already made; [`crate::CompareRequest`] scores the
 //! runs and calls it. The pieces: [`route_values`] (keys, repetitions, seeds), [`splitmix`] (the
 //! generator), [`bootstrap`] (one model and metric), [`flips`], [`models`] (mean ± std rows).
 //!

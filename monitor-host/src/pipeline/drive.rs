@@ -19,7 +19,8 @@
 use monitor_core::{Collisions, ComfortSummary, Frame, RouteSummary};
 
 use crate::geometry::corridor::{Corridor, ReferenceKind};
-use crate::input::mcap::{LogScan, LogTick, McapError};
+use crate::input::lead_infractions::StepInfraction;
+use crate::input::mcap::{LogScan, LogTick, McapError, VehicleLog};
 use crate::input::record::Record;
 use crate::input::route_xml::RouteRef;
 use crate::input::warning::Warning;
@@ -28,9 +29,9 @@ use crate::pipeline::live::LiveFrames;
 use crate::pipeline::motion::{MotionMeter, MovingComfort};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
 use crate::pipeline::placement;
-use crate::pipeline::prepare::collision_events;
+use crate::pipeline::prepare::{collision_events, prepare_on};
 use crate::pipeline::replay::{
-    conclude, refusal_in_file_terms, smoothness_profile, Refused, SegmentMonitor,
+    conclude, refusal_in_file_terms, smoothness_profile, Refused, RouteTelemetry, SegmentMonitor,
 };
 use crate::pipeline::step_period::{DtSource, StepPeriod};
 use crate::pipeline::timeline::{ChunkLog, TimelineKeeper};
@@ -324,16 +325,53 @@ pub fn replay_drive(
     Ok(conclude(out, record, settings, summary))
 }
 
+/// A vehicle log's telemetry held whole, prepared as the replay takes it (docs/SCORE.md,
+/// "Vehicle logs"): its events placed by log time, the configured period (a log has no step
+/// period to infer). `sds frames --mcap` reads it; the streamed drive checks itself against it
+/// in its tests.
+pub(crate) fn held_log_telemetry(
+    record: &Record,
+    log: &VehicleLog,
+    reference: Option<&RouteRef>,
+    steps: &[StepInfraction],
+    settings: &Settings,
+    keep_lateral: bool,
+) -> RouteTelemetry {
+    let mut prepared = prepare_on(
+        record,
+        &log.telemetry,
+        reference,
+        None,
+        Some(steps),
+        settings,
+        keep_lateral,
+    );
+    for e in &mut prepared.events {
+        if e.aligned_by.is_some() {
+            e.aligned_by = Some(AlignedBy::LogTime);
+        }
+    }
+    RouteTelemetry {
+        prepared,
+        period: StepPeriod {
+            dt: decimal(settings.core.dt),
+            source: DtSource::Config,
+        },
+        settings: settings.clone(),
+        gaps: log.telemetry.gaps,
+        path: log.path.clone(),
+        map_used: false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::path::Path;
 
     use super::*;
-    use crate::input::lead_infractions::StepInfraction;
     use crate::input::mcap::{read_log, scan_log, Topics};
     use crate::input::record::{Infractions, LoadedRecord, Meta};
-    use crate::pipeline::prepare::prepare_on;
-    use crate::pipeline::replay::{replay_read, unreplayed, RouteTelemetry};
+    use crate::pipeline::replay::{replay_read, unreplayed};
 
     use crate::demo::drive::{write_messages, Cdr, LogOptions, Message, IMU, ODOMETRY, PATH, T0};
 
@@ -505,31 +543,14 @@ mod tests {
                     text: n.clone(),
                 }));
                 f.extend(log.files.iter().cloned());
-                let mut prepared = prepare_on(
+                Ok(held_log_telemetry(
                     rec,
-                    &log.telemetry,
+                    &log,
                     reference.as_ref(),
-                    None,
-                    Some(&steps),
+                    &steps,
                     settings,
                     false,
-                );
-                for e in &mut prepared.events {
-                    if e.aligned_by.is_some() {
-                        e.aligned_by = Some(AlignedBy::LogTime);
-                    }
-                }
-                Ok(RouteTelemetry {
-                    prepared,
-                    period: StepPeriod {
-                        dt: decimal(settings.core.dt),
-                        source: DtSource::Config,
-                    },
-                    settings: settings.clone(),
-                    gaps: log.telemetry.gaps,
-                    path: log.path.clone(),
-                    map_used: false,
-                })
+                ))
             },
         );
         out.segments = Some(log.telemetry.segments.len().max(1) as u64);

@@ -20,12 +20,9 @@ use crate::input::warning::Warning;
 use crate::model::frames::RouteFrames;
 use crate::model::report::{assemble, Report, RunFacts};
 use crate::model::vehicle_log::{without_leaderboard, NO_LEADERBOARD};
-use crate::pipeline::align::AlignedBy;
-use crate::pipeline::drive::replay_drive;
+use crate::pipeline::drive::{held_log_telemetry, replay_drive};
 use crate::pipeline::outcome::{RouteOutcome, TelemetryState};
-use crate::pipeline::prepare::prepare_on;
 use crate::pipeline::replay::{unreplayed, RouteTelemetry};
-use crate::pipeline::step_period::{DtSource, StepPeriod};
 use crate::provenance::Provenance;
 use crate::route::row::route_rows;
 use crate::settings::{decimal, Settings};
@@ -108,31 +105,14 @@ fn prepared(
     let Ok(record) = &route.loaded.entry else {
         unreachable!("a log's record is made valid")
     };
-    let mut prepared = prepare_on(
+    held_log_telemetry(
         record,
-        &log.telemetry,
+        log,
         route.reference.as_ref(),
-        None,
-        Some(&route.steps),
+        &route.steps,
         settings,
         keep_lateral,
-    );
-    for e in &mut prepared.events {
-        if e.aligned_by.is_some() {
-            e.aligned_by = Some(AlignedBy::LogTime);
-        }
-    }
-    RouteTelemetry {
-        prepared,
-        period: StepPeriod {
-            dt: decimal(settings.core.dt),
-            source: DtSource::Config,
-        },
-        settings: settings.clone(),
-        gaps: log.telemetry.gaps,
-        path: log.path.clone(),
-        map_used: false,
-    }
+    )
 }
 
 fn notes(log: &VehicleLog) -> Vec<Warning> {

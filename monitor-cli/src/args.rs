@@ -30,23 +30,33 @@ pub fn named<T: Copy + Send + Sync + 'static>(
     all: &'static [T],
     name: fn(T) -> &'static str,
 ) -> impl clap::builder::TypedValueParser<Value = T> {
-    use clap::builder::TypedValueParser as _;
-    clap::builder::PossibleValuesParser::new(all.iter().map(|v| name(*v))).map(move |s| {
+    described(all, name, |_| None)
+}
+
+/// [`named`] with a help line for each value (`--help` lists them), e.g. `--format`'s.
+pub fn described<T: Copy + Send + Sync + 'static>(
+    all: &'static [T],
+    name: fn(T) -> &'static str,
+    help: fn(T) -> Option<&'static str>,
+) -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::{PossibleValue, TypedValueParser as _};
+    clap::builder::PossibleValuesParser::new(all.iter().map(|v| {
+        let value = PossibleValue::new(name(*v));
+        match help(*v) {
+            Some(h) => value.help(h),
+            None => value,
+        }
+    }))
+    .map(move |s| {
         *all.iter()
             .find(|v| name(**v) == s)
             .expect("clap checked the name against these values")
     })
 }
 
-/// The parser of `--format`: [`named`] over the library's formats, each with its help line.
+/// The parser of `--format`: the library's formats, each with its help line.
 fn formats() -> impl clap::builder::TypedValueParser<Value = Format> {
-    use clap::builder::{PossibleValue, TypedValueParser as _};
-    clap::builder::PossibleValuesParser::new(
-        Format::ALL
-            .iter()
-            .map(|f| PossibleValue::new(f.name()).help(f.help())),
-    )
-    .map(|s| Format::from_name(&s).expect("clap checked the name against these values"))
+    described(Format::ALL, Format::name, |f| Some(f.help()))
 }
 
 /// The options `sds score` and `sds compare` share, defined once; [`RunArgs::request`] maps

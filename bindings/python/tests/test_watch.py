@@ -145,8 +145,12 @@ def test_timeout_stops_with_the_last_round(demo: Demo, tmp_path: Path) -> None:
 # clock). A helper thread calling `_thread.interrupt_main()` instead needed the GIL, and on a
 # loaded machine it twice never got it before the wait's end.
 _CTRL_C = """
-import json, sys
+import json, signal, sys
 import sds
+
+# As a terminal's Python has it: a runner started in the background or under nohup passes SIGINT
+# down ignored, and Python then keeps it ignored (the child would sleep through the signal).
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 results, telemetry, routes = sys.argv[1:4]
 w = sds.watch(results, telemetry=telemetry, routes=routes, interval=600)
